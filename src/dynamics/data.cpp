@@ -1,0 +1,32 @@
+#include "dynamics/data.hpp"
+
+#include <algorithm>
+
+namespace treedyn {
+
+Data::Data(const Model& model) {
+  const auto n = static_cast<std::size_t>(model.n);
+  rotation.assign(n, Mat3::Identity());
+  angular_velocity.assign(n, Vec3::Zero());
+  augmented_inertia.assign(n, Mat3::Zero());
+  barycentre_to_inboard.assign(n, Vec3::Zero());
+  com_to_inboard_joint.assign(n, Vec3::Zero());
+  branch_d.assign(n, Vec3::Zero());
+  centripetal_b.assign(n, Vec3::Zero());
+  subtree_centripetal_b.assign(n, Vec3::Zero());
+  ancestor_centripetal_d.assign(n, Vec3::Zero());
+  force.assign(n, Vec3::Zero());
+  subtree_force.assign(n, Vec3::Zero());
+  moment.assign(n, Vec3::Zero());
+  joint_moment.assign(n, Vec3::Zero());
+  spring_energy.assign(n, 0.0);
+  generalised_force = Eigen::VectorXd::Zero(3 * model.n);
+  diagonal_block.assign(n, Mat3::Zero());
+  diagonal_factor.assign(n, Eigen::LLT<Mat3>());
+  path_block.assign(static_cast<std::size_t>(model.path_offset.back()), Mat3::Zero());
+  const int max_depth = *std::max_element(model.depth.begin(), model.depth.end());
+  scratch_path.assign(static_cast<std::size_t>(max_depth), Mat3::Zero());
+  angular_acceleration = Eigen::VectorXd::Zero(3 * model.n);
+}
+
+}  // namespace treedyn

@@ -1,0 +1,51 @@
+// Per-thread workspace for one Model: everything that changes with the state.
+// Sized once on construction; the dynamics stages never allocate.
+#pragma once
+
+#include <Eigen/Cholesky>
+#include <vector>
+
+#include "common/linalg.hpp"
+#include "model/base_motion.hpp"
+#include "model/model.hpp"
+
+namespace treedyn {
+
+struct Data {
+  explicit Data(const Model& model);
+
+  // Input state (regular order): A_i (body -> inertial) and inertial w_i.
+  std::vector<Mat3> rotation;
+  std::vector<Vec3> angular_velocity;
+  double time = 0.0;
+
+  // Position stage: section 3 constants rotated into the inertial frame.
+  std::vector<Mat3> augmented_inertia;        // K_i^0 = A_i K_i A_i^T
+  std::vector<Vec3> barycentre_to_inboard;    // b_i0^0
+  std::vector<Vec3> com_to_inboard_joint;     // c_ii^0 = d_ii^0
+  std::vector<Vec3> branch_d;                 // d_{p(k) j}^0, j in sub(k), rotated by A_p(k)
+
+  // Velocity stage.
+  std::vector<Vec3> centripetal_b;            // w_j x (w_j x b_j0)
+  std::vector<Vec3> subtree_centripetal_b;    // its sum over sub(k)
+  std::vector<Vec3> ancestor_centripetal_d;   // sum over j < i of w_j x (w_j x d_ji)
+
+  // Force stage.
+  BaseKinematics base;
+  std::vector<Vec3> force;                    // F_i through the CoM (gravity + point forces)
+  std::vector<Vec3> subtree_force;            // sum of F over sub(i)
+  std::vector<Vec3> moment;                   // M_i about the CoM (applied + point-force moments)
+  std::vector<Vec3> joint_moment;             // Y_a on body a (reversed on p(a))
+  std::vector<double> spring_energy;          // per joint
+
+  // Acceleration stage: K w' = Q, factored as K = L^T D L in the tree's
+  // sparsity (no fill-in: block (i, j) is non-zero only on a root path).
+  Eigen::VectorXd generalised_force;          // Q_i = Mstar_i + M_i + Y_i - sum Y_k (59)
+  std::vector<Mat3> diagonal_block;           // K_ii, then D_i
+  std::vector<Eigen::LLT<Mat3>> diagonal_factor;
+  std::vector<Mat3> path_block;               // K_{k,a} for a strict ancestor of k, then L_{k,a}
+  std::vector<Mat3> scratch_path;             // one path's L while it is formed
+  Eigen::VectorXd angular_acceleration;       // w' (3n), regular order
+};
+
+}  // namespace treedyn

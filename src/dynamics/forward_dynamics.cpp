@@ -1,0 +1,16 @@
+// The whole pipeline, stage by stage.
+#include "dynamics/pipeline.hpp"
+
+namespace treedyn {
+
+bool forward_dynamics(const Model& model, Data& data) {
+  compute_frame_vectors(model, data);
+  compute_velocity_terms(model, data);
+  compute_applied_loads(model, data);
+  compute_generalised_forces(model, data);
+  if (!factor_mass_matrix(model, data)) return false;
+  solve_angular_accelerations(model, data);
+  return data.angular_acceleration.allFinite();
+}
+
+}  // namespace treedyn

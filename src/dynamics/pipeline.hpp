@@ -1,0 +1,41 @@
+// The staged forward-dynamics pipeline: positions, velocities, forces,
+// accelerations. Each stage reads what the earlier ones wrote into Data.
+// Indices are in the regular order of the Model.
+#pragma once
+
+#include "dynamics/data.hpp"
+#include "model/model.hpp"
+
+namespace treedyn {
+
+// Position stage: rotates K_i, b_i0, c_ii and the branch d-vectors into the
+// inertial frame using data.rotation.
+void compute_frame_vectors(const Model& model, Data& data);
+
+// Velocity stage: the centripetal sums of (55) from data.angular_velocity.
+void compute_velocity_terms(const Model& model, Data& data);
+
+// Force stage: base kinematics at data.time, gravity and point forces, applied
+// moments, joint spring-damper moments and their energies.
+void compute_applied_loads(const Model& model, Data& data);
+
+// Acceleration stage, part 1: the right-hand side Q of (59) with Mstar of (55).
+void compute_generalised_forces(const Model& model, Data& data);
+
+// Acceleration stage, part 2: assembles K (section 4) into its tree-sparse
+// blocks and factors it as L^T D L. False if a pivot block is not positive
+// definite (only with a non-finite state).
+bool factor_mass_matrix(const Model& model, Data& data);
+
+// Acceleration stage, part 3: w' = K^-1 Q into data.angular_acceleration.
+void solve_angular_accelerations(const Model& model, Data& data);
+
+// All stages. The caller sets data.time, data.rotation and
+// data.angular_velocity first. False on a numerical failure.
+bool forward_dynamics(const Model& model, Data& data);
+
+// K as a dense 3n x 3n matrix (regular order), for tests and diagnostics.
+// Needs the position stage.
+Eigen::MatrixXd dense_mass_matrix(const Model& model, const Data& data);
+
+}  // namespace treedyn

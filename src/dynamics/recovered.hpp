@@ -1,0 +1,45 @@
+// Quantities recovered from a state after forward_dynamics (section 6), in the
+// user's body order (index = position in ModelSpec::bodies).
+#pragma once
+
+#include <vector>
+
+#include "common/linalg.hpp"
+#include "dynamics/data.hpp"
+#include "model/model.hpp"
+
+namespace treedyn {
+
+struct Energies {
+  double kinetic = 0.0;     // T
+  double potential = 0.0;   // V: gravity and the constant point forces
+  double spring = 0.0;      // joint springs, 2 e^T K e each
+  double total() const { return kinetic + potential + spring; }
+};
+
+struct Recovered {
+  double time = 0.0;
+  BaseKinematics base;
+  std::vector<Mat3> rotation;               // A_i
+  std::vector<Vec3> angular_velocity;       // w_i, inertial
+  std::vector<Vec3> angular_acceleration;   // w_i', inertial
+  std::vector<Vec3> com_position;           // r_i (20)
+  std::vector<Vec3> com_velocity;           // r_i'
+  std::vector<Vec3> com_acceleration;       // r_i''
+  std::vector<Vec3> joint_position;         // body i's inboard joint point
+  std::vector<Vec3> joint_reaction;         // X_a on body a (12), a = the joint's child
+  std::vector<double> joint_angle;          // relative rotation of the inboard joint, rad in [0, pi]
+  std::vector<Vec3> joint_axis;             // its axis, parent frame (zero when the angle is zero)
+  std::vector<Vec3> joint_moment;           // spring-damper moment Y_a on body a, inertial
+  Energies energy;
+  Vec3 angular_momentum_about_base = Vec3::Zero();  // about the base point r0(t)
+};
+
+// Needs forward_dynamics(model, data) on the current state.
+Recovered recover(const Model& model, const Data& data);
+
+// Position and velocity of a point fixed in a body (from its CoM, body frame).
+Vec3 body_point_position(const Recovered& r, int user_body, const Vec3& point);
+Vec3 body_point_velocity(const Recovered& r, int user_body, const Vec3& point);
+
+}  // namespace treedyn

@@ -1,0 +1,59 @@
+// What the caller chooses about integration and what comes back.
+#pragma once
+
+#include <string>
+#include <string_view>
+
+namespace treedyn {
+
+enum class Method {
+  cvode_adams,         // CVODE, variable-order Adams-Moulton (orders 1-12), fixed-point iteration
+  cvode_bdf,           // CVODE, BDF (orders 1-5), Newton with a dense difference-quotient Jacobian
+  erk_dormand_prince,  // ARKODE ERKStep, Dormand-Prince 5(4) embedded pair
+  erk_verner,          // ARKODE ERKStep, Verner 6(5) embedded pair
+};
+
+std::string_view name(Method m);
+bool parse_method(std::string_view text, Method& out);
+
+struct IntegratorSettings {
+  Method method = Method::cvode_adams;
+  double relative_tolerance = 1e-8;
+  double absolute_tolerance = 1e-10;
+  long max_steps = 100000;     // per output interval (SUNDIALS' mxstep)
+  double max_step = 0.0;       // 0: no limit
+  double initial_step = 0.0;   // 0: the integrator's estimate
+};
+
+struct IntegratorStats {
+  long steps = 0;
+  long rhs_evaluations = 0;
+  long error_test_failures = 0;
+  long nonlinear_convergence_failures = 0;  // CVODE only
+  long root_evaluations = 0;
+  long chart_changes = 0;                   // body orientations re-expressed in a fresh chart
+  long restarts = 0;                        // integrator re-initialisations for them
+};
+
+enum class FailureKind {
+  none,
+  too_much_work,         // max_steps taken before the next output time
+  too_much_accuracy,     // tolerances below what double precision can give
+  error_test_failures,   // repeated error-test failures (step size underflow)
+  convergence_failures,  // repeated nonlinear-solver failures (CVODE)
+  nonfinite_state,       // NaN or infinity in the state or its derivative
+  setup,                 // invalid settings or a SUNDIALS set-up failure
+  other,
+};
+
+std::string_view name(FailureKind f);
+
+struct IntegrationOutcome {
+  FailureKind failure = FailureKind::none;
+  double time_reached = 0.0;
+  std::string message;  // SUNDIALS' own words, when it gave any
+  IntegratorStats stats;
+  bool ok() const { return failure == FailureKind::none; }
+};
+
+}  // namespace treedyn

@@ -1,0 +1,33 @@
+// Integrates one trajectory of a tree and reports at requested output times.
+#pragma once
+
+#include <functional>
+#include <span>
+
+#include "dynamics/data.hpp"
+#include "integrate/settings.hpp"
+#include "integrate/tree_ode.hpp"
+#include "kinematics/parameterisation.hpp"
+#include "model/model.hpp"
+
+namespace treedyn {
+
+// Called at every output time with data holding the state there and the
+// forward dynamics already run on it (pass both to recover()).
+using OutputObserver = std::function<void(const Model& model, const Data& data)>;
+
+struct SimulationRequest {
+  TreeState initial;
+  double start_time = 0.0;
+  std::vector<double> output_times;  // non-decreasing, >= start_time
+  Parameterisation parameterisation = Parameterisation::quaternion;
+  IntegratorSettings settings;
+};
+
+// Never throws for integration trouble: a failure comes back in the outcome
+// with the time reached. Throws std::invalid_argument for a malformed request
+// (wrong sizes, decreasing output times, non-positive tolerances).
+IntegrationOutcome simulate(const Model& model, const SimulationRequest& request,
+                            const OutputObserver& observer);
+
+}  // namespace treedyn

@@ -1,0 +1,72 @@
+// Prescribed translation r0(t) of the base point (body 0's attachment point).
+#pragma once
+
+#include <array>
+#include <variant>
+#include <vector>
+
+#include "common/linalg.hpp"
+
+namespace treedyn {
+
+// r0, r0', r0'' at one instant.
+struct BaseKinematics {
+  Vec3 position = Vec3::Zero();
+  Vec3 velocity = Vec3::Zero();
+  Vec3 acceleration = Vec3::Zero();
+};
+
+// The base point stays at `position`.
+struct FixedBase {
+  Vec3 position = Vec3::Zero();
+};
+
+// r0(t) = position + velocity t + acceleration t^2 / 2.
+struct ConstantAccelerationBase {
+  Vec3 position = Vec3::Zero();
+  Vec3 velocity = Vec3::Zero();
+  Vec3 acceleration = Vec3::Zero();
+};
+
+// One term amplitude * sin(2 pi frequency t + phase) along a fixed axis.
+struct Harmonic {
+  double amplitude = 0.0;  // m
+  double frequency = 0.0;  // Hz
+  double phase = 0.0;      // rad
+};
+
+// r0(t) = offset + sum over each axis of its harmonics.
+struct HarmonicBase {
+  Vec3 offset = Vec3::Zero();
+  std::array<std::vector<Harmonic>, 3> axes;
+};
+
+// Tabulated positions, interpolated by a natural cubic spline per axis (C2:
+// position, velocity and acceleration continuous). Natural end conditions make
+// r0'' vanish at both ends, so outside the table the motion continues linearly
+// (constant velocity) and stays C2.
+struct TabulatedBase {
+  std::vector<double> times;     // strictly increasing, at least 2
+  std::vector<Vec3> positions;   // one per time
+};
+
+using BaseMotionSpec =
+    std::variant<FixedBase, ConstantAccelerationBase, HarmonicBase, TabulatedBase>;
+
+// A validated base motion, cheap to evaluate (spline coefficients precomputed).
+class BaseMotion {
+ public:
+  BaseMotion() = default;
+  explicit BaseMotion(BaseMotionSpec spec);  // throws ModelError when invalid
+
+  BaseKinematics at(double t) const;
+  const BaseMotionSpec& spec() const { return spec_; }
+  // True when r0' = r0'' = 0 for all t (energy of the tree is then conserved).
+  bool is_fixed() const;
+
+ private:
+  BaseMotionSpec spec_ = FixedBase{};
+  std::vector<Vec3> second_derivatives_;  // spline moments, TabulatedBase only
+};
+
+}  // namespace treedyn

@@ -1,0 +1,116 @@
+#include "model/tree.hpp"
+
+#include <string>
+#include <unordered_map>
+
+#include "common/error.hpp"
+#include "model/model.hpp"
+
+namespace treedyn {
+namespace {
+
+std::string quoted(const std::string& s) { return "'" + s + "'"; }
+
+std::string joint_label(const JointSpec& j, std::size_t index) {
+  if (!j.name.empty()) return "joint " + quoted(j.name);
+  return "joint " + std::to_string(index + 1) + " (" + quoted(j.parent) + " -> " +
+         quoted(j.child) + ")";
+}
+
+}  // namespace
+
+Topology regular_order(const ModelSpec& spec) {
+  const int n = static_cast<int>(spec.bodies.size());
+  if (n == 0) throw ModelError("model: no bodies; a tree needs at least one body");
+
+  std::unordered_map<std::string, int> by_name;
+  for (int b = 0; b < n; ++b) {
+    const std::string& name = spec.bodies[b].name;
+    if (name.empty()) throw ModelError("body " + std::to_string(b + 1) + ": name is empty");
+    if (name == kBaseName)
+      throw ModelError("body " + std::to_string(b + 1) + ": the name " + quoted(kBaseName) +
+                       " is reserved for the moving base point");
+    if (!by_name.emplace(name, b).second)
+      throw ModelError("body " + quoted(name) + ": name used by more than one body");
+  }
+
+  // Each body needs exactly one joint that has it as the child.
+  std::vector<int> joint_of(n, -1);
+  std::vector<int> parent_user(n, kBase);
+  std::vector<int> on_base;
+  for (std::size_t j = 0; j < spec.joints.size(); ++j) {
+    const JointSpec& joint = spec.joints[j];
+    const std::string who = joint_label(joint, j);
+    const auto child = by_name.find(joint.child);
+    if (child == by_name.end())
+      throw ModelError(who + ": child " + quoted(joint.child) + " is not a body of the model");
+    if (joint.parent == joint.child)
+      throw ModelError(who + ": body " + quoted(joint.child) +
+                       " is its own parent; a joint must connect two different bodies");
+    int parent = kBase;
+    if (joint.parent != kBaseName) {
+      const auto p = by_name.find(joint.parent);
+      if (p == by_name.end())
+        throw ModelError(who + ": parent " + quoted(joint.parent) + " is neither a body nor " +
+                         quoted(kBaseName));
+      parent = p->second;
+    }
+    const int c = child->second;
+    if (joint_of[c] >= 0)
+      throw ModelError("body " + quoted(joint.child) + ": has two joints to a parent (" +
+                       joint_label(spec.joints[joint_of[c]], joint_of[c]) + " and " + who +
+                       "); in a tree every body has exactly one");
+    joint_of[c] = static_cast<int>(j);
+    parent_user[c] = parent;
+    if (parent == kBase) on_base.push_back(c);
+  }
+  for (int b = 0; b < n; ++b)
+    if (joint_of[b] < 0)
+      throw ModelError("body " + quoted(spec.bodies[b].name) +
+                       ": unreachable, no joint has it as its child; every body needs a joint "
+                       "to its parent");
+  if (on_base.empty())
+    throw ModelError("model: no body is attached to " + quoted(kBaseName) +
+                     "; exactly one joint must have parent " + quoted(kBaseName));
+  if (on_base.size() > 1)
+    throw ModelError("body " + quoted(spec.bodies[on_base[1]].name) + ": a second body on " +
+                     quoted(kBaseName) + " (the first is " + quoted(spec.bodies[on_base[0]].name) +
+                     "); exactly one body may be attached to the base");
+
+  // Depth-first preorder from the base; children in the user's order.
+  std::vector<std::vector<int>> user_children(n);
+  for (int b = 0; b < n; ++b)
+    if (parent_user[b] != kBase) user_children[parent_user[b]].push_back(b);
+
+  Topology topo;
+  topo.regular_index.assign(n, -1);
+  topo.joint_of_user_body = joint_of;
+  std::vector<int> stack{on_base[0]};
+  while (!stack.empty()) {
+    const int b = stack.back();
+    stack.pop_back();
+    topo.regular_index[b] = static_cast<int>(topo.user_index.size());
+    topo.user_index.push_back(b);
+    for (auto it = user_children[b].rbegin(); it != user_children[b].rend(); ++it)
+      stack.push_back(*it);
+  }
+  // Bodies never reached hang in a loop of parents that never reaches the base.
+  for (int b = 0; b < n; ++b)
+    if (topo.regular_index[b] < 0)
+      throw ModelError("body " + quoted(spec.bodies[b].name) +
+                       ": not connected to the base, its chain of parents forms a cycle; the "
+                       "joints must form a tree");
+
+  topo.parent.resize(n);
+  topo.children.assign(n, {});
+  topo.depth.resize(n);
+  for (int i = 0; i < n; ++i) {
+    const int pu = parent_user[topo.user_index[i]];
+    topo.parent[i] = pu == kBase ? kBase : topo.regular_index[pu];
+    topo.depth[i] = pu == kBase ? 1 : topo.depth[topo.parent[i]] + 1;
+    if (topo.parent[i] != kBase) topo.children[topo.parent[i]].push_back(i);
+  }
+  return topo;
+}
+
+}  // namespace treedyn
