@@ -12,7 +12,7 @@ namespace {
 constexpr double kAngleChartLimit = 0.25;
 // Quaternion norm^2 and direction-cosine orthonormality may drift this far
 // before the coordinates are re-projected (with a fresh integrator start).
-constexpr double kDriftLimit = 1e-8;
+constexpr double kDriftLimit = 1e-6;
 
 Mat3 rx(double a) { return Eigen::AngleAxisd(a, Vec3::UnitX()).toRotationMatrix(); }
 Mat3 ry(double a) { return Eigen::AngleAxisd(a, Vec3::UnitY()).toRotationMatrix(); }

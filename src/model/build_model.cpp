@@ -14,9 +14,13 @@ std::string body_label(const std::string& name) { return "body '" + name + "'"; 
 
 void validate_bodies(const ModelSpec& spec) {
   for (const BodySpec& b : spec.bodies) {
-    const std::string who = body_label(b.name);
-    require_positive_mass(who, b.mass);
-    require_valid_inertia(who, b.inertia);
+    try {
+      const std::string who = body_label(b.name);
+      require_positive_mass(who, b.mass);
+      require_valid_inertia(who, b.inertia);
+    } catch (const ModelError& e) {
+      throw ModelError(e.what(), b.name);
+    }
   }
 }
 
@@ -93,7 +97,7 @@ Model build_model(const ModelSpec& spec) {
   m.parent_com_to_joint.assign(n, Vec3::Zero());
   m.spring.resize(n);
   m.has_spring.assign(n, false);
-  for (int i = 0; i < n; ++i) {
+  for (int i = 0; i < n; ++i) try {
     const int u = m.user_index[i];
     const BodySpec& body = spec.bodies[u];
     const JointSpec& joint = spec.joints[topo.joint_of_user_body[u]];
@@ -118,6 +122,8 @@ Model build_model(const ModelSpec& spec) {
     m.spring[i].damping = 0.5 * (joint.spring.damping + joint.spring.damping.transpose());
     m.spring[i].reference.normalize();
     m.has_spring[i] = !m.spring[i].stiffness.isZero(0.0) || !m.spring[i].damping.isZero(0.0);
+  } catch (const ModelError& e) {
+    throw ModelError(e.what(), spec.bodies[m.user_index[i]].name);
   }
 
   std::unordered_map<std::string, int> regular_by_name;

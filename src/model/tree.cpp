@@ -31,7 +31,7 @@ Topology regular_order(const ModelSpec& spec) {
       throw ModelError("body " + std::to_string(b + 1) + ": the name " + quoted(kBaseName) +
                        " is reserved for the moving base point");
     if (!by_name.emplace(name, b).second)
-      throw ModelError("body " + quoted(name) + ": name used by more than one body");
+      throw ModelError("body " + quoted(name) + ": name used by more than one body", name);
   }
 
   // Each body needs exactly one joint that has it as the child.
@@ -43,23 +43,26 @@ Topology regular_order(const ModelSpec& spec) {
     const std::string who = joint_label(joint, j);
     const auto child = by_name.find(joint.child);
     if (child == by_name.end())
-      throw ModelError(who + ": child " + quoted(joint.child) + " is not a body of the model");
+      throw ModelError(who + ": child " + quoted(joint.child) + " is not a body of the model", joint.child);
     if (joint.parent == joint.child)
       throw ModelError(who + ": body " + quoted(joint.child) +
-                       " is its own parent; a joint must connect two different bodies");
+                       " is its own parent; a joint must connect two different bodies",
+                       joint.child);
     int parent = kBase;
     if (joint.parent != kBaseName) {
       const auto p = by_name.find(joint.parent);
       if (p == by_name.end())
         throw ModelError(who + ": parent " + quoted(joint.parent) + " is neither a body nor " +
-                         quoted(kBaseName));
+                         quoted(kBaseName),
+                         joint.child);
       parent = p->second;
     }
     const int c = child->second;
     if (joint_of[c] >= 0)
       throw ModelError("body " + quoted(joint.child) + ": has two joints to a parent (" +
                        joint_label(spec.joints[joint_of[c]], joint_of[c]) + " and " + who +
-                       "); in a tree every body has exactly one");
+                       "); in a tree every body has exactly one",
+                       joint.child);
     joint_of[c] = static_cast<int>(j);
     parent_user[c] = parent;
     if (parent == kBase) on_base.push_back(c);
@@ -68,14 +71,16 @@ Topology regular_order(const ModelSpec& spec) {
     if (joint_of[b] < 0)
       throw ModelError("body " + quoted(spec.bodies[b].name) +
                        ": unreachable, no joint has it as its child; every body needs a joint "
-                       "to its parent");
+                       "to its parent",
+                       spec.bodies[b].name);
   if (on_base.empty())
     throw ModelError("model: no body is attached to " + quoted(kBaseName) +
                      "; exactly one joint must have parent " + quoted(kBaseName));
   if (on_base.size() > 1)
     throw ModelError("body " + quoted(spec.bodies[on_base[1]].name) + ": a second body on " +
                      quoted(kBaseName) + " (the first is " + quoted(spec.bodies[on_base[0]].name) +
-                     "); exactly one body may be attached to the base");
+                     "); exactly one body may be attached to the base",
+                     spec.bodies[on_base[1]].name);
 
   // Depth-first preorder from the base; children in the user's order.
   std::vector<std::vector<int>> user_children(n);
@@ -99,7 +104,8 @@ Topology regular_order(const ModelSpec& spec) {
     if (topo.regular_index[b] < 0)
       throw ModelError("body " + quoted(spec.bodies[b].name) +
                        ": not connected to the base, its chain of parents forms a cycle; the "
-                       "joints must form a tree");
+                       "joints must form a tree",
+                       spec.bodies[b].name);
 
   topo.parent.resize(n);
   topo.children.assign(n, {});

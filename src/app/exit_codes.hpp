@@ -1,0 +1,14 @@
+// Exit codes of the treedyn commands (documented in the README).
+#pragma once
+
+namespace treedyn {
+
+enum ExitCode : int {
+  kExitOk = 0,
+  kExitInternal = 1,     // a bug: please report it
+  kExitBadInput = 2,     // job file or command line refused
+  kExitIntegration = 3,  // the integrator failed (the message gives the time reached)
+  kExitIo = 4,           // an output file could not be written
+};
+
+}  // namespace treedyn

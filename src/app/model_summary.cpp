@@ -1,0 +1,80 @@
+#include "app/model_summary.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+namespace treedyn {
+namespace {
+
+std::string fmt(const char* format, double a, double b = 0, double c = 0) {
+  char buffer[128];
+  std::snprintf(buffer, sizeof buffer, format, a, b, c);
+  return buffer;
+}
+
+void draw(std::ostream& out, const Model& m, int i, const std::string& prefix, bool last) {
+  out << prefix << (last ? "`-- " : "|-- ") << m.body_name[i]
+      << fmt("  (%.4g kg, subtree %.4g kg)", m.mass[i], m.subtree_mass[i]) << "\n";
+  const auto& kids = m.children[i];
+  for (std::size_t k = 0; k < kids.size(); ++k)
+    draw(out, m, kids[k], prefix + (last ? "    " : "|   "), k + 1 == kids.size());
+}
+
+}  // namespace
+
+void print_model_summary(std::ostream& out, const Job& job) {
+  const Model& m = job.model;
+  if (!job.title.empty()) out << job.title << "\n";
+  out << "tree (" << m.n << (m.n == 1 ? " body" : " bodies") << "):\n" << kBaseName << "\n";
+  draw(out, m, 0, "", true);
+  out << fmt("total mass %.6g kg\n", m.total_mass);
+  out << "gravity [" << m.gravity.x() << ", " << m.gravity.y() << ", " << m.gravity.z() << "] m/s^2\n";
+  out << "augmented inertia K_i about the inboard joint, body frame (kg m^2):\n";
+  for (int u = 0; u < m.n; ++u) {
+    const int i = m.regular_index[u];
+    const Mat3& K = m.augmented_inertia[i];
+    out << "  " << m.body_name[i] << ":\n";
+    for (int r = 0; r < 3; ++r) out << fmt("    [% .6e % .6e", K(r, 0), K(r, 1)) << fmt(" % .6e]\n", K(r, 2));
+  }
+  out << "integration: " << name(job.request.settings.method) << ", "
+      << name(job.request.parameterisation) << ", rtol " << job.request.settings.relative_tolerance
+      << ", atol " << job.request.settings.absolute_tolerance << "\n";
+  out << "output: " << job.request.output_times.size() << " times from "
+      << job.request.output_times.front() << " s to " << job.request.output_times.back()
+      << " s; quantities:";
+  for (const auto& q : job.output.quantities) out << " " << q;
+  out << "\n";
+}
+
+void print_run_summary(std::ostream& out, const Job& job, const TrajectoryRecorder& recorder,
+                       const IntegrationOutcome& outcome, double wall_seconds) {
+  const Model& m = job.model;
+  const auto& last = recorder.last();
+  const auto& first = recorder.first();
+  if (!last || !first) return;
+  out << fmt("final state at t = %.6g s:\n", last->time);
+  for (int u = 0; u < m.n; ++u) {
+    Quat q(last->rotation[u]);
+    if (q.w() < 0) q.coeffs() *= -1.0;
+    const Vec3& r = last->com_position[u];
+    const Vec3& w = last->angular_velocity[u];
+    out << "  " << m.spec.bodies[u].name << fmt(": q = [%.6f, %.6f, %.6f", q.w(), q.x(), q.y())
+        << fmt(", %.6f]  w = [%.5g, %.5g", q.z(), w.x(), w.y()) << fmt(", %.5g] rad/s", w.z())
+        << fmt("  r = [%.5g, %.5g, %.5g] m\n", r.x(), r.y(), r.z());
+  }
+  const double e0 = first->energy.total();
+  const double scale = first->energy.kinetic + std::abs(first->energy.potential) + first->energy.spring;
+  out << fmt("energy: start %.10g J, end %.10g J", e0, last->energy.total())
+      << fmt(", max |E - E0| %.3g J (%.3g relative)\n", recorder.max_energy_change(),
+             scale > 0 ? recorder.max_energy_change() / scale : 0.0);
+  if (!m.base_motion.is_fixed())
+    out << "  (the base moves: energy is not expected to be conserved)\n";
+  const IntegratorStats& s = outcome.stats;
+  out << "integrator: " << name(job.request.settings.method) << ", " << s.steps << " steps, "
+      << s.rhs_evaluations << " right-hand sides, " << s.error_test_failures
+      << " error-test failures, " << s.chart_changes << " chart changes"
+      << fmt(", %.3f s wall\n", wall_seconds);
+}
+
+}  // namespace treedyn

@@ -1,0 +1,20 @@
+// Human-readable reports of a model and of a finished run.
+#pragma once
+
+#include <ostream>
+
+#include "integrate/settings.hpp"
+#include "job/job.hpp"
+#include "output/trajectory.hpp"
+
+namespace treedyn {
+
+// The tree drawn as text, total mass, and each body's mass and augmented
+// inertia K_i (about its inboard joint, body frame).
+void print_model_summary(std::ostream& out, const Job& job);
+
+// Final state, energy drift and integrator statistics.
+void print_run_summary(std::ostream& out, const Job& job, const TrajectoryRecorder& recorder,
+                       const IntegrationOutcome& outcome, double wall_seconds);
+
+}  // namespace treedyn

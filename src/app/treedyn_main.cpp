@@ -1,0 +1,88 @@
+// The `treedyn` command: check a job, run one trajectory into HDF5.
+#include <CLI/CLI.hpp>
+
+#include <chrono>
+#include <iostream>
+
+#include "app/exit_codes.hpp"
+#include "app/model_summary.hpp"
+#include "io/hdf5.hpp"
+#include "job/job.hpp"
+#include "job/job_error.hpp"
+#include "output/trajectory.hpp"
+
+namespace treedyn {
+namespace {
+
+int check_command(const std::string& job_path) {
+  const Job job = read_job(job_path);
+  print_model_summary(std::cout, job);
+  std::cout << job_path << ": OK\n";
+  return kExitOk;
+}
+
+int run_command(const std::string& job_path, const std::string& output_path, bool quiet) {
+  const Job job = read_job(job_path);
+  h5::check_output_path(output_path);  // refuse before integrating, not after
+  TrajectoryRecorder recorder(job.model, job.output);
+  const auto start = std::chrono::steady_clock::now();
+  const IntegrationOutcome outcome =
+      simulate(job.model, job.request,
+               [&](const Model& m, const Data& d) { recorder.record(m, d); });
+  const double wall =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (!outcome.ok()) {
+    std::cerr << job_path << ": integration failed (" << name(outcome.failure) << ") at t = "
+              << outcome.time_reached << " s after " << outcome.stats.steps << " steps";
+    if (!outcome.message.empty()) std::cerr << ": " << outcome.message;
+    std::cerr << "\nno output written. Loosen the tolerances, raise [integrator] max_steps, or "
+                 "check the model.\n";
+    return kExitIntegration;
+  }
+  write_trajectory(output_path, job, recorder, outcome);
+  if (!quiet) print_run_summary(std::cout, job, recorder, outcome, wall);
+  std::cout << "wrote " << output_path << " (" << recorder.times().size() << " output times)\n";
+  return kExitOk;
+}
+
+}  // namespace
+}  // namespace treedyn
+
+int main(int argc, char** argv) {
+  using namespace treedyn;
+  CLI::App app{"treedyn: dynamics of trees of rigid bodies joined by spherical joints"};
+  app.set_version_flag("--version", std::string("treedyn ") + TREEDYN_VERSION);
+  app.require_subcommand(1);
+  app.footer(
+      "Exit codes: 0 ok, 1 internal error, 2 bad input (job file or command line), "
+      "3 integration failure, 4 output (I/O) failure.");
+
+  std::string job_path, output_path;
+  bool quiet = false;
+  CLI::App* check = app.add_subcommand("check", "Validate a job file and print the model summary");
+  check->add_option("JOB", job_path, "job file (TOML)")->required();
+  CLI::App* run = app.add_subcommand("run", "Integrate one trajectory and write it to HDF5");
+  run->add_option("JOB", job_path, "job file (TOML)")->required();
+  run->add_option("-o,--output", output_path, "output file (HDF5), written atomically")->required();
+  run->add_flag("-q,--quiet", quiet, "print only the output file name");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? kExitOk : kExitBadInput;
+  }
+  try {
+    if (*check) return check_command(job_path);
+    return run_command(job_path, output_path, quiet);
+  } catch (const JobError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return kExitBadInput;
+  } catch (const h5::IoError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return kExitIo;
+  } catch (const std::exception& e) {
+    std::cerr << "internal error: " << e.what() << "\n";
+    return kExitInternal;
+  }
+}

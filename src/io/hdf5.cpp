@@ -1,0 +1,205 @@
+#include "io/hdf5.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <system_error>
+
+namespace treedyn::h5 {
+namespace {
+
+// HDF5 prints its own error stack by default; treedyn reports errors itself.
+void silence_hdf5() {
+  static const bool done = [] {
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+    return true;
+  }();
+  (void)done;
+}
+
+void check(herr_t status, const std::string& what) {
+  if (status < 0) throw IoError("HDF5: " + what + " failed");
+}
+
+Handle string_type(std::size_t length) {
+  Handle type(H5Tcopy(H5T_C_S1), H5Tclose, "copying the string type");
+  check(H5Tset_size(type.id(), std::max<std::size_t>(length, 1)), "setting a string size");
+  check(H5Tset_strpad(type.id(), H5T_STR_NULLTERM), "setting string padding");
+  check(H5Tset_cset(type.id(), H5T_CSET_UTF8), "setting the UTF-8 character set");
+  return type;
+}
+
+Handle simple_space(std::span<const hsize_t> dims) {
+  return Handle(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), H5Sclose,
+                "creating a dataspace");
+}
+
+Handle chunked_deflate(std::span<const hsize_t> dims) {
+  Handle plist(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, "creating dataset properties");
+  std::vector<hsize_t> chunk(dims.begin(), dims.end());
+  // About 64 KiB chunks: whole columns, a block of rows.
+  const hsize_t row_bytes = (dims.size() > 1 ? dims[1] : 1) * sizeof(double);
+  chunk[0] = std::clamp<hsize_t>(65536 / std::max<hsize_t>(row_bytes, 1), 1, std::max<hsize_t>(dims[0], 1));
+  check(H5Pset_chunk(plist.id(), static_cast<int>(chunk.size()), chunk.data()), "setting chunks");
+  check(H5Pset_shuffle(plist.id()), "setting the shuffle filter");
+  check(H5Pset_deflate(plist.id(), 4), "setting deflate compression");
+  return plist;
+}
+
+Handle write_dataset(hid_t parent, const std::string& name, hid_t type, const void* data,
+                     std::span<const hsize_t> dims, bool compress) {
+  Handle space = simple_space(dims);
+  bool empty = false;
+  for (hsize_t d : dims) empty = empty || d == 0;
+  Handle plist = compress && !empty ? chunked_deflate(dims)
+                                    : Handle(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, "properties");
+  Handle set(H5Dcreate2(parent, name.c_str(), type, space.id(), H5P_DEFAULT, plist.id(), H5P_DEFAULT),
+             H5Dclose, "creating dataset " + name);
+  if (!empty) check(H5Dwrite(set.id(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), "writing dataset " + name);
+  return set;
+}
+
+void attribute(hid_t object, const std::string& name, hid_t type, hid_t space, const void* data) {
+  Handle attr(H5Acreate2(object, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose,
+              "creating attribute " + name);
+  check(H5Awrite(attr.id(), type, data), "writing attribute " + name);
+}
+
+std::vector<char> pack(const std::vector<std::string>& values, std::size_t& width) {
+  width = 1;
+  for (const auto& v : values) width = std::max(width, v.size() + 1);
+  std::vector<char> buffer(values.size() * width, '\0');
+  for (std::size_t k = 0; k < values.size(); ++k)
+    std::copy(values[k].begin(), values[k].end(), buffer.begin() + static_cast<long>(k * width));
+  return buffer;
+}
+
+}  // namespace
+
+Handle::Handle(hid_t id, Closer close, const std::string& what) : id_(id), close_(close) {
+  silence_hdf5();
+  if (id < 0) throw IoError("HDF5: " + what + " failed");
+}
+
+Handle& Handle::operator=(Handle&& o) noexcept {
+  if (this != &o) {
+    reset();
+    id_ = o.id_;
+    close_ = o.close_;
+    o.id_ = H5I_INVALID_HID;
+  }
+  return *this;
+}
+
+void Handle::reset() {
+  if (id_ >= 0 && close_) close_(id_);
+  id_ = H5I_INVALID_HID;
+}
+
+void check_output_path(const std::filesystem::path& path) {
+  namespace fs = std::filesystem;
+  if (path.empty()) throw IoError("output: no output file given");
+  const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec))
+    throw IoError("output " + path.string() + ": directory " + dir.string() +
+                  " does not exist; create it first or choose another path");
+  if (fs::is_directory(path, ec))
+    throw IoError("output " + path.string() + ": is a directory; give a file name such as " +
+                  (path / "result.h5").string());
+  if (access(dir.c_str(), W_OK) != 0)
+    throw IoError("output " + path.string() + ": directory " + dir.string() + " is not writable");
+}
+
+File::File(std::filesystem::path final_path) : final_path_(std::move(final_path)) {
+  silence_hdf5();
+  check_output_path(final_path_);
+  temporary_path_ = final_path_;
+  temporary_path_ += ".tmp-" + std::to_string(getpid());
+  hid_t id = H5Fcreate(temporary_path_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  if (id < 0)
+    throw IoError("output " + final_path_.string() + ": cannot create the file (HDF5 refused " +
+                  temporary_path_.string() + ")");
+  handle_ = Handle(id, H5Fclose, "creating " + temporary_path_.string());
+}
+
+File::~File() {
+  if (committed_) return;
+  handle_.reset();
+  std::error_code ec;
+  std::filesystem::remove(temporary_path_, ec);
+}
+
+void File::commit() {
+  check(H5Fflush(handle_.id(), H5F_SCOPE_GLOBAL), "flushing " + temporary_path_.string());
+  handle_.reset();
+  std::error_code ec;
+  std::filesystem::rename(temporary_path_, final_path_, ec);
+  if (ec) {
+    std::filesystem::remove(temporary_path_, ec);
+    throw IoError("output " + final_path_.string() + ": cannot rename the finished file into place");
+  }
+  committed_ = true;
+}
+
+Handle create_group(hid_t parent, const std::string& name) {
+  return Handle(H5Gcreate2(parent, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose,
+                "creating group " + name);
+}
+
+Handle write_matrix(hid_t parent, const std::string& name, std::span<const double> data,
+                    std::size_t rows, std::size_t columns) {
+  const hsize_t dims[2] = {rows, columns};
+  return write_dataset(parent, name, H5T_NATIVE_DOUBLE, data.data(), dims, true);
+}
+
+Handle write_vector(hid_t parent, const std::string& name, std::span<const double> data) {
+  const hsize_t dims[1] = {data.size()};
+  return write_dataset(parent, name, H5T_NATIVE_DOUBLE, data.data(), dims, true);
+}
+
+Handle write_vector(hid_t parent, const std::string& name, std::span<const long long> data) {
+  const hsize_t dims[1] = {data.size()};
+  return write_dataset(parent, name, H5T_NATIVE_LLONG, data.data(), dims, true);
+}
+
+Handle write_strings(hid_t parent, const std::string& name, const std::vector<std::string>& data) {
+  std::size_t width = 0;
+  const std::vector<char> buffer = pack(data, width);
+  Handle type = string_type(width);
+  const hsize_t dims[1] = {data.size()};
+  return write_dataset(parent, name, type.id(), buffer.data(), dims, false);
+}
+
+void write_attribute(hid_t object, const std::string& name, const std::string& value) {
+  Handle type = string_type(value.size() + 1);
+  Handle space(H5Screate(H5S_SCALAR), H5Sclose, "creating a scalar dataspace");
+  attribute(object, name, type.id(), space.id(), value.c_str());
+}
+
+void write_attribute(hid_t object, const std::string& name, double value) {
+  Handle space(H5Screate(H5S_SCALAR), H5Sclose, "creating a scalar dataspace");
+  attribute(object, name, H5T_NATIVE_DOUBLE, space.id(), &value);
+}
+
+void write_attribute(hid_t object, const std::string& name, long long value) {
+  Handle space(H5Screate(H5S_SCALAR), H5Sclose, "creating a scalar dataspace");
+  attribute(object, name, H5T_NATIVE_LLONG, space.id(), &value);
+}
+
+void write_attribute(hid_t object, const std::string& name, const std::vector<std::string>& values) {
+  std::size_t width = 0;
+  const std::vector<char> buffer = pack(values, width);
+  Handle type = string_type(width);
+  const hsize_t dims[1] = {values.size()};
+  Handle space = simple_space(dims);
+  attribute(object, name, type.id(), space.id(), buffer.data());
+}
+
+void write_attribute(hid_t object, const std::string& name, std::span<const double> values) {
+  const hsize_t dims[1] = {values.size()};
+  Handle space = simple_space(dims);
+  attribute(object, name, H5T_NATIVE_DOUBLE, space.id(), values.data());
+}
+
+}  // namespace treedyn::h5

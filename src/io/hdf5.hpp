@@ -1,0 +1,78 @@
+// A small RAII layer over the HDF5 C API: every handle closes itself, every
+// failing call throws IoError naming what it was doing.
+#pragma once
+
+#include <hdf5.h>
+
+#include <filesystem>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace treedyn::h5 {
+
+class IoError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// One owned hid_t, closed with the matching H5*close.
+class Handle {
+ public:
+  using Closer = herr_t (*)(hid_t);
+  Handle() = default;
+  Handle(hid_t id, Closer close, const std::string& what);  // throws if id < 0
+  ~Handle() { reset(); }
+  Handle(Handle&& o) noexcept : id_(o.id_), close_(o.close_) { o.id_ = H5I_INVALID_HID; }
+  Handle& operator=(Handle&& o) noexcept;
+  Handle(const Handle&) = delete;
+  Handle& operator=(const Handle&) = delete;
+  hid_t id() const { return id_; }
+  void reset();
+
+ private:
+  hid_t id_ = H5I_INVALID_HID;
+  Closer close_ = nullptr;
+};
+
+// Writes a new file (truncating) and, on commit(), closes it and renames it
+// from its temporary name to the final one. Destroyed without commit(), it
+// removes the temporary file: a failed run leaves nothing behind.
+class File {
+ public:
+  explicit File(std::filesystem::path final_path);
+  ~File();
+  File(const File&) = delete;
+  File& operator=(const File&) = delete;
+  hid_t id() const { return handle_.id(); }
+  void commit();
+
+ private:
+  std::filesystem::path final_path_;
+  std::filesystem::path temporary_path_;
+  Handle handle_;
+  bool committed_ = false;
+};
+
+// Checks that `path` can become an output file (its directory exists, it is
+// not a directory); throws IoError saying what is wrong.
+void check_output_path(const std::filesystem::path& path);
+
+Handle create_group(hid_t parent, const std::string& name);
+
+// A 2-D dataset rows x columns of doubles, chunked and deflate-compressed.
+Handle write_matrix(hid_t parent, const std::string& name, std::span<const double> data,
+                    std::size_t rows, std::size_t columns);
+// 1-D datasets.
+Handle write_vector(hid_t parent, const std::string& name, std::span<const double> data);
+Handle write_vector(hid_t parent, const std::string& name, std::span<const long long> data);
+Handle write_strings(hid_t parent, const std::string& name, const std::vector<std::string>& data);
+
+void write_attribute(hid_t object, const std::string& name, const std::string& value);
+void write_attribute(hid_t object, const std::string& name, double value);
+void write_attribute(hid_t object, const std::string& name, long long value);
+void write_attribute(hid_t object, const std::string& name, const std::vector<std::string>& values);
+void write_attribute(hid_t object, const std::string& name, std::span<const double> values);
+
+}  // namespace treedyn::h5

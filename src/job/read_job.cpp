@@ -1,0 +1,170 @@
+// The top level of a job file: sections, integrator, output, and the model's
+// validation mapped back to the place in the file.
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "common/error.hpp"
+#include "job/job.hpp"
+#include "job/readers.hpp"
+#include "output/quantities.hpp"
+
+namespace treedyn {
+namespace {
+
+void read_integrator(const TomlView& t, SimulationRequest& r) {
+  t.check_keys({"method", "parameterisation", "rtol", "atol", "max_steps", "max_step",
+                "initial_step"});
+  if (auto m = t.string("method"); m && !parse_method(*m, r.settings.method))
+    t.fail("method", "\"" + *m +
+                         "\" is not a method; allowed: \"cvode_adams\", \"cvode_bdf\", "
+                         "\"erk_dormand_prince\", \"erk_verner\"");
+  if (auto p = t.string("parameterisation"); p && !parse_parameterisation(*p, r.parameterisation))
+    t.fail("parameterisation", "\"" + *p +
+                                   "\" is not a parameterisation; allowed: \"quaternion\", "
+                                   "\"euler313\", \"bryant123\", \"direction_cosines\"");
+  auto positive = [&](std::string_view key, double& value) {
+    if (auto v = t.number(key)) {
+      if (!(*v > 0.0)) t.fail(key, "must be positive");
+      value = *v;
+    }
+  };
+  positive("rtol", r.settings.relative_tolerance);
+  positive("atol", r.settings.absolute_tolerance);
+  positive("max_step", r.settings.max_step);
+  positive("initial_step", r.settings.initial_step);
+  if (auto n = t.integer("max_steps")) {
+    if (*n < 1) t.fail("max_steps", "must be a positive integer");
+    r.settings.max_steps = *n;
+  }
+}
+
+std::vector<double> read_output_times(const TomlView& t) {
+  const bool explicit_list = t.has("times");
+  if (explicit_list && (t.has("end_time") || t.has("step")))
+    t.fail("times", "give either 'times' or 'end_time' with 'step', not both");
+  if (explicit_list) {
+    std::vector<double> times = *t.numbers("times");
+    if (times.empty()) t.fail("times", "must list at least one time (s)");
+    for (std::size_t k = 0; k < times.size(); ++k)
+      if (times[k] < 0.0 || (k > 0 && times[k] < times[k - 1]))
+        t.fail("times", "must be >= 0 and non-decreasing (s)");
+    return times;
+  }
+  const auto end = t.number("end_time");
+  if (!end) t.fail("end_time", "missing required field: the end time in s (or give 'times')");
+  if (!(*end > 0.0))
+    t.fail("end_time", std::to_string(*end) + " is not allowed; the end time must be > 0 s");
+  const auto step = t.number("step");
+  if (!step) t.fail("step", "missing required field: the output step in s");
+  if (!(*step > 0.0)) t.fail("step", "must be > 0 s");
+  if (*step > *end)
+    t.fail("step", "the output step " + std::to_string(*step) + " s is larger than the end time " +
+                       std::to_string(*end) + " s; it must be at most end_time");
+  const auto count = static_cast<long>(std::floor(*end / *step * (1.0 + 1e-12)));
+  if (count > 10'000'000) t.fail("step", "more than 10 million output times; use a larger step");
+  std::vector<double> times;
+  for (long k = 0; k <= count; ++k) times.push_back(static_cast<double>(k) * *step);
+  if (times.back() < *end * (1.0 - 1e-12)) times.push_back(*end);
+  times.back() = std::min(times.back(), *end);
+  return times;
+}
+
+OutputSpec read_output(const TomlView& t, const ModelSpec& model, SimulationRequest& r) {
+  t.check_keys({"end_time", "step", "times", "quantities", "point"});
+  r.output_times = read_output_times(t);
+  OutputSpec out;
+  for (const TomlView& p : t.table_array("point")) {
+    p.check_keys({"name", "body", "point"});
+    OutputPoint point;
+    point.name = p.required_string("name");
+    point.body = p.required_string("body");
+    point.point = p.vec3("point").value_or(Vec3::Zero());
+    for (std::size_t b = 0; b < model.bodies.size(); ++b)
+      if (model.bodies[b].name == point.body) point.body_index = static_cast<int>(b);
+    if (point.body_index < 0) p.fail("body", "'" + point.body + "' is not a body of the model");
+    out.points.push_back(point);
+  }
+  if (const toml::node* q = t.table().get("quantities")) {
+    const toml::array* list = q->as_array();
+    if (!list) t.fail("quantities", "expected an array of quantity names");
+    for (const toml::node& e : *list) {
+      const auto name = e.value<std::string>();
+      std::string allowed;
+      for (const QuantityInfo& info : quantity_catalogue()) allowed += " " + std::string(info.name);
+      if (!name || !find_quantity(*name))
+        t.fail_at(&e, "quantities", "unknown quantity; allowed:" + allowed);
+      out.quantities.push_back(*name);
+    }
+    const bool wants_points = std::find(out.quantities.begin(), out.quantities.end(),
+                                        "point_position") != out.quantities.end();
+    if (wants_points && out.points.empty())
+      t.fail("quantities", "\"point_position\" needs at least one [[output.point]]");
+  } else {
+    for (const QuantityInfo& info : quantity_catalogue())
+      if (info.name != "point_position" || !out.points.empty()) out.quantities.emplace_back(info.name);
+  }
+  return out;
+}
+
+}  // namespace
+
+Job parse_job(std::string_view text, const std::string& file) {
+  toml::table root_table;
+  try {
+    root_table = toml::parse(text, file);
+  } catch (const toml::parse_error& e) {
+    throw JobError(file, static_cast<int>(e.source().begin.line),
+                   static_cast<int>(e.source().begin.column), "",
+                   "not valid TOML: " + std::string(e.description()));
+  }
+  const TomlView root(root_table, "", file);
+  root.check_keys({"title", "environment", "base", "body", "chain", "force", "moment",
+                   "integrator", "output"});
+
+  Job job;
+  job.file = file;
+  job.text = std::string(text);
+  job.title = root.string("title").value_or("");
+
+  ModelSpec spec;
+  ReadBodies bodies = read_bodies(root);
+  spec.bodies = std::move(bodies.bodies);
+  spec.joints = std::move(bodies.joints);
+  if (auto env = root.subtable("environment")) {
+    env->check_keys({"gravity"});
+    spec.gravity = env->vec3("gravity").value_or(spec.gravity);
+  }
+  if (auto base = root.subtable("base")) spec.base_motion = read_base(*base);
+  read_loads(root, spec);
+
+  try {
+    job.model = build_model(spec);
+  } catch (const ModelError& e) {
+    const auto it = bodies.where.find(e.subject());
+    if (it != bodies.where.end())
+      throw JobError(file, line_of(*it->second), column_of(*it->second), "body '" + e.subject() + "'",
+                     e.what());
+    throw JobError(file, 0, 0, "", e.what());
+  }
+  job.request.initial = std::move(bodies.initial);
+
+  if (auto integrator = root.subtable("integrator")) read_integrator(*integrator, job.request);
+  const auto output = root.subtable("output");
+  if (!output)
+    throw JobError(file, 0, 0, "output",
+                   "missing [output] section: give end_time and step (or times)");
+  job.output = read_output(*output, spec, job.request);
+  return job;
+}
+
+Job read_job(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw JobError(path.string(), 0, 0, "", "cannot open the job file for reading");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return parse_job(text.str(), path.string());
+}
+
+}  // namespace treedyn

@@ -1,0 +1,247 @@
+// [[body]], [[chain]], [base], [[force]], [[moment]].
+#include <cmath>
+#include <numbers>
+
+#include "job/inertia_shapes.hpp"
+#include "job/readers.hpp"
+
+namespace treedyn {
+namespace {
+
+double positive(const TomlView& t, std::string_view key, const char* unit) {
+  const double v = t.required_number(key);
+  if (!(v > 0.0))
+    t.fail(key, std::to_string(v) + " is not allowed; must be positive (" + unit + ")");
+  return v;
+}
+
+// Mass from `mass` or `density` x volume (exactly one of them).
+double mass_of(const TomlView& t, double volume) {
+  const bool has_mass = t.has("mass"), has_density = t.has("density");
+  if (has_mass == has_density)
+    t.fail(has_mass ? "density" : "mass",
+           "give exactly one of 'mass' (kg) or 'density' (kg/m^3) for a body with a shape");
+  if (has_mass) return positive(t, "mass", "kg");
+  return positive(t, "density", "kg/m^3") * volume;
+}
+
+void read_mass_and_inertia(const TomlView& t, BodySpec& body) {
+  const auto shape = t.string("shape");
+  if (shape) {
+    for (std::string_view k : {"inertia", "principal_moments", "principal_axes"})
+      if (t.has(k)) t.fail(k, "not allowed together with 'shape': the shape defines the inertia");
+    Vec3 moments;
+    if (*shape == "box") {
+      const auto size = t.vec3("size");
+      if (!size) t.fail("size", "missing: a box needs size = [x, y, z] in m");
+      if (!(size->minCoeff() > 0.0)) t.fail("size", "every edge must be positive (m)");
+      body.mass = mass_of(t, box_volume(*size));
+      moments = box_principal_moments(body.mass, *size);
+    } else if (*shape == "cylinder") {
+      const double r = positive(t, "radius", "m"), l = positive(t, "length", "m");
+      body.mass = mass_of(t, cylinder_volume(r, l));
+      moments = cylinder_principal_moments(body.mass, r, l);
+    } else if (*shape == "sphere") {
+      const double r = positive(t, "radius", "m");
+      body.mass = mass_of(t, sphere_volume(r));
+      moments = sphere_principal_moments(body.mass, r);
+    } else {
+      t.fail("shape", "\"" + *shape + "\" is not a shape; allowed: \"box\", \"cylinder\", \"sphere\"");
+    }
+    body.inertia = moments.asDiagonal();
+    return;
+  }
+  for (std::string_view k : {"size", "radius", "length", "density"})
+    if (t.has(k)) t.fail(k, "only meaningful with 'shape' (\"box\", \"cylinder\" or \"sphere\")");
+  if (!t.has("mass")) t.fail("mass", "missing required field: the body's mass in kg (or give a 'shape')");
+  body.mass = positive(t, "mass", "kg");
+  const bool full = t.has("inertia"), principal = t.has("principal_moments");
+  if (full == principal)
+    t.fail(full ? "principal_moments" : "inertia",
+           "give exactly one of 'inertia' (3x3, kg m^2) or 'principal_moments' ([A, B, C], kg m^2)");
+  if (full) {
+    body.inertia = *t.mat3_or_scalar("inertia");
+    return;
+  }
+  const Vec3 moments = *t.vec3("principal_moments");
+  Mat3 axes = Mat3::Identity();
+  if (const auto given = t.mat3_or_scalar("principal_axes")) {
+    axes = given->transpose();  // rows in the file are the axes; columns here
+    if (!(axes.transpose() * axes).isApprox(Mat3::Identity(), 1e-9) || axes.determinant() < 0.0)
+      t.fail("principal_axes", "the three axes must be orthonormal and right-handed");
+  }
+  body.inertia = inertia_from_principal(moments, axes);
+}
+
+JointSpring read_spring(const TomlView& t) {
+  t.check_keys({"stiffness", "damping", "reference"});
+  JointSpring s;
+  if (auto k = t.mat3_or_scalar("stiffness")) s.stiffness = *k;
+  if (auto c = t.mat3_or_scalar("damping")) s.damping = *c;
+  if (auto r = t.subtable("reference")) s.reference = Quat(read_orientation(*r));
+  return s;
+}
+
+void read_state(const TomlView& t, ReadBodies& out) {
+  Mat3 A = Mat3::Identity();
+  if (auto o = t.subtable("orientation")) A = read_orientation(*o);
+  Vec3 w = Vec3::Zero();
+  if (auto v = t.subtable("angular_velocity")) w = read_angular_velocity(*v, A);
+  out.initial.rotation.push_back(A);
+  out.initial.angular_velocity.push_back(w);
+}
+
+void read_body(const TomlView& t, ReadBodies& out) {
+  t.check_keys({"name", "parent", "joint_on_parent", "joint_on_child", "mass", "density",
+                "inertia", "principal_moments", "principal_axes", "shape", "size", "radius",
+                "length", "orientation", "angular_velocity", "spring"});
+  BodySpec body;
+  body.name = t.required_string("name");
+  read_mass_and_inertia(t, body);
+  JointSpec joint;
+  joint.child = body.name;
+  joint.parent = t.required_string("parent");
+  joint.on_parent = t.vec3("joint_on_parent").value_or(Vec3::Zero());
+  joint.on_child = t.vec3("joint_on_child").value_or(Vec3::Zero());
+  if (auto s = t.subtable("spring")) joint.spring = read_spring(*s);
+  out.where[body.name] = &t.table();
+  out.bodies.push_back(body);
+  out.joints.push_back(joint);
+  read_state(t, out);
+}
+
+// N identical cylindrical links along their body z axes, joined end to end:
+// link k hangs from the lower end of link k-1 (the first from `parent`).
+void read_chain(const TomlView& t, ReadBodies& out) {
+  t.check_keys({"name", "links", "parent", "joint_on_parent", "link_length", "radius", "mass",
+                "density", "orientation", "angular_velocity", "spring"});
+  const std::string prefix = t.required_string("name");
+  const auto links = t.integer("links");
+  if (!links) t.fail("links", "missing required field: the number of links (integer >= 1)");
+  if (*links < 1 || *links > 100000) t.fail("links", "must be an integer from 1 to 100000");
+  const double length = positive(t, "link_length", "m");
+  const double radius = t.has("radius") ? positive(t, "radius", "m") : length / 50.0;
+  BodySpec link;
+  link.mass = mass_of(t, cylinder_volume(radius, length));
+  link.inertia = cylinder_principal_moments(link.mass, radius, length).asDiagonal();
+  JointSpring spring;
+  if (auto s = t.subtable("spring")) spring = read_spring(*s);
+  std::string parent = t.string("parent").value_or(kBaseName);
+  for (long k = 1; k <= *links; ++k) {
+    link.name = prefix + std::to_string(k);
+    JointSpec joint;
+    joint.child = link.name;
+    joint.parent = parent;
+    joint.on_parent = k == 1 ? t.vec3("joint_on_parent").value_or(Vec3::Zero())
+                             : Vec3(0.0, 0.0, -0.5 * length);
+    joint.on_child = Vec3(0.0, 0.0, 0.5 * length);
+    joint.spring = spring;
+    out.where[link.name] = &t.table();
+    out.bodies.push_back(link);
+    out.joints.push_back(joint);
+    read_state(t, out);
+    parent = link.name;
+  }
+}
+
+std::vector<Harmonic> read_harmonics(const TomlView& base, std::string_view axis) {
+  std::vector<Harmonic> terms;
+  for (const TomlView& h : base.table_array(axis)) {
+    h.check_keys({"amplitude", "frequency", "phase", "unit"});
+    Harmonic term;
+    term.amplitude = h.required_number("amplitude");
+    term.frequency = h.required_number("frequency");
+    if (term.frequency < 0.0) h.fail("frequency", "must be >= 0 (Hz)");
+    if (h.has("phase")) {
+      const auto unit = h.string("unit");
+      if (!unit || (*unit != "deg" && *unit != "rad"))
+        h.fail("unit", "the phase needs unit = \"deg\" or \"rad\"");
+      term.phase = h.required_number("phase") * (*unit == "deg" ? std::numbers::pi / 180.0 : 1.0);
+    }
+    terms.push_back(term);
+  }
+  return terms;
+}
+
+}  // namespace
+
+ReadBodies read_bodies(const TomlView& root) {
+  ReadBodies out;
+  for (const TomlView& b : root.table_array("body")) read_body(b, out);
+  for (const TomlView& c : root.table_array("chain")) read_chain(c, out);
+  if (out.bodies.empty())
+    throw JobError(root.file(), 0, 0, "body",
+                   "the job defines no bodies; add at least one [[body]] or [[chain]]");
+  return out;
+}
+
+BaseMotionSpec read_base(const TomlView& t) {
+  const std::string type = t.string("type").value_or("fixed");
+  if (type == "fixed") {
+    t.check_keys({"type", "position"});
+    return FixedBase{t.vec3("position").value_or(Vec3::Zero())};
+  }
+  if (type == "constant_acceleration") {
+    t.check_keys({"type", "position", "velocity", "acceleration"});
+    return ConstantAccelerationBase{t.vec3("position").value_or(Vec3::Zero()),
+                                    t.vec3("velocity").value_or(Vec3::Zero()),
+                                    t.vec3("acceleration").value_or(Vec3::Zero())};
+  }
+  if (type == "harmonic") {
+    t.check_keys({"type", "offset", "x", "y", "z"});
+    HarmonicBase h;
+    h.offset = t.vec3("offset").value_or(Vec3::Zero());
+    h.axes = {read_harmonics(t, "x"), read_harmonics(t, "y"), read_harmonics(t, "z")};
+    return h;
+  }
+  if (type == "tabulated") {
+    t.check_keys({"type", "times", "positions"});
+    TabulatedBase tab;
+    const auto times = t.numbers("times");
+    if (!times) t.fail("times", "missing required field: sample times in s");
+    tab.times = *times;
+    const toml::array* rows = t.table().get_as<toml::array>("positions");
+    if (!rows) t.fail("positions", "missing required field: one [x, y, z] per time");
+    for (const toml::node& row : *rows) {
+      const toml::array* r = row.as_array();
+      if (!r || r->size() != 3 || !(*r)[0].is_number() || !(*r)[1].is_number() || !(*r)[2].is_number())
+        t.fail_at(&row, "positions", "each position must be [x, y, z] in m");
+      tab.positions.emplace_back((*r)[0].value<double>().value(), (*r)[1].value<double>().value(),
+                                 (*r)[2].value<double>().value());
+    }
+    if (tab.times.size() != tab.positions.size() || tab.times.size() < 2)
+      t.fail("positions", "need at least 2 samples and exactly one position per time (" +
+                              std::to_string(tab.times.size()) + " times, " +
+                              std::to_string(tab.positions.size()) + " positions)");
+    for (std::size_t k = 1; k < tab.times.size(); ++k)
+      if (!(tab.times[k] > tab.times[k - 1])) t.fail("times", "must be strictly increasing");
+    return tab;
+  }
+  t.fail("type", "\"" + type +
+                     "\" is not a base motion; allowed: \"fixed\", \"constant_acceleration\", "
+                     "\"harmonic\", \"tabulated\"");
+}
+
+void read_loads(const TomlView& root, ModelSpec& spec) {
+  for (const TomlView& f : root.table_array("force")) {
+    f.check_keys({"body", "point", "force"});
+    PointForce pf;
+    pf.body = f.required_string("body");
+    pf.point = f.vec3("point").value_or(Vec3::Zero());
+    const auto force = f.vec3("force");
+    if (!force) f.fail("force", "missing required field: [Fx, Fy, Fz] in N, inertial frame");
+    pf.force = *force;
+    spec.forces.push_back(pf);
+  }
+  for (const TomlView& m : root.table_array("moment")) {
+    m.check_keys({"body", "moment"});
+    BodyMoment bm;
+    bm.body = m.required_string("body");
+    const auto moment = m.vec3("moment");
+    if (!moment) m.fail("moment", "missing required field: [Mx, My, Mz] in N m, inertial frame");
+    bm.moment = *moment;
+    spec.moments.push_back(bm);
+  }
+}
+
+}  // namespace treedyn

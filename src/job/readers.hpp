@@ -1,0 +1,33 @@
+// Section readers of the job file (internal to src/job).
+#pragma once
+
+#include <map>
+#include <string>
+
+#include "integrate/tree_ode.hpp"
+#include "job/toml_view.hpp"
+#include "model/model_spec.hpp"
+
+namespace treedyn {
+
+// An orientation table {type = "quaternion" | "axis_angle" | "euler313" |
+// "bryant123", ...}; angles need unit = "deg" or "rad".
+Mat3 read_orientation(const TomlView& table);
+// {value = [x, y, z], frame = "inertial" | "body", unit = "rad/s" | "deg/s"}
+// turned into the inertial frame with the body's orientation.
+Vec3 read_angular_velocity(const TomlView& table, const Mat3& orientation);
+
+// The bodies of [[body]] and [[chain]] with their joints and initial state,
+// in file order. `where` maps each body name to the table that defined it.
+struct ReadBodies {
+  std::vector<BodySpec> bodies;
+  std::vector<JointSpec> joints;
+  TreeState initial;
+  std::map<std::string, const toml::node*> where;
+};
+ReadBodies read_bodies(const TomlView& root);
+
+BaseMotionSpec read_base(const TomlView& base);
+void read_loads(const TomlView& root, ModelSpec& spec);
+
+}  // namespace treedyn
