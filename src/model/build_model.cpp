@@ -140,15 +140,15 @@ Model build_model(const ModelSpec& spec) {
   for (std::size_t k = 0; k < spec.forces.size(); ++k) {
     const PointForce& f = spec.forces[k];
     const int i = find_body(f.body, "force", k);
-    require_finite("force " + std::to_string(k + 1), "point", f.point);
-    require_finite("force " + std::to_string(k + 1), "force", f.force);
+    require_finite("force " + std::to_string(k + 1) + " on body '" + f.body + "'", "point", f.point);
+    require_finite("force " + std::to_string(k + 1) + " on body '" + f.body + "'", "force", f.force);
     m.point_forces[i].push_back(f);
     m.has_point_forces = true;
   }
   for (std::size_t k = 0; k < spec.moments.size(); ++k) {
     const BodyMoment& mo = spec.moments[k];
     const int i = find_body(mo.body, "moment", k);
-    require_finite("moment " + std::to_string(k + 1), "moment", mo.moment);
+    require_finite("moment " + std::to_string(k + 1) + " on body '" + mo.body + "'", "moment", mo.moment);
     m.applied_moment[i] += mo.moment;
   }
 
