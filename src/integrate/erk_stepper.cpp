@@ -1,6 +1,8 @@
 // ARKODE ERKStep with an embedded explicit Runge-Kutta pair.
 #include <arkode/arkode_erkstep.h>
 
+#include <memory>
+#include <type_traits>
 #include <vector>
 
 #include "integrate/stepper.hpp"
@@ -29,6 +31,36 @@ FailureKind classify(int flag) {
   }
 }
 
+struct TableDeleter {
+  void operator()(ARKodeButcherTable t) const { ARKodeButcherTable_Free(t); }
+};
+using Table = std::unique_ptr<std::remove_pointer_t<ARKodeButcherTable>, TableDeleter>;
+
+// Verner's 6(5) pair with one stage appended so that it is truly "first same
+// as last": stage 9 = f(t + h, y_{n+1}) (c = 1, A row = b, weights 0).
+// SUNDIALS 6.4 treats every table whose last c is 1 as FSAL (llnl/sundials
+// issue #311); ARKODE_VERNER_8_5_6 is not, and used as shipped it reuses a
+// wrong stage and drops to third order. With the appended stage the reuse is
+// right and a step still costs 8 new right-hand sides.
+Table fsal_verner_table() {
+  Table verner(check_created(ARKodeButcherTable_LoadERK(ARKODE_VERNER_8_5_6),
+                             "ARKodeButcherTable_LoadERK"));
+  const int s = verner->stages;  // 8
+  const int t = s + 1;
+  std::vector<double> c(t, 0.0), A(static_cast<std::size_t>(t * t), 0.0), b(t, 0.0), d(t, 0.0);
+  for (int i = 0; i < s; ++i) {
+    c[i] = verner->c[i];
+    b[i] = verner->b[i];
+    d[i] = verner->d[i];
+    for (int j = 0; j < s; ++j) A[static_cast<std::size_t>(i * t + j)] = verner->A[i][j];
+    A[static_cast<std::size_t>(s * t + i)] = verner->b[i];
+  }
+  c[s] = 1.0;
+  return Table(check_created(ARKodeButcherTable_Create(t, verner->q, verner->p, c.data(), A.data(),
+                                                        b.data(), d.data()),
+                             "ARKodeButcherTable_Create"));
+}
+
 class ErkStepper final : public Stepper {
  public:
   ErkStepper(TreeOde& ode, const IntegratorSettings& s, double t0, N_Vector y0, SUNContext ctx)
@@ -40,9 +72,10 @@ class ErkStepper final : public Stepper {
     check(ERKStepSStolerances(m, s.relative_tolerance, s.absolute_tolerance),
           "ERKStepSStolerances");
     check(ERKStepSetUserData(m, &ode_), "ERKStepSetUserData");
-    check(ERKStepSetTableNum(m, s.method == Method::erk_verner ? ARKODE_VERNER_8_5_6
-                                                                : ARKODE_DORMAND_PRINCE_7_4_5),
-          "ERKStepSetTableNum");
+    if (s.method == Method::erk_verner)
+      check(ERKStepSetTable(m, fsal_verner_table().get()), "ERKStepSetTable");  // copies it
+    else
+      check(ERKStepSetTableNum(m, ARKODE_DORMAND_PRINCE_7_4_5), "ERKStepSetTableNum");
     check(ERKStepSetMaxNumSteps(m, s.max_steps), "ERKStepSetMaxNumSteps");
     if (s.max_step > 0.0) check(ERKStepSetMaxStep(m, s.max_step), "ERKStepSetMaxStep");
     if (s.initial_step > 0.0) check(ERKStepSetInitStep(m, s.initial_step), "ERKStepSetInitStep");

@@ -153,6 +153,55 @@ Handle write_matrix(hid_t parent, const std::string& name, std::span<const doubl
   return write_dataset(parent, name, H5T_NATIVE_DOUBLE, data.data(), dims, true);
 }
 
+Handle write_array(hid_t parent, const std::string& name, hid_t type, const void* data,
+                   std::span<const hsize_t> dims) {
+  return write_dataset(parent, name, type, data, dims, true);
+}
+
+Handle create_rows(hid_t parent, const std::string& name, hid_t type, std::size_t rows,
+                   std::size_t columns, std::size_t chunk_rows) {
+  const hsize_t dims[2] = {rows, std::max<std::size_t>(columns, 1)};
+  const std::size_t rank = columns == 0 ? 1 : 2;
+  Handle space = simple_space(std::span<const hsize_t>(dims, rank));
+  Handle plist(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, "creating dataset properties");
+  if (rows > 0) {
+    const hsize_t chunk[2] = {std::clamp<hsize_t>(chunk_rows, 1, rows), dims[1]};
+    check(H5Pset_chunk(plist.id(), static_cast<int>(rank), chunk), "setting chunks");
+    check(H5Pset_deflate(plist.id(), 4), "setting deflate compression");
+  }
+  return Handle(H5Dcreate2(parent, name.c_str(), type, space.id(), H5P_DEFAULT, plist.id(), H5P_DEFAULT),
+                H5Dclose, "creating dataset " + name);
+}
+
+void write_rows(hid_t dataset, hid_t type, std::size_t first_row, std::size_t rows,
+                std::size_t columns, const void* data) {
+  if (rows == 0) return;
+  Handle file_space(H5Dget_space(dataset), H5Sclose, "getting a dataspace");
+  const int rank = H5Sget_simple_extent_ndims(file_space.id());
+  const hsize_t start[2] = {first_row, 0};
+  const hsize_t count[2] = {rows, std::max<std::size_t>(columns, 1)};
+  check(H5Sselect_hyperslab(file_space.id(), H5S_SELECT_SET, start, nullptr, count, nullptr),
+        "selecting rows");
+  Handle memory_space = simple_space(std::span<const hsize_t>(count, static_cast<std::size_t>(rank)));
+  check(H5Dwrite(dataset, type, memory_space.id(), file_space.id(), H5P_DEFAULT, data), "writing rows");
+}
+
+Handle create_string_rows(hid_t parent, const std::string& name, std::size_t rows,
+                          std::size_t length, std::size_t chunk_rows) {
+  Handle type = string_type(length);
+  return create_rows(parent, name, type.id(), rows, 0, chunk_rows);
+}
+
+void write_string_rows(hid_t dataset, std::size_t first_row, const std::vector<std::string>& rows,
+                       std::size_t length) {
+  std::vector<char> buffer(rows.size() * length, '\0');
+  for (std::size_t k = 0; k < rows.size(); ++k)
+    std::copy_n(rows[k].begin(), std::min(rows[k].size(), length - 1),
+                buffer.begin() + static_cast<long>(k * length));
+  Handle type = string_type(length);
+  write_rows(dataset, type.id(), first_row, rows.size(), 0, buffer.data());
+}
+
 Handle write_vector(hid_t parent, const std::string& name, std::span<const double> data) {
   const hsize_t dims[1] = {data.size()};
   return write_dataset(parent, name, H5T_NATIVE_DOUBLE, data.data(), dims, true);

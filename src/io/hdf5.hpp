@@ -69,6 +69,22 @@ Handle write_vector(hid_t parent, const std::string& name, std::span<const doubl
 Handle write_vector(hid_t parent, const std::string& name, std::span<const long long> data);
 Handle write_strings(hid_t parent, const std::string& name, const std::vector<std::string>& data);
 
+// An N-dimensional dataset of `type` (e.g. H5T_NATIVE_DOUBLE), chunked and
+// compressed, written whole.
+Handle write_array(hid_t parent, const std::string& name, hid_t type, const void* data,
+                   std::span<const hsize_t> dims);
+// A rows x columns dataset created empty (fill value `fill`), filled later
+// block by block with write_rows: for records that arrive out of order.
+Handle create_rows(hid_t parent, const std::string& name, hid_t type, std::size_t rows,
+                   std::size_t columns, std::size_t chunk_rows);
+void write_rows(hid_t dataset, hid_t type, std::size_t first_row, std::size_t rows,
+                std::size_t columns, const void* data);
+// Fixed-length strings, one per row, filled later with write_rows.
+Handle create_string_rows(hid_t parent, const std::string& name, std::size_t rows,
+                          std::size_t length, std::size_t chunk_rows);
+void write_string_rows(hid_t dataset, std::size_t first_row, const std::vector<std::string>& rows,
+                       std::size_t length);
+
 void write_attribute(hid_t object, const std::string& name, const std::string& value);
 void write_attribute(hid_t object, const std::string& name, double value);
 void write_attribute(hid_t object, const std::string& name, long long value);
