@@ -55,13 +55,13 @@ std::vector<double> read_output_times(const TomlView& t) {
   const auto end = t.number("end_time");
   if (!end) t.fail("end_time", "missing required field: the end time in s (or give 'times')");
   if (!(*end > 0.0))
-    t.fail("end_time", std::to_string(*end) + " is not allowed; the end time must be > 0 s");
+    t.fail("end_time", format_number(*end) + " is not allowed; the end time must be > 0 s");
   const auto step = t.number("step");
   if (!step) t.fail("step", "missing required field: the output step in s");
   if (!(*step > 0.0)) t.fail("step", "must be > 0 s");
   if (*step > *end)
-    t.fail("step", "the output step " + std::to_string(*step) + " s is larger than the end time " +
-                       std::to_string(*end) + " s; it must be at most end_time");
+    t.fail("step", "the output step " + format_number(*step) + " s is larger than the end time " +
+                       format_number(*end) + " s; it must be at most end_time");
   const auto count = static_cast<long>(std::floor(*end / *step * (1.0 + 1e-12)));
   if (count > 10'000'000) t.fail("step", "more than 10 million output times; use a larger step");
   std::vector<double> times;
@@ -121,7 +121,7 @@ Job parse_job(std::string_view text, const std::string& file) {
   }
   const TomlView root(root_table, "", file);
   root.check_keys({"title", "environment", "base", "body", "chain", "force", "moment",
-                   "integrator", "output"});
+                   "integrator", "output", "ensemble"});  // [ensemble]: read by treedyn-ensemble
 
   Job job;
   job.file = file;
@@ -143,9 +143,9 @@ Job parse_job(std::string_view text, const std::string& file) {
     job.model = build_model(spec);
   } catch (const ModelError& e) {
     const auto it = bodies.where.find(e.subject());
+    // The message names the body already; point at the table that defined it.
     if (it != bodies.where.end())
-      throw JobError(file, line_of(*it->second), column_of(*it->second), "body '" + e.subject() + "'",
-                     e.what());
+      throw JobError(file, line_of(*it->second), column_of(*it->second), "", e.what());
     throw JobError(file, 0, 0, "", e.what());
   }
   job.request.initial = std::move(bodies.initial);

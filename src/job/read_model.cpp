@@ -11,7 +11,7 @@ namespace {
 double positive(const TomlView& t, std::string_view key, const char* unit) {
   const double v = t.required_number(key);
   if (!(v > 0.0))
-    t.fail(key, std::to_string(v) + " is not allowed; must be positive (" + unit + ")");
+    t.fail(key, format_number(v) + " is not allowed; must be positive (" + unit + ")");
   return v;
 }
 
@@ -100,7 +100,9 @@ void read_body(const TomlView& t, ReadBodies& out) {
   read_mass_and_inertia(t, body);
   JointSpec joint;
   joint.child = body.name;
-  joint.parent = t.required_string("parent");
+  const auto parent = t.string("parent");
+  if (!parent) t.fail("parent", "missing required field: the parent body's name, or \"base\"");
+  joint.parent = *parent;
   joint.on_parent = t.vec3("joint_on_parent").value_or(Vec3::Zero());
   joint.on_child = t.vec3("joint_on_child").value_or(Vec3::Zero());
   if (auto s = t.subtable("spring")) joint.spring = read_spring(*s);

@@ -56,6 +56,9 @@ class TomlView {
   const std::string& file_;
 };
 
+// A number as a user wrote it (shortest round-trip form, e.g. 1e-07, -2.5).
+std::string format_number(double v);
+
 // Source position of a node, for errors raised after reading.
 int line_of(const toml::node& node);
 int column_of(const toml::node& node);

@@ -45,8 +45,8 @@ Topology regular_order(const ModelSpec& spec) {
     if (child == by_name.end())
       throw ModelError(who + ": child " + quoted(joint.child) + " is not a body of the model", joint.child);
     if (joint.parent == joint.child)
-      throw ModelError(who + ": body " + quoted(joint.child) +
-                       " is its own parent; a joint must connect two different bodies",
+      throw ModelError("body " + quoted(joint.child) + ": " + who +
+                           " makes it its own parent; a joint must connect two different bodies",
                        joint.child);
     int parent = kBase;
     if (joint.parent != kBaseName) {
@@ -74,8 +74,12 @@ Topology regular_order(const ModelSpec& spec) {
                        "to its parent",
                        spec.bodies[b].name);
   if (on_base.empty())
-    throw ModelError("model: no body is attached to " + quoted(kBaseName) +
-                     "; exactly one joint must have parent " + quoted(kBaseName));
+    throw ModelError("body " + quoted(spec.bodies[0].name) + ": no body is attached to " +
+                         quoted(kBaseName) + ", so the chain of parents from " +
+                         quoted(spec.bodies[0].name) +
+                         " never reaches it (a cycle); exactly one joint must have parent " +
+                         quoted(kBaseName),
+                     spec.bodies[0].name);
   if (on_base.size() > 1)
     throw ModelError("body " + quoted(spec.bodies[on_base[1]].name) + ": a second body on " +
                      quoted(kBaseName) + " (the first is " + quoted(spec.bodies[on_base[0]].name) +

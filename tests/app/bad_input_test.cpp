@@ -1,0 +1,421 @@
+// Bad input to `treedyn run`: each case writes a small job file into a fresh
+// temporary directory, runs the real command with -o into that directory and
+// checks
+//   - the exit code (2 = bad input, 4 = output / I/O failure),
+//   - that stderr holds exactly ONE error line, "error: " followed by the job
+//     file's path with the LINE:COLUMN of the offending value (where the file
+//     has one), the field's name and what is allowed,
+//   - that stdout is empty and no output is left behind (no x.h5, no
+//     x.h5.tmp-* in the directory).
+// Each case prints its exact message to stdout so it can be quoted.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// ---------------------------------------------------------------------------
+// Helpers
+
+class TempDir {
+ public:
+  TempDir() {
+    std::random_device rd;
+    for (int attempt = 0; attempt < 100; ++attempt) {
+      const fs::path p = fs::temp_directory_path() /
+                         ("treedyn_bad_input_test_" + std::to_string(getpid()) + "_" +
+                          std::to_string(rd()));
+      std::error_code ec;
+      if (fs::create_directory(p, ec)) {
+        path_ = p;
+        return;
+      }
+    }
+    throw std::runtime_error("cannot create a temporary directory");
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
+std::string read_text(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+void write_text(const fs::path& p, const std::string& text) {
+  std::ofstream out(p, std::ios::binary);
+  out << text;
+}
+
+std::string quote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+struct CommandResult {
+  int exit_code = -1;
+  std::string out, err;
+};
+
+// Runs `treedyn ARGS`; stdout and stderr are captured in files under `capture`
+// (a directory of its own, so the job's directory holds only what treedyn writes).
+CommandResult run_treedyn(const std::vector<std::string>& args, const fs::path& capture) {
+  const fs::path out = capture / "stdout.txt", err = capture / "stderr.txt";
+  std::string command = quote(TREEDYN_BINARY);
+  for (const auto& a : args) command += " " + quote(a);
+  command += " >" + quote(out.string()) + " 2>" + quote(err.string()) + " </dev/null";
+  const int status = std::system(command.c_str());
+  CommandResult r;
+  r.exit_code = status != -1 && WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = read_text(out);
+  r.err = read_text(err);
+  return r;
+}
+
+// "LINE:COL" (1-based) of the first occurrence of `needle` in `text`, plus
+// `skip` characters (to point inside it).
+std::string position_of(const std::string& text, const std::string& needle, std::size_t skip = 0) {
+  const std::size_t at = text.find(needle);
+  if (at == std::string::npos) throw std::invalid_argument("not in the job: " + needle);
+  const std::size_t p = at + skip;
+  const std::size_t line = static_cast<std::size_t>(std::count(text.begin(), text.begin() + static_cast<long>(p), '\n')) + 1;
+  const std::size_t line_start = text.rfind('\n', p == 0 ? 0 : p - 1);
+  const std::size_t column = line_start == std::string::npos || p == 0 ? p + 1 : p - line_start;
+  return std::to_string(line) + ":" + std::to_string(column);
+}
+
+// Where the value of `key = value` starts.
+std::string value_position(const std::string& text, const std::string& key_and_value) {
+  return position_of(text, key_and_value, key_and_value.find("= ") + 2);
+}
+
+// One bad-input case: the job file, the run, and what is left in the directory.
+class Case {
+ public:
+  // `output_for` gives the -o argument from the case's directory (default: DIR/x.h5).
+  Case(const std::string& label, const std::string& job_text,
+       const std::function<std::string(const fs::path&)>& output_for = {})
+      : label_(label), text_(job_text) {
+    fs::create_directory(dir_.path() / "capture");
+    job_ = dir_.path() / "job.toml";
+    write_text(job_, job_text);
+    output_ = output_for ? fs::path(output_for(dir_.path())) : dir_.path() / "x.h5";
+    result_ = run_treedyn({"run", job_.string(), "-o", output_.string()}, dir_.path() / "capture");
+    std::printf("[%s] exit %d: %s", label.c_str(), result_.exit_code, result_.err.c_str());
+    if (result_.err.empty() || result_.err.back() != '\n') std::printf("\n");
+  }
+
+  const fs::path& dir() const { return dir_.path(); }
+  const std::string& text() const { return text_; }
+  std::string job() const { return job_.string(); }
+  std::string output() const { return output_.string(); }
+  const CommandResult& result() const { return result_; }
+  const std::string& err() const { return result_.err; }
+
+  // Exit code, one "error: PREFIX..." line on stderr containing every one of
+  // `parts`, nothing on stdout, no output file or temporary in the directory.
+  void expect_refused(int exit_code, const std::string& prefix,
+                      std::initializer_list<std::string> parts) const {
+    EXPECT_EQ(result_.exit_code, exit_code) << result_.err;
+    EXPECT_EQ(result_.out, "") << "nothing should be printed on stdout";
+    const std::string& e = result_.err;
+    EXPECT_EQ(std::count(e.begin(), e.end(), '\n'), 1) << "expected ONE error line:\n" << e;
+    EXPECT_TRUE(!e.empty() && e.back() == '\n') << e;
+    EXPECT_EQ(e.rfind("error: " + prefix, 0), 0u)
+        << "expected the message to start with\n  error: " << prefix << "\ngot\n  " << e;
+    for (const std::string& part : parts)
+      EXPECT_NE(e.find(part), std::string::npos) << "missing \"" << part << "\" in\n  " << e;
+    EXPECT_EQ(e.find("HDF5-DIAG"), std::string::npos) << "HDF5's own error stack leaked:\n" << e;
+    expect_no_output_left();
+  }
+
+  void expect_no_output_left() const {
+    for (const auto& entry : fs::directory_iterator(dir_.path())) {
+      const std::string name = entry.path().filename().string();
+      EXPECT_NE(name, "x.h5") << "output file left behind";
+      EXPECT_NE(name.rfind("x.h5.tmp-", 0), 0u) << "temporary file left behind: " << name;
+    }
+  }
+
+ private:
+  std::string label_;
+  std::string text_;
+  TempDir dir_;
+  fs::path job_, output_;
+  CommandResult result_;
+};
+
+// A valid one-body job; the cases below change one thing in it.
+const std::string kGoodJob = R"(title = "bad input"
+
+[[body]]
+name = "rod"
+shape = "cylinder"
+radius = 0.01
+length = 1.0
+mass = 1.0
+parent = "base"
+joint_on_child = [0.0, 0.0, 0.5]
+
+[output]
+end_time = 1.0
+step = 0.1
+)";
+
+std::string with(std::string text, const std::string& from, const std::string& to) {
+  const std::size_t at = text.find(from);
+  if (at == std::string::npos) throw std::invalid_argument("not in the job: " + from);
+  return text.replace(at, from.size(), to);
+}
+
+// ---------------------------------------------------------------------------
+// The reference job is accepted, so every refusal below is due to its one change.
+
+TEST(BadInput, TheUnchangedReferenceJobRuns) {
+  Case c("reference job", kGoodJob);
+  EXPECT_EQ(c.result().exit_code, 0) << c.err();
+  EXPECT_EQ(c.err(), "");
+  EXPECT_TRUE(fs::exists(c.output()));
+}
+
+// ---------------------------------------------------------------------------
+// Job file errors: exit 2
+
+TEST(BadInput, MalformedTomlGivesTheParserPosition) {
+  const std::string text = with(kGoodJob, "mass = 1.0", "mass = 1.0 kg");
+  Case c("malformed TOML", text);
+  // line 8 "mass = 1.0 kg": the parser stops at the 'k'.
+  c.expect_refused(2, c.job() + ":" + position_of(text, "kg") + ": not valid TOML: ",
+                   {"saw 'k'"});
+}
+
+TEST(BadInput, WrongTypeNamesTheFieldAndTheExpectedType) {
+  const std::string text = with(kGoodJob, "mass = 1.0", "mass = \"heavy\"");
+  Case c("wrong type", text);
+  c.expect_refused(2,
+                   c.job() + ":" + value_position(text, "mass = \"heavy\"") + ": body[1].mass: ",
+                   {"expected a number, got a string"});
+}
+
+TEST(BadInput, UnknownKeySuggestsTheNearestAllowedKey) {
+  const std::string text = with(kGoodJob, "mass = 1.0", "mas = 1.0");
+  Case c("unknown key", text);
+  c.expect_refused(2, c.job() + ":" + value_position(text, "mas = 1.0") + ": body[1].mas: ",
+                   {"unknown key 'mas'", "did you mean 'mass'?", "Allowed here:", " mass ",
+                    " parent "});
+}
+
+TEST(BadInput, MissingRequiredParentPointsAtTheBodyTable) {
+  const std::string text = with(kGoodJob, "parent = \"base\"\n", "");
+  Case c("missing parent", text);
+  // The key is absent, so the error points at the [[body]] header (line 3).
+  c.expect_refused(2, c.job() + ":" + position_of(text, "[[body]]") + ": body[1].parent: ",
+                   {"missing required field", "\"base\""});
+}
+
+TEST(BadInput, NegativeMassIsRefusedWithTheAllowedRange) {
+  const std::string text = with(kGoodJob, "mass = 1.0", "mass = -2.5");
+  Case c("negative mass", text);
+  c.expect_refused(2, c.job() + ":" + value_position(text, "mass = -2.5") + ": body[1].mass: ",
+                   {"-2.5", "must be positive", "kg"});
+}
+
+// Bodies given with mass and principal moments, so each [[body]] is five lines.
+std::string body(const std::string& name, const std::string& parent) {
+  return "[[body]]\nname = \"" + name + "\"\nmass = 1.0\nprincipal_moments = [0.1, 0.1, 0.01]\n" +
+         "parent = \"" + parent + "\"\n\n";
+}
+const std::string kOutput = "[output]\nend_time = 1.0\nstep = 0.1\n";
+
+TEST(BadInput, CycleBetweenTwoBodiesIsNotATree) {
+  // root hangs from the base; a and b name each other as parent.
+  const std::string text =
+      "title = \"cycle\"\n\n" + body("root", "base") + body("a", "b") + body("b", "a") + kOutput;
+  Case c("cycle between two bodies", text);
+  // Points at the [[body]] table of 'a', the first body of the loop (line 9).
+  c.expect_refused(2, c.job() + ":" + position_of(text, "[[body]]\nname = \"a\"") + ": body 'a': ",
+                   {"cycle", "parents", "must form a tree"});
+}
+
+TEST(BadInput, CycleWithNothingOnTheBaseSaysABodyMustHangFromTheBase) {
+  // Only a <-> b: no body reaches the base. The message points at the first
+  // body of the loop and says why it never reaches the base.
+  const std::string text = body("a", "b") + body("b", "a") + kOutput;
+  Case c("two-body cycle, nothing on the base", text);
+  c.expect_refused(2, c.job() + ":" + position_of(text, "[[body]]\nname = \"a\"") + ": body 'a': ",
+                   {"no body is attached to 'base'", "cycle", "parent 'base'"});
+}
+
+TEST(BadInput, SelfParentIsNotATree) {
+  const std::string text = "title = \"self\"\n\n" + body("root", "base") + body("a", "a") + kOutput;
+  Case c("self-parent", text);
+  c.expect_refused(2, c.job() + ":" + position_of(text, "[[body]]\nname = \"a\"") + ": body 'a': ",
+                   {"its own parent", "two different bodies"});
+}
+
+// A body error raised by the model's validation (cycle; inertia) is prefixed
+// with the body's name by the reader; the message must not say it twice.
+TEST(BadInput, ModelErrorsNameTheBodyOnlyOnce) {
+  {
+    const std::string text =
+        "title = \"cycle\"\n\n" + body("root", "base") + body("a", "b") + body("b", "a") + kOutput;
+    Case c("cycle, repeated name check", text);
+    EXPECT_EQ(c.err().find("body 'a': body 'a':"), std::string::npos) << c.err();
+  }
+  {
+    const std::string text =
+        with(body("rod", "base"), "[0.1, 0.1, 0.01]", "[1.0, 1.0, 5.0]") + kOutput;
+    Case c("inertia violates the triangle inequality", text);
+    EXPECT_EQ(c.result().exit_code, 2);
+    EXPECT_NE(c.err().find("triangle inequality"), std::string::npos) << c.err();
+    EXPECT_EQ(c.err().find("body 'rod': body 'rod':"), std::string::npos) << c.err();
+    c.expect_no_output_left();
+  }
+}
+
+TEST(BadInput, AngleUnitDegreesIsRefusedWithTheAllowedUnits) {
+  const std::string text =
+      with(kGoodJob, "joint_on_child = [0.0, 0.0, 0.5]\n",
+           "joint_on_child = [0.0, 0.0, 0.5]\n"
+           "orientation = { type = \"axis_angle\", axis = [1, 0, 0], angle = 30, unit = \"degrees\" }\n");
+  Case c("bad angle unit", text);
+  c.expect_refused(
+      2, c.job() + ":" + value_position(text, "unit = \"degrees\"") + ": body[1].orientation.unit: ",
+      {"\"degrees\" is not an angle unit", "allowed: \"deg\" or \"rad\""});
+}
+
+TEST(BadInput, EndTimeZeroIsRefused) {
+  const std::string text = with(kGoodJob, "end_time = 1.0", "end_time = 0.0");
+  Case c("end time zero", text);
+  c.expect_refused(2,
+                   c.job() + ":" + value_position(text, "end_time = 0.0") + ": output.end_time: ",
+                   {"must be > 0 s"});
+}
+
+TEST(BadInput, NegativeEndTimeIsRefused) {
+  const std::string text = with(kGoodJob, "end_time = 1.0", "end_time = -2.0");
+  Case c("negative end time", text);
+  c.expect_refused(2,
+                   c.job() + ":" + value_position(text, "end_time = -2.0") + ": output.end_time: ",
+                   {"-2", "must be > 0 s"});
+}
+
+TEST(BadInput, OutputStepLargerThanEndTimeIsRefused) {
+  const std::string text = with(kGoodJob, "step = 0.1", "step = 2.0");
+  Case c("output step larger than the end time", text);
+  c.expect_refused(2, c.job() + ":" + value_position(text, "step = 2.0") + ": output.step: ",
+                   {"larger than the end time", "at most end_time"});
+}
+
+// Values quoted in messages are formatted with std::to_string ("%f"), so
+// small values lose all their digits: a step of 2e-7 s "is larger than the
+// end time 0.000000 s", a mass of -1e-9 kg is "-0.000000". The refusal itself
+// is right (exit 2, right place); the message must show the values given.
+TEST(BadInput, SmallValuesAreQuotedWithTheirDigits) {
+  {
+    const std::string text = with(with(kGoodJob, "end_time = 1.0", "end_time = 1e-7"),
+                                  "step = 0.1", "step = 2e-7");
+    Case c("tiny output step larger than a tiny end time", text);
+    c.expect_refused(2, c.job() + ":" + value_position(text, "step = 2e-7") + ": output.step: ",
+                     {"larger than the end time"});
+    EXPECT_EQ(c.err().find("0.000000"), std::string::npos) << c.err();
+  }
+  {
+    const std::string text = with(kGoodJob, "mass = 1.0", "mass = -1e-9");
+    Case c("tiny negative mass", text);
+    c.expect_refused(2, c.job() + ":" + value_position(text, "mass = -1e-9") + ": body[1].mass: ",
+                     {"must be positive"});
+    EXPECT_EQ(c.err().find("0.000000"), std::string::npos) << c.err();
+  }
+}
+
+TEST(BadInput, MissingJobFileIsBadInput) {
+  TempDir dir;
+  const fs::path job = dir.path() / "no_such_job.toml";
+  const fs::path capture = dir.path() / "capture";
+  fs::create_directory(capture);
+  const auto r = run_treedyn({"run", job.string(), "-o", (dir.path() / "x.h5").string()}, capture);
+  std::printf("[missing job file] exit %d: %s", r.exit_code, r.err.c_str());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(r.err, "error: " + job.string() + ": cannot open the job file for reading\n");
+  EXPECT_FALSE(fs::exists(dir.path() / "x.h5"));
+}
+
+TEST(BadInput, ARefusedJobLeavesAnExistingOutputFileUntouched) {
+  TempDir dir;
+  const fs::path output = dir.path() / "x.h5", job = dir.path() / "job.toml";
+  const fs::path capture = dir.path() / "capture";
+  fs::create_directory(capture);
+  write_text(output, "previous results");
+  write_text(job, with(kGoodJob, "mass = 1.0", "mass = -1.0"));
+  const auto r = run_treedyn({"run", job.string(), "-o", output.string()}, capture);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_EQ(read_text(output), "previous results");
+  for (const auto& entry : fs::directory_iterator(dir.path()))
+    EXPECT_NE(entry.path().filename().string().rfind("x.h5.tmp-", 0), 0u);
+}
+
+// ---------------------------------------------------------------------------
+// Output errors: exit 4
+
+TEST(BadOutput, OutputDirectoryThatDoesNotExistIsAnIoError) {
+  Case c("output directory does not exist", kGoodJob,
+         [](const fs::path& dir) { return (dir / "missing" / "x.h5").string(); });
+  const std::string missing = (c.dir() / "missing").string();
+  c.expect_refused(4, "output " + c.output() + ": ",
+                   {"directory " + missing + " does not exist", "create it first"});
+  EXPECT_FALSE(fs::exists(c.dir() / "missing")) << "treedyn should not create the directory";
+}
+
+TEST(BadOutput, OutputPathThatIsAnExistingDirectoryIsAnIoError) {
+  Case c("output path is an existing directory", kGoodJob, [](const fs::path& dir) {
+    fs::create_directory(dir / "out");
+    return (dir / "out").string();
+  });
+  c.expect_refused(4, "output " + c.output() + ": is a directory; ",
+                   {"give a file name such as " + (c.dir() / "out" / "result.h5").string()});
+  EXPECT_TRUE(fs::is_directory(c.dir() / "out"));
+  EXPECT_TRUE(fs::is_empty(c.dir() / "out")) << "nothing may be written into the directory";
+}
+
+TEST(BadOutput, OutputFileThatCannotBeCreatedIsAnIoError) {
+  // /proc accepts no new files, not even for root. As root the directory
+  // passes the access() check and HDF5's create fails after integrating; as
+  // another user the directory is refused up front. Either way: exit 4, one
+  // message naming the output path, and no file.
+  Case c("output file cannot be created", kGoodJob,
+         [](const fs::path&) { return std::string("/proc/treedyn_test.h5"); });
+  c.expect_refused(4, "output /proc/treedyn_test.h5: ", {});
+  const std::string& e = c.err();
+  EXPECT_TRUE(e.find("cannot create the file") != std::string::npos ||
+              e.find("is not writable") != std::string::npos)
+      << e;
+  for (const auto& entry : fs::directory_iterator("/proc"))
+    EXPECT_NE(entry.path().filename().string().rfind("treedyn_test.h5", 0), 0u) << entry.path();
+}
+
+}  // namespace
