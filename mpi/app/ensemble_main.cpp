@@ -1,0 +1,42 @@
+// `treedyn-ensemble JOB -o OUT.h5`: a Monte-Carlo ensemble of one job, run
+// under mpirun (or alone as one rank).
+#include <CLI/CLI.hpp>
+
+#include <iostream>
+
+#include "app/exit_codes.hpp"
+#include "parallel/driver.hpp"
+#include "parallel/mpi_handles.hpp"
+
+int main(int argc, char** argv) {
+  using namespace treedyn;
+  parallel::Session session(&argc, &argv);
+  CLI::App app{"treedyn-ensemble: perturbed runs of one treedyn job across MPI ranks, "
+               "with statistics in HDF5"};
+  app.set_version_flag("--version", std::string("treedyn-ensemble ") + TREEDYN_VERSION);
+  app.footer(
+      "Run under mpirun -np P (or alone for one rank). Exit codes: 0 ok, 1 internal error, "
+      "2 bad input, 3 the nominal run failed, 4 output (I/O) failure. Failed samples do not "
+      "fail the job: they are recorded in /samples/status.");
+  parallel::EnsembleOptions options;
+  app.add_option("JOB", options.job_path, "job file (TOML) with an [ensemble] section")->required();
+  app.add_option("-o,--output", options.output_path, "output file (HDF5), written atomically")
+      ->required();
+  app.add_flag("-q,--quiet", options.quiet, "no progress and no summary");
+  app.add_option("--progress-interval", options.progress_interval,
+                 "seconds between progress lines when stderr is not a terminal")
+      ->check(CLI::PositiveNumber);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = session.rank() == 0 ? app.exit(e) : (e.get_exit_code() == 0 ? 0 : 1);
+    return code == 0 ? kExitOk : kExitBadInput;
+  }
+  try {
+    return parallel::run_ensemble(MPI_COMM_WORLD, options);
+  } catch (const std::exception& e) {
+    std::cerr << "internal error on rank " << session.rank() << ": " << e.what() << "\n";
+    MPI_Abort(MPI_COMM_WORLD, kExitInternal);
+    return kExitInternal;
+  }
+}

@@ -1,0 +1,154 @@
+#include "ensemble/design.hpp"
+
+#include <Random123/philox.h>
+
+#include <algorithm>
+#include <boost/random/sobol.hpp>
+#include <stdexcept>
+#include <string>
+
+namespace treedyn::ensemble {
+namespace {
+
+// 53 random bits into (0, 1): (m + 0.5) / 2^53, never 0 or 1.
+double to_open_unit(std::uint64_t bits) {
+  return (static_cast<double>(bits >> 11) + 0.5) * 0x1.0p-53;
+}
+
+std::uint64_t mix(std::uint64_t x) {  // SplitMix64 finaliser
+  x += 0x9e3779b97f4a7c15ULL;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+  return x ^ (x >> 31);
+}
+
+// Burley's hash-based nested uniform (Owen) scramble of a 32-bit fraction
+// ("Practical Hash-based Owen Scrambling", JCGT 2020): bit-reverse, apply the
+// Laine-Karras permutation, reverse back.
+std::uint32_t reverse_bits(std::uint32_t x) {
+  x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
+  x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);
+  x = ((x >> 4) & 0x0f0f0f0fu) | ((x & 0x0f0f0f0fu) << 4);
+  x = ((x >> 8) & 0x00ff00ffu) | ((x & 0x00ff00ffu) << 8);
+  return (x >> 16) | (x << 16);
+}
+
+std::uint32_t laine_karras(std::uint32_t x, std::uint32_t seed) {
+  x += seed;
+  x ^= x * 0x6c50b47cu;
+  x ^= x * 0xb82f1e52u;
+  x ^= x * 0xc7afe638u;
+  x ^= x * 0x8d22f6e6u;
+  return x;
+}
+
+std::uint32_t owen_scramble(std::uint32_t x, std::uint32_t seed) {
+  return reverse_bits(laine_karras(reverse_bits(x), seed));
+}
+
+}  // namespace
+
+std::string_view name(Design d) {
+  switch (d) {
+    case Design::monte_carlo:
+      return "monte_carlo";
+    case Design::latin_hypercube:
+      return "latin_hypercube";
+    case Design::sobol:
+      return "sobol";
+  }
+  return "?";
+}
+
+bool parse_design(std::string_view text, Design& out) {
+  for (Design d : {Design::monte_carlo, Design::latin_hypercube, Design::sobol})
+    if (text == name(d)) {
+      out = d;
+      return true;
+    }
+  return false;
+}
+
+double counter_uniform(std::uint64_t seed, std::uint64_t sample, std::uint64_t dimension,
+                       std::uint64_t stream) {
+  r123::Philox4x64 generator;
+  const r123::Philox4x64::ctr_type counter = {{sample, dimension, stream, 0}};
+  const r123::Philox4x64::key_type key = {{seed, 0x7472656564796eULL}};  // "treedyn"
+  return to_open_unit(generator(counter, key)[0]);
+}
+
+std::uint64_t permute_index(std::uint64_t index, std::uint64_t n, std::uint64_t seed,
+                            std::uint64_t stream) {
+  if (index >= n) throw std::out_of_range("permute_index: index outside [0, n)");
+  unsigned bits = 2;
+  while ((std::uint64_t{1} << bits) < n) ++bits;
+  if (bits % 2) ++bits;  // balanced Feistel halves
+  const unsigned half = bits / 2;
+  const std::uint64_t mask = (std::uint64_t{1} << half) - 1;
+  const std::uint64_t key = mix(seed ^ mix(stream + 0x51ed27ULL));
+  std::uint64_t x = index;
+  do {  // cycle walking: re-apply until the value falls inside [0, n)
+    std::uint64_t left = x >> half, right = x & mask;
+    for (std::uint64_t round = 0; round < 6; ++round) {
+      const std::uint64_t f = mix(right ^ mix(key + round)) & mask;
+      const std::uint64_t next = left ^ f;
+      left = right;
+      right = next;
+    }
+    x = (left << half) | right;
+  } while (x >= n);
+  return x;
+}
+
+std::uint32_t sobol_bits(std::uint64_t k, unsigned dimension, unsigned dimensions) {
+  boost::random::sobol_engine<std::uint32_t, 32> engine(dimensions);
+  engine.seed(static_cast<std::uint32_t>(k));
+  std::uint32_t value = 0;
+  for (unsigned d = 0; d <= dimension; ++d) value = engine();
+  return value;
+}
+
+SampleDesign::SampleDesign(Design design, std::uint64_t seed, std::uint64_t samples,
+                           unsigned dimensions)
+    : design_(design), seed_(seed), samples_(samples), dimensions_(dimensions) {
+  if (design == Design::sobol && dimensions > boost::random::detail::qrng_tables::sobol::max_dimension)
+    throw std::invalid_argument("sobol design: at most " +
+                                std::to_string(boost::random::detail::qrng_tables::sobol::max_dimension) +
+                                " input dimensions");
+  if (design == Design::sobol && samples > 0xffffffffULL)
+    throw std::invalid_argument("sobol design: at most 2^32 - 1 samples");
+}
+
+void SampleDesign::point(std::uint64_t sample, std::span<double> u) const {
+  if (design_ != Design::sobol) {
+    for (unsigned d = 0; d < u.size(); ++d) u[d] = uniform(sample, d);
+    return;
+  }
+  boost::random::sobol_engine<std::uint32_t, 32> engine(std::max(dimensions_, 1u));
+  engine.seed(static_cast<std::uint32_t>(sample));  // 32-bit points: samples < 2^32
+  for (unsigned d = 0; d < u.size(); ++d) {
+    const auto seed32 = static_cast<std::uint32_t>(mix(seed_ ^ mix(d + 1)));
+    u[d] = (static_cast<double>(owen_scramble(engine(), seed32)) + 0.5) * 0x1.0p-32;
+  }
+}
+
+double SampleDesign::uniform(std::uint64_t sample, unsigned dimension) const {
+  switch (design_) {
+    case Design::monte_carlo:
+      return counter_uniform(seed_, sample, dimension, 0);
+    case Design::latin_hypercube: {
+      // Stratum pi_d(k) of N, then a uniform position inside it.
+      const std::uint64_t stratum = permute_index(sample, samples_, seed_, dimension);
+      const double inside = counter_uniform(seed_, sample, dimension, 1);
+      return (static_cast<double>(stratum) + inside) / static_cast<double>(samples_);
+    }
+    case Design::sobol: {
+      const auto seed32 = static_cast<std::uint32_t>(mix(seed_ ^ mix(dimension + 1)));
+      const std::uint32_t bits = owen_scramble(sobol_bits(sample, dimension, dimensions_), seed32);
+      return (static_cast<double>(bits) + 0.5) * 0x1.0p-32;
+    }
+  }
+  return 0.5;
+}
+
+}  // namespace treedyn::ensemble

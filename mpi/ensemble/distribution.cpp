@@ -1,0 +1,91 @@
+#include "ensemble/distribution.hpp"
+
+#include <boost/math/distributions/lognormal.hpp>
+#include <boost/math/distributions/normal.hpp>
+#include <sstream>
+
+namespace treedyn::ensemble {
+
+std::string_view name(Distribution::Kind k) {
+  switch (k) {
+    case Distribution::Kind::normal:
+      return "normal";
+    case Distribution::Kind::truncated_normal:
+      return "truncated_normal";
+    case Distribution::Kind::uniform:
+      return "uniform";
+    case Distribution::Kind::lognormal:
+      return "lognormal";
+  }
+  return "?";
+}
+
+bool parse_distribution(std::string_view text, Distribution::Kind& out) {
+  for (auto k : {Distribution::Kind::normal, Distribution::Kind::truncated_normal,
+                 Distribution::Kind::uniform, Distribution::Kind::lognormal})
+    if (text == name(k)) {
+      out = k;
+      return true;
+    }
+  return false;
+}
+
+double Distribution::quantile(double u) const {
+  switch (kind) {
+    case Kind::normal:
+      return boost::math::quantile(boost::math::normal(mean, std), u);
+    case Kind::truncated_normal: {
+      const boost::math::normal n(mean, std);
+      const double a = boost::math::cdf(n, lower), b = boost::math::cdf(n, upper);
+      const double x = boost::math::quantile(n, a + u * (b - a));
+      return std::min(std::max(x, lower), upper);
+    }
+    case Kind::uniform:
+      return lower + u * (upper - lower);
+    case Kind::lognormal:
+      return boost::math::quantile(boost::math::lognormal(mu, sigma), u);
+  }
+  return 0.0;
+}
+
+double Distribution::cdf(double x) const {
+  switch (kind) {
+    case Kind::normal:
+      return boost::math::cdf(boost::math::normal(mean, std), x);
+    case Kind::truncated_normal: {
+      if (x <= lower) return 0.0;
+      if (x >= upper) return 1.0;
+      const boost::math::normal n(mean, std);
+      const double a = boost::math::cdf(n, lower), b = boost::math::cdf(n, upper);
+      return (boost::math::cdf(n, x) - a) / (b - a);
+    }
+    case Kind::uniform:
+      return x <= lower ? 0.0 : x >= upper ? 1.0 : (x - lower) / (upper - lower);
+    case Kind::lognormal:
+      return x <= 0.0 ? 0.0 : boost::math::cdf(boost::math::lognormal(mu, sigma), x);
+  }
+  return 0.0;
+}
+
+std::string Distribution::describe() const {
+  std::ostringstream s;
+  s << name(kind) << "(";
+  switch (kind) {
+    case Kind::normal:
+      s << "mean=" << mean << ", std=" << std;
+      break;
+    case Kind::truncated_normal:
+      s << "mean=" << mean << ", std=" << std << ", lower=" << lower << ", upper=" << upper;
+      break;
+    case Kind::uniform:
+      s << "lower=" << lower << ", upper=" << upper;
+      break;
+    case Kind::lognormal:
+      s << "mu=" << mu << ", sigma=" << sigma;
+      break;
+  }
+  s << ")";
+  return s.str();
+}
+
+}  // namespace treedyn::ensemble

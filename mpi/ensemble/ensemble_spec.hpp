@@ -1,0 +1,32 @@
+// The [ensemble] section of a job file.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "ensemble/design.hpp"
+#include "ensemble/perturbation.hpp"
+#include "job/job.hpp"
+
+namespace treedyn::ensemble {
+
+struct EnsembleSpec {
+  std::uint64_t samples = 100;
+  std::uint64_t seed = 1;
+  Design design = Design::monte_carlo;
+  std::vector<double> quantiles{0.05, 0.5, 0.95};
+  int histogram_bins = 128;        // per output time and component (quantiles and histograms)
+  std::uint64_t pilot_samples = 32;  // samples 0..pilot-1 fix the histogram ranges
+  std::uint64_t block_size = 4;    // samples handed out per work-queue request
+  std::vector<Perturbation> perturbations;
+
+  unsigned input_dimensions() const;
+  std::vector<std::string> input_names() const;
+};
+
+// Reads [ensemble] from the job's text; throws JobError like the job reader.
+// A job without [ensemble] is refused (the ensemble needs its sample count).
+EnsembleSpec read_ensemble(const Job& job);
+
+}  // namespace treedyn::ensemble

@@ -1,0 +1,96 @@
+// Streaming ensemble statistics whose result does not depend on the order in
+// which samples arrive, nor on how they are split over ranks:
+//
+//  * sums of d = x - c (c: the nominal trajectory's value) and of d^2 are kept
+//    as exact 128-bit fixed-point integers, scaled per entry by S (from the
+//    pilot samples): integer addition is associative, so any order and any
+//    MPI reduction tree give the same bits;
+//  * minimum and maximum are order-independent;
+//  * quantiles and histograms come from integer bin counts over a range fixed
+//    by the pilot samples (plus under- and overflow counts).
+//
+// An entry is one output time and one column of the recorded quantities.
+// Memory is fixed by (times x columns x bins), never by the number of samples.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace treedyn::ensemble {
+
+__extension__ typedef __int128 wide;  // GCC/Clang 128-bit integer
+
+// Per-entry reference values, identical on every rank.
+struct Calibration {
+  std::vector<double> center;   // c: nominal value
+  std::vector<double> scale;    // S > 0: fixed-point unit
+  std::vector<double> low;      // histogram range [low, low + bins * width)
+  std::vector<double> width;    // bin width > 0
+};
+
+// Builds the calibration from the nominal trajectory and the deviations seen
+// in the pilot samples (per entry min and max of x - c; +inf/-inf if none).
+// `column_scale` is each column's largest |nominal| over time (fallback unit).
+Calibration calibrate(std::span<const double> nominal, std::span<const double> pilot_min_deviation,
+                      std::span<const double> pilot_max_deviation,
+                      std::span<const double> column_scale, std::size_t columns, int bins);
+
+class EnsembleStatistics {
+ public:
+  // Fixed-point fraction bits of d / S and of (d / S)^2, and the largest
+  // |d| / S the squares accept (beyond it a value is counted as out of range).
+  static constexpr int kSumBits = 62;
+  static constexpr int kSquareBits = 40;
+  static constexpr double kMaxScaledDeviation = 1048576.0;  // 2^20
+
+  EnsembleStatistics(std::size_t times, std::size_t columns, int bins, Calibration calibration);
+
+  // One successful sample's trajectory: times x columns, row-major.
+  void add_sample(std::span<const double> trajectory);
+
+  // Merges another accumulator (same calibration): exact, order-independent.
+  void merge(const EnsembleStatistics& other);
+
+  std::size_t times() const { return times_; }
+  std::size_t columns() const { return columns_; }
+  std::size_t entries() const { return times_ * columns_; }
+  int bins() const { return bins_; }
+  std::uint64_t samples() const { return samples_; }
+  const Calibration& calibration() const { return calibration_; }
+
+  // Results per entry.
+  std::uint64_t count(std::size_t entry) const;  // values in the sums
+  std::uint64_t out_of_range(std::size_t entry) const { return out_of_range_[entry]; }
+  double mean(std::size_t entry) const;
+  double std_dev(std::size_t entry) const;  // sample standard deviation (n - 1)
+  double min(std::size_t entry) const { return min_[entry]; }
+  double max(std::size_t entry) const { return max_[entry]; }
+  // Quantile q from the histogram, linear inside a bin; within one bin width
+  // of the exact sample quantile when it falls inside the histogram range.
+  double quantile(std::size_t entry, double q) const;
+  // Bin counts: [underflow, bins..., overflow].
+  std::span<const std::uint32_t> histogram(std::size_t entry) const;
+  double bin_edge(std::size_t entry, int edge) const;
+
+  // Raw state, for MPI reductions.
+  std::vector<wide>& sums() { return sum_; }
+  std::vector<wide>& square_sums() { return square_sum_; }
+  std::vector<double>& minima() { return min_; }
+  std::vector<double>& maxima() { return max_; }
+  std::vector<std::uint32_t>& counts() { return counts_; }
+  std::vector<std::uint64_t>& out_of_range_counts() { return out_of_range_; }
+  std::uint64_t& sample_count() { return samples_; }
+
+ private:
+  std::size_t times_, columns_;
+  int bins_;
+  Calibration calibration_;
+  std::uint64_t samples_ = 0;
+  std::vector<wide> sum_, square_sum_;
+  std::vector<double> min_, max_;
+  std::vector<std::uint32_t> counts_;        // entries x (bins + 2)
+  std::vector<std::uint64_t> out_of_range_;  // values left out of the sums
+};
+
+}  // namespace treedyn::ensemble

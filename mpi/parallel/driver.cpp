@@ -1,0 +1,336 @@
+#include "parallel/driver.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <deque>
+#include <fstream>
+#include <iostream>
+#include <limits>
+#include <memory>
+#include <sstream>
+
+#include "app/exit_codes.hpp"
+#include "ensemble/ensemble_spec.hpp"
+#include "ensemble/sample_runner.hpp"
+#include "ensemble/statistics.hpp"
+#include "job/job_error.hpp"
+#include "parallel/ensemble_writer.hpp"
+#include "parallel/progress.hpp"
+#include "parallel/record_codec.hpp"
+#include "parallel/statistics_reduce.hpp"
+#include "parallel/work_queue.hpp"
+
+namespace treedyn::parallel {
+namespace {
+
+using ensemble::SampleRecord;
+using ensemble::SampleStatus;
+
+constexpr int kTagRecords = 1;
+constexpr int kTagDone = 2;
+constexpr std::size_t kMaxPendingSends = 2;  // batches in flight per rank
+
+// Everything a rank needs once the job is known.
+struct Context {
+  MPI_Comm comm;
+  int rank = 0, size = 1;
+  const Job& job;
+  const ensemble::EnsembleSpec& spec;
+  ensemble::SampleRunner runner;
+  std::size_t entries() const { return runner.times() * runner.layout().columns; }
+};
+
+// Rank 0's file text to everyone (or an error text and a failed flag).
+bool share_job_text(MPI_Comm comm, int rank, const std::string& path, std::string& text) {
+  int ok = 1;
+  if (rank == 0) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) {
+      ok = 0;
+      text = path + ": cannot open the job file for reading";
+    } else {
+      std::ostringstream s;
+      s << in.rdbuf();
+      text = s.str();
+    }
+  }
+  MPI_Bcast(&ok, 1, MPI_INT, 0, comm);
+  unsigned long long length = text.size();
+  MPI_Bcast(&length, 1, MPI_UNSIGNED_LONG_LONG, 0, comm);
+  text.resize(length);
+  MPI_Bcast(text.data(), static_cast<int>(length), MPI_CHAR, 0, comm);
+  return ok != 0;
+}
+
+// A sample never takes the job down: any exception becomes a failed record.
+SampleRecord run_isolated(Context& c, std::uint64_t k, std::vector<double>& trajectory) {
+  try {
+    return c.runner.run(k, false, trajectory);
+  } catch (const std::exception& e) {
+    SampleRecord r;
+    r.index = k;
+    r.status = SampleStatus::integration_failed;
+    r.reason = std::string("internal error: ") + e.what();
+    r.max_over_time.assign(c.runner.layout().columns, std::numeric_limits<double>::quiet_NaN());
+    r.final_state.assign(c.runner.final_state_size(), std::numeric_limits<double>::quiet_NaN());
+    return r;
+  }
+}
+
+// Sends finished records to rank 0 (other ranks) or writes them (rank 0).
+class RecordSink {
+ public:
+  RecordSink(Context& c, EnsembleWriter* writer, Progress* progress)
+      : c_(c), writer_(writer), progress_(progress) {}
+
+  void add(SampleRecord r) {
+    if (c_.rank == 0) {
+      count(r);
+      local_.push_back(std::move(r));
+      return;
+    }
+    append_record(r, batch_);
+  }
+
+  // End of a block: ship or write what accumulated, and (rank 0) drain.
+  void flush() {
+    if (c_.rank == 0) {
+      if (!local_.empty()) writer_->write_records(std::move(local_));
+      local_.clear();
+      drain(false);
+      progress_->update(done_, failed_);
+      return;
+    }
+    if (batch_.empty()) return;
+    while (pending_.size() >= kMaxPendingSends) {
+      MPI_Wait(&pending_.front().first, MPI_STATUS_IGNORE);
+      pending_.pop_front();
+    }
+    pending_.emplace_back(MPI_REQUEST_NULL, std::move(batch_));
+    batch_.clear();
+    auto& [request, buffer] = pending_.back();
+    MPI_Isend(buffer.data(), static_cast<int>(buffer.size()), MPI_BYTE, 0, kTagRecords, c_.comm,
+              &request);
+  }
+
+  // After the last block: other ranks say they are done; rank 0 waits for all.
+  void close() {
+    flush();
+    if (c_.rank != 0) {
+      for (auto& p : pending_) MPI_Wait(&p.first, MPI_STATUS_IGNORE);
+      pending_.clear();
+      MPI_Send(nullptr, 0, MPI_BYTE, 0, kTagDone, c_.comm);
+      return;
+    }
+    while (finished_ranks_ < c_.size - 1) drain(true);
+    progress_->finish(done_, failed_);
+  }
+
+  std::uint64_t done() const { return done_; }
+  std::uint64_t failed() const { return failed_; }
+
+ private:
+  void count(const SampleRecord& r) {
+    ++done_;
+    if (r.status != SampleStatus::ok) ++failed_;
+  }
+
+  // Rank 0: receives what has arrived (blocking for one message if `wait`).
+  void drain(bool wait) {
+    for (;;) {
+      int flag = 0;
+      MPI_Status status;
+      if (wait) {
+        MPI_Probe(MPI_ANY_SOURCE, MPI_ANY_TAG, c_.comm, &status);
+        flag = 1;
+        wait = false;
+      } else {
+        MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, c_.comm, &flag, &status);
+      }
+      if (!flag) return;
+      int bytes = 0;
+      MPI_Get_count(&status, MPI_BYTE, &bytes);
+      std::vector<char> buffer(static_cast<std::size_t>(bytes));
+      MPI_Recv(buffer.data(), bytes, MPI_BYTE, status.MPI_SOURCE, status.MPI_TAG, c_.comm,
+               MPI_STATUS_IGNORE);
+      if (status.MPI_TAG == kTagDone) {
+        ++finished_ranks_;
+        continue;
+      }
+      std::vector<SampleRecord> records = read_records(buffer);
+      for (const auto& r : records) count(r);
+      writer_->write_records(std::move(records));
+      progress_->update(done_, failed_);
+    }
+  }
+
+  Context& c_;
+  EnsembleWriter* writer_;
+  Progress* progress_;
+  std::vector<SampleRecord> local_;
+  std::vector<char> batch_;
+  std::deque<std::pair<MPI_Request, std::vector<char>>> pending_;
+  int finished_ranks_ = 0;
+  std::uint64_t done_ = 0, failed_ = 0;
+};
+
+// Per-column largest |nominal| over time: the fallback fixed-point unit.
+std::vector<double> column_scales(const std::vector<double>& nominal, std::size_t columns) {
+  std::vector<double> scale(columns, 0.0);
+  for (std::size_t e = 0; e < nominal.size(); ++e)
+    scale[e % columns] = std::max(scale[e % columns], std::abs(nominal[e]));
+  return scale;
+}
+
+// A short summary: counts and rate, then the final-time mean, spread and
+// 5-95 % band of a few telling columns (the first recorded point, the last
+// body's centre of mass, the total energy).
+void print_summary(const Context& c, const ensemble::EnsembleStatistics& s, std::uint64_t ok,
+                   std::uint64_t failed, double wall) {
+  const auto& layout = c.runner.layout();
+  const std::size_t last = c.runner.times() - 1;
+  std::printf("ensemble: %llu samples (%llu ok, %llu failed) on %d rank%s in %.2f s (%.2f samples/s)\n",
+              static_cast<unsigned long long>(c.spec.samples), static_cast<unsigned long long>(ok),
+              static_cast<unsigned long long>(failed), c.size, c.size == 1 ? "" : "s", wall,
+              static_cast<double>(ok + failed) / wall);
+  if (ok == 0) return;
+  std::printf("at t = %g s: mean +- std [5%%, 95%%]\n", c.job.request.output_times[last]);
+  auto show = [&](const std::string& quantity, std::size_t first, std::size_t count) {
+    for (std::size_t q = 0; q < layout.quantity.size(); ++q) {
+      if (layout.quantity[q] != quantity) continue;
+      for (std::size_t k = first; k < std::min(first + count, layout.names[q].size()); ++k) {
+        const std::size_t e = last * layout.columns + layout.offset[q] + k;
+        std::printf("  %-16s %-18s % .6g +- %.3g  [% .6g, % .6g]\n", quantity.c_str(),
+                    layout.names[q][k].c_str(), s.mean(e), s.std_dev(e),
+                    s.quantile(e, 0.05), s.quantile(e, 0.95));
+      }
+    }
+  };
+  const std::size_t last_body = 3 * (static_cast<std::size_t>(c.job.model.n) - 1);
+  show("point_position", 0, 3);
+  show("com_position", last_body, 3);
+  show("energy", 3, 1);
+}
+
+int run(MPI_Comm comm, int rank, int size, const EnsembleOptions& options, const Job& job,
+        const ensemble::EnsembleSpec& spec) {
+  const auto start = std::chrono::steady_clock::now();
+  Context c{comm, rank, size, job, spec, ensemble::SampleRunner(job, spec)};
+  const std::size_t columns = c.runner.layout().columns, entries = c.entries();
+
+  // Rank 0 opens the output (temporary name) before any work, then the nominal run.
+  std::unique_ptr<EnsembleWriter> writer;
+  std::vector<double> nominal;
+  int failure = kExitOk;
+  if (rank == 0) {
+    try {
+      writer = std::make_unique<EnsembleWriter>(options.output_path, job, spec, c.runner.layout(),
+                                                c.runner.final_state_size());
+      const SampleRecord r = c.runner.run(0, true, nominal);
+      if (r.status != SampleStatus::ok) {
+        std::cerr << job.file << ": the nominal run failed: " << r.reason << "\n";
+        failure = kExitIntegration;
+      }
+    } catch (const h5::IoError& e) {
+      std::cerr << "error: " << e.what() << "\n";
+      failure = kExitIo;
+    }
+  }
+  MPI_Bcast(&failure, 1, MPI_INT, 0, comm);
+  if (failure != kExitOk) return failure;
+  nominal.resize(entries);
+  MPI_Bcast(nominal.data(), static_cast<int>(entries), MPI_DOUBLE, 0, comm);
+
+  Progress progress(spec.samples, options.progress_interval, rank == 0 && !options.quiet);
+  RecordSink sink(c, writer.get(), &progress);
+
+  // Pilot samples, round-robin; their deviations calibrate the statistics.
+  std::vector<std::vector<double>> pilot;
+  std::vector<double> low(entries, std::numeric_limits<double>::infinity());
+  std::vector<double> high(entries, -std::numeric_limits<double>::infinity());
+  for (std::uint64_t k = static_cast<std::uint64_t>(rank); k < spec.pilot_samples;
+       k += static_cast<std::uint64_t>(size)) {
+    std::vector<double> trajectory;
+    SampleRecord r = run_isolated(c, k, trajectory);
+    if (r.status == SampleStatus::ok) {
+      for (std::size_t e = 0; e < entries; ++e) {
+        low[e] = std::min(low[e], trajectory[e] - nominal[e]);
+        high[e] = std::max(high[e], trajectory[e] - nominal[e]);
+      }
+      pilot.push_back(std::move(trajectory));
+    }
+    sink.add(std::move(r));
+  }
+  MPI_Allreduce(MPI_IN_PLACE, low.data(), static_cast<int>(entries), MPI_DOUBLE, MPI_MIN, comm);
+  MPI_Allreduce(MPI_IN_PLACE, high.data(), static_cast<int>(entries), MPI_DOUBLE, MPI_MAX, comm);
+  ensemble::EnsembleStatistics stats(
+      c.runner.times(), columns, spec.histogram_bins,
+      ensemble::calibrate(nominal, low, high, column_scales(nominal, columns), columns,
+                          spec.histogram_bins));
+  for (const auto& trajectory : pilot) stats.add_sample(trajectory);
+  pilot.clear();
+  sink.flush();
+
+  // The rest from the shared queue.
+  {
+    WorkQueue queue(comm, spec.pilot_samples, spec.samples, spec.block_size);
+    std::uint64_t begin = 0, end = 0;
+    std::vector<double> trajectory;
+    while (queue.next(begin, end)) {
+      for (std::uint64_t k = begin; k < end; ++k) {
+        SampleRecord r = run_isolated(c, k, trajectory);
+        if (r.status == SampleStatus::ok) stats.add_sample(trajectory);
+        sink.add(std::move(r));
+      }
+      sink.flush();
+    }
+    sink.close();
+  }
+
+  reduce_statistics(comm, stats);
+  std::uint64_t counts[2] = {sink.done(), sink.failed()};
+  if (rank == 0) {
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    try {
+      writer->write_nominal(nominal);
+      writer->write_statistics(stats);
+      writer->finish({counts[0] - counts[1], counts[1], size, wall});
+    } catch (const h5::IoError& e) {
+      std::cerr << "error: " << e.what() << "\n";
+      failure = kExitIo;
+    }
+    if (failure == kExitOk) {
+      if (!options.quiet) print_summary(c, stats, counts[0] - counts[1], counts[1], wall);
+      std::printf("wrote %s\n", options.output_path.c_str());
+    }
+  }
+  MPI_Bcast(&failure, 1, MPI_INT, 0, comm);
+  return failure;
+}
+
+}  // namespace
+
+int run_ensemble(MPI_Comm comm, const EnsembleOptions& options) {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &size);
+  std::string text;
+  if (!share_job_text(comm, rank, options.job_path, text)) {
+    if (rank == 0) std::cerr << "error: " << text << "\n";
+    return kExitBadInput;
+  }
+  // Every rank parses the same text: the same error everywhere, no collective
+  // left waiting.
+  Job job;
+  ensemble::EnsembleSpec spec;
+  try {
+    job = parse_job(text, options.job_path);
+    spec = ensemble::read_ensemble(job);
+  } catch (const JobError& e) {
+    if (rank == 0) std::cerr << "error: " << e.what() << "\n";
+    return kExitBadInput;
+  }
+  return run(comm, rank, size, options, job, spec);
+}
+
+}  // namespace treedyn::parallel

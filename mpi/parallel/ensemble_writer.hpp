@@ -1,0 +1,48 @@
+// The ensemble's HDF5 file, written by one rank: per-sample records as they
+// arrive (by sample index, any order), then the nominal run and the
+// statistics. Temporary name until finish() renames it into place.
+#pragma once
+
+#include <filesystem>
+#include <vector>
+
+#include "ensemble/ensemble_spec.hpp"
+#include "ensemble/sample_runner.hpp"
+#include "ensemble/statistics.hpp"
+#include "io/hdf5.hpp"
+
+namespace treedyn::parallel {
+
+struct EnsembleSummary {
+  std::uint64_t ok = 0, failed = 0;
+  int ranks = 1;
+  double wall_seconds = 0.0;
+};
+
+class EnsembleWriter {
+ public:
+  static constexpr std::size_t kReasonLength = 256;
+
+  EnsembleWriter(const std::filesystem::path& path, const Job& job,
+                 const ensemble::EnsembleSpec& spec, const ensemble::ColumnLayout& layout,
+                 std::size_t final_state_size);
+
+  void write_records(std::vector<ensemble::SampleRecord> records);
+  void write_nominal(const std::vector<double>& trajectory);
+  void write_statistics(const ensemble::EnsembleStatistics& stats);
+  void finish(const EnsembleSummary& summary);
+
+ private:
+  void write_run(const std::vector<ensemble::SampleRecord>& run);
+
+  const Job& job_;
+  const ensemble::EnsembleSpec& spec_;
+  const ensemble::ColumnLayout& layout_;
+  std::size_t final_size_;
+  h5::File file_;
+  h5::Handle samples_, inputs_, status_, reason_, time_reached_, integrator_stats_, final_state_;
+  h5::Handle max_group_;
+  std::vector<h5::Handle> max_;
+};
+
+}  // namespace treedyn::parallel

@@ -1,0 +1,40 @@
+#include "parallel/progress.hpp"
+
+#include <unistd.h>
+
+namespace treedyn::parallel {
+
+Progress::Progress(std::uint64_t total, double interval, bool enabled)
+    : total_(total),
+      interval_(interval),
+      enabled_(enabled),
+      terminal_(isatty(STDERR_FILENO) != 0),
+      start_(std::chrono::steady_clock::now()),
+      last_(start_) {}
+
+void Progress::update(std::uint64_t done, std::uint64_t failed) {
+  if (!enabled_) return;
+  const auto now = std::chrono::steady_clock::now();
+  const double since = std::chrono::duration<double>(now - last_).count();
+  if (since < (terminal_ ? 0.5 : interval_)) return;
+  last_ = now;
+  print(done, failed, false);
+}
+
+void Progress::finish(std::uint64_t done, std::uint64_t failed) {
+  if (enabled_) print(done, failed, true);
+}
+
+void Progress::print(std::uint64_t done, std::uint64_t failed, bool final_line) {
+  const double elapsed =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  const double rate = elapsed > 0.0 ? static_cast<double>(done) / elapsed : 0.0;
+  const double left = rate > 0.0 ? static_cast<double>(total_ - done) / rate : 0.0;
+  std::fprintf(stderr, "%ssamples %llu/%llu (%llu failed)  %.2f samples/s  elapsed %.1f s  left %.1f s%s",
+               terminal_ ? "\r" : "", static_cast<unsigned long long>(done),
+               static_cast<unsigned long long>(total_), static_cast<unsigned long long>(failed),
+               rate, elapsed, left, terminal_ && !final_line ? "   " : "\n");
+  std::fflush(stderr);
+}
+
+}  // namespace treedyn::parallel

@@ -1,0 +1,27 @@
+// Progress of the ensemble on rank 0: samples done of the total, samples per
+// second, estimated time left. A live line on a terminal, else a log line
+// every `interval` seconds.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <cstdio>
+
+namespace treedyn::parallel {
+
+class Progress {
+ public:
+  Progress(std::uint64_t total, double interval_seconds, bool enabled);
+  void update(std::uint64_t done, std::uint64_t failed);
+  void finish(std::uint64_t done, std::uint64_t failed);
+
+ private:
+  void print(std::uint64_t done, std::uint64_t failed, bool final_line);
+
+  std::uint64_t total_;
+  double interval_;
+  bool enabled_, terminal_;
+  std::chrono::steady_clock::time_point start_, last_;
+};
+
+}  // namespace treedyn::parallel

@@ -1,0 +1,33 @@
+#include "parallel/work_queue.hpp"
+
+#include <algorithm>
+
+namespace treedyn::parallel {
+
+WorkQueue::WorkQueue(MPI_Comm comm, std::uint64_t first, std::uint64_t end, std::uint64_t block)
+    : end_(end), block_(block) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  const MPI_Aint bytes = rank == 0 ? static_cast<MPI_Aint>(sizeof(std::uint64_t)) : 0;
+  MPI_Win_allocate(bytes, sizeof(std::uint64_t), MPI_INFO_NULL, comm, &counter_, &window_);
+  if (rank == 0) *counter_ = first;
+  MPI_Barrier(comm);  // the counter is set before anyone takes from it
+  MPI_Win_lock_all(MPI_MODE_NOCHECK, window_);
+}
+
+WorkQueue::~WorkQueue() {
+  MPI_Win_unlock_all(window_);
+  MPI_Win_free(&window_);
+}
+
+bool WorkQueue::next(std::uint64_t& begin, std::uint64_t& end) {
+  std::uint64_t taken = 0;
+  MPI_Fetch_and_op(&block_, &taken, MPI_UINT64_T, 0, 0, MPI_SUM, window_);
+  MPI_Win_flush(0, window_);
+  if (taken >= end_) return false;
+  begin = taken;
+  end = std::min(end_, taken + block_);
+  return true;
+}
+
+}  // namespace treedyn::parallel
