@@ -1,5 +1,7 @@
 #include "parallel/driver.hpp"
 
+#include <sys/resource.h>
+
 #include <chrono>
 #include <cmath>
 #include <deque>
@@ -37,6 +39,8 @@ struct Context {
   const Job& job;
   const ensemble::EnsembleSpec& spec;
   ensemble::SampleRunner runner;
+  double busy_seconds = 0.0;
+  double samples_run = 0.0;
   std::size_t entries() const { return runner.times() * runner.layout().columns; }
 };
 
@@ -64,6 +68,15 @@ bool share_job_text(MPI_Comm comm, int rank, const std::string& path, std::strin
 
 // A sample never takes the job down: any exception becomes a failed record.
 SampleRecord run_isolated(Context& c, std::uint64_t k, std::vector<double>& trajectory) {
+  const auto start = std::chrono::steady_clock::now();
+  struct Busy {  // adds the sample's time to the rank's busy time, however it ends
+    Context& c;
+    std::chrono::steady_clock::time_point start;
+    ~Busy() {
+      c.busy_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      ++c.samples_run;
+    }
+  } busy{c, start};
   try {
     return c.runner.run(k, false, trajectory);
   } catch (const std::exception& e) {
@@ -289,12 +302,24 @@ int run(MPI_Comm comm, int rank, int size, const EnsembleOptions& options, const
 
   reduce_statistics(comm, stats);
   std::uint64_t counts[2] = {sink.done(), sink.failed()};
+  // Per-rank load and memory, for the file.
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  const double mine[3] = {static_cast<double>(usage.ru_maxrss) / 1024.0, c.samples_run, c.busy_seconds};
+  std::vector<double> all(3 * static_cast<std::size_t>(size));
+  MPI_Gather(mine, 3, MPI_DOUBLE, all.data(), 3, MPI_DOUBLE, 0, comm);
   if (rank == 0) {
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     try {
       writer->write_nominal(nominal);
       writer->write_statistics(stats);
-      writer->finish({counts[0] - counts[1], counts[1], size, wall});
+      EnsembleSummary summary{counts[0] - counts[1], counts[1], size, wall, {}, {}, {}};
+      for (int r = 0; r < size; ++r) {
+        summary.peak_rss_mib.push_back(all[3 * r]);
+        summary.samples_per_rank.push_back(all[3 * r + 1]);
+        summary.busy_seconds.push_back(all[3 * r + 2]);
+      }
+      writer->finish(summary);
     } catch (const h5::IoError& e) {
       std::cerr << "error: " << e.what() << "\n";
       failure = kExitIo;

@@ -231,6 +231,9 @@ void EnsembleWriter::finish(const EnsembleSummary& summary) {
   h5::write_attribute(root, "samples_failed", static_cast<long long>(summary.failed));
   h5::write_attribute(root, "ranks", static_cast<long long>(summary.ranks));
   h5::write_attribute(root, "wall_time_seconds", summary.wall_seconds);
+  h5::write_attribute(root, "peak_rss_mib_per_rank", std::span<const double>(summary.peak_rss_mib));
+  h5::write_attribute(root, "samples_per_rank", std::span<const double>(summary.samples_per_rank));
+  h5::write_attribute(root, "busy_seconds_per_rank", std::span<const double>(summary.busy_seconds));
   h5::write_attribute(root, "method", std::string(name(job_.request.settings.method)));
   h5::write_attribute(root, "parameterisation", std::string(name(job_.request.parameterisation)));
   h5::write_attribute(root, "histogram_bins", static_cast<long long>(spec_.histogram_bins));

@@ -17,6 +17,9 @@ struct EnsembleSummary {
   std::uint64_t ok = 0, failed = 0;
   int ranks = 1;
   double wall_seconds = 0.0;
+  std::vector<double> peak_rss_mib;      // per rank (getrusage maximum resident set)
+  std::vector<double> samples_per_rank;  // samples each rank integrated
+  std::vector<double> busy_seconds;      // time each rank spent integrating samples
 };
 
 class EnsembleWriter {
