@@ -100,9 +100,11 @@ std::uint64_t permute_index(std::uint64_t index, std::uint64_t n, std::uint64_t 
   return x;
 }
 
+// Boost's engine starts after the all-zero point: seed(j) yields point j + 1.
 std::uint32_t sobol_bits(std::uint64_t k, unsigned dimension, unsigned dimensions) {
+  if (k == 0) return 0;
   boost::random::sobol_engine<std::uint32_t, 32> engine(dimensions);
-  engine.seed(static_cast<std::uint32_t>(k));
+  engine.seed(static_cast<std::uint32_t>(k - 1));
   std::uint32_t value = 0;
   for (unsigned d = 0; d <= dimension; ++d) value = engine();
   return value;
@@ -125,10 +127,12 @@ void SampleDesign::point(std::uint64_t sample, std::span<double> u) const {
     return;
   }
   boost::random::sobol_engine<std::uint32_t, 32> engine(std::max(dimensions_, 1u));
-  engine.seed(static_cast<std::uint32_t>(sample));  // 32-bit points: samples < 2^32
+  // Point 0 is all zeros; Boost's seed(j) yields point j + 1 (32-bit points: samples < 2^32).
+  if (sample > 0) engine.seed(static_cast<std::uint32_t>(sample - 1));
   for (unsigned d = 0; d < u.size(); ++d) {
     const auto seed32 = static_cast<std::uint32_t>(mix(seed_ ^ mix(d + 1)));
-    u[d] = (static_cast<double>(owen_scramble(engine(), seed32)) + 0.5) * 0x1.0p-32;
+    const std::uint32_t bits = sample > 0 ? engine() : 0u;
+    u[d] = (static_cast<double>(owen_scramble(bits, seed32)) + 0.5) * 0x1.0p-32;
   }
 }
 

@@ -35,9 +35,20 @@ double Distribution::quantile(double u) const {
     case Kind::normal:
       return boost::math::quantile(boost::math::normal(mean, std), u);
     case Kind::truncated_normal: {
+      // Invert on the side of the mean the interval lies on, with upper-tail
+      // probabilities above the mean, so tail intervals keep their digits.
       const boost::math::normal n(mean, std);
-      const double a = boost::math::cdf(n, lower), b = boost::math::cdf(n, upper);
-      const double x = boost::math::quantile(n, a + u * (b - a));
+      double x;
+      if (lower > mean) {
+        const double sa = boost::math::cdf(boost::math::complement(n, lower));
+        const double sb = boost::math::cdf(boost::math::complement(n, upper));
+        const double q = sa - u * (sa - sb);
+        x = q > 0.0 ? boost::math::quantile(boost::math::complement(n, q)) : upper;
+      } else {
+        const double a = boost::math::cdf(n, lower), b = boost::math::cdf(n, upper);
+        const double p = a + u * (b - a);
+        x = p <= 0.0 ? lower : p >= 1.0 ? upper : boost::math::quantile(n, p);
+      }
       return std::min(std::max(x, lower), upper);
     }
     case Kind::uniform:
@@ -56,6 +67,11 @@ double Distribution::cdf(double x) const {
       if (x <= lower) return 0.0;
       if (x >= upper) return 1.0;
       const boost::math::normal n(mean, std);
+      if (lower > mean) {  // upper-tail probabilities, as in quantile()
+        const double sa = boost::math::cdf(boost::math::complement(n, lower));
+        const double sb = boost::math::cdf(boost::math::complement(n, upper));
+        return (sa - boost::math::cdf(boost::math::complement(n, x))) / (sa - sb);
+      }
       const double a = boost::math::cdf(n, lower), b = boost::math::cdf(n, upper);
       return (boost::math::cdf(n, x) - a) / (b - a);
     }
