@@ -3,6 +3,7 @@
 #include <Random123/philox.h>
 
 #include <algorithm>
+#include <cmath>
 #include <boost/random/sobol.hpp>
 #include <stdexcept>
 #include <string>
@@ -10,9 +11,10 @@
 namespace treedyn::ensemble {
 namespace {
 
-// 53 random bits into (0, 1): (m + 0.5) / 2^53, never 0 or 1.
+// 52 random bits into (0, 1): (m + 0.5) / 2^52, exactly representable, so
+// never 0 or 1 (with 53 bits the top value would round up to 1).
 double to_open_unit(std::uint64_t bits) {
-  return (static_cast<double>(bits >> 11) + 0.5) * 0x1.0p-53;
+  return (static_cast<double>(bits >> 12) + 0.5) * 0x1.0p-52;
 }
 
 std::uint64_t mix(std::uint64_t x) {  // SplitMix64 finaliser
@@ -144,7 +146,11 @@ double SampleDesign::uniform(std::uint64_t sample, unsigned dimension) const {
       // Stratum pi_d(k) of N, then a uniform position inside it.
       const std::uint64_t stratum = permute_index(sample, samples_, seed_, dimension);
       const double inside = counter_uniform(seed_, sample, dimension, 1);
-      return (static_cast<double>(stratum) + inside) / static_cast<double>(samples_);
+      const double n = static_cast<double>(samples_);
+      const double u = (static_cast<double>(stratum) + inside) / n;
+      // Rounding must not carry u into the next stratum (or to 1).
+      const double top = (static_cast<double>(stratum) + 1.0) / n;
+      return u < top ? u : std::nextafter(top, 0.0);
     }
     case Design::sobol: {
       const auto seed32 = static_cast<std::uint32_t>(mix(seed_ ^ mix(dimension + 1)));

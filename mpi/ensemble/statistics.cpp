@@ -19,7 +19,9 @@ Calibration calibrate(std::span<const double> nominal, std::span<const double> l
   for (std::size_t e = 0; e < n; ++e) {
     // Fallback unit when the pilot saw no spread: 2^-10 of the column's size,
     // so spreads up to 2^10 times the column's size remain representable.
-    const double column = std::max(column_scale[e % columns], 1e-300);
+    // A column that is zero all along the nominal run (a spring energy with
+    // no springs, say) falls back to one unit of the quantity.
+    const double column = column_scale[e % columns] > 0.0 ? column_scale[e % columns] : 1.0;
     const double fallback = std::ldexp(column, -10);
     const bool seen = std::isfinite(lo[e]) && std::isfinite(hi[e]);
     const double spread = seen ? hi[e] - lo[e] : 0.0;
@@ -55,13 +57,20 @@ void EnsembleStatistics::add_sample(std::span<const double> trajectory) {
   const std::size_t n = entries();
   if (trajectory.size() != n) throw std::invalid_argument("trajectory size mismatch");
   for (std::size_t e = 0; e < n; ++e) {
-    const double x = trajectory[e];
+    // + 0.0 turns -0.0 into +0.0: min and max of signed zeros would otherwise
+    // depend on which zero came first.
+    const double x = trajectory[e] + 0.0;
+    if (!std::isfinite(x)) {  // never from a successful run; kept out of everything
+      ++out_of_range_[e];
+      continue;
+    }
     min_[e] = std::min(min_[e], x);
     max_[e] = std::max(max_[e], x);
     const double scaled = (x - calibration_.center[e]) / calibration_.scale[e];
     if (std::abs(scaled) <= kMaxScaledDeviation) {
-      sum_[e] += static_cast<wide>(std::ldexp(scaled, kSumBits));
-      square_sum_[e] += static_cast<wide>(std::ldexp(scaled * scaled, kSquareBits));
+      // Rounded to the nearest unit of the fixed point: unbiased.
+      sum_[e] += static_cast<wide>(std::nearbyint(std::ldexp(scaled, kSumBits)));
+      square_sum_[e] += static_cast<wide>(std::nearbyint(std::ldexp(scaled * scaled, kSquareBits)));
     } else {
       ++out_of_range_[e];
     }

@@ -39,9 +39,10 @@ Calibration calibrate(std::span<const double> nominal, std::span<const double> p
 class EnsembleStatistics {
  public:
   // Fixed-point fraction bits of d / S and of (d / S)^2, and the largest
-  // |d| / S the squares accept (beyond it a value is counted as out of range).
+  // |d| / S accepted (beyond it a value is counted as out of range). At the
+  // limit a square is 2^100 units, so 2^26 samples fit in 127 bits.
   static constexpr int kSumBits = 62;
-  static constexpr int kSquareBits = 40;
+  static constexpr int kSquareBits = 60;
   static constexpr double kMaxScaledDeviation = 1048576.0;  // 2^20
 
   EnsembleStatistics(std::size_t times, std::size_t columns, int bins, Calibration calibration);
