@@ -1,10 +1,12 @@
 #include "ensemble/sample_runner.hpp"
 
+#include <algorithm>
 #include <limits>
 
 #include "common/error.hpp"
 #include "dynamics/recovered.hpp"
 #include "integrate/simulate.hpp"
+#include "job/toml_view.hpp"
 #include "output/quantities.hpp"
 
 namespace treedyn::ensemble {
@@ -80,8 +82,11 @@ SampleRecord SampleRunner::run(std::uint64_t k, bool nominal, std::vector<double
   if (!outcome.ok()) {
     record.status = SampleStatus::integration_failed;
     record.reason = std::string(name(outcome.failure)) + " at t = " +
-                    std::to_string(outcome.time_reached) + " s" +
+                    format_number(outcome.time_reached) + " s" +
                     (outcome.message.empty() ? "" : ": " + outcome.message);
+    // The documented meaning: no final state for a run that did not finish.
+    std::fill(record.final_state.begin(), record.final_state.end(),
+              std::numeric_limits<double>::quiet_NaN());
   }
   return record;
 }

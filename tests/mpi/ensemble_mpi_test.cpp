@@ -1,0 +1,1020 @@
+// The ensemble service through the real `treedyn-ensemble` binary under
+// mpirun (Open MPI, --oversubscribe: CI has 2 cores and some cases start 3
+// ranks). Every run is wrapped in `timeout`, so a hang fails the test instead
+// of blocking CI. Output goes to a fresh temporary directory per test, removed
+// afterwards. HDF5 is read back through the C API.
+//
+//   1. Same numbers on any number of ranks: one job (a branched 3-body tree,
+//      orientation + mass + angular-velocity perturbations, 40 samples, 8
+//      pilot samples, blocks of 2) run by the binary alone and under mpirun
+//      with 1, 2 and 3 ranks. Every dataset under /stats, /samples and
+//      /nominal is compared BYTE FOR BYTE (raw read in the file's native
+//      type), as are the root attributes seed, samples, samples_ok and
+//      samples_failed; `ranks` is 1, 1, 2, 3.
+//   2. Failed samples are handled: a job whose samples fail on purpose (a
+//      normal(1, 1) mass, so some masses are negative -> invalid model, status
+//      2; a wide spin range with a small max_steps -> too_much_work, status 1)
+//      completes with exit 0 and records every failure; 1 and 2 ranks agree
+//      byte for byte.
+//   3. A bad job fails on every rank without hanging: exit 2 on 3 ranks,
+//      within the timeout, one "error: FILE:LINE:COL: FIELD: ..." message,
+//      no output or temporary file left.
+//   4. Every shipped example (jobs/*.toml) runs its [ensemble] on 2 ranks:
+//      exit 0, every sample ok, and /stats, /samples and /nominal have the
+//      documented shapes (README, "HDF5 ensemble layout").
+#include <gtest/gtest.h>
+#include <hdf5.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <numeric>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "ensemble/ensemble_spec.hpp"
+#include "job/job.hpp"
+#include "output/quantities.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// Open MPI refuses to start as root without these (CI runs as root). CTest
+// sets them too; setting them here lets the binary run on its own.
+[[maybe_unused]] const bool kRootAllowed = [] {
+  setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
+  setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
+  return true;
+}();
+
+// Seconds `timeout` gives each mpirun before killing it (then 10 s more
+// before SIGKILL). A normal run here takes 0.3 - 3 s.
+constexpr int kTimeoutSeconds = 120;
+
+// ---------------------------------------------------------------------------
+// Files and commands
+
+// A fresh directory under the system temp dir, removed with its contents.
+class TempDir {
+ public:
+  explicit TempDir(const std::string& tag) {
+    std::random_device rd;
+    for (int attempt = 0; attempt < 100; ++attempt) {
+      const fs::path p = fs::temp_directory_path() /
+                         ("treedyn_" + tag + "_" + std::to_string(getpid()) + "_" +
+                          std::to_string(rd()));
+      std::error_code ec;
+      if (fs::create_directory(p, ec)) {
+        path_ = p;
+        return;
+      }
+    }
+    throw std::runtime_error("cannot create a temporary directory");
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
+std::string read_text(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+void write_text(const fs::path& p, const std::string& text) {
+  std::ofstream out(p, std::ios::binary);
+  out << text;
+}
+
+std::string quote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+struct CommandResult {
+  int exit_code = -1;  // 124 (137 after SIGKILL): `timeout` stopped a hang
+  std::string out, err;
+  double seconds = 0.0;
+};
+
+// Runs `treedyn-ensemble JOB -o OUTPUT -q`: alone when ranks == 0, else under
+// `mpirun --oversubscribe -np RANKS`; always under `timeout`. stdout and stderr
+// are captured in files under `capture` (not the output's directory, so that
+// directory holds only what the ensemble writes).
+CommandResult run_ensemble(int ranks, const fs::path& job, const fs::path& output,
+                           const fs::path& capture) {
+  fs::create_directories(capture);
+  const fs::path out = capture / "stdout.txt", err = capture / "stderr.txt";
+  std::string command = "timeout -k 10 " + std::to_string(kTimeoutSeconds) + " ";
+  if (ranks > 0)
+    command += quote(TREEDYN_MPIEXEC) + " --oversubscribe -np " + std::to_string(ranks) + " ";
+  command += quote(TREEDYN_ENSEMBLE_BINARY) + " " + quote(job.string()) + " -o " +
+             quote(output.string()) + " -q";
+  command += " >" + quote(out.string()) + " 2>" + quote(err.string()) + " </dev/null";
+  const auto start = std::chrono::steady_clock::now();
+  const int status = std::system(command.c_str());
+  CommandResult r;
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  r.exit_code = status != -1 && WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = read_text(out);
+  r.err = read_text(err);
+  fs::remove(out);
+  fs::remove(err);
+  return r;
+}
+
+std::string describe(int ranks) {
+  return ranks == 0 ? std::string("the binary alone") : "mpirun -np " + std::to_string(ranks);
+}
+
+// The names in `dir` (files and directories), sorted.
+std::vector<std::string> listing(const fs::path& dir) {
+  std::vector<std::string> names;
+  for (const auto& entry : fs::directory_iterator(dir))
+    names.push_back(entry.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+// A successful run: exit 0, "wrote OUTPUT" on stdout, and in the output's
+// directory the output file and no temporary (OUTPUT.tmp-PID).
+void expect_success(const CommandResult& r, const fs::path& output) {
+  EXPECT_EQ(r.exit_code, 0) << "stdout:\n" << r.out << "stderr:\n" << r.err;
+  EXPECT_NE(r.out.find("wrote " + output.string()), std::string::npos) << r.out;
+  EXPECT_EQ(r.err.find("error"), std::string::npos) << r.err;
+  EXPECT_TRUE(fs::exists(output)) << output;
+  for (const auto& name : listing(output.parent_path()))
+    EXPECT_EQ(name.find(".tmp-"), std::string::npos) << "temporary file left behind: " << name;
+}
+
+// "LINE:COL" (1-based) of the first occurrence of `needle` in `text`, plus
+// `skip` characters.
+std::string position_of(const std::string& text, const std::string& needle, std::size_t skip = 0) {
+  const std::size_t at = text.find(needle);
+  if (at == std::string::npos) throw std::invalid_argument("not in the job: " + needle);
+  const std::size_t p = at + skip;
+  const auto line = std::count(text.begin(), text.begin() + static_cast<long>(p), '\n') + 1;
+  const std::size_t line_start = text.rfind('\n', p == 0 ? 0 : p - 1);
+  const std::size_t column = line_start == std::string::npos || p == 0 ? p + 1 : p - line_start;
+  return std::to_string(line) + ":" + std::to_string(column);
+}
+
+// Where the value of `key = value` starts.
+std::string value_position(const std::string& text, const std::string& key_and_value) {
+  return position_of(text, key_and_value, key_and_value.find("= ") + 2);
+}
+
+std::string with(std::string text, const std::string& from, const std::string& to) {
+  const std::size_t at = text.find(from);
+  if (at == std::string::npos) throw std::invalid_argument("not in the job: " + from);
+  return text.replace(at, from.size(), to);
+}
+
+// ---------------------------------------------------------------------------
+// HDF5 through the C API
+
+class Hid {
+ public:
+  Hid(hid_t id, herr_t (*close)(hid_t)) : id_(id), close_(close) {}
+  ~Hid() {
+    if (id_ >= 0) close_(id_);
+  }
+  Hid(const Hid&) = delete;
+  Hid& operator=(const Hid&) = delete;
+  hid_t get() const { return id_; }
+  bool ok() const { return id_ >= 0; }
+
+ private:
+  hid_t id_;
+  herr_t (*close_)(hid_t);
+};
+
+// An HDF5 file opened read-only (closed on destruction).
+class H5File {
+ public:
+  explicit H5File(const fs::path& path)
+      : id_(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT)) {
+    if (id_ < 0) ADD_FAILURE() << "cannot open " << path << " with HDF5";
+  }
+  ~H5File() {
+    if (id_ >= 0) H5Fclose(id_);
+  }
+  H5File(const H5File&) = delete;
+  H5File& operator=(const H5File&) = delete;
+  hid_t id() const { return id_; }
+  bool ok() const { return id_ >= 0; }
+
+ private:
+  hid_t id_;
+};
+
+bool exists(hid_t file, const std::string& path) {
+  // Check every prefix: H5Lexists fails on a missing intermediate group.
+  std::size_t at = 0;
+  while ((at = path.find('/', at + 1)) != std::string::npos)
+    if (H5Lexists(file, path.substr(0, at).c_str(), H5P_DEFAULT) <= 0) return false;
+  return H5Lexists(file, path.c_str(), H5P_DEFAULT) > 0;
+}
+
+// A dataset's raw content: shape, type (class, size, sign) and bytes, read in
+// the native type of the file's type.
+struct RawDataset {
+  std::vector<hsize_t> dims;
+  H5T_class_t type_class = H5T_NO_CLASS;
+  std::size_t type_size = 0;
+  int sign = -1;
+  std::vector<unsigned char> bytes;
+};
+
+RawDataset read_raw(hid_t file, const std::string& path) {
+  RawDataset d;
+  Hid set(H5Dopen2(file, path.c_str(), H5P_DEFAULT), H5Dclose);
+  if (!set.ok()) {
+    ADD_FAILURE() << "no dataset " << path;
+    return d;
+  }
+  Hid space(H5Dget_space(set.get()), H5Sclose);
+  const int rank = H5Sget_simple_extent_ndims(space.get());
+  d.dims.resize(static_cast<std::size_t>(std::max(rank, 0)));
+  H5Sget_simple_extent_dims(space.get(), d.dims.data(), nullptr);
+  Hid file_type(H5Dget_type(set.get()), H5Tclose);
+  Hid native(H5Tget_native_type(file_type.get(), H5T_DIR_ASCEND), H5Tclose);
+  d.type_class = H5Tget_class(native.get());
+  d.type_size = H5Tget_size(native.get());
+  if (d.type_class == H5T_INTEGER) d.sign = H5Tget_sign(native.get());
+  const auto points = static_cast<std::size_t>(H5Sget_simple_extent_npoints(space.get()));
+  d.bytes.assign(points * d.type_size, 0);
+  if (points > 0 &&
+      H5Dread(set.get(), native.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, d.bytes.data()) < 0)
+    ADD_FAILURE() << "cannot read dataset " << path;
+  return d;
+}
+
+std::vector<hsize_t> shape(hid_t file, const std::string& path) {
+  if (!exists(file, path)) {
+    ADD_FAILURE() << "no dataset " << path;
+    return {};
+  }
+  Hid set(H5Dopen2(file, path.c_str(), H5P_DEFAULT), H5Dclose);
+  Hid space(H5Dget_space(set.get()), H5Sclose);
+  std::vector<hsize_t> dims(static_cast<std::size_t>(std::max(H5Sget_simple_extent_ndims(space.get()), 0)));
+  H5Sget_simple_extent_dims(space.get(), dims.data(), nullptr);
+  return dims;
+}
+
+template <class T>
+std::vector<T> read_values(hid_t file, const std::string& path, hid_t memory_type) {
+  std::vector<T> v;
+  if (!exists(file, path)) {
+    ADD_FAILURE() << "no dataset " << path;
+    return v;
+  }
+  Hid set(H5Dopen2(file, path.c_str(), H5P_DEFAULT), H5Dclose);
+  Hid space(H5Dget_space(set.get()), H5Sclose);
+  v.resize(static_cast<std::size_t>(H5Sget_simple_extent_npoints(space.get())));
+  if (!v.empty() && H5Dread(set.get(), memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()) < 0)
+    ADD_FAILURE() << "cannot read dataset " << path;
+  return v;
+}
+
+std::vector<double> read_doubles(hid_t file, const std::string& path) {
+  return read_values<double>(file, path, H5T_NATIVE_DOUBLE);
+}
+std::vector<long long> read_integers(hid_t file, const std::string& path) {
+  return read_values<long long>(file, path, H5T_NATIVE_LLONG);
+}
+
+// A 1-D dataset of fixed-length strings.
+std::vector<std::string> read_strings(hid_t file, const std::string& path) {
+  std::vector<std::string> out;
+  const RawDataset d = read_raw(file, path);
+  if (d.type_class != H5T_STRING || d.type_size == 0) {
+    ADD_FAILURE() << path << " is not a fixed-length string dataset";
+    return out;
+  }
+  for (std::size_t k = 0; k < d.bytes.size() / d.type_size; ++k) {
+    const char* s = reinterpret_cast<const char*>(d.bytes.data()) + k * d.type_size;
+    out.emplace_back(s, strnlen(s, d.type_size));
+  }
+  return out;
+}
+
+long long read_integer_attribute(hid_t object, const std::string& name) {
+  long long value = -1;
+  Hid attr(H5Aopen(object, name.c_str(), H5P_DEFAULT), H5Aclose);
+  if (!attr.ok() || H5Aread(attr.get(), H5T_NATIVE_LLONG, &value) < 0)
+    ADD_FAILURE() << "cannot read integer attribute " << name;
+  return value;
+}
+
+std::vector<double> read_double_attribute(hid_t object, const std::string& name) {
+  std::vector<double> v;
+  Hid attr(H5Aopen(object, name.c_str(), H5P_DEFAULT), H5Aclose);
+  if (!attr.ok()) {
+    ADD_FAILURE() << "no attribute " << name;
+    return v;
+  }
+  Hid space(H5Aget_space(attr.get()), H5Sclose);
+  v.resize(static_cast<std::size_t>(H5Sget_simple_extent_npoints(space.get())));
+  if (H5Aread(attr.get(), H5T_NATIVE_DOUBLE, v.data()) < 0) ADD_FAILURE() << "cannot read " << name;
+  return v;
+}
+
+// Fixed-length string attribute of a dataset (scalar or 1-D).
+std::vector<std::string> read_string_attribute(hid_t file, const std::string& path,
+                                               const std::string& name) {
+  std::vector<std::string> out;
+  Hid object(H5Oopen(file, path.c_str(), H5P_DEFAULT), H5Oclose);
+  if (!object.ok()) {
+    ADD_FAILURE() << "no object " << path;
+    return out;
+  }
+  Hid attr(H5Aopen(object.get(), name.c_str(), H5P_DEFAULT), H5Aclose);
+  if (!attr.ok()) {
+    ADD_FAILURE() << "no attribute " << name << " on " << path;
+    return out;
+  }
+  Hid type(H5Aget_type(attr.get()), H5Tclose);
+  if (H5Tget_class(type.get()) != H5T_STRING || H5Tis_variable_str(type.get()) > 0) {
+    ADD_FAILURE() << "attribute " << name << " of " << path << " is not a fixed-length string";
+    return out;
+  }
+  const std::size_t width = H5Tget_size(type.get());
+  Hid space(H5Aget_space(attr.get()), H5Sclose);
+  const auto count = static_cast<std::size_t>(H5Sget_simple_extent_npoints(space.get()));
+  std::vector<char> buffer(count * width + 1, '\0');
+  Hid memory_type(H5Tget_native_type(type.get(), H5T_DIR_ASCEND), H5Tclose);
+  if (H5Aread(attr.get(), memory_type.get(), buffer.data()) < 0) {
+    ADD_FAILURE() << "cannot read attribute " << name << " of " << path;
+    return out;
+  }
+  for (std::size_t k = 0; k < count; ++k) {
+    const char* s = buffer.data() + k * width;
+    out.emplace_back(s, strnlen(s, width));
+  }
+  return out;
+}
+
+// Every dataset below `group` ("/stats"), as full paths, sorted.
+std::vector<std::string> datasets_under(hid_t file, const std::string& group) {
+  std::vector<std::string> names;
+  if (!exists(file, group)) {
+    ADD_FAILURE() << "no group " << group;
+    return names;
+  }
+  Hid g(H5Gopen2(file, group.c_str(), H5P_DEFAULT), H5Gclose);
+  H5Lvisit(
+      g.get(), H5_INDEX_NAME, H5_ITER_INC,
+      [](hid_t, const char* name, const H5L_info_t*, void* data) -> herr_t {
+        static_cast<std::vector<std::string>*>(data)->push_back(name);
+        return 0;
+      },
+      &names);
+  std::vector<std::string> out;
+  for (const auto& n : names) {
+    const std::string path = group + "/" + n;
+    Hid object(H5Oopen(file, path.c_str(), H5P_DEFAULT), H5Oclose);
+    if (object.ok() && H5Iget_type(object.get()) == H5I_DATASET) out.push_back(path);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// Byte-for-byte equality of every dataset under `groups`, and of the dataset
+// lists themselves. Reports the first differing element of each dataset.
+void expect_identical_datasets(hid_t a, const std::string& a_name, hid_t b,
+                               const std::string& b_name, const std::vector<std::string>& groups) {
+  std::size_t compared = 0, bytes = 0;
+  for (const std::string& group : groups) {
+    const auto list_a = datasets_under(a, group), list_b = datasets_under(b, group);
+    EXPECT_EQ(list_a, list_b) << "datasets under " << group << " differ between " << a_name
+                              << " and " << b_name;
+    EXPECT_FALSE(list_a.empty()) << group << " holds no datasets";
+    for (const std::string& path : list_a) {
+      if (std::find(list_b.begin(), list_b.end(), path) == list_b.end()) continue;
+      const RawDataset x = read_raw(a, path), y = read_raw(b, path);
+      EXPECT_EQ(x.dims, y.dims) << path << ": shape differs, " << a_name << " vs " << b_name;
+      EXPECT_EQ(x.type_class, y.type_class) << path;
+      EXPECT_EQ(x.type_size, y.type_size) << path;
+      EXPECT_EQ(x.sign, y.sign) << path;
+      if (x.bytes.size() != y.bytes.size() || x.type_size == 0) {
+        ADD_FAILURE() << path << ": " << x.bytes.size() << " vs " << y.bytes.size() << " bytes";
+        continue;
+      }
+      ++compared;
+      bytes += x.bytes.size();
+      if (std::memcmp(x.bytes.data(), y.bytes.data(), x.bytes.size()) == 0) continue;
+      std::size_t first = 0;
+      while (x.bytes[first] == y.bytes[first]) ++first;
+      const std::size_t element = first / x.type_size;
+      std::ostringstream detail;
+      if (x.type_class == H5T_FLOAT && x.type_size == sizeof(double)) {
+        double u = 0.0, v = 0.0;
+        std::memcpy(&u, x.bytes.data() + element * sizeof(double), sizeof(double));
+        std::memcpy(&v, y.bytes.data() + element * sizeof(double), sizeof(double));
+        detail.precision(17);
+        detail << ": " << u << " vs " << v;
+      }
+      ADD_FAILURE() << path << " differs between " << a_name << " and " << b_name
+                    << " (first at flat element " << element << detail.str() << ")";
+    }
+  }
+  std::printf("  compared %zu datasets (%zu bytes) of %s with %s\n", compared, bytes,
+              b_name.c_str(), a_name.c_str());
+}
+
+// ---------------------------------------------------------------------------
+// 1. Same numbers on any number of ranks
+
+// A branched 3-body tree under gravity (a trunk hung from the base carrying an
+// arm and a bob) with three perturbations of mixed kinds: the trunk's start
+// orientation (3 inputs), the bob's mass, the arm's spin.
+const std::string kTreeJob = R"(title = "ensemble mpi test: branched 3-body tree"
+
+[environment]
+gravity = [0.0, 0.0, -9.81]
+
+[[body]]
+name = "trunk"
+shape = "cylinder"
+radius = 0.02
+length = 0.5
+mass = 1.0
+parent = "base"
+joint_on_child = [0.0, 0.0, 0.25]
+orientation = { type = "axis_angle", axis = [1, 0, 0], angle = 30, unit = "deg" }
+
+[[body]]
+name = "arm"
+shape = "cylinder"
+radius = 0.02
+length = 0.4
+mass = 0.5
+parent = "trunk"
+joint_on_parent = [0.0, 0.0, -0.25]
+joint_on_child = [0.0, 0.0, 0.2]
+angular_velocity = { value = [0.0, 0.0, 2.0], frame = "inertial", unit = "rad/s" }
+
+[[body]]
+name = "bob"
+shape = "sphere"
+radius = 0.05
+mass = 0.3
+parent = "trunk"
+joint_on_parent = [0.05, 0.0, -0.25]
+joint_on_child = [0.0, 0.0, 0.05]
+
+[integrator]
+method = "cvode_adams"
+rtol = 1e-8
+atol = 1e-10
+
+[output]
+end_time = 2.0
+step = 0.05
+quantities = ["energy", "com_position", "angular_velocity", "joint_angle"]
+
+[ensemble]
+samples = 40
+seed = 42
+design = "latin_hypercube"
+pilot_samples = 8
+block_size = 2
+histogram_bins = 16
+quantiles = [0.1, 0.5, 0.9]
+
+[[ensemble.perturbation]]
+target = "body.trunk.orientation"
+distribution = "normal"
+std = 2.0
+unit = "deg"
+
+[[ensemble.perturbation]]
+target = "body.bob.mass"
+distribution = "truncated_normal"
+mean = 0.3
+std = 0.05
+lower = 0.2
+upper = 0.4
+
+[[ensemble.perturbation]]
+target = "body.arm.angular_velocity.z"
+distribution = "uniform"
+lower = 1.0
+upper = 3.0
+)";
+
+constexpr long long kTreeSamples = 40, kTreePilot = 8;
+
+TEST(EnsembleMpi, SameNumbersAloneAndOnOneTwoAndThreeRanks) {
+  TempDir dir("ensemble_mpi_ranks");
+  const fs::path job = dir.path() / "tree.toml";
+  write_text(job, kTreeJob);
+
+  const std::vector<int> runs = {0, 1, 2, 3};  // 0: the binary without mpirun
+  std::vector<fs::path> outputs;
+  for (int ranks : runs) {
+    const fs::path out_dir = dir.path() / ("out_" + std::to_string(ranks));
+    fs::create_directory(out_dir);
+    outputs.push_back(out_dir / "ensemble.h5");
+    const auto r = run_ensemble(ranks, job, outputs.back(), dir.path() / "capture");
+    std::printf("[same numbers] %s: exit %d in %.2f s\n", describe(ranks).c_str(), r.exit_code,
+                r.seconds);
+    SCOPED_TRACE(describe(ranks));
+    expect_success(r, outputs.back());
+    EXPECT_EQ(listing(out_dir), std::vector<std::string>{"ensemble.h5"});
+  }
+
+  H5File reference(outputs[0]);
+  ASSERT_TRUE(reference.ok());
+  const hid_t ref = reference.id();
+  EXPECT_EQ(read_integer_attribute(ref, "samples"), kTreeSamples);
+  EXPECT_EQ(read_integer_attribute(ref, "samples_ok"), kTreeSamples);
+  EXPECT_EQ(read_integer_attribute(ref, "samples_failed"), 0);
+  EXPECT_EQ(read_integer_attribute(ref, "seed"), 42);
+
+  // The comparison is not vacuous: the perturbations spread the results.
+  {
+    const auto sd = read_doubles(ref, "/stats/energy/std");
+    ASSERT_EQ(sd.size(), 41u * 4u);
+    EXPECT_GT(sd[40 * 4 + 3], 0.0) << "no spread in the final total energy";
+    const auto inputs = read_doubles(ref, "/samples/inputs");
+    ASSERT_EQ(inputs.size(), static_cast<std::size_t>(kTreeSamples) * 5u);
+    EXPECT_NE(inputs[3], inputs[5 + 3]) << "samples 0 and 1 drew the same mass";
+  }
+
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    const int ranks = runs[i];
+    SCOPED_TRACE(describe(ranks));
+    H5File file(outputs[i]);
+    ASSERT_TRUE(file.ok());
+    const hid_t f = file.id();
+    EXPECT_EQ(read_integer_attribute(f, "ranks"), std::max(ranks, 1));
+    for (const char* a : {"seed", "samples", "samples_ok", "samples_failed"})
+      EXPECT_EQ(read_integer_attribute(f, a), read_integer_attribute(ref, a)) << "attribute " << a;
+    // Every rank integrated: the pilot samples go round-robin, so with P
+    // ranks rank r runs at least floor(8 / P) of them.
+    const auto per_rank = read_double_attribute(f, "samples_per_rank");
+    ASSERT_EQ(per_rank.size(), static_cast<std::size_t>(std::max(ranks, 1)));
+    EXPECT_EQ(std::accumulate(per_rank.begin(), per_rank.end(), 0.0),
+              static_cast<double>(kTreeSamples));
+    for (double n : per_rank) EXPECT_GE(n, static_cast<double>(kTreePilot / std::max(ranks, 1)));
+    if (i == 0) continue;
+    expect_identical_datasets(ref, describe(runs[0]), f, describe(ranks),
+                              {"/stats", "/samples", "/nominal"});
+  }
+}
+
+// ---------------------------------------------------------------------------
+// 2. Failed samples
+
+// A rod with a ball at its end. The ball's mass is normal(1, 1): about one
+// sample in six draws a negative mass (invalid model, status 2). The rod's
+// spin about y is uniform in [0, 50] rad/s against max_steps = 200 per
+// 0.1-s output interval: fast or light-tipped samples give up
+// (too_much_work, status 1). The nominal run (no spin, 0.3 kg) succeeds.
+const std::string kFailingJob = R"(title = "ensemble mpi test: failing samples"
+
+[environment]
+gravity = [0.0, 0.0, -9.81]
+
+[[body]]
+name = "rod"
+shape = "cylinder"
+radius = 0.02
+length = 0.5
+mass = 1.0
+parent = "base"
+joint_on_child = [0.0, 0.0, 0.25]
+orientation = { type = "axis_angle", axis = [1, 0, 0], angle = 30, unit = "deg" }
+
+[[body]]
+name = "tip"
+shape = "sphere"
+radius = 0.05
+mass = 0.3
+parent = "rod"
+joint_on_parent = [0.0, 0.0, -0.25]
+joint_on_child = [0.0, 0.0, 0.05]
+
+[integrator]
+method = "erk_dormand_prince"
+rtol = 1e-8
+atol = 1e-10
+max_steps = 200
+
+[output]
+end_time = 1.0
+step = 0.1
+quantities = ["energy", "com_position"]
+
+[ensemble]
+samples = 40
+seed = 9
+design = "monte_carlo"
+pilot_samples = 8
+block_size = 2
+histogram_bins = 16
+
+[[ensemble.perturbation]]
+target = "body.tip.mass"
+distribution = "normal"
+mean = 1.0
+std = 1.0
+
+[[ensemble.perturbation]]
+target = "body.rod.angular_velocity.y"
+distribution = "uniform"
+lower = 0.0
+upper = 50.0
+)";
+
+constexpr double kFailingEndTime = 1.0;
+constexpr std::size_t kFailingSamples = 40;
+
+// The failing job run once with 1 rank and once with 2; the tests read the files.
+class EnsembleFailures : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = std::make_unique<TempDir>("ensemble_mpi_failures");
+    const fs::path job = dir_->path() / "failing.toml";
+    write_text(job, kFailingJob);
+    for (int ranks : {1, 2}) {
+      const fs::path out_dir = dir_->path() / ("out_" + std::to_string(ranks));
+      fs::create_directory(out_dir);
+      const fs::path output = out_dir / "ensemble.h5";
+      results_[ranks] = run_ensemble(ranks, job, output, dir_->path() / "capture");
+      outputs_[ranks] = output;
+      std::printf("[failures] %s: exit %d in %.2f s\n", describe(ranks).c_str(),
+                  results_[ranks].exit_code, results_[ranks].seconds);
+    }
+  }
+  static void TearDownTestSuite() { dir_.reset(); }
+
+  static std::unique_ptr<TempDir> dir_;
+  static std::map<int, CommandResult> results_;
+  static std::map<int, fs::path> outputs_;
+};
+std::unique_ptr<TempDir> EnsembleFailures::dir_;
+std::map<int, CommandResult> EnsembleFailures::results_;
+std::map<int, fs::path> EnsembleFailures::outputs_;
+
+TEST_F(EnsembleFailures, TheJobCompletesAndEveryFailureIsRecorded) {
+  for (int ranks : {1, 2}) {
+    SCOPED_TRACE(describe(ranks));
+    expect_success(results_[ranks], outputs_[ranks]);
+    H5File file(outputs_[ranks]);
+    ASSERT_TRUE(file.ok());
+    const hid_t f = file.id();
+
+    const auto status = read_integers(f, "/samples/status");
+    const auto reason = read_strings(f, "/samples/reason");
+    const auto reached = read_doubles(f, "/samples/time_reached");
+    const auto inputs = read_doubles(f, "/samples/inputs");
+    ASSERT_EQ(status.size(), kFailingSamples);
+    ASSERT_EQ(reason.size(), kFailingSamples);
+    ASSERT_EQ(reached.size(), kFailingSamples);
+    ASSERT_EQ(inputs.size(), 2 * kFailingSamples);
+    EXPECT_EQ(read_string_attribute(f, "/samples/inputs", "columns"),
+              (std::vector<std::string>{"body.tip.mass", "body.rod.angular_velocity.y"}));
+
+    std::size_t ok = 0, integration = 0, invalid = 0;
+    for (std::size_t k = 0; k < kFailingSamples; ++k) {
+      SCOPED_TRACE("sample " + std::to_string(k) + ": status " + std::to_string(status[k]) +
+                   ", reason \"" + reason[k] + "\"");
+      const double mass = inputs[2 * k];
+      switch (status[k]) {
+        case 0:
+          ++ok;
+          EXPECT_EQ(reason[k], "");
+          EXPECT_EQ(reached[k], kFailingEndTime);
+          EXPECT_GT(mass, 0.0);
+          break;
+        case 1:
+          ++integration;
+          EXPECT_NE(reason[k], "");
+          EXPECT_NE(reason[k].find("too_much_work"), std::string::npos);
+          EXPECT_GE(reached[k], 0.0);
+          EXPECT_LT(reached[k], kFailingEndTime);
+          EXPECT_GT(mass, 0.0);
+          break;
+        case 2:
+          ++invalid;
+          EXPECT_NE(reason[k], "");
+          EXPECT_NE(reason[k].find("mass"), std::string::npos);
+          EXPECT_LE(mass, 0.0) << "a positive mass was refused";
+          break;
+        default:
+          ADD_FAILURE() << "status " << status[k] << " is not 0, 1 or 2";
+      }
+      // Every non-positive mass is an invalid model, whatever the spin.
+      if (mass <= 0.0) {
+        EXPECT_EQ(status[k], 2);
+      }
+    }
+    std::printf("[failures] %s: %zu ok, %zu integration failed, %zu invalid model\n",
+                describe(ranks).c_str(), ok, integration, invalid);
+    // The job exercises both kinds of failure, and some samples succeed.
+    EXPECT_GT(ok, 0u);
+    EXPECT_GT(integration, 0u);
+    EXPECT_GT(invalid, 0u);
+    // ... in the pilot as well as in the queue (samples 0..7 are the pilot).
+    EXPECT_TRUE(std::any_of(status.begin(), status.begin() + 8, [](long long s) { return s != 0; }));
+    EXPECT_TRUE(std::any_of(status.begin() + 8, status.end(), [](long long s) { return s != 0; }));
+
+    EXPECT_EQ(read_integer_attribute(f, "samples"), static_cast<long long>(kFailingSamples));
+    EXPECT_EQ(read_integer_attribute(f, "samples_ok"), static_cast<long long>(ok));
+    EXPECT_EQ(read_integer_attribute(f, "samples_failed"),
+              static_cast<long long>(integration + invalid));
+    EXPECT_EQ(read_integer_attribute(f, "ranks"), ranks);
+
+    // The statistics count exactly the successful samples, every entry.
+    for (const std::string q : {"energy", "com_position"}) {
+      SCOPED_TRACE("quantity " + q);
+      const auto count = read_integers(f, "/stats/" + q + "/count");
+      ASSERT_FALSE(count.empty());
+      for (long long c : count) EXPECT_EQ(c, static_cast<long long>(ok));
+      // And so do the final-time histograms (bins + underflow + overflow).
+      const auto dims = shape(f, "/stats/" + q + "/histogram/counts");
+      ASSERT_EQ(dims.size(), 2u);
+      const auto counts = read_integers(f, "/stats/" + q + "/histogram/counts");
+      const auto under = read_integers(f, "/stats/" + q + "/histogram/underflow");
+      const auto over = read_integers(f, "/stats/" + q + "/histogram/overflow");
+      ASSERT_EQ(under.size(), dims[0]);
+      ASSERT_EQ(over.size(), dims[0]);
+      for (std::size_t c = 0; c < dims[0]; ++c) {
+        long long total = under[c] + over[c];
+        for (std::size_t b = 0; b < dims[1]; ++b) total += counts[c * dims[1] + b];
+        EXPECT_EQ(total, static_cast<long long>(ok)) << "column " << c;
+      }
+    }
+  }
+}
+
+TEST_F(EnsembleFailures, OneAndTwoRanksGiveIdenticalStatisticsAndSamples) {
+  expect_success(results_[1], outputs_[1]);
+  expect_success(results_[2], outputs_[2]);
+  H5File one(outputs_[1]), two(outputs_[2]);
+  ASSERT_TRUE(one.ok() && two.ok());
+  for (const char* a : {"seed", "samples", "samples_ok", "samples_failed"})
+    EXPECT_EQ(read_integer_attribute(one.id(), a), read_integer_attribute(two.id(), a)) << a;
+  expect_identical_datasets(one.id(), describe(1), two.id(), describe(2),
+                            {"/stats", "/samples", "/nominal"});
+}
+
+// README and the dataset's description: /samples/final_state is "NaN when
+// failed", for either kind of failure.
+TEST_F(EnsembleFailures, FailedSamplesHaveNaNFinalState) {
+  H5File file(outputs_[1]);
+  ASSERT_TRUE(file.ok());
+  const hid_t f = file.id();
+  const auto status = read_integers(f, "/samples/status");
+  const auto dims = shape(f, "/samples/final_state");
+  ASSERT_EQ(dims, (std::vector<hsize_t>{kFailingSamples, 14}));
+  const auto state = read_doubles(f, "/samples/final_state");
+  ASSERT_EQ(status.size(), kFailingSamples);
+  std::vector<std::size_t> not_nan;  // failed samples with numbers in their final state
+  for (std::size_t k = 0; k < kFailingSamples; ++k) {
+    const auto row = state.begin() + static_cast<long>(k * dims[1]);
+    const auto end = row + static_cast<long>(dims[1]);
+    if (status[k] == 0) {
+      EXPECT_TRUE(std::all_of(row, end, [](double v) { return std::isfinite(v); }))
+          << "sample " << k << " is ok but its final state is not finite";
+    } else if (!std::all_of(row, end, [](double v) { return std::isnan(v); })) {
+      not_nan.push_back(k);
+    }
+  }
+  std::ostringstream list;
+  for (std::size_t k : not_nan)
+    list << "\n  sample " << k << " (status " << status[k] << "): q0..q3 = " << state[k * dims[1]]
+         << ", " << state[k * dims[1] + 1] << ", " << state[k * dims[1] + 2] << ", "
+         << state[k * dims[1] + 3];
+  EXPECT_TRUE(not_nan.empty()) << not_nan.size()
+                               << " failed samples have numbers, not NaN, in /samples/final_state "
+                                  "(the state at the last output time they reached):"
+                               << list.str();
+}
+
+// ---------------------------------------------------------------------------
+// 3. A bad job fails on every rank without hanging
+
+// Runs `job_text` on 3 ranks and checks: exit 2 within the timeout, ONE error
+// message "error: JOB:PREFIX..." holding every one of `parts`, nothing
+// written ("wrote" absent), no output or temporary file in the directory.
+void expect_refused_on_three_ranks(const std::string& label, const std::string& job_text,
+                                   const std::string& prefix,
+                                   std::initializer_list<std::string> parts) {
+  TempDir dir("ensemble_mpi_bad");
+  const fs::path job = dir.path() / "bad.toml";
+  write_text(job, job_text);
+  const fs::path out_dir = dir.path() / "out";
+  fs::create_directory(out_dir);
+  const auto r = run_ensemble(3, job, out_dir / "ensemble.h5", dir.path() / "capture");
+  const std::size_t first_line_end = r.err.find('\n');
+  std::printf("[%s] exit %d in %.2f s: %s\n", label.c_str(), r.exit_code, r.seconds,
+              r.err.substr(0, first_line_end).c_str());
+  EXPECT_EQ(r.exit_code, 2) << (r.exit_code == 124 || r.exit_code == 137
+                                    ? "mpirun was killed by the timeout: the ranks hung\n"
+                                    : "")
+                            << r.err;
+  EXPECT_LT(r.seconds, 60.0);
+  // Rank 0 prints the message; the other ranks fail silently the same way.
+  std::size_t errors = 0;
+  for (std::size_t at = r.err.find("error: "); at != std::string::npos;
+       at = r.err.find("error: ", at + 1))
+    ++errors;
+  EXPECT_EQ(errors, 1u) << "expected ONE error message:\n" << r.err;
+  EXPECT_EQ(r.err.rfind("error: " + job.string() + ":" + prefix, 0), 0u)
+      << "expected stderr to start with\n  error: " << job.string() << ":" << prefix << "\ngot\n"
+      << r.err;
+  for (const std::string& part : parts)
+    EXPECT_NE(r.err.find(part), std::string::npos) << "missing \"" << part << "\" in\n" << r.err;
+  EXPECT_EQ(r.err.find("internal error"), std::string::npos) << r.err;
+  EXPECT_EQ(r.out.find("wrote"), std::string::npos) << r.out;
+  EXPECT_TRUE(listing(out_dir).empty()) << "left behind: " << ::testing::PrintToString(listing(out_dir));
+}
+
+TEST(EnsembleMpiBadJob, UnknownKeyInEnsembleFailsOnEveryRank) {
+  const std::string text = with(kTreeJob, "block_size = 2\n", "block_size = 2\nsampels = 10\n");
+  expect_refused_on_three_ranks("unknown [ensemble] key", text,
+                                value_position(text, "sampels = 10") + ": ensemble.sampels: ",
+                                {"unknown key 'sampels'", "did you mean 'samples'?"});
+}
+
+TEST(EnsembleMpiBadJob, BadPerturbationTargetFailsOnEveryRank) {
+  const std::string text =
+      with(kTreeJob, "target = \"body.bob.mass\"", "target = \"body.bob.weight\"");
+  expect_refused_on_three_ranks(
+      "bad perturbation target", text,
+      value_position(text, "target = \"body.bob.weight\"") + ": ensemble.perturbation[2].target: ",
+      {"'body.bob.weight' is not a target", "body.NAME.mass"});
+}
+
+TEST(EnsembleMpiBadJob, PerturbationOfAMissingBodyFailsOnEveryRank) {
+  const std::string text =
+      with(kTreeJob, "target = \"body.bob.mass\"", "target = \"body.nobody.mass\"");
+  expect_refused_on_three_ranks(
+      "perturbation of a missing body", text,
+      value_position(text, "target = \"body.nobody.mass\"") +
+          ": ensemble.perturbation[2].target: ",
+      {"'nobody' is not a body of the model"});
+}
+
+TEST(EnsembleMpiBadJob, MalformedTomlFailsOnEveryRank) {
+  const std::string text = with(kTreeJob, "seed = 42\n", "seed = 42 x\n");
+  // The parser stops at the 'x'.
+  expect_refused_on_three_ranks("malformed TOML", text,
+                                position_of(text, "42 x", 3) + ": not valid TOML: ", {"'x'"});
+}
+
+TEST(EnsembleMpiBadJob, MissingJobFileFailsOnEveryRank) {
+  TempDir dir("ensemble_mpi_bad");
+  const fs::path job = dir.path() / "no_such_job.toml";
+  const fs::path out_dir = dir.path() / "out";
+  fs::create_directory(out_dir);
+  const auto r = run_ensemble(3, job, out_dir / "ensemble.h5", dir.path() / "capture");
+  std::printf("[missing job file] exit %d in %.2f s\n", r.exit_code, r.seconds);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_EQ(r.err.rfind("error: " + job.string() + ": cannot open the job file for reading\n", 0),
+            0u)
+      << r.err;
+  EXPECT_TRUE(listing(out_dir).empty());
+}
+
+// ---------------------------------------------------------------------------
+// 4. Every shipped example's ensemble on 2 ranks
+
+std::vector<std::string> example_jobs() {
+  std::vector<std::string> names;
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(TREEDYN_JOBS_DIR, ec))
+    if (entry.path().extension() == ".toml") names.push_back(entry.path().stem().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+class EnsembleMpiExample : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(EnsembleMpiExample, RunsOnTwoRanksWithEverySampleOkAndTheDocumentedShapes) {
+  const fs::path job_path = fs::path(TREEDYN_JOBS_DIR) / (GetParam() + ".toml");
+  // The expected shapes from the job, read by treedyn's own job reader and
+  // [ensemble] reader; columns per quantity as `treedyn run` labels them.
+  const std::string text = read_text(job_path);
+  const treedyn::Job job = treedyn::parse_job(text, job_path.string());
+  const treedyn::ensemble::EnsembleSpec spec = treedyn::ensemble::read_ensemble(job);
+  const hsize_t T = job.request.output_times.size(), N = spec.samples;
+  const hsize_t P = spec.quantiles.size(), B = static_cast<hsize_t>(spec.histogram_bins);
+  const hsize_t D = spec.input_dimensions(), n = static_cast<hsize_t>(job.model.n);
+  ASSERT_GT(N, 0u);
+  ASSERT_GT(D, 0u) << "the example's [ensemble] perturbs nothing";
+
+  TempDir dir("ensemble_mpi_example");
+  const fs::path out_dir = dir.path() / "out";
+  fs::create_directory(out_dir);
+  const fs::path output = out_dir / (GetParam() + "_ensemble.h5");
+  const auto r = run_ensemble(2, job_path, output, dir.path() / "capture");
+  std::printf("[example %s] %llu samples on 2 ranks: exit %d in %.2f s\n", GetParam().c_str(),
+              static_cast<unsigned long long>(N), r.exit_code, r.seconds);
+  expect_success(r, output);
+  EXPECT_EQ(listing(out_dir), std::vector<std::string>{output.filename().string()});
+  H5File file(output);
+  ASSERT_TRUE(file.ok());
+  const hid_t f = file.id();
+
+  EXPECT_EQ(read_integer_attribute(f, "samples"), static_cast<long long>(N));
+  EXPECT_EQ(read_integer_attribute(f, "samples_ok"), static_cast<long long>(N));
+  EXPECT_EQ(read_integer_attribute(f, "samples_failed"), 0);
+  EXPECT_EQ(read_integer_attribute(f, "ranks"), 2);
+  EXPECT_EQ(read_integer_attribute(f, "seed"), static_cast<long long>(spec.seed));
+
+  // Times.
+  EXPECT_EQ(read_doubles(f, "/stats/time"), job.request.output_times);
+  EXPECT_EQ(read_doubles(f, "/nominal/time"), job.request.output_times);
+
+  // Per-sample datasets.
+  using Dims = std::vector<hsize_t>;
+  EXPECT_EQ(shape(f, "/samples/status"), Dims{N});
+  EXPECT_EQ(shape(f, "/samples/reason"), Dims{N});
+  EXPECT_EQ(shape(f, "/samples/time_reached"), Dims{N});
+  EXPECT_EQ(shape(f, "/samples/integrator_stats"), (Dims{N, 5}));
+  EXPECT_EQ(shape(f, "/samples/final_state"), (Dims{N, 7 * n}));
+  EXPECT_EQ(shape(f, "/samples/inputs"), (Dims{N, D}));
+  EXPECT_EQ(read_string_attribute(f, "/samples/inputs", "columns").size(), D);
+  for (long long s : read_integers(f, "/samples/status")) EXPECT_EQ(s, 0);
+  for (const auto& s : read_strings(f, "/samples/reason")) EXPECT_EQ(s, "");
+  for (double t : read_doubles(f, "/samples/time_reached"))
+    EXPECT_EQ(t, job.request.output_times.back());
+  for (double v : read_doubles(f, "/samples/final_state")) {
+    if (!std::isfinite(v)) {
+      ADD_FAILURE() << "non-finite value in /samples/final_state";
+      break;
+    }
+  }
+
+  // Per quantity: statistics, nominal run, per-sample maxima; nothing else.
+  std::vector<std::string> expected_stats{"/stats/time"}, expected_nominal{"/nominal/time"};
+  for (const std::string& q : job.output.quantities) {
+    SCOPED_TRACE("quantity " + q);
+    const auto labels = treedyn::quantity_columns(q, job.model, job.output);
+    const hsize_t C = labels.size();
+    ASSERT_GT(C, 0u);
+    const std::string s = "/stats/" + q + "/";
+    for (const char* m : {"count", "mean", "std", "min", "max"}) {
+      EXPECT_EQ(shape(f, s + m), (Dims{T, C})) << m;
+      expected_stats.push_back(s + m);
+    }
+    EXPECT_EQ(read_string_attribute(f, s + "mean", "columns"), labels);
+    EXPECT_EQ(shape(f, s + "quantiles"), (Dims{P, T, C}));
+    EXPECT_EQ(shape(f, s + "histogram/counts"), (Dims{C, B}));
+    EXPECT_EQ(shape(f, s + "histogram/edges"), (Dims{C, B + 1}));
+    EXPECT_EQ(shape(f, s + "histogram/underflow"), Dims{C});
+    EXPECT_EQ(shape(f, s + "histogram/overflow"), Dims{C});
+    for (const char* m : {"quantiles", "histogram/counts", "histogram/edges",
+                          "histogram/underflow", "histogram/overflow"})
+      expected_stats.push_back(s + m);
+    EXPECT_EQ(shape(f, "/nominal/" + q), (Dims{T, C}));
+    expected_nominal.push_back("/nominal/" + q);
+    EXPECT_EQ(shape(f, "/samples/max_over_time/" + q), (Dims{N, C}));
+    // Every sample is in the statistics of every entry.
+    for (long long c : read_integers(f, s + "count")) EXPECT_EQ(c, static_cast<long long>(N));
+  }
+  std::sort(expected_stats.begin(), expected_stats.end());
+  std::sort(expected_nominal.begin(), expected_nominal.end());
+  EXPECT_EQ(datasets_under(f, "/stats"), expected_stats);
+  EXPECT_EQ(datasets_under(f, "/nominal"), expected_nominal);
+  EXPECT_EQ(datasets_under(f, "/samples/max_over_time").size(), job.output.quantities.size());
+}
+
+std::string job_test_name(const ::testing::TestParamInfo<std::string>& job) { return job.param; }
+
+INSTANTIATE_TEST_SUITE_P(Jobs, EnsembleMpiExample, ::testing::ValuesIn(example_jobs()),
+                         job_test_name);
+
+TEST(EnsembleMpiExamples, TheExamplesAreFound) {
+  // A moved jobs directory must not turn the parameterised test into nothing.
+  EXPECT_GE(example_jobs().size(), 6u) << TREEDYN_JOBS_DIR;
+}
+
+}  // namespace
