@@ -9,108 +9,30 @@
 //     x.h5.tmp-* in the directory).
 // Each case prints its exact message to stdout so it can be quoted.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <functional>
-#include <random>
-#include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
+
+#include "support/command.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 
+using namespace treedyn::testing;
+
 // ---------------------------------------------------------------------------
 // Helpers
-
-class TempDir {
- public:
-  TempDir() {
-    std::random_device rd;
-    for (int attempt = 0; attempt < 100; ++attempt) {
-      const fs::path p = fs::temp_directory_path() /
-                         ("treedyn_bad_input_test_" + std::to_string(getpid()) + "_" +
-                          std::to_string(rd()));
-      std::error_code ec;
-      if (fs::create_directory(p, ec)) {
-        path_ = p;
-        return;
-      }
-    }
-    throw std::runtime_error("cannot create a temporary directory");
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
-
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-void write_text(const fs::path& p, const std::string& text) {
-  std::ofstream out(p, std::ios::binary);
-  out << text;
-}
-
-std::string quote(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
-
-struct CommandResult {
-  int exit_code = -1;
-  std::string out, err;
-};
 
 // Runs `treedyn ARGS`; stdout and stderr are captured in files under `capture`
 // (a directory of its own, so the job's directory holds only what treedyn writes).
 CommandResult run_treedyn(const std::vector<std::string>& args, const fs::path& capture) {
-  const fs::path out = capture / "stdout.txt", err = capture / "stderr.txt";
-  std::string command = quote(TREEDYN_BINARY);
-  for (const auto& a : args) command += " " + quote(a);
-  command += " >" + quote(out.string()) + " 2>" + quote(err.string()) + " </dev/null";
-  const int status = std::system(command.c_str());
-  CommandResult r;
-  r.exit_code = status != -1 && WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.out = read_text(out);
-  r.err = read_text(err);
-  return r;
-}
-
-// "LINE:COL" (1-based) of the first occurrence of `needle` in `text`, plus
-// `skip` characters (to point inside it).
-std::string position_of(const std::string& text, const std::string& needle, std::size_t skip = 0) {
-  const std::size_t at = text.find(needle);
-  if (at == std::string::npos) throw std::invalid_argument("not in the job: " + needle);
-  const std::size_t p = at + skip;
-  const std::size_t line = static_cast<std::size_t>(std::count(text.begin(), text.begin() + static_cast<long>(p), '\n')) + 1;
-  const std::size_t line_start = text.rfind('\n', p == 0 ? 0 : p - 1);
-  const std::size_t column = line_start == std::string::npos || p == 0 ? p + 1 : p - line_start;
-  return std::to_string(line) + ":" + std::to_string(column);
-}
-
-// Where the value of `key = value` starts.
-std::string value_position(const std::string& text, const std::string& key_and_value) {
-  return position_of(text, key_and_value, key_and_value.find("= ") + 2);
+  return run_command(TREEDYN_BINARY, args, capture);
 }
 
 // One bad-input case: the job file, the run, and what is left in the directory.
@@ -164,7 +86,7 @@ class Case {
  private:
   std::string label_;
   std::string text_;
-  TempDir dir_;
+  TempDir dir_{"bad_input_test"};
   fs::path job_, output_;
   CommandResult result_;
 };
@@ -354,7 +276,7 @@ TEST(BadInput, SmallValuesAreQuotedWithTheirDigits) {
 }
 
 TEST(BadInput, MissingJobFileIsBadInput) {
-  TempDir dir;
+  TempDir dir("bad_input_test");
   const fs::path job = dir.path() / "no_such_job.toml";
   const fs::path capture = dir.path() / "capture";
   fs::create_directory(capture);
@@ -366,7 +288,7 @@ TEST(BadInput, MissingJobFileIsBadInput) {
 }
 
 TEST(BadInput, ARefusedJobLeavesAnExistingOutputFileUntouched) {
-  TempDir dir;
+  TempDir dir("bad_input_test");
   const fs::path output = dir.path() / "x.h5", job = dir.path() / "job.toml";
   const fs::path capture = dir.path() / "capture";
   fs::create_directory(capture);

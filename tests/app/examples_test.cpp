@@ -8,184 +8,31 @@
 // Also: `treedyn check` on every example, `--version`, `run --help`.
 #include <gtest/gtest.h>
 #include <hdf5.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
-#include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <numbers>
-#include <random>
-#include <sstream>
+#include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
+
+#include "support/command.hpp"
+#include "support/hdf5_reader.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-// ---------------------------------------------------------------------------
-// Running the command
+using namespace treedyn::testing;
 
-// A fresh directory under the system temp dir, removed with its contents.
-class TempDir {
- public:
-  explicit TempDir(const std::string& tag) {
-    std::random_device rd;
-    for (int attempt = 0; attempt < 100; ++attempt) {
-      const fs::path p = fs::temp_directory_path() /
-                         ("treedyn_" + tag + "_" + std::to_string(getpid()) + "_" +
-                          std::to_string(rd()));
-      std::error_code ec;
-      if (fs::create_directory(p, ec)) {
-        path_ = p;
-        return;
-      }
-    }
-    throw std::runtime_error("cannot create a temporary directory");
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
-
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-std::string quote(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
-
-struct CommandResult {
-  int exit_code = -1;
-  std::string out, err;
-};
+using Matrix = DoubleArray;
 
 // Runs `treedyn ARGS` with stdout and stderr captured into files in `dir`.
 CommandResult run_treedyn(const std::vector<std::string>& args, const fs::path& dir) {
-  const fs::path out = dir / "stdout.txt", err = dir / "stderr.txt";
-  std::string command = quote(TREEDYN_BINARY);
-  for (const auto& a : args) command += " " + quote(a);
-  command += " >" + quote(out.string()) + " 2>" + quote(err.string()) + " </dev/null";
-  const int status = std::system(command.c_str());
-  CommandResult r;
-  r.exit_code = status != -1 && WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.out = read_text(out);
-  r.err = read_text(err);
-  fs::remove(out);
-  fs::remove(err);
-  return r;
-}
-
-// ---------------------------------------------------------------------------
-// Reading HDF5 through the C API
-
-class Hid {
- public:
-  Hid(hid_t id, herr_t (*close)(hid_t)) : id_(id), close_(close) {}
-  ~Hid() {
-    if (id_ >= 0) close_(id_);
-  }
-  Hid(const Hid&) = delete;
-  Hid& operator=(const Hid&) = delete;
-  hid_t get() const { return id_; }
-  bool ok() const { return id_ >= 0; }
-
- private:
-  hid_t id_;
-  herr_t (*close_)(hid_t);
-};
-
-struct Matrix {
-  std::vector<hsize_t> dims;
-  std::vector<double> data;  // row-major
-  std::size_t rows() const { return dims.empty() ? 0 : dims[0]; }
-  std::size_t cols() const { return dims.size() < 2 ? 1 : dims[1]; }
-  double operator()(std::size_t r, std::size_t c) const { return data[r * cols() + c]; }
-};
-
-Matrix read_dataset(hid_t file, const std::string& name) {
-  Matrix m;
-  Hid set(H5Dopen2(file, name.c_str(), H5P_DEFAULT), H5Dclose);
-  if (!set.ok()) {
-    ADD_FAILURE() << "no dataset " << name;
-    return m;
-  }
-  Hid space(H5Dget_space(set.get()), H5Sclose);
-  const int rank = H5Sget_simple_extent_ndims(space.get());
-  m.dims.resize(static_cast<std::size_t>(std::max(rank, 0)));
-  H5Sget_simple_extent_dims(space.get(), m.dims.data(), nullptr);
-  std::size_t count = 1;
-  for (hsize_t d : m.dims) count *= d;
-  m.data.resize(count);
-  if (count > 0 &&
-      H5Dread(set.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, m.data.data()) < 0)
-    ADD_FAILURE() << "cannot read dataset " << name;
-  return m;
-}
-
-bool has_attribute(hid_t object, const std::string& name) {
-  return H5Aexists(object, name.c_str()) > 0;
-}
-
-// Fixed-length string attribute (scalar or 1-D) as a list of strings.
-std::vector<std::string> read_string_attribute(hid_t object, const std::string& name) {
-  std::vector<std::string> out;
-  Hid attr(H5Aopen(object, name.c_str(), H5P_DEFAULT), H5Aclose);
-  if (!attr.ok()) {
-    ADD_FAILURE() << "no attribute " << name;
-    return out;
-  }
-  Hid type(H5Aget_type(attr.get()), H5Tclose);
-  if (H5Tget_class(type.get()) != H5T_STRING || H5Tis_variable_str(type.get()) > 0) {
-    ADD_FAILURE() << "attribute " << name << " is not a fixed-length string";
-    return out;
-  }
-  const std::size_t width = H5Tget_size(type.get());
-  Hid space(H5Aget_space(attr.get()), H5Sclose);
-  const hssize_t count = H5Sget_simple_extent_npoints(space.get());
-  std::vector<char> buffer(static_cast<std::size_t>(count) * width + 1, '\0');
-  Hid memory_type(H5Tget_native_type(type.get(), H5T_DIR_ASCEND), H5Tclose);
-  if (H5Aread(attr.get(), memory_type.get(), buffer.data()) < 0) {
-    ADD_FAILURE() << "cannot read attribute " << name;
-    return out;
-  }
-  for (hssize_t k = 0; k < count; ++k) {
-    const char* s = buffer.data() + static_cast<std::size_t>(k) * width;
-    out.emplace_back(s, strnlen(s, width));
-  }
-  return out;
-}
-
-std::string read_string(hid_t object, const std::string& name) {
-  const auto v = read_string_attribute(object, name);
-  EXPECT_EQ(v.size(), 1u) << "attribute " << name << " should be a single string";
-  return v.empty() ? std::string() : v[0];
-}
-
-long long read_integer(hid_t object, const std::string& name) {
-  long long value = -1;
-  Hid attr(H5Aopen(object, name.c_str(), H5P_DEFAULT), H5Aclose);
-  if (!attr.ok() || H5Aread(attr.get(), H5T_NATIVE_LLONG, &value) < 0)
-    ADD_FAILURE() << "cannot read integer attribute " << name;
-  return value;
+  return run_command(TREEDYN_BINARY, args, dir);
 }
 
 // ---------------------------------------------------------------------------
@@ -282,8 +129,7 @@ std::vector<std::string> expected_columns(const Example& e, const std::string& q
 }
 
 std::size_t column_index(hid_t file, const std::string& dataset, const std::string& column) {
-  Hid set(H5Dopen2(file, dataset.c_str(), H5P_DEFAULT), H5Dclose);
-  const auto columns = read_string_attribute(set.get(), "columns");
+  const auto columns = read_string_attribute(file, dataset, "columns");
   const auto it = std::find(columns.begin(), columns.end(), column);
   if (it == columns.end()) throw std::runtime_error(dataset + " has no column " + column);
   return static_cast<std::size_t>(it - columns.begin());
@@ -306,9 +152,6 @@ class ExampleRun {
     output_ = dir_.path() / "x.h5";
     result_ = run_treedyn({"run", job_path(example_).string(), "-o", output_.string()}, dir_.path());
   }
-  ~ExampleRun() {
-    if (file_ >= 0) H5Fclose(file_);
-  }
 
   // Exit code, stdout, the file's layout and attributes. Returns false (after
   // reporting) when the file cannot be opened.
@@ -322,16 +165,13 @@ class ExampleRun {
       left.push_back(entry.path().filename().string());
     EXPECT_EQ(left, std::vector<std::string>{"x.h5"});
 
-    file_ = H5Fopen(output_.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-    if (file_ < 0) {
-      ADD_FAILURE() << "cannot open " << output_ << " with HDF5";
-      return false;
-    }
+    file_.emplace(output_);  // reports a file it cannot open
+    if (!file_->ok()) return false;
 
     // /time: 0, step, 2 step, ..., end_time.
     const auto expected_times =
         static_cast<std::size_t>(std::llround(example_.end_time / example_.step)) + 1;
-    time_ = read_dataset(file_, "time");
+    time_ = read_double_array(file(), "time");
     EXPECT_EQ(time_.dims, std::vector<hsize_t>{expected_times});
     if (time_.data.size() == expected_times) {
       EXPECT_EQ(time_.data.front(), 0.0);
@@ -340,15 +180,15 @@ class ExampleRun {
         EXPECT_NEAR(time_.data[k], static_cast<double>(k) * example_.step, 1e-9) << "k = " << k;
     }
     {
-      Hid time(H5Dopen2(file_, "time", H5P_DEFAULT), H5Dclose);
-      EXPECT_EQ(read_string(time.get(), "units"), "s");
+      Hid time(H5Dopen2(file(), "time", H5P_DEFAULT), H5Dclose);
+      EXPECT_EQ(read_single_string_attribute(time.get(), "units"), "s");
     }
 
     // One (times x columns) dataset per quantity, with units, description, columns.
     for (const std::string& q : expected_quantities(example_)) {
       SCOPED_TRACE("quantity " + q);
       const auto expected = expected_columns(example_, q);
-      const Matrix m = read_dataset(file_, q);
+      const Matrix m = read_double_array(file(), q);
       EXPECT_EQ(m.dims, (std::vector<hsize_t>{expected_times, expected.size()}));
       for (double v : m.data) {
         if (!std::isfinite(v)) {
@@ -356,39 +196,40 @@ class ExampleRun {
           break;
         }
       }
-      Hid set(H5Dopen2(file_, q.c_str(), H5P_DEFAULT), H5Dclose);
+      Hid set(H5Dopen2(file(), q.c_str(), H5P_DEFAULT), H5Dclose);
       if (!set.ok()) continue;
       for (const char* a : {"units", "description", "columns"})
         EXPECT_TRUE(has_attribute(set.get(), a)) << "attribute " << a;
-      EXPECT_FALSE(read_string(set.get(), "units").empty());
-      EXPECT_FALSE(read_string(set.get(), "description").empty());
+      EXPECT_FALSE(read_single_string_attribute(set.get(), "units").empty());
+      EXPECT_FALSE(read_single_string_attribute(set.get(), "description").empty());
       EXPECT_EQ(read_string_attribute(set.get(), "columns"), expected);
     }
     // No quantity that was not asked for.
     for (const auto& q : kCatalogue) {
       const auto wanted = expected_quantities(example_);
       if (std::find(wanted.begin(), wanted.end(), q) == wanted.end()) {
-        EXPECT_LE(H5Lexists(file_, q.c_str(), H5P_DEFAULT), 0) << "unrequested dataset " << q;
+        EXPECT_LE(H5Lexists(file(), q.c_str(), H5P_DEFAULT), 0) << "unrequested dataset " << q;
       }
     }
 
     // Root attributes.
-    EXPECT_EQ(read_string(file_, "software"), std::string("treedyn ") + TREEDYN_VERSION);
-    EXPECT_EQ(read_string(file_, "job_text"), read_text(job_path(example_)));
-    EXPECT_EQ(read_string(file_, "method"), example_.method);
-    EXPECT_EQ(read_string(file_, "parameterisation"), example_.parameterisation);
-    EXPECT_EQ(read_string_attribute(file_, "bodies"), example_.bodies);
-    steps_ = read_integer(file_, "steps");
+    EXPECT_EQ(read_single_string_attribute(file(), "software"),
+              std::string("treedyn ") + TREEDYN_VERSION);
+    EXPECT_EQ(read_single_string_attribute(file(), "job_text"), read_text(job_path(example_)));
+    EXPECT_EQ(read_single_string_attribute(file(), "method"), example_.method);
+    EXPECT_EQ(read_single_string_attribute(file(), "parameterisation"), example_.parameterisation);
+    EXPECT_EQ(read_string_attribute(file(), "bodies"), example_.bodies);
+    steps_ = read_integer_attribute(file(), "steps");
     EXPECT_GT(steps_, 0);
-    EXPECT_GT(read_integer(file_, "rhs_evaluations"), 0);
+    EXPECT_GT(read_integer_attribute(file(), "rhs_evaluations"), 0);
     return true;
   }
 
-  hid_t file() const { return file_; }
+  hid_t file() const { return file_ ? file_->id() : H5I_INVALID_HID; }
   const Matrix& time() const { return time_; }
-  Matrix dataset(const std::string& name) const { return read_dataset(file_, name); }
+  Matrix dataset(const std::string& name) const { return read_double_array(file(), name); }
   std::size_t column(const std::string& dataset, const std::string& label) const {
-    return column_index(file_, dataset, label);
+    return column_index(file(), dataset, label);
   }
 
  private:
@@ -396,7 +237,7 @@ class ExampleRun {
   TempDir dir_;
   fs::path output_;
   CommandResult result_;
-  hid_t file_ = H5I_INVALID_HID;
+  std::optional<H5File> file_;
   Matrix time_;
   long long steps_ = 0;
 };

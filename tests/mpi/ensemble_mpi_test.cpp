@@ -24,32 +24,32 @@
 //      documented shapes (README, "HDF5 ensemble layout").
 #include <gtest/gtest.h>
 #include <hdf5.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <memory>
 #include <numeric>
-#include <random>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "ensemble/ensemble_spec.hpp"
 #include "job/job.hpp"
 #include "output/quantities.hpp"
+#include "support/command.hpp"
+#include "support/hdf5_reader.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
+
+using namespace treedyn::testing;
 
 // Open MPI refuses to start as root without these (CI runs as root). CTest
 // sets them too; setting them here lets the binary run on its own.
@@ -66,83 +66,18 @@ constexpr int kTimeoutSeconds = 120;
 // ---------------------------------------------------------------------------
 // Files and commands
 
-// A fresh directory under the system temp dir, removed with its contents.
-class TempDir {
- public:
-  explicit TempDir(const std::string& tag) {
-    std::random_device rd;
-    for (int attempt = 0; attempt < 100; ++attempt) {
-      const fs::path p = fs::temp_directory_path() /
-                         ("treedyn_" + tag + "_" + std::to_string(getpid()) + "_" +
-                          std::to_string(rd()));
-      std::error_code ec;
-      if (fs::create_directory(p, ec)) {
-        path_ = p;
-        return;
-      }
-    }
-    throw std::runtime_error("cannot create a temporary directory");
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
-
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-void write_text(const fs::path& p, const std::string& text) {
-  std::ofstream out(p, std::ios::binary);
-  out << text;
-}
-
-std::string quote(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
-
-struct CommandResult {
-  int exit_code = -1;  // 124 (137 after SIGKILL): `timeout` stopped a hang
-  std::string out, err;
-  double seconds = 0.0;
-};
-
 // Runs `treedyn-ensemble JOB -o OUTPUT -q`: alone when ranks == 0, else under
 // `mpirun --oversubscribe -np RANKS`; always under `timeout`. stdout and stderr
 // are captured in files under `capture` (not the output's directory, so that
 // directory holds only what the ensemble writes).
 CommandResult run_ensemble(int ranks, const fs::path& job, const fs::path& output,
                            const fs::path& capture) {
-  fs::create_directories(capture);
-  const fs::path out = capture / "stdout.txt", err = capture / "stderr.txt";
-  std::string command = "timeout -k 10 " + std::to_string(kTimeoutSeconds) + " ";
+  std::vector<std::string> prefix = {"timeout", "-k", "10", std::to_string(kTimeoutSeconds)};
   if (ranks > 0)
-    command += quote(TREEDYN_MPIEXEC) + " --oversubscribe -np " + std::to_string(ranks) + " ";
-  command += quote(TREEDYN_ENSEMBLE_BINARY) + " " + quote(job.string()) + " -o " +
-             quote(output.string()) + " -q";
-  command += " >" + quote(out.string()) + " 2>" + quote(err.string()) + " </dev/null";
-  const auto start = std::chrono::steady_clock::now();
-  const int status = std::system(command.c_str());
-  CommandResult r;
-  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  r.exit_code = status != -1 && WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.out = read_text(out);
-  r.err = read_text(err);
-  fs::remove(out);
-  fs::remove(err);
-  return r;
+    prefix.insert(prefix.end(),
+                  {TREEDYN_MPIEXEC, "--oversubscribe", "-np", std::to_string(ranks)});
+  return run_command(TREEDYN_ENSEMBLE_BINARY, {job.string(), "-o", output.string(), "-q"},
+                     capture, prefix);
 }
 
 std::string describe(int ranks) {
@@ -169,23 +104,6 @@ void expect_success(const CommandResult& r, const fs::path& output) {
     EXPECT_EQ(name.find(".tmp-"), std::string::npos) << "temporary file left behind: " << name;
 }
 
-// "LINE:COL" (1-based) of the first occurrence of `needle` in `text`, plus
-// `skip` characters.
-std::string position_of(const std::string& text, const std::string& needle, std::size_t skip = 0) {
-  const std::size_t at = text.find(needle);
-  if (at == std::string::npos) throw std::invalid_argument("not in the job: " + needle);
-  const std::size_t p = at + skip;
-  const auto line = std::count(text.begin(), text.begin() + static_cast<long>(p), '\n') + 1;
-  const std::size_t line_start = text.rfind('\n', p == 0 ? 0 : p - 1);
-  const std::size_t column = line_start == std::string::npos || p == 0 ? p + 1 : p - line_start;
-  return std::to_string(line) + ":" + std::to_string(column);
-}
-
-// Where the value of `key = value` starts.
-std::string value_position(const std::string& text, const std::string& key_and_value) {
-  return position_of(text, key_and_value, key_and_value.find("= ") + 2);
-}
-
 std::string with(std::string text, const std::string& from, const std::string& to) {
   const std::size_t at = text.find(from);
   if (at == std::string::npos) throw std::invalid_argument("not in the job: " + from);
@@ -194,213 +112,6 @@ std::string with(std::string text, const std::string& from, const std::string& t
 
 // ---------------------------------------------------------------------------
 // HDF5 through the C API
-
-class Hid {
- public:
-  Hid(hid_t id, herr_t (*close)(hid_t)) : id_(id), close_(close) {}
-  ~Hid() {
-    if (id_ >= 0) close_(id_);
-  }
-  Hid(const Hid&) = delete;
-  Hid& operator=(const Hid&) = delete;
-  hid_t get() const { return id_; }
-  bool ok() const { return id_ >= 0; }
-
- private:
-  hid_t id_;
-  herr_t (*close_)(hid_t);
-};
-
-// An HDF5 file opened read-only (closed on destruction).
-class H5File {
- public:
-  explicit H5File(const fs::path& path)
-      : id_(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT)) {
-    if (id_ < 0) ADD_FAILURE() << "cannot open " << path << " with HDF5";
-  }
-  ~H5File() {
-    if (id_ >= 0) H5Fclose(id_);
-  }
-  H5File(const H5File&) = delete;
-  H5File& operator=(const H5File&) = delete;
-  hid_t id() const { return id_; }
-  bool ok() const { return id_ >= 0; }
-
- private:
-  hid_t id_;
-};
-
-bool exists(hid_t file, const std::string& path) {
-  // Check every prefix: H5Lexists fails on a missing intermediate group.
-  std::size_t at = 0;
-  while ((at = path.find('/', at + 1)) != std::string::npos)
-    if (H5Lexists(file, path.substr(0, at).c_str(), H5P_DEFAULT) <= 0) return false;
-  return H5Lexists(file, path.c_str(), H5P_DEFAULT) > 0;
-}
-
-// A dataset's raw content: shape, type (class, size, sign) and bytes, read in
-// the native type of the file's type.
-struct RawDataset {
-  std::vector<hsize_t> dims;
-  H5T_class_t type_class = H5T_NO_CLASS;
-  std::size_t type_size = 0;
-  int sign = -1;
-  std::vector<unsigned char> bytes;
-};
-
-RawDataset read_raw(hid_t file, const std::string& path) {
-  RawDataset d;
-  Hid set(H5Dopen2(file, path.c_str(), H5P_DEFAULT), H5Dclose);
-  if (!set.ok()) {
-    ADD_FAILURE() << "no dataset " << path;
-    return d;
-  }
-  Hid space(H5Dget_space(set.get()), H5Sclose);
-  const int rank = H5Sget_simple_extent_ndims(space.get());
-  d.dims.resize(static_cast<std::size_t>(std::max(rank, 0)));
-  H5Sget_simple_extent_dims(space.get(), d.dims.data(), nullptr);
-  Hid file_type(H5Dget_type(set.get()), H5Tclose);
-  Hid native(H5Tget_native_type(file_type.get(), H5T_DIR_ASCEND), H5Tclose);
-  d.type_class = H5Tget_class(native.get());
-  d.type_size = H5Tget_size(native.get());
-  if (d.type_class == H5T_INTEGER) d.sign = H5Tget_sign(native.get());
-  const auto points = static_cast<std::size_t>(H5Sget_simple_extent_npoints(space.get()));
-  d.bytes.assign(points * d.type_size, 0);
-  if (points > 0 &&
-      H5Dread(set.get(), native.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, d.bytes.data()) < 0)
-    ADD_FAILURE() << "cannot read dataset " << path;
-  return d;
-}
-
-std::vector<hsize_t> shape(hid_t file, const std::string& path) {
-  if (!exists(file, path)) {
-    ADD_FAILURE() << "no dataset " << path;
-    return {};
-  }
-  Hid set(H5Dopen2(file, path.c_str(), H5P_DEFAULT), H5Dclose);
-  Hid space(H5Dget_space(set.get()), H5Sclose);
-  std::vector<hsize_t> dims(static_cast<std::size_t>(std::max(H5Sget_simple_extent_ndims(space.get()), 0)));
-  H5Sget_simple_extent_dims(space.get(), dims.data(), nullptr);
-  return dims;
-}
-
-template <class T>
-std::vector<T> read_values(hid_t file, const std::string& path, hid_t memory_type) {
-  std::vector<T> v;
-  if (!exists(file, path)) {
-    ADD_FAILURE() << "no dataset " << path;
-    return v;
-  }
-  Hid set(H5Dopen2(file, path.c_str(), H5P_DEFAULT), H5Dclose);
-  Hid space(H5Dget_space(set.get()), H5Sclose);
-  v.resize(static_cast<std::size_t>(H5Sget_simple_extent_npoints(space.get())));
-  if (!v.empty() && H5Dread(set.get(), memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()) < 0)
-    ADD_FAILURE() << "cannot read dataset " << path;
-  return v;
-}
-
-std::vector<double> read_doubles(hid_t file, const std::string& path) {
-  return read_values<double>(file, path, H5T_NATIVE_DOUBLE);
-}
-std::vector<long long> read_integers(hid_t file, const std::string& path) {
-  return read_values<long long>(file, path, H5T_NATIVE_LLONG);
-}
-
-// A 1-D dataset of fixed-length strings.
-std::vector<std::string> read_strings(hid_t file, const std::string& path) {
-  std::vector<std::string> out;
-  const RawDataset d = read_raw(file, path);
-  if (d.type_class != H5T_STRING || d.type_size == 0) {
-    ADD_FAILURE() << path << " is not a fixed-length string dataset";
-    return out;
-  }
-  for (std::size_t k = 0; k < d.bytes.size() / d.type_size; ++k) {
-    const char* s = reinterpret_cast<const char*>(d.bytes.data()) + k * d.type_size;
-    out.emplace_back(s, strnlen(s, d.type_size));
-  }
-  return out;
-}
-
-long long read_integer_attribute(hid_t object, const std::string& name) {
-  long long value = -1;
-  Hid attr(H5Aopen(object, name.c_str(), H5P_DEFAULT), H5Aclose);
-  if (!attr.ok() || H5Aread(attr.get(), H5T_NATIVE_LLONG, &value) < 0)
-    ADD_FAILURE() << "cannot read integer attribute " << name;
-  return value;
-}
-
-std::vector<double> read_double_attribute(hid_t object, const std::string& name) {
-  std::vector<double> v;
-  Hid attr(H5Aopen(object, name.c_str(), H5P_DEFAULT), H5Aclose);
-  if (!attr.ok()) {
-    ADD_FAILURE() << "no attribute " << name;
-    return v;
-  }
-  Hid space(H5Aget_space(attr.get()), H5Sclose);
-  v.resize(static_cast<std::size_t>(H5Sget_simple_extent_npoints(space.get())));
-  if (H5Aread(attr.get(), H5T_NATIVE_DOUBLE, v.data()) < 0) ADD_FAILURE() << "cannot read " << name;
-  return v;
-}
-
-// Fixed-length string attribute of a dataset (scalar or 1-D).
-std::vector<std::string> read_string_attribute(hid_t file, const std::string& path,
-                                               const std::string& name) {
-  std::vector<std::string> out;
-  Hid object(H5Oopen(file, path.c_str(), H5P_DEFAULT), H5Oclose);
-  if (!object.ok()) {
-    ADD_FAILURE() << "no object " << path;
-    return out;
-  }
-  Hid attr(H5Aopen(object.get(), name.c_str(), H5P_DEFAULT), H5Aclose);
-  if (!attr.ok()) {
-    ADD_FAILURE() << "no attribute " << name << " on " << path;
-    return out;
-  }
-  Hid type(H5Aget_type(attr.get()), H5Tclose);
-  if (H5Tget_class(type.get()) != H5T_STRING || H5Tis_variable_str(type.get()) > 0) {
-    ADD_FAILURE() << "attribute " << name << " of " << path << " is not a fixed-length string";
-    return out;
-  }
-  const std::size_t width = H5Tget_size(type.get());
-  Hid space(H5Aget_space(attr.get()), H5Sclose);
-  const auto count = static_cast<std::size_t>(H5Sget_simple_extent_npoints(space.get()));
-  std::vector<char> buffer(count * width + 1, '\0');
-  Hid memory_type(H5Tget_native_type(type.get(), H5T_DIR_ASCEND), H5Tclose);
-  if (H5Aread(attr.get(), memory_type.get(), buffer.data()) < 0) {
-    ADD_FAILURE() << "cannot read attribute " << name << " of " << path;
-    return out;
-  }
-  for (std::size_t k = 0; k < count; ++k) {
-    const char* s = buffer.data() + k * width;
-    out.emplace_back(s, strnlen(s, width));
-  }
-  return out;
-}
-
-// Every dataset below `group` ("/stats"), as full paths, sorted.
-std::vector<std::string> datasets_under(hid_t file, const std::string& group) {
-  std::vector<std::string> names;
-  if (!exists(file, group)) {
-    ADD_FAILURE() << "no group " << group;
-    return names;
-  }
-  Hid g(H5Gopen2(file, group.c_str(), H5P_DEFAULT), H5Gclose);
-  H5Lvisit(
-      g.get(), H5_INDEX_NAME, H5_ITER_INC,
-      [](hid_t, const char* name, const H5L_info_t*, void* data) -> herr_t {
-        static_cast<std::vector<std::string>*>(data)->push_back(name);
-        return 0;
-      },
-      &names);
-  std::vector<std::string> out;
-  for (const auto& n : names) {
-    const std::string path = group + "/" + n;
-    Hid object(H5Oopen(file, path.c_str(), H5P_DEFAULT), H5Oclose);
-    if (object.ok() && H5Iget_type(object.get()) == H5I_DATASET) out.push_back(path);
-  }
-  std::sort(out.begin(), out.end());
-  return out;
-}
 
 // Byte-for-byte equality of every dataset under `groups`, and of the dataset
 // lists themselves. Reports the first differing element of each dataset.
