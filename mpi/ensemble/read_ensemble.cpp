@@ -4,6 +4,7 @@
 
 #include "ensemble/ensemble_spec.hpp"
 #include "job/toml_view.hpp"
+#include "output/quantities.hpp"
 
 namespace treedyn::ensemble {
 namespace {
@@ -105,9 +106,14 @@ void parse_target(const TomlView& t, const Job& job, Perturbation& p) {
 }
 
 // Unit of the sampled values: angles need "deg" or "rad"; angular velocity
-// "rad/s" (default) or "deg/s"; everything else is SI.
-double read_unit(const TomlView& t, Field field) {
+// "rad/s" (default) or "deg/s"; everything else is SI. A scale factor is
+// dimensionless: no unit.
+double read_unit(const TomlView& t, Field field, Perturbation::Mode mode) {
   const auto unit = t.string("unit");
+  if (mode == Perturbation::Mode::scale) {
+    if (unit) t.fail("unit", "mode = \"scale\" samples a dimensionless factor; remove 'unit'");
+    return 1.0;
+  }
   const bool angle = field == Field::orientation || field == Field::rotation || field == Field::base_phase;
   if (angle) {
     if (unit == "deg") return std::numbers::pi / 180.0;
@@ -232,8 +238,6 @@ EnsembleSpec read_ensemble(const Job& job) {
     Perturbation pert;
     pert.target = p.required_string("target");
     parse_target(p, job, pert);
-    pert.unit = read_unit(p, pert.field);
-    pert.distribution = read_distribution(p);
     const std::string mode = p.string("mode").value_or("set");
     if (mode == "set") pert.mode = Perturbation::Mode::set;
     else if (mode == "add") pert.mode = Perturbation::Mode::add;
@@ -242,10 +246,24 @@ EnsembleSpec read_ensemble(const Job& job) {
     if ((pert.field == Field::orientation || pert.field == Field::rotation ||
          pert.field == Field::inertia_scale) && p.has("mode"))
       p.fail("mode", "not used for this target (a rotation is always added, inertia_scale always scales)");
+    pert.unit = read_unit(p, pert.field, pert.mode);
+    pert.distribution = read_distribution(p);
     s.perturbations.push_back(pert);
   }
   if (s.design == Design::sobol && s.input_dimensions() > 1000)
     t.fail("perturbation", "sobol supports at most 1000 input dimensions");
+  // 32-bit Sobol points and 32-bit histogram counters.
+  if (s.samples > 0xffffffffULL) t.fail("samples", "at most 4294967295 samples");
+  // Statistics memory per rank: bin counters plus sums, minima and maxima.
+  std::size_t columns = 0;
+  for (const std::string& q : job.output.quantities)
+    columns += quantity_columns(q, job.model, job.output).size();
+  const double entries = static_cast<double>(job.request.output_times.size()) * static_cast<double>(columns);
+  const double gib = entries * (4.0 * (s.histogram_bins + 2) + 64.0) / (1024.0 * 1024.0 * 1024.0);
+  if (gib > 8.0)
+    t.fail("histogram_bins", "the statistics would need " + format_number(std::round(gib)) +
+                                 " GiB per rank (output times x columns x bins); at most 8: use "
+                                 "fewer bins, output times or quantities");
   return s;
 }
 

@@ -29,64 +29,87 @@ SampleRunner::SampleRunner(const Job& job, const EnsembleSpec& spec)
       layout_(column_layout(job)),
       uniforms_(spec.input_dimensions()) {}
 
-SampleRecord SampleRunner::run(std::uint64_t k, bool nominal, std::vector<double>& trajectory) {
+SampleRecord SampleRunner::failed_record(std::uint64_t k, SampleStatus status,
+                                         std::string reason) const {
   SampleRecord record;
   record.index = k;
+  record.status = status;
+  record.reason = std::move(reason);
+  record.max_over_time.assign(layout_.columns, std::numeric_limits<double>::quiet_NaN());
+  record.final_state.assign(final_state_size(), std::numeric_limits<double>::quiet_NaN());
+  return record;
+}
+
+SampleRecord SampleRunner::run(std::uint64_t k, bool nominal, std::vector<double>& trajectory,
+                               const std::function<void()>& between_outputs) {
   ModelSpec spec = job_.model.spec;
   SimulationRequest request = job_.request;
+  std::vector<double> inputs;
   if (!nominal) {
     design_.point(k, uniforms_);
-    record.inputs.resize(uniforms_.size());
+    inputs.resize(uniforms_.size());
     std::size_t d = 0;
     for (const Perturbation& p : spec_.perturbations) {
       const auto n = static_cast<std::size_t>(p.dimensions());
-      p.sample(std::span<const double>(uniforms_).subspan(d, n),
-               std::span<double>(record.inputs).subspan(d, n));
-      p.apply(std::span<const double>(record.inputs).subspan(d, n), spec, request.initial);
+      p.sample(std::span<const double>(uniforms_).subspan(d, n), std::span<double>(inputs).subspan(d, n));
+      p.apply(std::span<const double>(inputs).subspan(d, n), spec, request.initial);
       d += n;
     }
+    // A spin the job gave in a body's own frame turns with the body.
+    for (std::size_t u = 0; u < job_.spin_in_body_frame.size(); ++u)
+      if (job_.spin_in_body_frame[u])
+        request.initial.angular_velocity[u] = request.initial.rotation[u] *
+                                              job_.request.initial.rotation[u].transpose() *
+                                              request.initial.angular_velocity[u];
   }
-  record.max_over_time.assign(layout_.columns, -std::numeric_limits<double>::infinity());
-  record.final_state.assign(final_state_size(), std::numeric_limits<double>::quiet_NaN());
 
   Model model;
   try {
     model = build_model(spec);
   } catch (const ModelError& e) {
-    record.status = SampleStatus::invalid_model;
-    record.reason = e.what();
+    SampleRecord record = failed_record(k, SampleStatus::invalid_model, e.what());
+    record.inputs = std::move(inputs);
     return record;
   }
 
+  SampleRecord record;
+  record.index = k;
+  record.inputs = std::move(inputs);
+  record.max_over_time.assign(layout_.columns, -std::numeric_limits<double>::infinity());
   trajectory.clear();
   trajectory.reserve(times() * layout_.columns);
   const IntegrationOutcome outcome =
       simulate(model, request, [&](const Model& m, const Data& data) {
-        const Recovered state = recover(m, data);
+        recover(m, data, state_);
         row_.clear();
-        for (const std::string& q : layout_.quantity) extract_quantity(q, m, job_.output, state, row_);
+        for (const std::string& q : layout_.quantity) extract_quantity(q, m, job_.output, state_, row_);
         for (std::size_t c = 0; c < row_.size(); ++c)
           record.max_over_time[c] = std::max(record.max_over_time[c], row_[c]);
         trajectory.insert(trajectory.end(), row_.begin(), row_.end());
-        for (int u = 0; u < m.n; ++u) {  // kept from the last output time
-          Quat q(state.rotation[u]);
-          if (q.w() < 0.0) q.coeffs() *= -1.0;
-          const Vec3& w = state.angular_velocity[u];
-          double* out = record.final_state.data() + 7 * u;
-          out[0] = q.w(), out[1] = q.x(), out[2] = q.y(), out[3] = q.z();
-          out[4] = w.x(), out[5] = w.y(), out[6] = w.z();
-        }
+        if (between_outputs) between_outputs();
       });
   record.stats = outcome.stats;
   record.time_reached = outcome.time_reached;
   if (!outcome.ok()) {
-    record.status = SampleStatus::integration_failed;
-    record.reason = std::string(name(outcome.failure)) + " at t = " +
-                    format_number(outcome.time_reached) + " s" +
-                    (outcome.message.empty() ? "" : ": " + outcome.message);
-    // The documented meaning: no final state for a run that did not finish.
-    std::fill(record.final_state.begin(), record.final_state.end(),
-              std::numeric_limits<double>::quiet_NaN());
+    // Nothing of a run that did not finish is kept: NaN maxima and final state.
+    SampleRecord failed = failed_record(
+        k, SampleStatus::integration_failed,
+        std::string(name(outcome.failure)) + " at t = " + format_number(outcome.time_reached) +
+            " s" + (outcome.message.empty() ? "" : ": " + outcome.message));
+    failed.inputs = std::move(record.inputs);
+    failed.stats = outcome.stats;
+    failed.time_reached = outcome.time_reached;
+    return failed;
+  }
+  // The state at the last output time is still in state_.
+  record.final_state.resize(final_state_size());
+  for (int u = 0; u < model.n; ++u) {
+    Quat q(state_.rotation[u]);
+    if (q.w() < 0.0) q.coeffs() *= -1.0;
+    const Vec3& w = state_.angular_velocity[u];
+    double* out = record.final_state.data() + 7 * u;
+    out[0] = q.w(), out[1] = q.x(), out[2] = q.y(), out[3] = q.z();
+    out[4] = w.x(), out[5] = w.y(), out[6] = w.z();
   }
   return record;
 }

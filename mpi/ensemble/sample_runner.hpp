@@ -3,11 +3,13 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
 #include "ensemble/ensemble_spec.hpp"
 #include "integrate/settings.hpp"
+#include "dynamics/recovered.hpp"
 #include "job/job.hpp"
 
 namespace treedyn::ensemble {
@@ -25,8 +27,9 @@ struct SampleRecord {
   double time_reached = 0.0;
   IntegratorStats stats;
   std::vector<double> inputs;        // the sampled input values, SI
-  std::vector<double> max_over_time; // per column of the recorded quantities
-  std::vector<double> final_state;   // per body: quaternion q0..q3, angular velocity (inertial)
+  std::vector<double> max_over_time; // per column of the recorded quantities (NaN when failed)
+  std::vector<double> final_state;   // per body: quaternion q0..q3, angular velocity (inertial);
+                                     // NaN when failed
 };
 
 // The flat column layout of the recorded quantities (job.output.quantities).
@@ -48,7 +51,13 @@ class SampleRunner {
 
   // Sample k, perturbed as the spec says; `nominal` skips the perturbations.
   // On success `trajectory` holds times x columns values (row-major).
-  SampleRecord run(std::uint64_t k, bool nominal, std::vector<double>& trajectory);
+  // `between_outputs`, if given, is called at every output time (the MPI
+  // driver keeps communication going with it).
+  SampleRecord run(std::uint64_t k, bool nominal, std::vector<double>& trajectory,
+                   const std::function<void()>& between_outputs = {});
+
+  // The record of a sample that produced nothing: NaN maxima and final state.
+  SampleRecord failed_record(std::uint64_t k, SampleStatus status, std::string reason) const;
 
  private:
   const Job& job_;
@@ -56,6 +65,7 @@ class SampleRunner {
   SampleDesign design_;
   ColumnLayout layout_;
   std::vector<double> uniforms_, row_;
+  Recovered state_;  // reused at every output time
 };
 
 }  // namespace treedyn::ensemble

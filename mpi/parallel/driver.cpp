@@ -4,7 +4,6 @@
 
 #include <chrono>
 #include <cmath>
-#include <deque>
 #include <fstream>
 #include <iostream>
 #include <limits>
@@ -18,7 +17,7 @@
 #include "job/job_error.hpp"
 #include "parallel/ensemble_writer.hpp"
 #include "parallel/progress.hpp"
-#include "parallel/record_codec.hpp"
+#include "parallel/record_sink.hpp"
 #include "parallel/statistics_reduce.hpp"
 #include "parallel/work_queue.hpp"
 
@@ -28,10 +27,6 @@ namespace {
 using ensemble::SampleRecord;
 using ensemble::SampleStatus;
 
-constexpr int kTagRecords = 1;
-constexpr int kTagDone = 2;
-constexpr std::size_t kMaxPendingSends = 2;  // batches in flight per rank
-
 // Everything a rank needs once the job is known.
 struct Context {
   MPI_Comm comm;
@@ -40,7 +35,7 @@ struct Context {
   const ensemble::EnsembleSpec& spec;
   ensemble::SampleRunner runner;
   double busy_seconds = 0.0;
-  double samples_run = 0.0;
+  std::uint64_t samples_run = 0;
   std::size_t entries() const { return runner.times() * runner.layout().columns; }
 };
 
@@ -67,125 +62,21 @@ bool share_job_text(MPI_Comm comm, int rank, const std::string& path, std::strin
 }
 
 // A sample never takes the job down: any exception becomes a failed record.
-SampleRecord run_isolated(Context& c, std::uint64_t k, std::vector<double>& trajectory) {
+// `sink.poll()` runs at every output time, so MPI progresses meanwhile.
+SampleRecord run_isolated(Context& c, std::uint64_t k, std::vector<double>& trajectory,
+                          RecordSink& sink) {
   const auto start = std::chrono::steady_clock::now();
-  struct Busy {  // adds the sample's time to the rank's busy time, however it ends
-    Context& c;
-    std::chrono::steady_clock::time_point start;
-    ~Busy() {
-      c.busy_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      ++c.samples_run;
-    }
-  } busy{c, start};
+  SampleRecord r;
   try {
-    return c.runner.run(k, false, trajectory);
+    r = c.runner.run(k, false, trajectory, [&] { sink.poll(); });
   } catch (const std::exception& e) {
-    SampleRecord r;
-    r.index = k;
-    r.status = SampleStatus::integration_failed;
-    r.reason = std::string("internal error: ") + e.what();
-    r.max_over_time.assign(c.runner.layout().columns, std::numeric_limits<double>::quiet_NaN());
-    r.final_state.assign(c.runner.final_state_size(), std::numeric_limits<double>::quiet_NaN());
-    return r;
+    r = c.runner.failed_record(k, ensemble::SampleStatus::integration_failed,
+                               std::string("internal error: ") + e.what());
   }
+  c.busy_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  ++c.samples_run;
+  return r;
 }
-
-// Sends finished records to rank 0 (other ranks) or writes them (rank 0).
-class RecordSink {
- public:
-  RecordSink(Context& c, EnsembleWriter* writer, Progress* progress)
-      : c_(c), writer_(writer), progress_(progress) {}
-
-  void add(SampleRecord r) {
-    if (c_.rank == 0) {
-      count(r);
-      local_.push_back(std::move(r));
-      return;
-    }
-    append_record(r, batch_);
-  }
-
-  // End of a block: ship or write what accumulated, and (rank 0) drain.
-  void flush() {
-    if (c_.rank == 0) {
-      if (!local_.empty()) writer_->write_records(std::move(local_));
-      local_.clear();
-      drain(false);
-      progress_->update(done_, failed_);
-      return;
-    }
-    if (batch_.empty()) return;
-    while (pending_.size() >= kMaxPendingSends) {
-      MPI_Wait(&pending_.front().first, MPI_STATUS_IGNORE);
-      pending_.pop_front();
-    }
-    pending_.emplace_back(MPI_REQUEST_NULL, std::move(batch_));
-    batch_.clear();
-    auto& [request, buffer] = pending_.back();
-    MPI_Isend(buffer.data(), static_cast<int>(buffer.size()), MPI_BYTE, 0, kTagRecords, c_.comm,
-              &request);
-  }
-
-  // After the last block: other ranks say they are done; rank 0 waits for all.
-  void close() {
-    flush();
-    if (c_.rank != 0) {
-      for (auto& p : pending_) MPI_Wait(&p.first, MPI_STATUS_IGNORE);
-      pending_.clear();
-      MPI_Send(nullptr, 0, MPI_BYTE, 0, kTagDone, c_.comm);
-      return;
-    }
-    while (finished_ranks_ < c_.size - 1) drain(true);
-    progress_->finish(done_, failed_);
-  }
-
-  std::uint64_t done() const { return done_; }
-  std::uint64_t failed() const { return failed_; }
-
- private:
-  void count(const SampleRecord& r) {
-    ++done_;
-    if (r.status != SampleStatus::ok) ++failed_;
-  }
-
-  // Rank 0: receives what has arrived (blocking for one message if `wait`).
-  void drain(bool wait) {
-    for (;;) {
-      int flag = 0;
-      MPI_Status status;
-      if (wait) {
-        MPI_Probe(MPI_ANY_SOURCE, MPI_ANY_TAG, c_.comm, &status);
-        flag = 1;
-        wait = false;
-      } else {
-        MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, c_.comm, &flag, &status);
-      }
-      if (!flag) return;
-      int bytes = 0;
-      MPI_Get_count(&status, MPI_BYTE, &bytes);
-      std::vector<char> buffer(static_cast<std::size_t>(bytes));
-      MPI_Recv(buffer.data(), bytes, MPI_BYTE, status.MPI_SOURCE, status.MPI_TAG, c_.comm,
-               MPI_STATUS_IGNORE);
-      if (status.MPI_TAG == kTagDone) {
-        ++finished_ranks_;
-        continue;
-      }
-      std::vector<SampleRecord> records = read_records(buffer);
-      for (const auto& r : records) count(r);
-      writer_->write_records(std::move(records));
-      progress_->update(done_, failed_);
-    }
-  }
-
-  Context& c_;
-  EnsembleWriter* writer_;
-  Progress* progress_;
-  std::vector<SampleRecord> local_;
-  std::vector<char> batch_;
-  std::deque<std::pair<MPI_Request, std::vector<char>>> pending_;
-  int finished_ranks_ = 0;
-  std::uint64_t done_ = 0, failed_ = 0;
-};
 
 // Per-column largest |nominal| over time: the fallback fixed-point unit.
 std::vector<double> column_scales(const std::vector<double>& nominal, std::size_t columns) {
@@ -255,7 +146,15 @@ int run(MPI_Comm comm, int rank, int size, const EnsembleOptions& options, const
   MPI_Bcast(nominal.data(), static_cast<int>(entries), MPI_DOUBLE, 0, comm);
 
   Progress progress(spec.samples, options.progress_interval, rank == 0 && !options.quiet);
-  RecordSink sink(c, writer.get(), &progress);
+  std::unique_ptr<RecordSink> sink;
+  RecordWriter* records = nullptr;  // rank 0's view of the sink
+  if (rank == 0) {
+    auto w = std::make_unique<RecordWriter>(comm, size, *writer, progress);
+    records = w.get();
+    sink = std::move(w);
+  } else {
+    sink = std::make_unique<RecordSender>(comm);
+  }
 
   // Pilot samples, round-robin; their deviations calibrate the statistics.
   std::vector<std::vector<double>> pilot;
@@ -264,7 +163,7 @@ int run(MPI_Comm comm, int rank, int size, const EnsembleOptions& options, const
   for (std::uint64_t k = static_cast<std::uint64_t>(rank); k < spec.pilot_samples;
        k += static_cast<std::uint64_t>(size)) {
     std::vector<double> trajectory;
-    SampleRecord r = run_isolated(c, k, trajectory);
+    SampleRecord r = run_isolated(c, k, trajectory, *sink);
     if (r.status == SampleStatus::ok) {
       for (std::size_t e = 0; e < entries; ++e) {
         low[e] = std::min(low[e], trajectory[e] - nominal[e]);
@@ -272,8 +171,9 @@ int run(MPI_Comm comm, int rank, int size, const EnsembleOptions& options, const
       }
       pilot.push_back(std::move(trajectory));
     }
-    sink.add(std::move(r));
+    sink->add(std::move(r));
   }
+  sink->flush();
   MPI_Allreduce(MPI_IN_PLACE, low.data(), static_cast<int>(entries), MPI_DOUBLE, MPI_MIN, comm);
   MPI_Allreduce(MPI_IN_PLACE, high.data(), static_cast<int>(entries), MPI_DOUBLE, MPI_MAX, comm);
   ensemble::EnsembleStatistics stats(
@@ -282,7 +182,6 @@ int run(MPI_Comm comm, int rank, int size, const EnsembleOptions& options, const
                           spec.histogram_bins));
   for (const auto& trajectory : pilot) stats.add_sample(trajectory);
   pilot.clear();
-  sink.flush();
 
   // The rest from the shared queue.
   {
@@ -291,29 +190,31 @@ int run(MPI_Comm comm, int rank, int size, const EnsembleOptions& options, const
     std::vector<double> trajectory;
     while (queue.next(begin, end)) {
       for (std::uint64_t k = begin; k < end; ++k) {
-        SampleRecord r = run_isolated(c, k, trajectory);
+        SampleRecord r = run_isolated(c, k, trajectory, *sink);
         if (r.status == SampleStatus::ok) stats.add_sample(trajectory);
-        sink.add(std::move(r));
+        sink->add(std::move(r));
       }
-      sink.flush();
+      sink->flush();
     }
-    sink.close();
+    sink->close();
   }
 
   reduce_statistics(comm, stats);
-  std::uint64_t counts[2] = {sink.done(), sink.failed()};
   // Per-rank load and memory, for the file.
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
-  const double mine[3] = {static_cast<double>(usage.ru_maxrss) / 1024.0, c.samples_run, c.busy_seconds};
+  const double mine[3] = {static_cast<double>(usage.ru_maxrss) / 1024.0,
+                          static_cast<double>(c.samples_run), c.busy_seconds};
   std::vector<double> all(3 * static_cast<std::size_t>(size));
   MPI_Gather(mine, 3, MPI_DOUBLE, all.data(), 3, MPI_DOUBLE, 0, comm);
   if (rank == 0) {
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const std::uint64_t ok = records->done() - records->failed(), failed = records->failed();
     try {
+      if (!records->io_error().empty()) throw h5::IoError(records->io_error());
       writer->write_nominal(nominal);
       writer->write_statistics(stats);
-      EnsembleSummary summary{counts[0] - counts[1], counts[1], size, wall, {}, {}, {}};
+      EnsembleSummary summary{ok, failed, size, wall, {}, {}, {}};
       for (int r = 0; r < size; ++r) {
         summary.peak_rss_mib.push_back(all[3 * r]);
         summary.samples_per_rank.push_back(all[3 * r + 1]);
@@ -323,9 +224,10 @@ int run(MPI_Comm comm, int rank, int size, const EnsembleOptions& options, const
     } catch (const h5::IoError& e) {
       std::cerr << "error: " << e.what() << "\n";
       failure = kExitIo;
+      writer.reset();  // removes the temporary file
     }
     if (failure == kExitOk) {
-      if (!options.quiet) print_summary(c, stats, counts[0] - counts[1], counts[1], wall);
+      if (!options.quiet) print_summary(c, stats, ok, failed, wall);
       std::printf("wrote %s\n", options.output_path.c_str());
     }
   }

@@ -238,6 +238,10 @@ void EnsembleWriter::finish(const EnsembleSummary& summary) {
   h5::write_attribute(root, "parameterisation", std::string(name(job_.request.parameterisation)));
   h5::write_attribute(root, "histogram_bins", static_cast<long long>(spec_.histogram_bins));
   h5::write_attribute(root, "pilot_samples", static_cast<long long>(spec_.pilot_samples));
+  for (h5::Handle* h : {&inputs_, &status_, &reason_, &time_reached_, &integrator_stats_,
+                        &final_state_, &max_group_, &samples_})
+    h->reset();
+  max_.clear();
   file_.commit();
 }
 

@@ -1,6 +1,6 @@
-// RAII owners for MPI: the session, one-sided windows, user operations and
-// derived datatypes. MPI's default error handler aborts, so return codes are
-// checked only where an error is recoverable (none here).
+// RAII owners for MPI: the session, user operations and derived datatypes
+// (the work queue owns its one-sided window). MPI's default error handler
+// aborts, so no return code needs checking.
 #pragma once
 
 #include <mpi.h>

@@ -1,5 +1,6 @@
 #include "parallel/statistics_reduce.hpp"
 
+#include <algorithm>
 #include <cstring>
 
 #include "parallel/mpi_handles.hpp"
@@ -23,15 +24,19 @@ void sum_wide(void* in, void* inout, int* length, MPI_Datatype*) {
   }
 }
 
+// In chunks: MPI counts are ints, the arrays may be longer.
 template <class T>
 void reduce(MPI_Comm comm, std::vector<T>& v, MPI_Datatype type, MPI_Op op) {
+  constexpr std::size_t kChunk = std::size_t{1} << 26;
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
-  const int n = static_cast<int>(v.size());
-  if (rank == 0)
-    MPI_Reduce(MPI_IN_PLACE, v.data(), n, type, op, 0, comm);
-  else
-    MPI_Reduce(v.data(), nullptr, n, type, op, 0, comm);
+  for (std::size_t first = 0; first < v.size(); first += kChunk) {
+    const int n = static_cast<int>(std::min(kChunk, v.size() - first));
+    if (rank == 0)
+      MPI_Reduce(MPI_IN_PLACE, v.data() + first, n, type, op, 0, comm);
+    else
+      MPI_Reduce(v.data() + first, nullptr, n, type, op, 0, comm);
+  }
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include "parallel/work_queue.hpp"
 
 #include <algorithm>
+#include <exception>
 
 namespace treedyn::parallel {
 
@@ -10,12 +11,19 @@ WorkQueue::WorkQueue(MPI_Comm comm, std::uint64_t first, std::uint64_t end, std:
   MPI_Comm_rank(comm, &rank);
   const MPI_Aint bytes = rank == 0 ? static_cast<MPI_Aint>(sizeof(std::uint64_t)) : 0;
   MPI_Win_allocate(bytes, sizeof(std::uint64_t), MPI_INFO_NULL, comm, &counter_, &window_);
-  if (rank == 0) *counter_ = first;
+  if (rank == 0) {  // a local store inside an exclusive epoch: visible to RMA after unlock
+    MPI_Win_lock(MPI_LOCK_EXCLUSIVE, 0, 0, window_);
+    *counter_ = first;
+    MPI_Win_unlock(0, window_);
+  }
   MPI_Barrier(comm);  // the counter is set before anyone takes from it
   MPI_Win_lock_all(MPI_MODE_NOCHECK, window_);
 }
 
 WorkQueue::~WorkQueue() {
+  // Freeing the window is collective: while an exception unwinds on this rank
+  // the others would wait in it forever, so leave it to MPI_Abort instead.
+  if (std::uncaught_exceptions() > 0) return;
   MPI_Win_unlock_all(window_);
   MPI_Win_free(&window_);
 }

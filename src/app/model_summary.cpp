@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <vector>
 
 namespace treedyn {
 namespace {
@@ -13,12 +14,40 @@ std::string fmt(const char* format, double a, double b = 0, double c = 0) {
   return buffer;
 }
 
-void draw(std::ostream& out, const Model& m, int i, const std::string& prefix, bool last) {
-  out << prefix << (last ? "`-- " : "|-- ") << m.body_name[i]
-      << fmt("  (%.4g kg, subtree %.4g kg)", m.mass[i], m.subtree_mass[i]) << "\n";
-  const auto& kids = m.children[i];
-  for (std::size_t k = 0; k < kids.size(); ++k)
-    draw(out, m, kids[k], prefix + (last ? "    " : "|   "), k + 1 == kids.size());
+std::string body_line(const Model& m, int i) {
+  return m.body_name[i] + fmt("  (%.4g kg, subtree %.4g kg)", m.mass[i], m.subtree_mass[i]);
+}
+
+// The tree as text, iteratively (no recursion however deep the tree); runs of
+// more than five single-child bodies (chains) are shortened to their first
+// and last two with a count in between.
+void draw_tree(std::ostream& out, const Model& m) {
+  struct Item {
+    int body;
+    std::string prefix;
+    bool last;
+  };
+  std::vector<Item> stack{{0, "", true}};
+  while (!stack.empty()) {
+    const Item item = stack.back();
+    stack.pop_back();
+    std::vector<int> run{item.body};
+    while (m.children[run.back()].size() == 1) run.push_back(m.children[run.back()][0]);
+    std::string prefix = item.prefix;
+    bool last = item.last;
+    for (std::size_t k = 0; k < run.size(); ++k) {
+      const bool shown = run.size() <= 16 || k < 3 || k + 3 >= run.size();
+      if (shown) {
+        out << prefix << (last ? "`-- " : "|-- ") << body_line(m, run[k]) << "\n";
+        prefix += last ? "    " : "|   ";
+        last = true;  // a single child is its parent's last
+      } else if (k == 3) {
+        out << prefix << "... " << run.size() - 6 << " more bodies in a chain ...\n";
+      }
+    }
+    const auto& kids = m.children[run.back()];
+    for (std::size_t k = kids.size(); k-- > 0;) stack.push_back({kids[k], prefix, k + 1 == kids.size()});
+  }
 }
 
 }  // namespace
@@ -27,7 +56,7 @@ void print_model_summary(std::ostream& out, const Job& job) {
   const Model& m = job.model;
   if (!job.title.empty()) out << job.title << "\n";
   out << "tree (" << m.n << (m.n == 1 ? " body" : " bodies") << "):\n" << kBaseName << "\n";
-  draw(out, m, 0, "", true);
+  draw_tree(out, m);
   out << fmt("total mass %.6g kg\n", m.total_mass);
   out << "gravity [" << m.gravity.x() << ", " << m.gravity.y() << ", " << m.gravity.z() << "] m/s^2\n";
   out << "augmented inertia K_i about the inboard joint, body frame (kg m^2):\n";

@@ -9,9 +9,9 @@ namespace {
 // K_{k a} for a strict ancestor a of k, whose child on the path to k is `branch`:
 // M ((d_ak . b_k0) E - d_ak b_k0^T) (section 4, j < i).
 Mat3 path_coupling(const Model& model, const Data& data, int k, int branch) {
-  const Vec3& b = data.barycentre_to_inboard[k];
-  const Vec3& d = data.branch_d[branch];
-  return model.total_mass * (d.dot(b) * Mat3::Identity() - d * b.transpose());
+  // The transpose of K_{a k} = M ((b . d) E - b d^T), the matrix of w' -> d x (w' x b).
+  return model.total_mass *
+         cross_cross_matrix(data.branch_d[branch], data.barycentre_to_inboard[k]).transpose();
 }
 
 void assemble(const Model& model, Data& data) {

@@ -37,6 +37,9 @@ struct Recovered {
 
 // Needs forward_dynamics(model, data) on the current state.
 Recovered recover(const Model& model, const Data& data);
+// The same into `out`, reusing its storage (no allocation after the first
+// call with a given model): for code that recovers at every output time.
+void recover(const Model& model, const Data& data, Recovered& out);
 
 // Position and velocity of a point fixed in a body (from its CoM, body frame).
 Vec3 body_point_position(const Recovered& r, int user_body, const Vec3& point);

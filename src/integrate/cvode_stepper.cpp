@@ -41,7 +41,7 @@ FailureKind classify(int flag) {
 class CvodeStepper final : public Stepper {
  public:
   CvodeStepper(TreeOde& ode, const IntegratorSettings& s, double t0, N_Vector y0, SUNContext ctx)
-      : ode_(ode), roots_(static_cast<std::size_t>(ode.root_count()), 0) {
+      : ode_(ode) {
     const bool bdf = s.method == Method::cvode_bdf;
     mem_.reset(check_created(CVodeCreate(bdf ? CV_BDF : CV_ADAMS, ctx), "CVodeCreate"));
     void* m = mem_.get();
@@ -64,7 +64,8 @@ class CvodeStepper final : public Stepper {
       check(CVodeSetNonlinearSolver(m, nonlinear_.get()), "CVodeSetNonlinearSolver");
     }
     check(CVodeRootInit(m, ode_.root_count(), tree_roots), "CVodeRootInit");
-    std::vector<int> downwards(roots_.size(), -1);  // only a margin falling through zero
+    // Only a margin falling through zero stops the integration.
+    std::vector<int> downwards(static_cast<std::size_t>(ode_.root_count()), -1);
     check(CVodeSetRootDirection(m, downwards.data()), "CVodeSetRootDirection");
     check(CVodeSetNoInactiveRootWarn(m), "CVodeSetNoInactiveRootWarn");
   }
@@ -107,7 +108,6 @@ class CvodeStepper final : public Stepper {
 
  private:
   TreeOde& ode_;
-  std::vector<int> roots_;
   sundials::Matrix matrix_;
   sundials::LinearSolver linear_;
   sundials::NonlinearSolver nonlinear_;

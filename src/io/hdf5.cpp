@@ -116,6 +116,7 @@ File::File(std::filesystem::path final_path) : final_path_(std::move(final_path)
   check_output_path(final_path_);
   temporary_path_ = final_path_;
   temporary_path_ += ".tmp-" + std::to_string(getpid());
+  guard_ = std::make_unique<io::RemoveOnSignal>(temporary_path_);
   hid_t id = H5Fcreate(temporary_path_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
   if (id < 0)
     throw IoError("output " + final_path_.string() + ": cannot create the file (HDF5 refused " +
@@ -132,6 +133,10 @@ File::~File() {
 
 void File::commit() {
   check(H5Fflush(handle_.id(), H5F_SCOPE_GLOBAL), "flushing " + temporary_path_.string());
+  // Every object must be closed by now, or closing the file would be deferred
+  // past the rename.
+  if (H5Fget_obj_count(handle_.id(), H5F_OBJ_ALL) > 1)
+    throw IoError("output " + final_path_.string() + ": internal error, objects still open at commit");
   handle_.reset();
   std::error_code ec;
   std::filesystem::rename(temporary_path_, final_path_, ec);

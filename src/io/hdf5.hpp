@@ -8,7 +8,10 @@
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <memory>
 #include <vector>
+
+#include "io/remove_on_signal.hpp"
 
 namespace treedyn::h5 {
 
@@ -38,7 +41,9 @@ class Handle {
 
 // Writes a new file (truncating) and, on commit(), closes it and renames it
 // from its temporary name to the final one. Destroyed without commit(), it
-// removes the temporary file: a failed run leaves nothing behind.
+// removes the temporary file, and a signal that ends the process removes it
+// too: a failed or killed run leaves nothing behind. Every dataset and group
+// handle must be closed before commit().
 class File {
  public:
   explicit File(std::filesystem::path final_path);
@@ -51,6 +56,7 @@ class File {
  private:
   std::filesystem::path final_path_;
   std::filesystem::path temporary_path_;
+  std::unique_ptr<io::RemoveOnSignal> guard_;
   Handle handle_;
   bool committed_ = false;
 };
@@ -73,8 +79,8 @@ Handle write_strings(hid_t parent, const std::string& name, const std::vector<st
 // compressed, written whole.
 Handle write_array(hid_t parent, const std::string& name, hid_t type, const void* data,
                    std::span<const hsize_t> dims);
-// A rows x columns dataset created empty (fill value `fill`), filled later
-// block by block with write_rows: for records that arrive out of order.
+// A rows x columns dataset created empty (HDF5's default fill, zero), filled
+// later block by block with write_rows: for records that arrive out of order.
 Handle create_rows(hid_t parent, const std::string& name, hid_t type, std::size_t rows,
                    std::size_t columns, std::size_t chunk_rows);
 void write_rows(hid_t dataset, hid_t type, std::size_t first_row, std::size_t rows,

@@ -31,6 +31,9 @@ struct Job {
   Model model;           // validated
   SimulationRequest request;
   OutputSpec output;
+  // Per body (user order): the job gave the initial angular velocity in the
+  // body's own frame, so it turns with the body if its orientation changes.
+  std::vector<bool> spin_in_body_frame;
 };
 
 // Reads and validates a job file. Throws JobError (file, line, column, field,

@@ -62,8 +62,10 @@ std::vector<double> read_output_times(const TomlView& t) {
   if (*step > *end)
     t.fail("step", "the output step " + format_number(*step) + " s is larger than the end time " +
                        format_number(*end) + " s; it must be at most end_time");
-  const auto count = static_cast<long>(std::floor(*end / *step * (1.0 + 1e-12)));
-  if (count > 10'000'000) t.fail("step", "more than 10 million output times; use a larger step");
+  const double ratio = std::floor(*end / *step * (1.0 + 1e-12));
+  if (!(ratio <= 10'000'000.0))  // checked as a double: the cast below would overflow
+    t.fail("step", "more than 10 million output times; use a larger step");
+  const auto count = static_cast<long>(ratio);
   std::vector<double> times;
   for (long k = 0; k <= count; ++k) times.push_back(static_cast<double>(k) * *step);
   if (times.back() < *end * (1.0 - 1e-12)) times.push_back(*end);
@@ -149,6 +151,7 @@ Job parse_job(std::string_view text, const std::string& file) {
     throw JobError(file, 0, 0, "", e.what());
   }
   job.request.initial = std::move(bodies.initial);
+  job.spin_in_body_frame = std::move(bodies.spin_in_body_frame);
 
   if (auto integrator = root.subtable("integrator")) read_integrator(*integrator, job.request);
   const auto output = root.subtable("output");

@@ -85,10 +85,11 @@ JointSpring read_spring(const TomlView& t) {
 void read_state(const TomlView& t, ReadBodies& out) {
   Mat3 A = Mat3::Identity();
   if (auto o = t.subtable("orientation")) A = read_orientation(*o);
-  Vec3 w = Vec3::Zero();
+  AngularVelocityInput w;
   if (auto v = t.subtable("angular_velocity")) w = read_angular_velocity(*v, A);
   out.initial.rotation.push_back(A);
-  out.initial.angular_velocity.push_back(w);
+  out.initial.angular_velocity.push_back(w.inertial);
+  out.spin_in_body_frame.push_back(w.body_frame);
 }
 
 void read_body(const TomlView& t, ReadBodies& out) {
@@ -120,7 +121,7 @@ void read_chain(const TomlView& t, ReadBodies& out) {
   const std::string prefix = t.required_string("name");
   const auto links = t.integer("links");
   if (!links) t.fail("links", "missing required field: the number of links (integer >= 1)");
-  if (*links < 1 || *links > 100000) t.fail("links", "must be an integer from 1 to 100000");
+  if (*links < 1 || *links > 3000) t.fail("links", "must be an integer from 1 to 3000");
   const double length = positive(t, "link_length", "m");
   const double radius = t.has("radius") ? positive(t, "radius", "m") : length / 50.0;
   BodySpec link;

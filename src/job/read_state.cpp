@@ -60,7 +60,7 @@ Mat3 read_orientation(const TomlView& t) {
                      "\"euler313\", \"bryant123\"");
 }
 
-Vec3 read_angular_velocity(const TomlView& t, const Mat3& orientation) {
+AngularVelocityInput read_angular_velocity(const TomlView& t, const Mat3& orientation) {
   t.check_keys({"value", "frame", "unit"});
   const auto value = t.vec3("value");
   if (!value) t.fail("value", "missing required field: [wx, wy, wz]");
@@ -72,8 +72,8 @@ Vec3 read_angular_velocity(const TomlView& t, const Mat3& orientation) {
     t.fail("unit", "\"" + unit + "\" is not allowed; use \"rad/s\" or \"deg/s\"");
   const auto frame = t.string("frame");
   if (!frame) t.fail("frame", "missing; say in which frame the components are: \"inertial\" or \"body\"");
-  if (*frame == "inertial") return *value * scale;
-  if (*frame == "body") return orientation * (*value * scale);
+  if (*frame == "inertial") return {*value * scale, false};
+  if (*frame == "body") return {orientation * (*value * scale), true};
   t.fail("frame", "\"" + *frame + "\" is not allowed; use \"inertial\" or \"body\"");
 }
 

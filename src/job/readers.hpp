@@ -15,7 +15,11 @@ namespace treedyn {
 Mat3 read_orientation(const TomlView& table);
 // {value = [x, y, z], frame = "inertial" | "body", unit = "rad/s" | "deg/s"}
 // turned into the inertial frame with the body's orientation.
-Vec3 read_angular_velocity(const TomlView& table, const Mat3& orientation);
+struct AngularVelocityInput {
+  Vec3 inertial = Vec3::Zero();
+  bool body_frame = false;  // given in the body's frame
+};
+AngularVelocityInput read_angular_velocity(const TomlView& table, const Mat3& orientation);
 
 // The bodies of [[body]] and [[chain]] with their joints and initial state,
 // in file order. `where` maps each body name to the table that defined it.
@@ -23,6 +27,7 @@ struct ReadBodies {
   std::vector<BodySpec> bodies;
   std::vector<JointSpec> joints;
   TreeState initial;
+  std::vector<bool> spin_in_body_frame;
   std::map<std::string, const toml::node*> where;
 };
 ReadBodies read_bodies(const TomlView& root);

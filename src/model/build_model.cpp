@@ -80,6 +80,13 @@ Model build_model(const ModelSpec& spec) {
   m.parent = topo.parent;
   m.children = topo.children;
   m.depth = topo.depth;
+  // The mass matrix keeps one 3x3 block per (body, strict ancestor) pair.
+  long long path_blocks = 0;
+  for (int d : topo.depth) path_blocks += d - 1;
+  if (path_blocks > kMaxPathBlocks)
+    throw ModelError("model: the tree is too deep for treedyn: " + std::to_string(path_blocks) +
+                     " (body, ancestor) pairs, at most " + std::to_string(kMaxPathBlocks) +
+                     " (a single chain of about 3100 bodies); shorten the chains");
   m.path_offset.assign(topo.depth.size() + 1, 0);
   for (std::size_t i = 0; i < topo.depth.size(); ++i)
     m.path_offset[i + 1] = m.path_offset[i] + topo.depth[i] - 1;

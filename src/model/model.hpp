@@ -13,6 +13,10 @@
 namespace treedyn {
 
 inline constexpr int kBase = -1;  // parent index of body 1 (the lecture's body 0)
+// Largest number of (body, strict ancestor) pairs: the mass matrix's blocks
+// (72 bytes each, 360 MB here) and a dense chain's O(n^3) factorisation bound
+// what is sensible.
+inline constexpr long long kMaxPathBlocks = 5'000'000;
 
 // Everything below is in the regular order, 0-based: index i is the lecture's
 // body i+1, and joint i is the joint whose outboard body is i.

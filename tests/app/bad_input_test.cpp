@@ -253,6 +253,15 @@ TEST(BadInput, OutputStepLargerThanEndTimeIsRefused) {
                    {"larger than the end time", "at most end_time"});
 }
 
+// An absurdly small step would ask for more output times than fit in memory
+// (end/step overflowed a 64-bit count once and crashed the reader).
+TEST(BadInput, TinyOutputStepIsRefusedNotACrash) {
+  const std::string text = with(kGoodJob, "step = 0.1", "step = 1e-30");
+  Case c("tiny output step", text);
+  c.expect_refused(2, c.job() + ":" + value_position(text, "step = 1e-30") + ": output.step: ",
+                   {"more than 10 million output times"});
+}
+
 // Values quoted in messages are formatted with std::to_string ("%f"), so
 // small values lose all their digits: a step of 2e-7 s "is larger than the
 // end time 0.000000 s", a mass of -1e-9 kg is "-0.000000". The refusal itself

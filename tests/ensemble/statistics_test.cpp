@@ -1006,6 +1006,10 @@ TEST(Statistics, ReadEnsembleRefusesBadInput) {
       {"unit on an SI target",
        p + "target = \"body.rod.mass\"\ndistribution = \"normal\"\nstd = 1.0\nunit = \"g\"\n",
        "ensemble.perturbation[1].unit", {"SI"}},
+      {"unit on a scale factor",
+       p + "target = \"body.rod.angular_velocity.z\"\ndistribution = \"uniform\"\nlower = 0.99\n"
+           "upper = 1.01\nmode = \"scale\"\nunit = \"deg/s\"\n",
+       "ensemble.perturbation[1].unit", {"dimensionless"}},
       {"unknown key with suggestion",
        p + "target = \"body.rod.mass\"\ndistribution = \"normal\"\nstdev = 1.0\n",
        "ensemble.perturbation[1].stdev", {"unknown key 'stdev'", "did you mean 'std'?"}},

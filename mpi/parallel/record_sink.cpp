@@ -1,0 +1,111 @@
+#include "parallel/record_sink.hpp"
+
+#include "parallel/record_codec.hpp"
+
+namespace treedyn::parallel {
+namespace {
+
+constexpr int kTagRecords = 1;
+constexpr int kTagDone = 2;
+constexpr std::size_t kMaxPendingSends = 2;  // batches in flight per rank
+constexpr auto kPollInterval = std::chrono::milliseconds(2);
+
+}  // namespace
+
+void RecordSink::poll() {
+  const auto now = std::chrono::steady_clock::now();
+  if (now - last_poll_ < kPollInterval) return;
+  last_poll_ = now;
+  make_progress();
+}
+
+RecordWriter::RecordWriter(MPI_Comm comm, int ranks, EnsembleWriter& writer, Progress& progress)
+    : comm_(comm), ranks_(ranks), writer_(writer), progress_(progress) {}
+
+void RecordWriter::add(ensemble::SampleRecord record) { local_.push_back(std::move(record)); }
+
+void RecordWriter::flush() {
+  if (!local_.empty()) write(std::move(local_));
+  local_.clear();
+  drain(false);
+}
+
+void RecordWriter::close() {
+  flush();
+  while (finished_ranks_ < ranks_ - 1) drain(true);
+  progress_.finish(done_, failed_);
+}
+
+void RecordWriter::write(std::vector<ensemble::SampleRecord> records) {
+  for (const auto& r : records) {
+    ++done_;
+    if (r.status != ensemble::SampleStatus::ok) ++failed_;
+  }
+  if (io_error_.empty()) {
+    try {
+      writer_.write_records(std::move(records));
+    } catch (const h5::IoError& e) {
+      io_error_ = e.what();  // keep receiving: the other ranks must not block
+    }
+  }
+  progress_.update(done_, failed_);
+}
+
+// Receives what has arrived (blocking for one message if `wait`).
+void RecordWriter::drain(bool wait) {
+  for (;;) {
+    int flag = 0;
+    MPI_Status status;
+    if (wait) {
+      MPI_Probe(MPI_ANY_SOURCE, MPI_ANY_TAG, comm_, &status);
+      flag = 1;
+      wait = false;
+    } else {
+      MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, comm_, &flag, &status);
+    }
+    if (!flag) return;
+    int bytes = 0;
+    MPI_Get_count(&status, MPI_BYTE, &bytes);
+    std::vector<char> buffer(static_cast<std::size_t>(bytes));
+    MPI_Recv(buffer.data(), bytes, MPI_BYTE, status.MPI_SOURCE, status.MPI_TAG, comm_,
+             MPI_STATUS_IGNORE);
+    if (status.MPI_TAG == kTagDone)
+      ++finished_ranks_;
+    else
+      write(read_records(buffer));
+  }
+}
+
+void RecordSender::add(ensemble::SampleRecord record) { append_record(record, batch_); }
+
+void RecordSender::flush() {
+  if (batch_.empty()) return;
+  while (pending_.size() >= kMaxPendingSends) {
+    MPI_Wait(&pending_.front().first, MPI_STATUS_IGNORE);
+    pending_.pop_front();
+  }
+  pending_.emplace_back(MPI_REQUEST_NULL, std::move(batch_));
+  batch_.clear();
+  auto& [request, buffer] = pending_.back();
+  MPI_Isend(buffer.data(), static_cast<int>(buffer.size()), MPI_BYTE, 0, kTagRecords, comm_, &request);
+}
+
+void RecordSender::close() {
+  flush();
+  for (auto& p : pending_) MPI_Wait(&p.first, MPI_STATUS_IGNORE);
+  pending_.clear();
+  MPI_Send(nullptr, 0, MPI_BYTE, 0, kTagDone, comm_);
+}
+
+// Testing the sends drives their transfer (large batches need rank 0's
+// receive and our progress) and frees finished buffers.
+void RecordSender::make_progress() {
+  while (!pending_.empty()) {
+    int done = 0;
+    MPI_Test(&pending_.front().first, &done, MPI_STATUS_IGNORE);
+    if (!done) return;
+    pending_.pop_front();
+  }
+}
+
+}  // namespace treedyn::parallel

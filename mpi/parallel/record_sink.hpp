@@ -1,0 +1,82 @@
+// Where finished per-sample records go: rank 0 writes them (its own and
+// everyone else's, by sample index); the other ranks send them to rank 0 in
+// bounded batches. Both keep MPI progressing when poll() is called during
+// long integrations, so the work queue and the messages never wait for a
+// rank that is busy integrating.
+#pragma once
+
+#include <mpi.h>
+
+#include <chrono>
+#include <deque>
+#include <string>
+#include <vector>
+
+#include "ensemble/sample_runner.hpp"
+#include "parallel/ensemble_writer.hpp"
+#include "parallel/progress.hpp"
+
+namespace treedyn::parallel {
+
+class RecordSink {
+ public:
+  virtual ~RecordSink() = default;
+  virtual void add(ensemble::SampleRecord record) = 0;
+  // End of a block of samples.
+  virtual void flush() = 0;
+  // Cheap, called often (every output time): lets MPI make progress.
+  void poll();
+  // After the last block; rank 0 returns once every rank has finished.
+  virtual void close() = 0;
+
+ protected:
+  virtual void make_progress() = 0;
+
+ private:
+  std::chrono::steady_clock::time_point last_poll_{};
+};
+
+// Rank 0. An I/O error while writing is kept (the run goes on, so no rank
+// waits for rank 0 forever) and reported at the end.
+class RecordWriter final : public RecordSink {
+ public:
+  RecordWriter(MPI_Comm comm, int ranks, EnsembleWriter& writer, Progress& progress);
+  void add(ensemble::SampleRecord record) override;
+  void flush() override;
+  void close() override;
+  std::uint64_t done() const { return done_; }
+  std::uint64_t failed() const { return failed_; }
+  const std::string& io_error() const { return io_error_; }
+
+ private:
+  void make_progress() override { drain(false); }
+  void drain(bool wait);
+  void write(std::vector<ensemble::SampleRecord> records);
+
+  MPI_Comm comm_;
+  int ranks_;
+  EnsembleWriter& writer_;
+  Progress& progress_;
+  std::vector<ensemble::SampleRecord> local_;
+  int finished_ranks_ = 0;
+  std::uint64_t done_ = 0, failed_ = 0;
+  std::string io_error_;
+};
+
+// Ranks other than 0.
+class RecordSender final : public RecordSink {
+ public:
+  explicit RecordSender(MPI_Comm comm) : comm_(comm) {}
+  void add(ensemble::SampleRecord record) override;
+  void flush() override;
+  void close() override;
+
+ private:
+  void make_progress() override;
+
+  MPI_Comm comm_;
+  std::vector<char> batch_;
+  std::deque<std::pair<MPI_Request, std::vector<char>>> pending_;
+};
+
+}  // namespace treedyn::parallel
