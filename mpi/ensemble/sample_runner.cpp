@@ -15,6 +15,7 @@ ColumnLayout column_layout(const Job& job) {
   ColumnLayout l;
   for (const std::string& q : job.output.quantities) {
     l.quantity.push_back(q);
+    l.info.push_back(find_quantity(q));
     l.offset.push_back(l.columns);
     l.names.push_back(quantity_columns(q, job.model, job.output));
     l.columns += l.names.back().size();
@@ -79,10 +80,10 @@ SampleRecord SampleRunner::run(std::uint64_t k, bool nominal, std::vector<double
   trajectory.clear();
   trajectory.reserve(times() * layout_.columns);
   const IntegrationOutcome outcome =
-      simulate(model, request, [&](const Model& m, const Data& data) {
+      simulate(model, request, [&](const Model& m, const Data& data) {  // each output time
         recover(m, data, state_);
         row_.clear();
-        for (const std::string& q : layout_.quantity) extract_quantity(q, m, job_.output, state_, row_);
+        for (const QuantityInfo* q : layout_.info) q->extract(state_, job_.output, row_);
         for (std::size_t c = 0; c < row_.size(); ++c)
           record.max_over_time[c] = std::max(record.max_over_time[c], row_[c]);
         trajectory.insert(trajectory.end(), row_.begin(), row_.end());

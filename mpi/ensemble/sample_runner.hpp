@@ -11,6 +11,7 @@
 #include "integrate/settings.hpp"
 #include "dynamics/recovered.hpp"
 #include "job/job.hpp"
+#include "output/quantities.hpp"
 
 namespace treedyn::ensemble {
 
@@ -35,6 +36,7 @@ struct SampleRecord {
 // The flat column layout of the recorded quantities (job.output.quantities).
 struct ColumnLayout {
   std::vector<std::string> quantity;           // names, in order
+  std::vector<const QuantityInfo*> info;       // their catalogue entries
   std::vector<std::size_t> offset;             // first column of each quantity
   std::vector<std::vector<std::string>> names; // column labels of each quantity
   std::size_t columns = 0;

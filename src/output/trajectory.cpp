@@ -10,7 +10,10 @@ namespace treedyn {
 
 TrajectoryRecorder::TrajectoryRecorder(const Model& model, const OutputSpec& output)
     : output_(output), values_(output.quantities.size()) {
-  for (const std::string& q : output.quantities) columns_.push_back(quantity_columns(q, model, output));
+  for (const std::string& q : output.quantities) {
+    quantities_.push_back(find_quantity(q));
+    columns_.push_back(quantity_columns(q, model, output));
+  }
 }
 
 void TrajectoryRecorder::record(const Model& model, const Data& data) {
@@ -18,7 +21,7 @@ void TrajectoryRecorder::record(const Model& model, const Data& data) {
   times_.push_back(state.time);
   for (std::size_t k = 0; k < output_.quantities.size(); ++k) {
     row_.clear();
-    extract_quantity(output_.quantities[k], model, output_, state, row_);
+    quantities_[k]->extract(state, output_, row_);
     values_[k].insert(values_[k].end(), row_.begin(), row_.end());
   }
   if (!first_) first_ = state;

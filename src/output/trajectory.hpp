@@ -10,6 +10,7 @@
 #include "dynamics/recovered.hpp"
 #include "integrate/settings.hpp"
 #include "job/job.hpp"
+#include "output/quantities.hpp"
 
 namespace treedyn {
 
@@ -31,6 +32,7 @@ class TrajectoryRecorder {
 
  private:
   const OutputSpec& output_;
+  std::vector<const QuantityInfo*> quantities_;
   std::vector<double> times_;
   std::vector<std::vector<double>> values_;
   std::vector<std::vector<std::string>> columns_;

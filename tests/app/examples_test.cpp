@@ -50,7 +50,7 @@ struct Example {
 const std::vector<std::string> kCatalogue = {
     "orientation",  "angular_velocity", "angular_acceleration", "com_position",
     "com_velocity", "com_acceleration", "joint_position",       "joint_reaction",
-    "joint_angle",  "joint_moment",     "energy",               "angular_momentum",
+    "joint_angle",  "joint_axis",       "joint_moment",         "energy",               "angular_momentum",
     "base",         "point_position"};
 
 const Example& example(const std::string& name) {
