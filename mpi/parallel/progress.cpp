@@ -22,10 +22,14 @@ void Progress::update(std::uint64_t done, std::uint64_t failed) {
 }
 
 void Progress::finish(std::uint64_t done, std::uint64_t failed) {
-  if (enabled_) print(done, failed, true);
+  // The last line once: on a terminal it ends the live line; in a log it is
+  // skipped when the newest line already says the same.
+  if (enabled_ && (terminal_ || !printed_ || last_printed_ != done)) print(done, failed, true);
 }
 
 void Progress::print(std::uint64_t done, std::uint64_t failed, bool final_line) {
+  printed_ = true;
+  last_printed_ = done;
   const double elapsed =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   const double rate = elapsed > 0.0 ? static_cast<double>(done) / elapsed : 0.0;

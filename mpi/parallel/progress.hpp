@@ -22,6 +22,8 @@ class Progress {
   double interval_;
   bool enabled_, terminal_;
   std::chrono::steady_clock::time_point start_, last_;
+  std::uint64_t last_printed_ = 0;
+  bool printed_ = false;
 };
 
 }  // namespace treedyn::parallel
