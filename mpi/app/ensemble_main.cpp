@@ -5,8 +5,30 @@
 #include <iostream>
 
 #include "app/exit_codes.hpp"
+#include "app/model_summary.hpp"
+#include "ensemble/ensemble_spec.hpp"
+#include "job/job_error.hpp"
 #include "parallel/driver.hpp"
 #include "parallel/mpi_handles.hpp"
+
+namespace {
+
+// --check: validate the job and its [ensemble], print what would run, run nothing.
+int check(const std::string& job_path) {
+  try {
+    const treedyn::Job job = treedyn::read_job(job_path);
+    const auto spec = treedyn::ensemble::read_ensemble(job);
+    treedyn::print_model_summary(std::cout, job);
+    treedyn::ensemble::print_ensemble_summary(std::cout, job, spec);
+    std::cout << job_path << ": OK\n";
+    return treedyn::kExitOk;
+  } catch (const treedyn::JobError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return treedyn::kExitBadInput;
+  }
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   using namespace treedyn;
@@ -20,8 +42,12 @@ int main(int argc, char** argv) {
       "fail the job: they are recorded in /samples/status.");
   parallel::EnsembleOptions options;
   app.add_option("JOB", options.job_path, "job file (TOML) with an [ensemble] section")->required();
-  app.add_option("-o,--output", options.output_path, "output file (HDF5), written atomically")
-      ->required();
+  bool check_only = false;
+  auto* output = app.add_option("-o,--output", options.output_path,
+                                "output file (HDF5), written atomically (required unless --check)");
+  app.add_flag("--check", check_only,
+               "validate the job and its [ensemble], print the model and the ensemble, run nothing")
+      ->excludes(output);
   app.add_flag("-q,--quiet", options.quiet, "no progress and no summary");
   app.add_option("--progress-interval", options.progress_interval,
                  "seconds between progress lines when stderr is not a terminal")
@@ -31,6 +57,11 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     const int code = session.rank() == 0 ? app.exit(e) : (e.get_exit_code() == 0 ? 0 : 1);
     return code == 0 ? kExitOk : kExitBadInput;
+  }
+  if (check_only) return session.rank() == 0 ? check(options.job_path) : kExitOk;
+  if (options.output_path.empty()) {
+    if (session.rank() == 0) std::cerr << "error: --output is required (or use --check)\n";
+    return kExitBadInput;
   }
   try {
     return parallel::run_ensemble(MPI_COMM_WORLD, options);

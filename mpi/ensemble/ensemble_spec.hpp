@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,13 @@ struct EnsembleSpec {
   unsigned input_dimensions() const;
   std::vector<std::string> input_names() const;
 };
+
+// Memory the statistics need on every rank: bin counters, sums, minima and
+// maxima for every output time and column.
+double statistics_bytes(const Job& job, const EnsembleSpec& spec);
+
+// A readable account of the ensemble: design, inputs, statistics settings.
+void print_ensemble_summary(std::ostream& out, const Job& job, const EnsembleSpec& spec);
 
 // Reads [ensemble] from the job's text; throws JobError like the job reader.
 // A job without [ensemble] is refused (the ensemble needs its sample count).

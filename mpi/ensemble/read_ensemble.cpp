@@ -173,6 +173,36 @@ Distribution read_distribution(const TomlView& t) {
 
 }  // namespace
 
+double statistics_bytes(const Job& job, const EnsembleSpec& spec) {
+  std::size_t columns = 0;
+  for (const std::string& q : job.output.quantities)
+    columns += quantity_columns(q, job.model, job.output).size();
+  const double entries =
+      static_cast<double>(job.request.output_times.size()) * static_cast<double>(columns);
+  // uint32 bin counters (bins + under/overflow), two 128-bit sums, min, max, a count.
+  return entries * (4.0 * (spec.histogram_bins + 2) + 2 * 16.0 + 3 * 8.0);
+}
+
+void print_ensemble_summary(std::ostream& out, const Job& job, const EnsembleSpec& s) {
+  out << "ensemble: " << s.samples << " samples, seed " << s.seed << ", design " << name(s.design)
+      << ", " << s.perturbations.size() << " perturbation" << (s.perturbations.size() == 1 ? "" : "s")
+      << " (" << s.input_dimensions() << " sampled inputs)\n";
+  for (const Perturbation& p : s.perturbations) {
+    out << "  " << p.target << ": " << p.distribution.describe();
+    if (p.unit != 1.0) out << " x " << format_number(p.unit) << " (to SI)";
+    if (p.field == Perturbation::Field::orientation) out << ", per rotation-vector component";
+    else if (p.mode == Perturbation::Mode::add) out << ", added to the nominal value";
+    else if (p.mode == Perturbation::Mode::scale || p.field == Perturbation::Field::inertia_scale)
+      out << ", multiplies the nominal value";
+    out << "\n";
+  }
+  out << "statistics: quantiles";
+  for (double q : s.quantiles) out << " " << format_number(q);
+  out << "; " << s.histogram_bins << " histogram bins; pilot samples 0-" << s.pilot_samples - 1
+      << "; blocks of " << s.block_size << "; about "
+      << format_number(std::round(statistics_bytes(job, s) / (1024.0 * 1024.0))) << " MiB per rank\n";
+}
+
 unsigned EnsembleSpec::input_dimensions() const {
   unsigned d = 0;
   for (const Perturbation& p : perturbations) d += static_cast<unsigned>(p.dimensions());
@@ -254,12 +284,7 @@ EnsembleSpec read_ensemble(const Job& job) {
     t.fail("perturbation", "sobol supports at most 1000 input dimensions");
   // 32-bit Sobol points and 32-bit histogram counters.
   if (s.samples > 0xffffffffULL) t.fail("samples", "at most 4294967295 samples");
-  // Statistics memory per rank: bin counters plus sums, minima and maxima.
-  std::size_t columns = 0;
-  for (const std::string& q : job.output.quantities)
-    columns += quantity_columns(q, job.model, job.output).size();
-  const double entries = static_cast<double>(job.request.output_times.size()) * static_cast<double>(columns);
-  const double gib = entries * (4.0 * (s.histogram_bins + 2) + 64.0) / (1024.0 * 1024.0 * 1024.0);
+  const double gib = statistics_bytes(job, s) / (1024.0 * 1024.0 * 1024.0);
   if (gib > 8.0)
     t.fail("histogram_bins", "the statistics would need " + format_number(std::round(gib)) +
                                  " GiB per rank (output times x columns x bins); at most 8: use "
