@@ -151,9 +151,10 @@ TEST(Parameterisation, QuaternionAndDirectionCosinesGiveRotations) {
 }
 
 // Direction cosines anywhere inside their chart (chart_margin >= 0, i.e.
-// drift d = max|X^T X - E| up to the re-projection limit): the one
-// Newton-Schulz step must leave R^T R - E = -(3/4) D^2 + O(d^3), so at most
-// 2.25 d^2 entrywise (plus rounding, 1e-15). Drifts from 1e-9 up to the chart
+// drift d = max|X^T X - E| up to the re-projection limit): one
+// Newton-Schulz step leaves R^T R - E = -(3/4) D^2 + O(d^3), at most 2.25 d^2
+// entrywise (plus rounding, 1e-15); rotation_from_coordinates takes three,
+// so it must stay within that one-step bound. Drifts from 1e-9 up to the chart
 // edge are drawn (symmetric stretches X = U (E + S), the part the projection
 // must remove). The worst value at the edge is printed: it is what a run may
 // hand to the dynamics and to observers.
