@@ -179,8 +179,12 @@ double statistics_bytes(const Job& job, const EnsembleSpec& spec) {
     columns += quantity_columns(q, job.model, job.output).size();
   const double entries =
       static_cast<double>(job.request.output_times.size()) * static_cast<double>(columns);
-  // uint32 bin counters (bins + under/overflow), two 128-bit sums, min, max, a count.
-  return entries * (4.0 * (spec.histogram_bins + 2) + 2 * 16.0 + 3 * 8.0);
+  // uint32 bin counters (bins + under/overflow), two 128-bit sums, min, max,
+  // an out-of-range count, the calibration (4 doubles), the nominal and pilot
+  // range (3 doubles), one sample's trajectory and, at worst (one rank), every
+  // pilot trajectory.
+  return entries * (4.0 * (spec.histogram_bins + 2) + 2 * 16.0 + 3 * 8.0 + 4 * 8.0 + 3 * 8.0 +
+                    8.0 * (1.0 + static_cast<double>(spec.pilot_samples)));
 }
 
 void print_ensemble_summary(std::ostream& out, const Job& job, const EnsembleSpec& s) {

@@ -49,19 +49,32 @@ SampleRecord SampleRunner::run(std::uint64_t k, bool nominal, std::vector<double
   if (!nominal) {
     design_.point(k, uniforms_);
     inputs.resize(uniforms_.size());
+    std::vector<std::size_t> first(spec_.perturbations.size());
     std::size_t d = 0;
-    for (const Perturbation& p : spec_.perturbations) {
-      const auto n = static_cast<std::size_t>(p.dimensions());
-      p.sample(std::span<const double>(uniforms_).subspan(d, n), std::span<double>(inputs).subspan(d, n));
-      p.apply(std::span<const double>(inputs).subspan(d, n), spec, request.initial);
+    for (std::size_t p = 0; p < spec_.perturbations.size(); ++p) {
+      const Perturbation& pert = spec_.perturbations[p];
+      const auto n = static_cast<std::size_t>(pert.dimensions());
+      first[p] = d;
+      pert.sample(std::span<const double>(uniforms_).subspan(d, n), std::span<double>(inputs).subspan(d, n));
       d += n;
     }
-    // A spin the job gave in a body's own frame turns with the body.
+    auto apply = [&](bool angular_velocity) {
+      for (std::size_t p = 0; p < spec_.perturbations.size(); ++p) {
+        const Perturbation& pert = spec_.perturbations[p];
+        if ((pert.field == Perturbation::Field::angular_velocity) != angular_velocity) continue;
+        pert.apply(std::span<const double>(inputs).subspan(first[p], static_cast<std::size_t>(pert.dimensions())),
+                   spec, request.initial);
+      }
+    };
+    apply(false);
+    // A spin the job gave in a body's own frame turns with the body: the
+    // reader's own expression with the perturbed orientation (bitwise the
+    // nominal value when the orientation is unchanged). Angular-velocity
+    // perturbations, in inertial components, come after.
     for (std::size_t u = 0; u < job_.spin_in_body_frame.size(); ++u)
-      if (job_.spin_in_body_frame[u])
-        request.initial.angular_velocity[u] = request.initial.rotation[u] *
-                                              job_.request.initial.rotation[u].transpose() *
-                                              request.initial.angular_velocity[u];
+      if (const auto& body = job_.spin_in_body_frame[u]; body && request.initial.rotation[u] != job_.request.initial.rotation[u])
+        request.initial.angular_velocity[u] = request.initial.rotation[u] * *body;
+    apply(true);
   }
 
   Model model;

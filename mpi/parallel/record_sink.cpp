@@ -44,7 +44,7 @@ void RecordWriter::write(std::vector<ensemble::SampleRecord> records) {
   if (io_error_.empty()) {
     try {
       writer_.write_records(std::move(records));
-    } catch (const h5::IoError& e) {
+    } catch (const std::exception& e) {
       io_error_ = e.what();  // keep receiving: the other ranks must not block
     }
   }

@@ -36,8 +36,8 @@ class RecordSink {
   std::chrono::steady_clock::time_point last_poll_{};
 };
 
-// Rank 0. An I/O error while writing is kept (the run goes on, so no rank
-// waits for rank 0 forever) and reported at the end.
+// Rank 0. An error while writing (I/O, or memory) is kept, the run goes on
+// so no rank waits for rank 0 forever, and it is reported at the end (exit 4).
 class RecordWriter final : public RecordSink {
  public:
   RecordWriter(MPI_Comm comm, int ranks, EnsembleWriter& writer, Progress& progress);

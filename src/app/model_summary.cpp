@@ -19,8 +19,9 @@ std::string body_line(const Model& m, int i) {
 }
 
 // The tree as text, iteratively (no recursion however deep the tree); runs of
-// more than five single-child bodies (chains) are shortened to their first
-// and last two with a count in between.
+// more than 16 single-child bodies (long chains) are shortened to their first
+// and last three with a count in between. Indentation still grows at every
+// branching, so a deep comb-shaped tree draws wide.
 void draw_tree(std::ostream& out, const Model& m) {
   struct Item {
     int body;

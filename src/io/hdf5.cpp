@@ -9,9 +9,12 @@ namespace treedyn::h5 {
 namespace {
 
 // HDF5 prints its own error stack by default; treedyn reports errors itself.
+// Nor may HDF5 close files from its exit handler: after a failed write it
+// would crash there, turning a clean exit code into a segfault.
 void silence_hdf5() {
   static const bool done = [] {
     H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+    H5dont_atexit();
     return true;
   }();
   (void)done;
@@ -118,9 +121,12 @@ File::File(std::filesystem::path final_path) : final_path_(std::move(final_path)
   temporary_path_ += ".tmp-" + std::to_string(getpid());
   guard_ = std::make_unique<io::RemoveOnSignal>(temporary_path_);
   hid_t id = H5Fcreate(temporary_path_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-  if (id < 0)
+  if (id < 0) {
+    std::error_code ec;
+    std::filesystem::remove(temporary_path_, ec);  // HDF5 may have left a stub
     throw IoError("output " + final_path_.string() + ": cannot create the file (HDF5 refused " +
                   temporary_path_.string() + ")");
+  }
   handle_ = Handle(id, H5Fclose, "creating " + temporary_path_.string());
 }
 

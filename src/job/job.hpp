@@ -2,6 +2,7 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -31,9 +32,10 @@ struct Job {
   Model model;           // validated
   SimulationRequest request;
   OutputSpec output;
-  // Per body (user order): the job gave the initial angular velocity in the
-  // body's own frame, so it turns with the body if its orientation changes.
-  std::vector<bool> spin_in_body_frame;
+  // Per body (user order): the initial angular velocity's body-frame
+  // components when the job gave them so (it then turns with the body if a
+  // perturbation changes the body's orientation).
+  std::vector<std::optional<Vec3>> spin_in_body_frame;
 };
 
 // Reads and validates a job file. Throws JobError (file, line, column, field,

@@ -89,7 +89,7 @@ void read_state(const TomlView& t, ReadBodies& out) {
   if (auto v = t.subtable("angular_velocity")) w = read_angular_velocity(*v, A);
   out.initial.rotation.push_back(A);
   out.initial.angular_velocity.push_back(w.inertial);
-  out.spin_in_body_frame.push_back(w.body_frame);
+  out.spin_in_body_frame.push_back(w.body);
 }
 
 void read_body(const TomlView& t, ReadBodies& out) {

@@ -72,8 +72,8 @@ AngularVelocityInput read_angular_velocity(const TomlView& t, const Mat3& orient
     t.fail("unit", "\"" + unit + "\" is not allowed; use \"rad/s\" or \"deg/s\"");
   const auto frame = t.string("frame");
   if (!frame) t.fail("frame", "missing; say in which frame the components are: \"inertial\" or \"body\"");
-  if (*frame == "inertial") return {*value * scale, false};
-  if (*frame == "body") return {orientation * (*value * scale), true};
+  if (*frame == "inertial") return {*value * scale, std::nullopt};
+  if (*frame == "body") return {orientation * (*value * scale), *value * scale};
   t.fail("frame", "\"" + *frame + "\" is not allowed; use \"inertial\" or \"body\"");
 }
 

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <map>
+#include <optional>
 #include <string>
 
 #include "integrate/tree_ode.hpp"
@@ -17,7 +18,7 @@ Mat3 read_orientation(const TomlView& table);
 // turned into the inertial frame with the body's orientation.
 struct AngularVelocityInput {
   Vec3 inertial = Vec3::Zero();
-  bool body_frame = false;  // given in the body's frame
+  std::optional<Vec3> body;  // the components, when given in the body's frame
 };
 AngularVelocityInput read_angular_velocity(const TomlView& table, const Mat3& orientation);
 
@@ -27,7 +28,7 @@ struct ReadBodies {
   std::vector<BodySpec> bodies;
   std::vector<JointSpec> joints;
   TreeState initial;
-  std::vector<bool> spin_in_body_frame;
+  std::vector<std::optional<Vec3>> spin_in_body_frame;
   std::map<std::string, const toml::node*> where;
 };
 ReadBodies read_bodies(const TomlView& root);
