@@ -50,27 +50,6 @@ std::uint32_t owen_scramble(std::uint32_t x, std::uint32_t seed) {
 
 }  // namespace
 
-std::string_view name(Design d) {
-  switch (d) {
-    case Design::monte_carlo:
-      return "monte_carlo";
-    case Design::latin_hypercube:
-      return "latin_hypercube";
-    case Design::sobol:
-      return "sobol";
-  }
-  return "?";
-}
-
-bool parse_design(std::string_view text, Design& out) {
-  for (Design d : {Design::monte_carlo, Design::latin_hypercube, Design::sobol})
-    if (text == name(d)) {
-      out = d;
-      return true;
-    }
-  return false;
-}
-
 double counter_uniform(std::uint64_t seed, std::uint64_t sample, std::uint64_t dimension,
                        std::uint64_t stream) {
   r123::Philox4x64 generator;

@@ -7,6 +7,8 @@
 #include <span>
 #include <string_view>
 
+#include "common/enum_names.hpp"
+
 namespace treedyn::ensemble {
 
 enum class Design {
@@ -15,8 +17,11 @@ enum class Design {
   sobol,            // Sobol points (Joe-Kuo direction numbers), Owen-scrambled by hashing
 };
 
-std::string_view name(Design d);
-bool parse_design(std::string_view text, Design& out);
+inline constexpr NameTable<Design, 3> kDesignNames{{{Design::monte_carlo, "monte_carlo"},
+                                                    {Design::latin_hypercube, "latin_hypercube"},
+                                                    {Design::sobol, "sobol"}}};
+inline std::string_view name(Design d) { return name_in(kDesignNames, d); }
+inline bool parse_design(std::string_view text, Design& out) { return parse_in(kDesignNames, text, out); }
 
 class SampleDesign {
  public:

@@ -6,30 +6,6 @@
 
 namespace treedyn::ensemble {
 
-std::string_view name(Distribution::Kind k) {
-  switch (k) {
-    case Distribution::Kind::normal:
-      return "normal";
-    case Distribution::Kind::truncated_normal:
-      return "truncated_normal";
-    case Distribution::Kind::uniform:
-      return "uniform";
-    case Distribution::Kind::lognormal:
-      return "lognormal";
-  }
-  return "?";
-}
-
-bool parse_distribution(std::string_view text, Distribution::Kind& out) {
-  for (auto k : {Distribution::Kind::normal, Distribution::Kind::truncated_normal,
-                 Distribution::Kind::uniform, Distribution::Kind::lognormal})
-    if (text == name(k)) {
-      out = k;
-      return true;
-    }
-  return false;
-}
-
 double Distribution::quantile(double u) const {
   switch (kind) {
     case Kind::normal:

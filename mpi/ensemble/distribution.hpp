@@ -6,6 +6,8 @@
 #include <string>
 #include <string_view>
 
+#include "common/enum_names.hpp"
+
 namespace treedyn::ensemble {
 
 struct Distribution {
@@ -23,7 +25,14 @@ struct Distribution {
   std::string describe() const;
 };
 
-std::string_view name(Distribution::Kind k);
-bool parse_distribution(std::string_view text, Distribution::Kind& out);
+inline constexpr NameTable<Distribution::Kind, 4> kDistributionNames{
+    {{Distribution::Kind::normal, "normal"},
+     {Distribution::Kind::truncated_normal, "truncated_normal"},
+     {Distribution::Kind::uniform, "uniform"},
+     {Distribution::Kind::lognormal, "lognormal"}}};
+inline std::string_view name(Distribution::Kind k) { return name_in(kDistributionNames, k); }
+inline bool parse_distribution(std::string_view text, Distribution::Kind& out) {
+  return parse_in(kDistributionNames, text, out);
+}
 
 }  // namespace treedyn::ensemble

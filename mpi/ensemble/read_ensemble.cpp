@@ -134,8 +134,7 @@ Distribution read_distribution(const TomlView& t) {
   const std::string kind = t.required_string("distribution");
   if (!parse_distribution(kind, d.kind))
     t.fail("distribution", "\"" + kind +
-                               "\" is not allowed; use \"normal\", \"truncated_normal\", "
-                               "\"uniform\" or \"lognormal\"");
+                               "\" is not allowed; use " + choices(kDistributionNames));
   auto positive = [&](std::string_view key) {
     const double v = t.required_number(key);
     if (!(v > 0.0)) t.fail(key, "must be > 0");
@@ -247,7 +246,7 @@ EnsembleSpec read_ensemble(const Job& job) {
   }
   if (auto design = t.string("design"); design && !parse_design(*design, s.design))
     t.fail("design", "\"" + *design +
-                         "\" is not allowed; use \"monte_carlo\", \"latin_hypercube\" or \"sobol\"");
+                         "\" is not allowed; use " + choices(kDesignNames));
   if (auto q = t.numbers("quantiles")) {
     for (double v : *q)
       if (!(v > 0.0 && v < 1.0)) t.fail("quantiles", "every quantile must be in (0, 1)");

@@ -4,6 +4,8 @@
 #include <string>
 #include <string_view>
 
+#include "common/enum_names.hpp"
+
 namespace treedyn {
 
 enum class Method {
@@ -13,8 +15,12 @@ enum class Method {
   erk_verner,          // ARKODE ERKStep, Verner 6(5) embedded pair
 };
 
-std::string_view name(Method m);
-bool parse_method(std::string_view text, Method& out);
+inline constexpr NameTable<Method, 4> kMethodNames{{{Method::cvode_adams, "cvode_adams"},
+                                                    {Method::cvode_bdf, "cvode_bdf"},
+                                                    {Method::erk_dormand_prince, "erk_dormand_prince"},
+                                                    {Method::erk_verner, "erk_verner"}}};
+inline std::string_view name(Method m) { return name_in(kMethodNames, m); }
+inline bool parse_method(std::string_view text, Method& out) { return parse_in(kMethodNames, text, out); }
 
 struct IntegratorSettings {
   Method method = Method::cvode_adams;
@@ -46,7 +52,16 @@ enum class FailureKind {
   other,
 };
 
-std::string_view name(FailureKind f);
+inline constexpr NameTable<FailureKind, 8> kFailureNames{{
+    {FailureKind::none, "none"},
+    {FailureKind::too_much_work, "too_much_work"},
+    {FailureKind::too_much_accuracy, "too_much_accuracy"},
+    {FailureKind::error_test_failures, "error_test_failures"},
+    {FailureKind::convergence_failures, "convergence_failures"},
+    {FailureKind::nonfinite_state, "nonfinite_state"},
+    {FailureKind::setup, "setup"},
+    {FailureKind::other, "other"}}};
+inline std::string_view name(FailureKind f) { return name_in(kFailureNames, f); }
 
 struct IntegrationOutcome {
   FailureKind failure = FailureKind::none;

@@ -17,13 +17,10 @@ void read_integrator(const TomlView& t, SimulationRequest& r) {
   t.check_keys({"method", "parameterisation", "rtol", "atol", "max_steps", "max_step",
                 "initial_step"});
   if (auto m = t.string("method"); m && !parse_method(*m, r.settings.method))
-    t.fail("method", "\"" + *m +
-                         "\" is not a method; allowed: \"cvode_adams\", \"cvode_bdf\", "
-                         "\"erk_dormand_prince\", \"erk_verner\"");
+    t.fail("method", "\"" + *m + "\" is not a method; allowed: " + choices(kMethodNames));
   if (auto p = t.string("parameterisation"); p && !parse_parameterisation(*p, r.parameterisation))
-    t.fail("parameterisation", "\"" + *p +
-                                   "\" is not a parameterisation; allowed: \"quaternion\", "
-                                   "\"euler313\", \"bryant123\", \"direction_cosines\"");
+    t.fail("parameterisation",
+           "\"" + *p + "\" is not a parameterisation; allowed: " + choices(kParameterisationNames));
   auto positive = [&](std::string_view key, double& value) {
     if (auto v = t.number(key)) {
       if (!(*v > 0.0)) t.fail(key, "must be positive");

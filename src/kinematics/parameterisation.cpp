@@ -45,31 +45,6 @@ int coordinate_count(Parameterisation p) {
   return 0;
 }
 
-std::string_view name(Parameterisation p) {
-  switch (p) {
-    case Parameterisation::euler313:
-      return "euler313";
-    case Parameterisation::bryant123:
-      return "bryant123";
-    case Parameterisation::quaternion:
-      return "quaternion";
-    case Parameterisation::direction_cosines:
-      return "direction_cosines";
-  }
-  return "?";
-}
-
-bool parse_parameterisation(std::string_view text, Parameterisation& out) {
-  for (Parameterisation p : {Parameterisation::euler313, Parameterisation::bryant123,
-                             Parameterisation::quaternion, Parameterisation::direction_cosines}) {
-    if (text == name(p)) {
-      out = p;
-      return true;
-    }
-  }
-  return false;
-}
-
 Mat3 rotation_from_coordinates(Parameterisation p, const double* q) {
   switch (p) {
     case Parameterisation::euler313:

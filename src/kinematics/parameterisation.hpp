@@ -9,6 +9,7 @@
 
 #include <string_view>
 
+#include "common/enum_names.hpp"
 #include "common/linalg.hpp"
 
 namespace treedyn {
@@ -23,9 +24,15 @@ enum class Parameterisation {
 inline constexpr int kMaxCoordinates = 9;
 
 int coordinate_count(Parameterisation p);
-std::string_view name(Parameterisation p);
-// Parses "euler313", "bryant123", "quaternion", "direction_cosines"; false if unknown.
-bool parse_parameterisation(std::string_view text, Parameterisation& out);
+inline constexpr NameTable<Parameterisation, 4> kParameterisationNames{
+    {{Parameterisation::quaternion, "quaternion"},
+     {Parameterisation::euler313, "euler313"},
+     {Parameterisation::bryant123, "bryant123"},
+     {Parameterisation::direction_cosines, "direction_cosines"}}};
+inline std::string_view name(Parameterisation p) { return name_in(kParameterisationNames, p); }
+inline bool parse_parameterisation(std::string_view text, Parameterisation& out) {
+  return parse_in(kParameterisationNames, text, out);
+}
 
 // R(q): the rotation the coordinates describe (body -> inertial, before the
 // chart base). Quaternions are normalised and direction cosines
