@@ -135,14 +135,18 @@ Job parse_job(std::string_view text, const std::string& file) {
     env->check_keys({"gravity"});
     spec.gravity = env->vec3("gravity").value_or(spec.gravity);
   }
-  if (auto base = root.subtable("base")) spec.base_motion = read_base(*base);
+  if (auto base = root.subtable("base")) {
+    spec.base_motion = read_base(*base);
+    bodies.where[kBaseName] = &base->table();  // BaseMotion's errors point here
+  }
   read_loads(root, spec);
 
   try {
     job.model = build_model(spec);
   } catch (const ModelError& e) {
     const auto it = bodies.where.find(e.subject());
-    // The message names the body already; point at the table that defined it.
+    // The message names the body (or the base) already; point at the table
+    // that defined it.
     if (it != bodies.where.end())
       throw JobError(file, line_of(*it->second), column_of(*it->second), "", e.what());
     throw JobError(file, 0, 0, "", e.what());

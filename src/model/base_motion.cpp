@@ -6,6 +6,7 @@
 #include <string>
 
 #include "common/error.hpp"
+#include "model/model_spec.hpp"
 
 namespace treedyn {
 namespace {
@@ -13,17 +14,17 @@ namespace {
 bool finite(const Vec3& v) { return v.allFinite(); }
 
 void validate(const FixedBase& b) {
-  if (!finite(b.position)) throw ModelError("base motion 'fixed': position must be finite");
+  if (!finite(b.position)) throw ModelError("base motion 'fixed': position must be finite", kBaseName);
 }
 
 void validate(const ConstantAccelerationBase& b) {
   if (!finite(b.position) || !finite(b.velocity) || !finite(b.acceleration))
     throw ModelError(
-        "base motion 'constant_acceleration': position, velocity and acceleration must be finite");
+        "base motion 'constant_acceleration': position, velocity and acceleration must be finite", kBaseName);
 }
 
 void validate(const HarmonicBase& b) {
-  if (!finite(b.offset)) throw ModelError("base motion 'harmonic': offset must be finite");
+  if (!finite(b.offset)) throw ModelError("base motion 'harmonic': offset must be finite", kBaseName);
   static const char* axis_name[3] = {"x", "y", "z"};
   for (int axis = 0; axis < 3; ++axis) {
     for (std::size_t k = 0; k < b.axes[axis].size(); ++k) {
@@ -31,9 +32,9 @@ void validate(const HarmonicBase& b) {
       const std::string where = std::string("base motion 'harmonic', axis ") + axis_name[axis] +
                                 " term " + std::to_string(k + 1) + ": ";
       if (!std::isfinite(h.amplitude) || !std::isfinite(h.phase))
-        throw ModelError(where + "amplitude and phase must be finite");
+        throw ModelError(where + "amplitude and phase must be finite", kBaseName);
       if (!std::isfinite(h.frequency) || h.frequency < 0.0)
-        throw ModelError(where + "frequency must be finite and >= 0 Hz");
+        throw ModelError(where + "frequency must be finite and >= 0 Hz", kBaseName);
     }
   }
 }
@@ -43,14 +44,14 @@ void validate(const TabulatedBase& b) {
     throw ModelError(
         "base motion 'tabulated': need at least 2 samples and as many positions as times (got " +
         std::to_string(b.times.size()) + " times, " + std::to_string(b.positions.size()) +
-        " positions)");
+        " positions)", kBaseName);
   for (std::size_t k = 0; k < b.times.size(); ++k) {
     if (!std::isfinite(b.times[k]) || !finite(b.positions[k]))
       throw ModelError("base motion 'tabulated': sample " + std::to_string(k + 1) +
-                       " is not finite");
+                       " is not finite", kBaseName);
     if (k > 0 && !(b.times[k] > b.times[k - 1]))
       throw ModelError("base motion 'tabulated': times must be strictly increasing (sample " +
-                       std::to_string(k + 1) + ")");
+                       std::to_string(k + 1) + ")", kBaseName);
   }
 }
 

@@ -173,6 +173,17 @@ std::string body(const std::string& name, const std::string& parent) {
 }
 const std::string kOutput = "[output]\nend_time = 1.0\nstep = 0.1\n";
 
+// Base-motion errors are found where the base motion is validated (one
+// place, BaseMotion) and reported at the [base] table.
+TEST(BadInput, TabulatedBaseTimesOutOfOrderPointAtTheBaseTable) {
+  const std::string text = "title = \"base\"\n\n[base]\ntype = \"tabulated\"\n"
+                           "times = [0.0, 1.0, 0.5]\npositions = [[0, 0, 0], [0, 0, 1], [0, 0, 2]]\n\n" +
+                           body("root", "base") + kOutput;
+  Case c("tabulated base, times out of order", text);
+  c.expect_refused(2, c.job() + ":" + position_of(text, "[base]") + ": ",
+                   {"base motion 'tabulated'", "strictly increasing", "sample 3"});
+}
+
 TEST(BadInput, CycleBetweenTwoBodiesIsNotATree) {
   // root hangs from the base; a and b name each other as parent.
   const std::string text =
