@@ -49,6 +49,8 @@ void write_trajectory(const std::filesystem::path& path, const Job& job,
   h5::write_attribute(root, "nonlinear_convergence_failures",
                       static_cast<long long>(s.nonlinear_convergence_failures));
   h5::write_attribute(root, "chart_changes", static_cast<long long>(s.chart_changes));
+  h5::write_attribute(root, "restarts", static_cast<long long>(s.restarts));
+  h5::write_attribute(root, "root_evaluations", static_cast<long long>(s.root_evaluations));
   std::vector<std::string> bodies;
   for (const BodySpec& b : job.model.spec.bodies) bodies.push_back(b.name);
   h5::write_attribute(root, "bodies", bodies);
