@@ -15,8 +15,8 @@
 #include "ensemble/sample_runner.hpp"
 #include "ensemble/statistics.hpp"
 #include "job/job_error.hpp"
-#include "parallel/ensemble_writer.hpp"
-#include "parallel/progress.hpp"
+#include "hdf5/ensemble_file.hpp"
+#include "ensemble/progress.hpp"
 #include "parallel/record_sink.hpp"
 #include "parallel/statistics_reduce.hpp"
 #include "parallel/work_queue.hpp"
@@ -145,7 +145,7 @@ int run(MPI_Comm comm, int rank, int size, const EnsembleOptions& options, const
   nominal.resize(entries);
   MPI_Bcast(nominal.data(), static_cast<int>(entries), MPI_DOUBLE, 0, comm);
 
-  Progress progress(spec.samples, options.progress_interval, rank == 0 && !options.quiet);
+  ensemble::Progress progress(spec.samples, options.progress_interval, rank == 0 && !options.quiet);
   std::unique_ptr<RecordSink> sink;
   RecordWriter* records = nullptr;  // rank 0's view of the sink
   if (rank == 0) {

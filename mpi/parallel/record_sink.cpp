@@ -1,6 +1,6 @@
 #include "parallel/record_sink.hpp"
 
-#include "parallel/record_codec.hpp"
+#include "ensemble/record_codec.hpp"
 
 namespace treedyn::parallel {
 namespace {
@@ -19,7 +19,7 @@ void RecordSink::poll() {
   make_progress();
 }
 
-RecordWriter::RecordWriter(MPI_Comm comm, int ranks, EnsembleWriter& writer, Progress& progress)
+RecordWriter::RecordWriter(MPI_Comm comm, int ranks, EnsembleWriter& writer, ensemble::Progress& progress)
     : comm_(comm), ranks_(ranks), writer_(writer), progress_(progress) {}
 
 void RecordWriter::add(ensemble::SampleRecord record) { local_.push_back(std::move(record)); }
@@ -72,11 +72,11 @@ void RecordWriter::drain(bool wait) {
     if (status.MPI_TAG == kTagDone)
       ++finished_ranks_;
     else
-      write(read_records(buffer));
+      write(ensemble::read_records(buffer));
   }
 }
 
-void RecordSender::add(ensemble::SampleRecord record) { append_record(record, batch_); }
+void RecordSender::add(ensemble::SampleRecord record) { ensemble::append_record(record, batch_); }
 
 void RecordSender::flush() {
   if (batch_.empty()) return;

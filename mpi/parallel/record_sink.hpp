@@ -13,8 +13,8 @@
 #include <vector>
 
 #include "ensemble/sample_runner.hpp"
-#include "parallel/ensemble_writer.hpp"
-#include "parallel/progress.hpp"
+#include "hdf5/ensemble_file.hpp"
+#include "ensemble/progress.hpp"
 
 namespace treedyn::parallel {
 
@@ -40,7 +40,7 @@ class RecordSink {
 // so no rank waits for rank 0 forever, and it is reported at the end (exit 4).
 class RecordWriter final : public RecordSink {
  public:
-  RecordWriter(MPI_Comm comm, int ranks, EnsembleWriter& writer, Progress& progress);
+  RecordWriter(MPI_Comm comm, int ranks, EnsembleWriter& writer, ensemble::Progress& progress);
   void add(ensemble::SampleRecord record) override;
   void flush() override;
   void close() override;
@@ -56,7 +56,7 @@ class RecordWriter final : public RecordSink {
   MPI_Comm comm_;
   int ranks_;
   EnsembleWriter& writer_;
-  Progress& progress_;
+  ensemble::Progress& progress_;
   std::vector<ensemble::SampleRecord> local_;
   int finished_ranks_ = 0;
   std::uint64_t done_ = 0, failed_ = 0;

@@ -5,7 +5,7 @@
 
 #include "integrate/settings.hpp"
 #include "job/job.hpp"
-#include "output/trajectory.hpp"
+#include "output/recorder.hpp"
 
 namespace treedyn {
 

@@ -6,10 +6,11 @@
 
 #include "app/exit_codes.hpp"
 #include "app/model_summary.hpp"
-#include "io/hdf5.hpp"
+#include "hdf5/hdf5.hpp"
 #include "job/job.hpp"
 #include "job/job_error.hpp"
-#include "output/trajectory.hpp"
+#include "hdf5/trajectory_file.hpp"
+#include "output/recorder.hpp"
 
 namespace treedyn {
 namespace {

@@ -2,7 +2,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "job/inertia_shapes.hpp"
+#include "model/solids.hpp"
 #include "job/readers.hpp"
 
 namespace treedyn {

@@ -5,7 +5,7 @@
 
 #include <filesystem>
 
-namespace treedyn::io {
+namespace treedyn::h5 {
 
 class RemoveOnSignal {
  public:
@@ -15,4 +15,4 @@ class RemoveOnSignal {
   RemoveOnSignal& operator=(const RemoveOnSignal&) = delete;
 };
 
-}  // namespace treedyn::io
+}  // namespace treedyn::h5

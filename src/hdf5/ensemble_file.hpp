@@ -9,9 +9,9 @@
 #include "ensemble/ensemble_spec.hpp"
 #include "ensemble/sample_runner.hpp"
 #include "ensemble/statistics.hpp"
-#include "io/hdf5.hpp"
+#include "hdf5/hdf5.hpp"
 
-namespace treedyn::parallel {
+namespace treedyn {
 
 struct EnsembleSummary {
   std::uint64_t ok = 0, failed = 0;
@@ -48,4 +48,4 @@ class EnsembleWriter {
   std::vector<h5::Handle> max_;
 };
 
-}  // namespace treedyn::parallel
+}  // namespace treedyn

@@ -1,4 +1,4 @@
-#include "job/inertia_shapes.hpp"
+#include "model/solids.hpp"
 
 #include <numbers>
 

@@ -1,10 +1,10 @@
-#include "parallel/ensemble_writer.hpp"
+#include "hdf5/ensemble_file.hpp"
 
 #include <algorithm>
 
 #include "output/quantities.hpp"
 
-namespace treedyn::parallel {
+namespace treedyn {
 namespace {
 
 using ensemble::SampleRecord;
@@ -245,4 +245,4 @@ void EnsembleWriter::finish(const EnsembleSummary& summary) {
   file_.commit();
 }
 
-}  // namespace treedyn::parallel
+}  // namespace treedyn

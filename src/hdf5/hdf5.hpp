@@ -11,7 +11,7 @@
 #include <memory>
 #include <vector>
 
-#include "io/remove_on_signal.hpp"
+#include "hdf5/remove_on_signal.hpp"
 
 namespace treedyn::h5 {
 
@@ -56,7 +56,7 @@ class File {
  private:
   std::filesystem::path final_path_;
   std::filesystem::path temporary_path_;
-  std::unique_ptr<io::RemoveOnSignal> guard_;
+  std::unique_ptr<RemoveOnSignal> guard_;
   Handle handle_;
   bool committed_ = false;
 };

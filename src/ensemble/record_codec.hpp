@@ -5,10 +5,10 @@
 
 #include "ensemble/sample_runner.hpp"
 
-namespace treedyn::parallel {
+namespace treedyn::ensemble {
 
 void append_record(const ensemble::SampleRecord& record, std::vector<char>& buffer);
 // Reads all records of a buffer written by append_record.
 std::vector<ensemble::SampleRecord> read_records(const std::vector<char>& buffer);
 
-}  // namespace treedyn::parallel
+}  // namespace treedyn::ensemble

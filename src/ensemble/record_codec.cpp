@@ -1,9 +1,9 @@
-#include "parallel/record_codec.hpp"
+#include "ensemble/record_codec.hpp"
 
 #include <cstring>
 #include <stdexcept>
 
-namespace treedyn::parallel {
+namespace treedyn::ensemble {
 namespace {
 
 template <class T>
@@ -94,4 +94,4 @@ std::vector<ensemble::SampleRecord> read_records(const std::vector<char>& buffer
   return out;
 }
 
-}  // namespace treedyn::parallel
+}  // namespace treedyn::ensemble

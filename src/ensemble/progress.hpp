@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <cstdio>
 
-namespace treedyn::parallel {
+namespace treedyn::ensemble {
 
 class Progress {
  public:
@@ -26,4 +26,4 @@ class Progress {
   bool printed_ = false;
 };
 
-}  // namespace treedyn::parallel
+}  // namespace treedyn::ensemble

@@ -1,4 +1,4 @@
-#include "io/remove_on_signal.hpp"
+#include "hdf5/remove_on_signal.hpp"
 
 #include <unistd.h>
 
@@ -6,7 +6,7 @@
 #include <cstring>
 #include <stdexcept>
 
-namespace treedyn::io {
+namespace treedyn::h5 {
 namespace {
 
 // Only async-signal-safe things happen in the handler: unlink, sigaction, raise.
@@ -55,4 +55,4 @@ RemoveOnSignal::~RemoveOnSignal() {
   guarded_path[0] = '\0';
 }
 
-}  // namespace treedyn::io
+}  // namespace treedyn::h5

@@ -1,8 +1,8 @@
-#include "parallel/progress.hpp"
+#include "ensemble/progress.hpp"
 
 #include <unistd.h>
 
-namespace treedyn::parallel {
+namespace treedyn::ensemble {
 
 Progress::Progress(std::uint64_t total, double interval, bool enabled)
     : total_(total),
@@ -41,4 +41,4 @@ void Progress::print(std::uint64_t done, std::uint64_t failed, bool final_line) 
   std::fflush(stderr);
 }
 
-}  // namespace treedyn::parallel
+}  // namespace treedyn::ensemble

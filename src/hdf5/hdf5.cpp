@@ -1,4 +1,4 @@
-#include "io/hdf5.hpp"
+#include "hdf5/hdf5.hpp"
 
 #include <unistd.h>
 
@@ -119,7 +119,7 @@ File::File(std::filesystem::path final_path) : final_path_(std::move(final_path)
   check_output_path(final_path_);
   temporary_path_ = final_path_;
   temporary_path_ += ".tmp-" + std::to_string(getpid());
-  guard_ = std::make_unique<io::RemoveOnSignal>(temporary_path_);
+  guard_ = std::make_unique<RemoveOnSignal>(temporary_path_);
   hid_t id = H5Fcreate(temporary_path_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
   if (id < 0) {
     std::error_code ec;

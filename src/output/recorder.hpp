@@ -41,9 +41,4 @@ class TrajectoryRecorder {
   double max_energy_change_ = 0.0;
 };
 
-// Writes /time, one dataset per quantity, and the run's attributes, under a
-// temporary name renamed into place when complete. Throws h5::IoError.
-void write_trajectory(const std::filesystem::path& path, const Job& job,
-                      const TrajectoryRecorder& recorder, const IntegrationOutcome& outcome);
-
 }  // namespace treedyn
