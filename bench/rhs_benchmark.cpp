@@ -63,10 +63,10 @@ ModelSpec make_tree(int n, Shape shape) {
   return spec;
 }
 
-TreeState make_state(int n) {
+InitialState make_state(int n) {
   std::mt19937_64 rng(777 + static_cast<unsigned>(n));
   std::uniform_real_distribution<double> u(-1.0, 1.0);
-  TreeState s;
+  InitialState s;
   for (int i = 0; i < n; ++i) {
     s.rotation.push_back(random_rotation(rng));
     s.angular_velocity.push_back(Vec3(u(rng), u(rng), u(rng)) * (3.0 / std::sqrt(3.0)));
@@ -97,10 +97,10 @@ void BM_ForwardDynamics(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0));
   const Model model = build_model(make_tree(n, static_cast<Shape>(state.range(1))));
   Data data(model);
-  const TreeState s = make_state(n);
+  const InitialState s = make_state(n);
   for (int i = 0; i < n; ++i) {
-    data.rotation[i] = s.rotation[model.user_index[i]];
-    data.angular_velocity[i] = s.angular_velocity[model.user_index[i]];
+    data.rotation[i] = s.rotation[model.tree().user_index[i]];
+    data.angular_velocity[i] = s.angular_velocity[model.tree().user_index[i]];
   }
   if (!forward_dynamics(model, data)) {
     state.SkipWithError("forward_dynamics failed");

@@ -14,8 +14,8 @@
 #include "ensemble/ensemble_spec.hpp"
 #include "ensemble/sample_runner.hpp"
 #include "ensemble/statistics.hpp"
-#include "job/job_error.hpp"
 #include "hdf5/ensemble_file.hpp"
+#include "job/job_error.hpp"
 #include "ensemble/progress.hpp"
 #include "parallel/record_sink.hpp"
 #include "parallel/statistics_reduce.hpp"
@@ -116,23 +116,19 @@ void print_summary(const Context& c, const ensemble::EnsembleStatistics& s, std:
   show("energy", 3, 1);
 }
 
-int run(MPI_Comm comm, int rank, int size, const EnsembleOptions& options, const Job& job,
-        const ensemble::EnsembleSpec& spec) {
-  const auto start = std::chrono::steady_clock::now();
-  Context c{comm, rank, size, job, spec, ensemble::SampleRunner(job, spec)};
-  const std::size_t columns = c.runner.layout().columns, entries = c.entries();
-
-  // Rank 0 opens the output (temporary name) before any work, then the nominal run.
-  std::unique_ptr<EnsembleWriter> writer;
-  std::vector<double> nominal;
+// Phase 1, nominal: rank 0 opens the output (temporary name) before any
+// work, then integrates the nominal run, the centre of the statistics, and
+// sends it to everyone. Returns an exit code, the same on every rank.
+int run_nominal(Context& c, const EnsembleOptions& options, std::unique_ptr<EnsembleWriter>& writer,
+                std::vector<double>& nominal) {
   int failure = kExitOk;
-  if (rank == 0) {
+  if (c.rank == 0) {
     try {
-      writer = std::make_unique<EnsembleWriter>(options.output_path, job, spec, c.runner.layout(),
+      writer = std::make_unique<EnsembleWriter>(options.output_path, c.job, c.spec, c.runner.layout(),
                                                 c.runner.final_state_size());
       const SampleRecord r = c.runner.run(0, true, nominal);
       if (r.status != SampleStatus::ok) {
-        std::cerr << job.file << ": the nominal run failed: " << r.reason << "\n";
+        std::cerr << c.job.file << ": the nominal run failed: " << r.reason << "\n";
         failure = kExitIntegration;
       }
     } catch (const h5::IoError& e) {
@@ -140,10 +136,107 @@ int run(MPI_Comm comm, int rank, int size, const EnsembleOptions& options, const
       failure = kExitIo;
     }
   }
-  MPI_Bcast(&failure, 1, MPI_INT, 0, comm);
+  MPI_Bcast(&failure, 1, MPI_INT, 0, c.comm);
   if (failure != kExitOk) return failure;
-  nominal.resize(entries);
-  MPI_Bcast(nominal.data(), static_cast<int>(entries), MPI_DOUBLE, 0, comm);
+  nominal.resize(c.entries());
+  MPI_Bcast(nominal.data(), static_cast<int>(c.entries()), MPI_DOUBLE, 0, c.comm);
+  return kExitOk;
+}
+
+// Phase 2, pilot and calibration: samples 0..pilot-1, round-robin; the
+// all-reduced minima and maxima of their deviations from the nominal run fix
+// every rank's fixed-point scales and histogram ranges, then they count.
+ensemble::EnsembleStatistics run_pilot(Context& c, const std::vector<double>& nominal,
+                                       RecordSink& sink) {
+  const std::size_t columns = c.runner.layout().columns, entries = c.entries();
+  std::vector<std::vector<double>> pilot;
+  std::vector<double> low(entries, std::numeric_limits<double>::infinity());
+  std::vector<double> high(entries, -std::numeric_limits<double>::infinity());
+  for (std::uint64_t k = static_cast<std::uint64_t>(c.rank); k < c.spec.pilot_samples;
+       k += static_cast<std::uint64_t>(c.size)) {
+    std::vector<double> trajectory;
+    SampleRecord r = run_isolated(c, k, trajectory, sink);
+    if (r.status == SampleStatus::ok) {
+      for (std::size_t e = 0; e < entries; ++e) {
+        low[e] = std::min(low[e], trajectory[e] - nominal[e]);
+        high[e] = std::max(high[e], trajectory[e] - nominal[e]);
+      }
+      pilot.push_back(std::move(trajectory));
+    }
+    sink.add(std::move(r));
+  }
+  sink.flush();
+  MPI_Allreduce(MPI_IN_PLACE, low.data(), static_cast<int>(entries), MPI_DOUBLE, MPI_MIN, c.comm);
+  MPI_Allreduce(MPI_IN_PLACE, high.data(), static_cast<int>(entries), MPI_DOUBLE, MPI_MAX, c.comm);
+  ensemble::EnsembleStatistics stats(
+      c.runner.times(), columns, c.spec.histogram_bins,
+      ensemble::calibrate(nominal, low, high, column_scales(nominal, columns), columns,
+                          c.spec.histogram_bins));
+  for (const auto& trajectory : pilot) stats.add_sample(trajectory);
+  return stats;
+}
+
+// Phase 3, sweep: the other samples from the shared queue, in blocks.
+void run_sweep(Context& c, ensemble::EnsembleStatistics& stats, RecordSink& sink) {
+  WorkQueue queue(c.comm, c.spec.pilot_samples, c.spec.samples, c.spec.block_size);
+  std::uint64_t begin = 0, end = 0;
+  std::vector<double> trajectory;
+  while (queue.next(begin, end)) {
+    for (std::uint64_t k = begin; k < end; ++k) {
+      SampleRecord r = run_isolated(c, k, trajectory, sink);
+      if (r.status == SampleStatus::ok) stats.add_sample(trajectory);
+      sink.add(std::move(r));
+    }
+    sink.flush();
+  }
+  sink.close();
+}
+
+// Phase 4, reduction: the statistics summed onto rank 0 exactly, and every
+// rank's load and memory gathered there.
+EnsembleSummary reduce(Context& c, ensemble::EnsembleStatistics& stats) {
+  reduce_statistics(c.comm, stats);
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  const double mine[3] = {static_cast<double>(usage.ru_maxrss) / 1024.0,
+                          static_cast<double>(c.samples_run), c.busy_seconds};
+  std::vector<double> all(3 * static_cast<std::size_t>(c.size));
+  MPI_Gather(mine, 3, MPI_DOUBLE, all.data(), 3, MPI_DOUBLE, 0, c.comm);
+  EnsembleSummary summary;
+  summary.ranks = c.size;
+  for (int r = 0; r < c.size && c.rank == 0; ++r) {
+    summary.peak_rss_mib.push_back(all[3 * r]);
+    summary.samples_per_rank.push_back(all[3 * r + 1]);
+    summary.busy_seconds.push_back(all[3 * r + 2]);
+  }
+  return summary;
+}
+
+// Phase 5, write (rank 0): the nominal run, the statistics and the run's
+// attributes, then the rename into place. Returns an exit code.
+int write_results(EnsembleWriter& writer, const RecordWriter& records,
+                  const std::vector<double>& nominal, const ensemble::EnsembleStatistics& stats,
+                  const EnsembleSummary& summary) {
+  try {
+    if (!records.io_error().empty()) throw h5::IoError(records.io_error());
+    writer.write_nominal(nominal);
+    writer.write_statistics(stats);
+    writer.finish(summary);
+  } catch (const h5::IoError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return kExitIo;
+  }
+  return kExitOk;
+}
+
+int run(MPI_Comm comm, int rank, int size, const EnsembleOptions& options, const Job& job,
+        const ensemble::EnsembleSpec& spec) {
+  const auto start = std::chrono::steady_clock::now();
+  Context c{comm, rank, size, job, spec, ensemble::SampleRunner(job, spec)};
+
+  std::unique_ptr<EnsembleWriter> writer;
+  std::vector<double> nominal;
+  if (const int failure = run_nominal(c, options, writer, nominal); failure != kExitOk) return failure;
 
   ensemble::Progress progress(spec.samples, options.progress_interval, rank == 0 && !options.quiet);
   std::unique_ptr<RecordSink> sink;
@@ -156,78 +249,20 @@ int run(MPI_Comm comm, int rank, int size, const EnsembleOptions& options, const
     sink = std::make_unique<RecordSender>(comm);
   }
 
-  // Pilot samples, round-robin; their deviations calibrate the statistics.
-  std::vector<std::vector<double>> pilot;
-  std::vector<double> low(entries, std::numeric_limits<double>::infinity());
-  std::vector<double> high(entries, -std::numeric_limits<double>::infinity());
-  for (std::uint64_t k = static_cast<std::uint64_t>(rank); k < spec.pilot_samples;
-       k += static_cast<std::uint64_t>(size)) {
-    std::vector<double> trajectory;
-    SampleRecord r = run_isolated(c, k, trajectory, *sink);
-    if (r.status == SampleStatus::ok) {
-      for (std::size_t e = 0; e < entries; ++e) {
-        low[e] = std::min(low[e], trajectory[e] - nominal[e]);
-        high[e] = std::max(high[e], trajectory[e] - nominal[e]);
-      }
-      pilot.push_back(std::move(trajectory));
-    }
-    sink->add(std::move(r));
-  }
-  sink->flush();
-  MPI_Allreduce(MPI_IN_PLACE, low.data(), static_cast<int>(entries), MPI_DOUBLE, MPI_MIN, comm);
-  MPI_Allreduce(MPI_IN_PLACE, high.data(), static_cast<int>(entries), MPI_DOUBLE, MPI_MAX, comm);
-  ensemble::EnsembleStatistics stats(
-      c.runner.times(), columns, spec.histogram_bins,
-      ensemble::calibrate(nominal, low, high, column_scales(nominal, columns), columns,
-                          spec.histogram_bins));
-  for (const auto& trajectory : pilot) stats.add_sample(trajectory);
-  pilot.clear();
+  ensemble::EnsembleStatistics stats = run_pilot(c, nominal, *sink);
+  run_sweep(c, stats, *sink);
+  EnsembleSummary summary = reduce(c, stats);
 
-  // The rest from the shared queue.
-  {
-    WorkQueue queue(comm, spec.pilot_samples, spec.samples, spec.block_size);
-    std::uint64_t begin = 0, end = 0;
-    std::vector<double> trajectory;
-    while (queue.next(begin, end)) {
-      for (std::uint64_t k = begin; k < end; ++k) {
-        SampleRecord r = run_isolated(c, k, trajectory, *sink);
-        if (r.status == SampleStatus::ok) stats.add_sample(trajectory);
-        sink->add(std::move(r));
-      }
-      sink->flush();
-    }
-    sink->close();
-  }
-
-  reduce_statistics(comm, stats);
-  // Per-rank load and memory, for the file.
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  const double mine[3] = {static_cast<double>(usage.ru_maxrss) / 1024.0,
-                          static_cast<double>(c.samples_run), c.busy_seconds};
-  std::vector<double> all(3 * static_cast<std::size_t>(size));
-  MPI_Gather(mine, 3, MPI_DOUBLE, all.data(), 3, MPI_DOUBLE, 0, comm);
+  int failure = kExitOk;
   if (rank == 0) {
-    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    const std::uint64_t ok = records->done() - records->failed(), failed = records->failed();
-    try {
-      if (!records->io_error().empty()) throw h5::IoError(records->io_error());
-      writer->write_nominal(nominal);
-      writer->write_statistics(stats);
-      EnsembleSummary summary{ok, failed, size, wall, {}, {}, {}};
-      for (int r = 0; r < size; ++r) {
-        summary.peak_rss_mib.push_back(all[3 * r]);
-        summary.samples_per_rank.push_back(all[3 * r + 1]);
-        summary.busy_seconds.push_back(all[3 * r + 2]);
-      }
-      writer->finish(summary);
-    } catch (const h5::IoError& e) {
-      std::cerr << "error: " << e.what() << "\n";
-      failure = kExitIo;
+    summary.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    summary.failed = records->failed();
+    summary.ok = records->done() - summary.failed;
+    failure = write_results(*writer, *records, nominal, stats, summary);
+    if (failure != kExitOk) {
       writer.reset();  // removes the temporary file
-    }
-    if (failure == kExitOk) {
-      if (!options.quiet) print_summary(c, stats, ok, failed, wall);
+    } else {
+      if (!options.quiet) print_summary(c, stats, summary.ok, summary.failed, summary.wall_seconds);
       std::printf("wrote %s\n", options.output_path.c_str());
     }
   }

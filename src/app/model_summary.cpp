@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <algorithm>
 #include <vector>
 
 namespace treedyn {
@@ -15,7 +16,7 @@ std::string fmt(const char* format, double a, double b = 0, double c = 0) {
 }
 
 std::string body_line(const Model& m, int i) {
-  return m.body_name[i] + fmt("  (%.4g kg, subtree %.4g kg)", m.mass[i], m.subtree_mass[i]);
+  return m.tree().body_name[i] + fmt("  (%.4g kg, subtree %.4g kg)", m.mass[i], m.subtree_mass[i]);
 }
 
 // The tree as text, iteratively (no recursion however deep the tree); runs of
@@ -23,6 +24,7 @@ std::string body_line(const Model& m, int i) {
 // and last three with a count in between. Indentation still grows at every
 // branching, so a deep comb-shaped tree draws wide.
 void draw_tree(std::ostream& out, const Model& m) {
+  const Topology& tree = m.tree();
   struct Item {
     int body;
     std::string prefix;
@@ -33,7 +35,7 @@ void draw_tree(std::ostream& out, const Model& m) {
     const Item item = stack.back();
     stack.pop_back();
     std::vector<int> run{item.body};
-    while (m.children[run.back()].size() == 1) run.push_back(m.children[run.back()][0]);
+    while (tree.children[run.back()].size() == 1) run.push_back(tree.children[run.back()][0]);
     std::string prefix = item.prefix;
     bool last = item.last;
     for (std::size_t k = 0; k < run.size(); ++k) {
@@ -46,7 +48,7 @@ void draw_tree(std::ostream& out, const Model& m) {
         out << prefix << "... " << run.size() - 6 << " more bodies in a chain ...\n";
       }
     }
-    const auto& kids = m.children[run.back()];
+    const auto& kids = tree.children[run.back()];
     for (std::size_t k = kids.size(); k-- > 0;) stack.push_back({kids[k], prefix, k + 1 == kids.size()});
   }
 }
@@ -62,9 +64,9 @@ void print_model_summary(std::ostream& out, const Job& job) {
   out << "gravity [" << m.gravity.x() << ", " << m.gravity.y() << ", " << m.gravity.z() << "] m/s^2\n";
   out << "augmented inertia K_i about the inboard joint, body frame (kg m^2):\n";
   for (int u = 0; u < m.n; ++u) {
-    const int i = m.regular_index[u];
+    const int i = m.tree().regular_index[u];
     const Mat3& K = m.augmented_inertia[i];
-    out << "  " << m.body_name[i] << ":\n";
+    out << "  " << m.tree().body_name[i] << ":\n";
     for (int r = 0; r < 3; ++r) out << fmt("    [% .6e % .6e", K(r, 0), K(r, 1)) << fmt(" % .6e]\n", K(r, 2));
   }
   out << "integration: " << name(job.request.settings.method) << ", "
@@ -77,25 +79,46 @@ void print_model_summary(std::ostream& out, const Job& job) {
   out << "\n";
 }
 
-void print_run_summary(std::ostream& out, const Job& job, const TrajectoryRecorder& recorder,
+void print_parameters(std::ostream& out, const ParameterTable& table, std::size_t at_most) {
+  const auto& parameters = table.parameters();
+  out << "parameters (" << parameters.size() << ", " << table.size()
+      << " numbers; perturbation targets by these names, AXIS = x, y, z for a vector):\n";
+  const auto nominal = table.nominal();
+  for (std::size_t k = 0; k < std::min(at_most, parameters.size()); ++k) {
+    const Parameter& p = parameters[k];
+    out << "  " << p.name << (p.shape == ParameterShape::vector3 ? ".AXIS" : "") << " = ";
+    if (p.shape == ParameterShape::scalar) {
+      out << nominal[p.offset];
+    } else {
+      out << "[";
+      for (int e = 0; e < p.size(); ++e) out << (e ? ", " : "") << nominal[p.offset + e];
+      out << "]";
+    }
+    out << (p.unit == "1" ? "" : " " + p.unit) << ": " << p.enters << "\n";
+  }
+  if (parameters.size() > at_most)
+    out << "  ... and " << parameters.size() - at_most
+        << " more (treedyn check --parameters JOB lists them all)\n";
+}
+
+void print_run_summary(std::ostream& out, const Job& job, const Recorder& recorder,
                        const IntegrationOutcome& outcome, double wall_seconds) {
   const Model& m = job.model;
-  const auto& last = recorder.last();
-  const auto& first = recorder.first();
-  if (!last || !first) return;
-  out << fmt("final state at t = %.6g s:\n", last->time);
+  if (recorder.empty()) return;
+  const Recovered& last = recorder.last();
+  out << fmt("final state at t = %.6g s:\n", last.time);
   for (int u = 0; u < m.n; ++u) {
-    Quat q(last->rotation[u]);
-    if (q.w() < 0) q.coeffs() *= -1.0;
-    const Vec3& r = last->com_position[u];
-    const Vec3& w = last->angular_velocity[u];
-    out << "  " << m.spec.bodies[u].name << fmt(": q = [%.6f, %.6f, %.6f", q.w(), q.x(), q.y())
+    const Quat q = canonical_quaternion(last.rotation[u]);
+    const Vec3& r = last.com_position[u];
+    const Vec3& w = last.angular_velocity[u];
+    out << "  " << m.tree().user_body_name(u) << fmt(": q = [%.6f, %.6f, %.6f", q.w(), q.x(), q.y())
         << fmt(", %.6f]  w = [%.5g, %.5g", q.z(), w.x(), w.y()) << fmt(", %.5g] rad/s", w.z())
         << fmt("  r = [%.5g, %.5g, %.5g] m\n", r.x(), r.y(), r.z());
   }
-  const double e0 = first->energy.total();
-  const double scale = first->energy.kinetic + std::abs(first->energy.potential) + first->energy.spring;
-  out << fmt("energy: start %.10g J, end %.10g J", e0, last->energy.total())
+  const Energies& first = recorder.first_energy();
+  const double e0 = first.total();
+  const double scale = first.kinetic + std::abs(first.potential) + first.spring;
+  out << fmt("energy: start %.10g J, end %.10g J", e0, last.energy.total())
       << fmt(", max |E - E0| %.3g J (%.3g relative)\n", recorder.max_energy_change(),
              scale > 0 ? recorder.max_energy_change() / scale : 0.0);
   if (!m.base_motion.is_fixed())

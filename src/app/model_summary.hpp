@@ -5,6 +5,7 @@
 
 #include "integrate/settings.hpp"
 #include "job/job.hpp"
+#include "model/parameters.hpp"
 #include "output/recorder.hpp"
 
 namespace treedyn {
@@ -13,8 +14,12 @@ namespace treedyn {
 // inertia K_i (about its inboard joint, body frame).
 void print_model_summary(std::ostream& out, const Job& job);
 
+// The named parameters (the perturbation targets) with their nominal values,
+// units and where they enter; at most `at_most` of them.
+void print_parameters(std::ostream& out, const ParameterTable& table, std::size_t at_most);
+
 // Final state, energy drift and integrator statistics.
-void print_run_summary(std::ostream& out, const Job& job, const TrajectoryRecorder& recorder,
+void print_run_summary(std::ostream& out, const Job& job, const Recorder& recorder,
                        const IntegrationOutcome& outcome, double wall_seconds);
 
 }  // namespace treedyn

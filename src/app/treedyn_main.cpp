@@ -2,6 +2,7 @@
 #include <CLI/CLI.hpp>
 
 #include <chrono>
+#include <cstdint>
 #include <iostream>
 
 #include "app/exit_codes.hpp"
@@ -15,9 +16,10 @@
 namespace treedyn {
 namespace {
 
-int check_command(const std::string& job_path) {
+int check_command(const std::string& job_path, bool all_parameters) {
   const Job job = read_job(job_path);
   print_model_summary(std::cout, job);
+  print_parameters(std::cout, job.definition.parameters, all_parameters ? SIZE_MAX : 40);
   std::cout << job_path << ": OK\n";
   return kExitOk;
 }
@@ -25,10 +27,10 @@ int check_command(const std::string& job_path) {
 int run_command(const std::string& job_path, const std::string& output_path, bool quiet) {
   const Job job = read_job(job_path);
   h5::check_output_path(output_path);  // refuse before integrating, not after
-  TrajectoryRecorder recorder(job.model, job.output);
+  Recorder recorder(job.model, job.output);
   const auto start = std::chrono::steady_clock::now();
   const IntegrationOutcome outcome =
-      simulate(job.model, job.request,
+      simulate(job.model, job.initial, job.request,
                [&](const Model& m, const Data& d) { recorder.record(m, d); });
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -60,8 +62,12 @@ int main(int argc, char** argv) {
 
   std::string job_path, output_path;
   bool quiet = false;
-  CLI::App* check = app.add_subcommand("check", "Validate a job file and print the model summary");
+  bool all_parameters = false;
+  CLI::App* check = app.add_subcommand(
+      "check", "Validate a job file; print the model summary and its named parameters");
   check->add_option("JOB", job_path, "job file (TOML)")->required();
+  check->add_flag("--parameters", all_parameters,
+                  "list every parameter (by default at most 40 are listed)");
   CLI::App* run = app.add_subcommand("run", "Integrate one trajectory and write it to HDF5");
   run->add_option("JOB", job_path, "job file (TOML)")->required();
   run->add_option("-o,--output", output_path, "output file (HDF5), written atomically")->required();
@@ -74,7 +80,7 @@ int main(int argc, char** argv) {
     return code == 0 ? kExitOk : kExitBadInput;
   }
   try {
-    if (*check) return check_command(job_path);
+    if (*check) return check_command(job_path, all_parameters);
     return run_command(job_path, output_path, quiet);
   } catch (const JobError& e) {
     std::cerr << "error: " << e.what() << "\n";

@@ -24,4 +24,12 @@ inline Mat3 cross_cross_matrix(const Vec3& d, const Vec3& b) {
   return b.dot(d) * Mat3::Identity() - b * d.transpose();
 }
 
+// The unit quaternion of rotation A: of q and -q, the one with q0 >= 0 (the
+// sign rule of every output).
+inline Quat canonical_quaternion(const Mat3& A) {
+  Quat q(A);
+  if (q.w() < 0.0) q.coeffs() *= -1.0;
+  return q;
+}
+
 }  // namespace treedyn

@@ -13,14 +13,14 @@ void compute_applied_loads(const Model& model, Data& data) {
   }
   if (model.has_point_forces) {
     for (int i = 0; i < n; ++i) {
-      for (const PointForce& f : model.point_forces[i]) {
+      for (const BodyPointForce& f : model.point_forces[i]) {
         data.force[i] += f.force;
         data.moment[i] += (data.rotation[i] * f.point).cross(f.force);
       }
     }
   }
   for (int k = 0; k < n; ++k) data.subtree_force[k] = data.force[k];
-  for (int k = n - 1; k >= 1; --k) data.subtree_force[model.parent[k]] += data.subtree_force[k];
+  for (int k = n - 1; k >= 1; --k) data.subtree_force[model.tree().parent[k]] += data.subtree_force[k];
 
   for (int a = 0; a < n; ++a) {
     if (!model.has_spring[a]) {
@@ -28,7 +28,7 @@ void compute_applied_loads(const Model& model, Data& data) {
       data.spring_energy[a] = 0.0;
       continue;
     }
-    const int p = model.parent[a];
+    const int p = model.tree().parent[a];
     const JointLoad load =
         p == kBase ? joint_spring_load(model.spring[a], Mat3::Identity(), data.rotation[a],
                                        Vec3::Zero(), data.angular_velocity[a])

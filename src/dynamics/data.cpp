@@ -1,10 +1,9 @@
 #include "dynamics/data.hpp"
 
-#include <algorithm>
 
 namespace treedyn {
 
-Data::Data(const Model& model) {
+Data::Data(const Model& model) : mass_matrix(model.tree()) {
   const auto n = static_cast<std::size_t>(model.n);
   rotation.assign(n, Mat3::Identity());
   angular_velocity.assign(n, Vec3::Zero());
@@ -21,11 +20,6 @@ Data::Data(const Model& model) {
   joint_moment.assign(n, Vec3::Zero());
   spring_energy.assign(n, 0.0);
   generalised_force = Eigen::VectorXd::Zero(3 * model.n);
-  diagonal_block.assign(n, Mat3::Zero());
-  diagonal_factor.assign(n, Eigen::LLT<Mat3>());
-  path_block.assign(static_cast<std::size_t>(model.path_offset.back()), Mat3::Zero());
-  const int max_depth = *std::max_element(model.depth.begin(), model.depth.end());
-  scratch_path.assign(static_cast<std::size_t>(max_depth), Mat3::Zero());
   angular_acceleration = Eigen::VectorXd::Zero(3 * model.n);
 }
 

@@ -1,11 +1,11 @@
-// Per-thread workspace for one Model: everything that changes with the state.
+// Per-thread workspace for one tree: everything that changes with the state.
 // Sized once on construction; the dynamics stages never allocate.
 #pragma once
 
-#include <Eigen/Cholesky>
 #include <vector>
 
 #include "common/linalg.hpp"
+#include "dynamics/mass_matrix.hpp"
 #include "model/base_motion.hpp"
 #include "model/model.hpp"
 
@@ -38,13 +38,9 @@ struct Data {
   std::vector<Vec3> joint_moment;             // Y_a on body a (reversed on p(a))
   std::vector<double> spring_energy;          // per joint
 
-  // Acceleration stage: K w' = Q, factored as K = L^T D L in the tree's
-  // sparsity (no fill-in: block (i, j) is non-zero only on a root path).
+  // Acceleration stage: K w' = Q.
   Eigen::VectorXd generalised_force;          // Q_i = Mstar_i + M_i + Y_i - sum Y_k (59)
-  std::vector<Mat3> diagonal_block;           // K_ii, then D_i
-  std::vector<Eigen::LLT<Mat3>> diagonal_factor;
-  std::vector<Mat3> path_block;               // K_{k,a} for a strict ancestor of k, then L_{k,a}
-  std::vector<Mat3> scratch_path;             // one path's L while it is formed
+  SparseMassMatrix mass_matrix;               // K, then its L^T D L factors
   Eigen::VectorXd angular_acceleration;       // w' (3n), regular order
 };
 

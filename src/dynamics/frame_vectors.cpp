@@ -9,7 +9,7 @@ void compute_frame_vectors(const Model& model, Data& data) {
     data.augmented_inertia[i].noalias() = A * model.augmented_inertia[i] * A.transpose();
     data.barycentre_to_inboard[i].noalias() = A * model.barycentre_to_inboard[i];
     data.com_to_inboard_joint[i].noalias() = A * model.com_to_inboard_joint[i];
-    const int p = model.parent[i];
+    const int p = model.tree().parent[i];
     if (p != kBase) data.branch_d[i].noalias() = data.rotation[p] * model.branch_d[i];
   }
 }

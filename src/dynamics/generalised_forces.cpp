@@ -13,7 +13,7 @@ void compute_generalised_forces(const Model& model, Data& data) {
     q -= M * b_i0.cross(data.ancestor_centripetal_d[i]);               // from ancestors j < i
     q += M * b_i0.cross(data.base.acceleration);                       // base acceleration r0''
     q -= data.com_to_inboard_joint[i].cross(data.force[i]);            // d_ii x F_i
-    for (int k : model.children[i]) {
+    for (int k : model.tree().children[i]) {
       q -= M * data.branch_d[k].cross(data.subtree_centripetal_b[k]);  // from descendants j > i
       q -= data.branch_d[k].cross(data.subtree_force[k]);              // d_ij x F_j, j in sub(k)
       q -= data.joint_moment[k];                                       // -Y_k on the parent

@@ -1,9 +1,40 @@
 // Acceleration stage, parts 2 and 3: the mass matrix K of section 4 in its
 // branch-induced sparsity, factored K = L^T D L without fill-in (Featherstone's
 // LTDL in 3x3 blocks, children after parents), then w' = K^-1 Q.
+#include <algorithm>
+#include <string>
+
+#include "common/error.hpp"
 #include "dynamics/pipeline.hpp"
 
 namespace treedyn {
+
+long long path_block_count(const Topology& tree) {
+  long long blocks = 0;
+  for (int d : tree.depth) blocks += d - 1;
+  return blocks;
+}
+
+void require_sparse_factor_fits(const Topology& tree) {
+  const long long blocks = path_block_count(tree);
+  if (blocks > kMaxPathBlocks)
+    throw ModelError("model: the tree is too deep for treedyn: " + std::to_string(blocks) +
+                     " (body, ancestor) pairs, at most " + std::to_string(kMaxPathBlocks) +
+                     " (a single chain of about 3100 bodies); shorten the chains");
+}
+
+SparseMassMatrix::SparseMassMatrix(const Topology& tree) {
+  require_sparse_factor_fits(tree);
+  const auto n = static_cast<std::size_t>(tree.n);
+  path_offset.assign(n + 1, 0);
+  for (std::size_t i = 0; i < n; ++i) path_offset[i + 1] = path_offset[i] + tree.depth[i] - 1;
+  diagonal_block.assign(n, Mat3::Zero());
+  diagonal_factor.assign(n, Eigen::LLT<Mat3>());
+  path_block.assign(static_cast<std::size_t>(path_offset.back()), Mat3::Zero());
+  const int max_depth = *std::max_element(tree.depth.begin(), tree.depth.end());
+  scratch_path.assign(static_cast<std::size_t>(max_depth), Mat3::Zero());
+}
+
 namespace {
 
 // K_{k a} for a strict ancestor a of k, whose child on the path to k is `branch`:
@@ -15,11 +46,13 @@ Mat3 path_coupling(const Model& model, const Data& data, int k, int branch) {
 }
 
 void assemble(const Model& model, Data& data) {
+  const Topology& tree = model.tree();
+  SparseMassMatrix& K = data.mass_matrix;
   for (int k = 0; k < model.n; ++k) {
-    data.diagonal_block[k] = data.augmented_inertia[k];
-    int slot = model.path_offset[k];
-    for (int branch = k, a = model.parent[k]; a != kBase; branch = a, a = model.parent[a])
-      data.path_block[slot++] = path_coupling(model, data, k, branch);
+    K.diagonal_block[k] = data.augmented_inertia[k];
+    int slot = K.path_offset[k];
+    for (int branch = k, a = tree.parent[k]; a != kBase; branch = a, a = tree.parent[a])
+      K.path_block[slot++] = path_coupling(model, data, k, branch);
   }
 }
 
@@ -27,55 +60,60 @@ void assemble(const Model& model, Data& data) {
 
 bool factor_mass_matrix(const Model& model, Data& data) {
   assemble(model, data);
+  const Topology& tree = model.tree();
+  SparseMassMatrix& K = data.mass_matrix;
   for (int k = model.n - 1; k >= 0; --k) {
-    auto& factor = data.diagonal_factor[k];
-    factor.compute(data.diagonal_block[k]);
+    auto& factor = K.diagonal_factor[k];
+    factor.compute(K.diagonal_block[k]);
     if (factor.info() != Eigen::Success) return false;
-    const int offset = model.path_offset[k];
-    const int levels = model.depth[k] - 1;
-    for (int l = 0; l < levels; ++l) data.scratch_path[l] = factor.solve(data.path_block[offset + l]);
+    const int offset = K.path_offset[k];
+    const int levels = tree.depth[k] - 1;
+    for (int l = 0; l < levels; ++l) K.scratch_path[l] = factor.solve(K.path_block[offset + l]);
     // Eliminate k: block (a, b) -= K_{k a}^T L_{k b} for ancestors a, b of k
     // with b an ancestor of a or a itself.
-    int a = model.parent[k];
-    for (int la = 0; la < levels; ++la, a = model.parent[a]) {
-      const Mat3 coupling_t = data.path_block[offset + la].transpose();
-      data.diagonal_block[a].noalias() -= coupling_t * data.scratch_path[la];
-      const int a_offset = model.path_offset[a];
+    int a = tree.parent[k];
+    for (int la = 0; la < levels; ++la, a = tree.parent[a]) {
+      const Mat3 coupling_t = K.path_block[offset + la].transpose();
+      K.diagonal_block[a].noalias() -= coupling_t * K.scratch_path[la];
+      const int a_offset = K.path_offset[a];
       for (int lb = la + 1; lb < levels; ++lb)
-        data.path_block[a_offset + (lb - la - 1)].noalias() -= coupling_t * data.scratch_path[lb];
+        K.path_block[a_offset + (lb - la - 1)].noalias() -= coupling_t * K.scratch_path[lb];
     }
-    for (int l = 0; l < levels; ++l) data.path_block[offset + l] = data.scratch_path[l];
+    for (int l = 0; l < levels; ++l) K.path_block[offset + l] = K.scratch_path[l];
   }
   return true;
 }
 
 void solve_angular_accelerations(const Model& model, Data& data) {
+  const Topology& tree = model.tree();
+  const SparseMassMatrix& K = data.mass_matrix;
   Eigen::VectorXd& x = data.angular_acceleration;
   x = data.generalised_force;
   // L^T y = Q: descendants (larger indices) finish before their ancestors.
   for (int k = model.n - 1; k >= 0; --k) {
     const Vec3 y = x.segment<3>(3 * k);
-    int slot = model.path_offset[k];
-    for (int a = model.parent[k]; a != kBase; a = model.parent[a])
-      x.segment<3>(3 * a).noalias() -= data.path_block[slot++].transpose() * y;
+    int slot = K.path_offset[k];
+    for (int a = tree.parent[k]; a != kBase; a = tree.parent[a])
+      x.segment<3>(3 * a).noalias() -= K.path_block[slot++].transpose() * y;
   }
   for (int k = 0; k < model.n; ++k)
-    x.segment<3>(3 * k) = data.diagonal_factor[k].solve(Vec3(x.segment<3>(3 * k)));
+    x.segment<3>(3 * k) = K.diagonal_factor[k].solve(Vec3(x.segment<3>(3 * k)));
   // L w' = z: ancestors (smaller indices) first.
   for (int k = 0; k < model.n; ++k) {
     Vec3 sum = Vec3::Zero();
-    int slot = model.path_offset[k];
-    for (int a = model.parent[k]; a != kBase; a = model.parent[a])
-      sum.noalias() += data.path_block[slot++] * x.segment<3>(3 * a);
+    int slot = K.path_offset[k];
+    for (int a = tree.parent[k]; a != kBase; a = tree.parent[a])
+      sum.noalias() += K.path_block[slot++] * x.segment<3>(3 * a);
     x.segment<3>(3 * k) -= sum;
   }
 }
 
 Eigen::MatrixXd dense_mass_matrix(const Model& model, const Data& data) {
   Eigen::MatrixXd K = Eigen::MatrixXd::Zero(3 * model.n, 3 * model.n);
+  const Topology& tree = model.tree();
   for (int k = 0; k < model.n; ++k) {
     K.block<3, 3>(3 * k, 3 * k) = data.augmented_inertia[k];
-    for (int branch = k, a = model.parent[k]; a != kBase; branch = a, a = model.parent[a]) {
+    for (int branch = k, a = tree.parent[k]; a != kBase; branch = a, a = tree.parent[a]) {
       const Mat3 block = path_coupling(model, data, k, branch);
       K.block<3, 3>(3 * k, 3 * a) = block;
       K.block<3, 3>(3 * a, 3 * k) = block.transpose();

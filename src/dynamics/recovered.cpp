@@ -27,13 +27,13 @@ void recover(const Model& model, const Data& data, Recovered& out) {
   // Top-down in the regular order (parents first), stored at the user's
   // index: each CoM from its inboard joint point (20).
   for (int i = 0; i < n; ++i) {
-    const int u = model.user_index[i];
-    const int p = model.parent[i];
+    const int u = model.tree().user_index[i];
+    const int p = model.tree().parent[i];
     const Vec3& w = data.angular_velocity[i];
     const Vec3 wdot = data.angular_acceleration.segment<3>(3 * i);
     Vec3 jp = data.base.position, jv = data.base.velocity, ja = data.base.acceleration;
     if (p != kBase) {
-      const int up = model.user_index[p];
+      const int up = model.tree().user_index[p];
       const Vec3 arm = data.rotation[p] * model.parent_com_to_joint[i];
       const Vec3& wp = data.angular_velocity[p];
       jp = out.com_position[up] + arm;
@@ -53,13 +53,13 @@ void recover(const Model& model, const Data& data, Recovered& out) {
   }
   // X_a = sum over sub(a) of m_i r_i'' - F_i (12): bottom-up.
   for (int i = n - 1; i >= 1; --i)
-    out.joint_reaction[model.user_index[model.parent[i]]] += out.joint_reaction[model.user_index[i]];
+    out.joint_reaction[model.tree().user_index[model.tree().parent[i]]] += out.joint_reaction[model.tree().user_index[i]];
 
   for (int i = 0; i < n; ++i) {
-    const int u = model.user_index[i];
+    const int u = model.tree().user_index[i];
     const Mat3& A = data.rotation[i];
     const Vec3& w = data.angular_velocity[i];
-    const int p = model.parent[i];
+    const int p = model.tree().parent[i];
     const Mat3 relative = p == kBase ? A : Mat3(data.rotation[p].transpose() * A);
     const Eigen::AngleAxisd aa(relative);
     out.joint_angle[u] = aa.angle();
@@ -70,7 +70,7 @@ void recover(const Model& model, const Data& data, Recovered& out) {
     const Mat3 inertia = A * model.inertia[i] * A.transpose();
     out.energy.kinetic += 0.5 * model.mass[i] * v.squaredNorm() + 0.5 * w.dot(inertia * w);
     out.energy.potential -= model.mass[i] * model.gravity.dot(r);
-    for (const PointForce& f : model.point_forces[i]) out.energy.potential -= f.force.dot(r + A * f.point);
+    for (const BodyPointForce& f : model.point_forces[i]) out.energy.potential -= f.force.dot(r + A * f.point);
     out.energy.spring += data.spring_energy[i];
     out.angular_momentum_about_base += model.mass[i] * (r - data.base.position).cross(v) + inertia * w;
   }

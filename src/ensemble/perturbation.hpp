@@ -1,5 +1,7 @@
-// One perturbed input of an ensemble: which field of the job it changes, how,
-// and with what distribution.
+// One perturbed input of an ensemble: which parameter entries or which part
+// of the initial state it changes, how, and with what distribution. Targets
+// are resolved to vector indices when the job is read (read_ensemble.cpp);
+// applying one is a few arithmetic operations, no names.
 #pragma once
 
 #include <span>
@@ -7,48 +9,41 @@
 #include <vector>
 
 #include "ensemble/distribution.hpp"
-#include "integrate/tree_ode.hpp"
-#include "model/model_spec.hpp"
+#include "model/initial_state.hpp"
 
 namespace treedyn::ensemble {
 
 struct Perturbation {
-  enum class Field {
-    mass,              // body.NAME.mass
-    inertia_scale,     // body.NAME.inertia_scale: multiplies the inertia tensor
-    joint_on_child,    // body.NAME.joint_on_child.AXIS
-    joint_on_parent,   // body.NAME.joint_on_parent.AXIS
-    orientation,       // body.NAME.orientation: small rotation vector (3 inputs)
-    rotation,          // body.NAME.rotation.AXIS: extra rotation about an inertial axis
-    angular_velocity,  // body.NAME.angular_velocity.AXIS: inertial component
-    stiffness,         // joint.CHILD.stiffness (isotropic value, or scale of the matrix)
-    damping,           // joint.CHILD.damping
-    base_amplitude,    // base.AXIS[K].amplitude
-    base_frequency,    // base.AXIS[K].frequency
-    base_phase,        // base.AXIS[K].phase
-    base_acceleration, // base.acceleration.AXIS (constant_acceleration base)
-    gravity,           // gravity.AXIS
+  enum class Kind {
+    parameter,         // entries of the parameter vector (model/parameters.hpp)
+    orientation,       // body.NAME.orientation: a small rotation vector (3 inputs), inertial axes
+    rotation,          // body.NAME.rotation.AXIS: an extra rotation about an inertial axis
+    angular_velocity,  // body.NAME.angular_velocity.AXIS: an inertial component
   };
   enum class Mode { set, add, scale };
 
   std::string target;     // as written in the job file
-  Field field = Field::mass;
-  std::string body;       // user body name (or joint child)
-  int body_index = -1;    // in ModelSpec::bodies
-  int joint_index = -1;   // in ModelSpec::joints
-  int axis = 0;           // 0, 1, 2 = x, y, z
-  int term = 0;           // harmonic term, 0-based
+  Kind kind = Kind::parameter;
+  int first = 0;          // parameter: its first entry; otherwise the user index of the body
+  int entries = 1;        // parameter entries changed: 1, or 9 for a whole 3x3 matrix
+                          // (set / add: an isotropic value k E; scale: the whole matrix)
+  double factor = 1.0;    // parameter, set / add: the entry changes by x * factor (a mass
+                          // target on a solid given by its density: 1 / nominal volume)
+  int axis = 0;           // rotation, angular_velocity: 0, 1, 2 = x, y, z
   Mode mode = Mode::set;
   double unit = 1.0;      // multiplies sampled values into SI (deg -> rad, ...)
   Distribution distribution;
+  std::string si_unit;    // of the values after `unit`, e.g. "kg", "rad"
+  std::string enters;     // where it enters the model, for people
 
-  int dimensions() const { return field == Field::orientation ? 3 : 1; }
+  int dimensions() const { return kind == Kind::orientation ? 3 : 1; }
   // Column names of the sampled inputs, e.g. "body.rod.orientation.x".
   std::vector<std::string> input_names() const;
   // Physical input values (SI) from uniforms (one per dimension).
   void sample(std::span<const double> u, std::span<double> values) const;
-  // Changes the model description and the initial state.
-  void apply(std::span<const double> values, ModelSpec& spec, TreeState& state) const;
+  // Changes the parameter vector or the initial state by the sampled values.
+  void apply(std::span<const double> values, std::span<double> parameters,
+             InitialState& state) const;
 };
 
 }  // namespace treedyn::ensemble

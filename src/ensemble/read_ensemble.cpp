@@ -1,133 +1,42 @@
-#include <charconv>
 #include <cmath>
 #include <numbers>
 
 #include "ensemble/ensemble_spec.hpp"
+#include "ensemble/targets.hpp"
 #include "job/toml_view.hpp"
 #include "output/quantities.hpp"
 
 namespace treedyn::ensemble {
 namespace {
 
-using Field = Perturbation::Field;
-
-int parse_axis(const TomlView& t, std::string_view text) {
-  if (text == "x") return 0;
-  if (text == "y") return 1;
-  if (text == "z") return 2;
-  t.fail("target", "axis '" + std::string(text) + "' is not allowed; use x, y or z");
-}
-
-std::vector<std::string> split(std::string_view s) {
-  std::vector<std::string> parts;
-  std::size_t start = 0;
-  for (std::size_t i = 0; i <= s.size(); ++i)
-    if (i == s.size() || s[i] == '.') {
-      parts.emplace_back(s.substr(start, i - start));
-      start = i + 1;
-    }
-  return parts;
-}
-
-const char* kTargets =
-    "allowed targets: body.NAME.mass, body.NAME.inertia_scale, "
-    "body.NAME.joint_on_child.AXIS, body.NAME.joint_on_parent.AXIS, body.NAME.orientation, "
-    "body.NAME.rotation.AXIS, body.NAME.angular_velocity.AXIS, joint.CHILD.stiffness, "
-    "joint.CHILD.damping, base.AXIS[K].amplitude, base.AXIS[K].frequency, base.AXIS[K].phase, "
-    "base.acceleration.AXIS, gravity.AXIS (AXIS = x, y or z; K counts from 1)";
-
-void parse_target(const TomlView& t, const Job& job, Perturbation& p) {
-  const ModelSpec& spec = job.model.spec;
-  const std::vector<std::string> parts = split(p.target);
-  auto bad = [&]() { t.fail("target", "'" + p.target + "' is not a target; " + kTargets); };
-  if (parts.size() < 2) bad();
-  if (parts[0] == "body" || parts[0] == "joint") {
-    if (parts.size() < 3) bad();
-    p.body = parts[1];
-    for (std::size_t b = 0; b < spec.bodies.size(); ++b)
-      if (spec.bodies[b].name == p.body) p.body_index = static_cast<int>(b);
-    if (p.body_index < 0) t.fail("target", "'" + p.body + "' is not a body of the model");
-    for (std::size_t j = 0; j < spec.joints.size(); ++j)
-      if (spec.joints[j].child == p.body) p.joint_index = static_cast<int>(j);
-    const std::string& what = parts[2];
-    const bool has_axis = parts.size() == 4;
-    if (parts.size() > 4) bad();
-    if (parts[0] == "joint") {
-      if (what == "stiffness" && !has_axis) p.field = Field::stiffness;
-      else if (what == "damping" && !has_axis) p.field = Field::damping;
-      else bad();
-      return;
-    }
-    if (what == "mass" && !has_axis) p.field = Field::mass;
-    else if (what == "inertia_scale" && !has_axis) p.field = Field::inertia_scale;
-    else if (what == "orientation" && !has_axis) p.field = Field::orientation;
-    else if (what == "joint_on_child" && has_axis) p.field = Field::joint_on_child;
-    else if (what == "joint_on_parent" && has_axis) p.field = Field::joint_on_parent;
-    else if (what == "rotation" && has_axis) p.field = Field::rotation;
-    else if (what == "angular_velocity" && has_axis) p.field = Field::angular_velocity;
-    else bad();
-    if (has_axis) p.axis = parse_axis(t, parts[3]);
-    return;
-  }
-  if (parts[0] == "gravity" && parts.size() == 2) {
-    p.field = Field::gravity;
-    p.axis = parse_axis(t, parts[1]);
-    return;
-  }
-  if (parts[0] == "base" && parts.size() == 3 && parts[1] == "acceleration") {
-    if (!std::holds_alternative<ConstantAccelerationBase>(spec.base_motion))
-      t.fail("target", "'" + p.target + "' needs [base] type = \"constant_acceleration\"");
-    p.field = Field::base_acceleration;
-    p.axis = parse_axis(t, parts[2]);
-    return;
-  }
-  if (parts[0] == "base" && parts.size() == 3) {
-    // base.AXIS[K].what
-    const std::string& term = parts[1];
-    const auto open = term.find('['), close = term.find(']');
-    if (open != 1 || close != term.size() - 1) bad();
-    p.axis = parse_axis(t, term.substr(0, 1));
-    int k = 0;
-    const auto [ptr, ec] = std::from_chars(term.data() + 2, term.data() + close, k);
-    if (ec != std::errc() || ptr != term.data() + close || k < 1) bad();
-    p.term = k - 1;
-    const auto* h = std::get_if<HarmonicBase>(&spec.base_motion);
-    if (!h) t.fail("target", "'" + p.target + "' needs [base] type = \"harmonic\"");
-    if (p.term >= static_cast<int>(h->axes[p.axis].size()))
-      t.fail("target", "'" + p.target + "': the base has " +
-                           std::to_string(h->axes[p.axis].size()) + " terms on that axis");
-    if (parts[2] == "amplitude") p.field = Field::base_amplitude;
-    else if (parts[2] == "frequency") p.field = Field::base_frequency;
-    else if (parts[2] == "phase") p.field = Field::base_phase;
-    else bad();
-    return;
-  }
-  bad();
-}
+using Kind = Perturbation::Kind;
+using Mode = Perturbation::Mode;
 
 // Unit of the sampled values: angles need "deg" or "rad"; angular velocity
-// "rad/s" (default) or "deg/s"; everything else is SI. A scale factor is
-// dimensionless: no unit.
-double read_unit(const TomlView& t, Field field, Perturbation::Mode mode) {
+// "rad/s" (default) or "deg/s"; everything else is in its SI unit. A scale
+// factor is dimensionless: no unit.
+double read_unit(const TomlView& t, const Perturbation& p) {
   const auto unit = t.string("unit");
-  if (mode == Perturbation::Mode::scale) {
+  if (p.mode == Mode::scale) {
     if (unit) t.fail("unit", "mode = \"scale\" samples a dimensionless factor; remove 'unit'");
     return 1.0;
   }
-  const bool angle = field == Field::orientation || field == Field::rotation || field == Field::base_phase;
-  if (angle) {
+  if (p.si_unit == "rad") {
     if (unit == "deg") return std::numbers::pi / 180.0;
     if (unit == "rad") return 1.0;
     t.fail("unit", "an angle needs unit = \"deg\" or \"rad\"");
   }
-  if (field == Field::angular_velocity) {
+  if (p.si_unit == "rad/s") {
     if (!unit || *unit == "rad/s") return 1.0;
     if (*unit == "deg/s") return std::numbers::pi / 180.0;
     t.fail("unit", "angular velocity: unit must be \"rad/s\" or \"deg/s\"");
   }
-  if (unit) t.fail("unit", "this target is in SI units; remove 'unit'");
+  if (unit) t.fail("unit", "this target is in SI units (" + p.si_unit + "); remove 'unit'");
   return 1.0;
 }
+
+inline constexpr NameTable<Mode, 3> kModeNames{
+    {{Mode::set, "set"}, {Mode::add, "add"}, {Mode::scale, "scale"}}};
 
 Distribution read_distribution(const TomlView& t) {
   Distribution d;
@@ -173,9 +82,7 @@ Distribution read_distribution(const TomlView& t) {
 }  // namespace
 
 double statistics_bytes(const Job& job, const EnsembleSpec& spec) {
-  std::size_t columns = 0;
-  for (const std::string& q : job.output.quantities)
-    columns += quantity_columns(q, job.model, job.output).size();
+  const std::size_t columns = column_layout(job.model, job.output).columns;
   const double entries =
       static_cast<double>(job.request.output_times.size()) * static_cast<double>(columns);
   // uint32 bin counters (bins + under/overflow), two 128-bit sums, min, max,
@@ -190,14 +97,25 @@ void print_ensemble_summary(std::ostream& out, const Job& job, const EnsembleSpe
   out << "ensemble: " << s.samples << " samples, seed " << s.seed << ", design " << name(s.design)
       << ", " << s.perturbations.size() << " perturbation" << (s.perturbations.size() == 1 ? "" : "s")
       << " (" << s.input_dimensions() << " sampled inputs)\n";
+  const auto nominal = job.definition.parameters.nominal();
   for (const Perturbation& p : s.perturbations) {
     out << "  " << p.target << ": " << p.distribution.describe();
-    if (p.unit != 1.0) out << " x " << format_number(p.unit) << " (to SI)";
-    if (p.field == Perturbation::Field::orientation) out << ", per rotation-vector component";
-    else if (p.mode == Perturbation::Mode::add) out << ", added to the nominal value";
-    else if (p.mode == Perturbation::Mode::scale || p.field == Perturbation::Field::inertia_scale)
-      out << ", multiplies the nominal value";
-    out << "\n";
+    if (p.unit != 1.0) out << " x " << format_number(p.unit) << " (to " << p.si_unit << ")";
+    if (p.kind == Kind::orientation)
+      out << " per rotation-vector component, rad";
+    else if (p.kind == Kind::rotation)
+      out << ", rad, composed with the nominal orientation";
+    else if (p.entries > 1)
+      out << (p.mode == Mode::scale ? " multiplies the matrix"
+              : p.mode == Mode::add ? " x E is added to the matrix"
+                                    : " x E replaces the matrix");
+    else
+      out << (p.mode == Mode::scale ? " multiplies" : p.mode == Mode::add ? " is added to" : " replaces")
+          << " the nominal "
+          << format_number(p.kind == Kind::parameter ? nominal[p.first] / p.factor
+                                                     : job.initial.angular_velocity[p.first][p.axis])
+          << " " << p.si_unit;
+    out << "\n      " << p.enters << "\n";
   }
   out << "statistics: quantiles";
   for (double q : s.quantiles) out << " " << format_number(q);
@@ -270,16 +188,23 @@ EnsembleSpec read_ensemble(const Job& job) {
                   "mode", "unit"});
     Perturbation pert;
     pert.target = p.required_string("target");
-    parse_target(p, job, pert);
+    try {
+      const Target target = resolve_target(job.definition, pert.target);
+      pert.kind = target.kind;
+      pert.first = target.first;
+      pert.entries = target.entries;
+      pert.axis = target.axis;
+      pert.si_unit = target.unit;
+      pert.enters = target.enters;
+    } catch (const TargetError& e) {
+      p.fail("target", e.what());
+    }
     const std::string mode = p.string("mode").value_or("set");
-    if (mode == "set") pert.mode = Perturbation::Mode::set;
-    else if (mode == "add") pert.mode = Perturbation::Mode::add;
-    else if (mode == "scale") pert.mode = Perturbation::Mode::scale;
-    else p.fail("mode", "\"" + mode + "\" is not allowed; use \"set\", \"add\" or \"scale\"");
-    if ((pert.field == Field::orientation || pert.field == Field::rotation ||
-         pert.field == Field::inertia_scale) && p.has("mode"))
-      p.fail("mode", "not used for this target (a rotation is always added, inertia_scale always scales)");
-    pert.unit = read_unit(p, pert.field, pert.mode);
+    if (!parse_in(kModeNames, mode, pert.mode))
+      p.fail("mode", "\"" + mode + "\" is not allowed; use " + choices(kModeNames));
+    if ((pert.kind == Kind::orientation || pert.kind == Kind::rotation) && p.has("mode"))
+      p.fail("mode", "not used for this target (a rotation is always composed with the nominal orientation)");
+    pert.unit = read_unit(p, pert);
     pert.distribution = read_distribution(p);
     s.perturbations.push_back(pert);
   }

@@ -60,11 +60,7 @@ void append_record(const ensemble::SampleRecord& r, std::vector<char>& b) {
   put(b, r.index);
   put(b, static_cast<std::int32_t>(r.status));
   put(b, r.time_reached);
-  put(b, r.stats.steps);
-  put(b, r.stats.rhs_evaluations);
-  put(b, r.stats.error_test_failures);
-  put(b, r.stats.nonlinear_convergence_failures);
-  put(b, r.stats.chart_changes);
+  for (const IntegratorStatField& f : kIntegratorStatFields) put(b, r.stats.*f.member);
   put(b, static_cast<std::uint64_t>(r.reason.size()));
   b.insert(b.end(), r.reason.begin(), r.reason.end());
   put_doubles(b, r.inputs);
@@ -80,11 +76,7 @@ std::vector<ensemble::SampleRecord> read_records(const std::vector<char>& buffer
     r.index = in.get<std::uint64_t>();
     r.status = static_cast<ensemble::SampleStatus>(in.get<std::int32_t>());
     r.time_reached = in.get<double>();
-    r.stats.steps = in.get<long>();
-    r.stats.rhs_evaluations = in.get<long>();
-    r.stats.error_test_failures = in.get<long>();
-    r.stats.nonlinear_convergence_failures = in.get<long>();
-    r.stats.chart_changes = in.get<long>();
+    for (const IntegratorStatField& f : kIntegratorStatFields) r.stats.*f.member = in.get<long>();
     r.reason = in.text();
     r.inputs = in.doubles();
     r.max_over_time = in.doubles();

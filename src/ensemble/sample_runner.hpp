@@ -1,5 +1,6 @@
 // Integrates one ensemble sample (or the nominal run) and reduces its
-// trajectory to what the ensemble keeps.
+// trajectory to what the ensemble keeps. A sample is a parameter vector and
+// an initial state: the nominal ones with the sample's perturbations applied.
 #pragma once
 
 #include <cstdint>
@@ -9,9 +10,10 @@
 
 #include "ensemble/ensemble_spec.hpp"
 #include "integrate/settings.hpp"
-#include "dynamics/recovered.hpp"
 #include "job/job.hpp"
-#include "output/quantities.hpp"
+#include "model/initial_state.hpp"
+#include "model/model.hpp"
+#include "output/recorder.hpp"
 
 namespace treedyn::ensemble {
 
@@ -29,27 +31,16 @@ struct SampleRecord {
   IntegratorStats stats;
   std::vector<double> inputs;        // the sampled input values, SI
   std::vector<double> max_over_time; // per column of the recorded quantities (NaN when failed)
-  std::vector<double> final_state;   // per body: quaternion q0..q3, angular velocity (inertial);
-                                     // NaN when failed
+  std::vector<double> final_state;   // output/final_state.hpp; NaN when failed
 };
-
-// The flat column layout of the recorded quantities (job.output.quantities).
-struct ColumnLayout {
-  std::vector<std::string> quantity;           // names, in order
-  std::vector<const QuantityInfo*> info;       // their catalogue entries
-  std::vector<std::size_t> offset;             // first column of each quantity
-  std::vector<std::vector<std::string>> names; // column labels of each quantity
-  std::size_t columns = 0;
-};
-ColumnLayout column_layout(const Job& job);
 
 class SampleRunner {
  public:
   SampleRunner(const Job& job, const EnsembleSpec& spec);
 
-  const ColumnLayout& layout() const { return layout_; }
+  const ColumnLayout& layout() const { return recorder_.layout(); }
   std::size_t times() const { return job_.request.output_times.size(); }
-  std::size_t final_state_size() const { return 7 * static_cast<std::size_t>(job_.model.n); }
+  std::size_t final_state_size() const;
 
   // Sample k, perturbed as the spec says; `nominal` skips the perturbations.
   // On success `trajectory` holds times x columns values (row-major).
@@ -62,12 +53,17 @@ class SampleRunner {
   SampleRecord failed_record(std::uint64_t k, SampleStatus status, std::string reason) const;
 
  private:
+  // parameters_ and state_ of sample k; returns its sampled inputs.
+  std::vector<double> perturb(std::uint64_t k);
+
   const Job& job_;
   const EnsembleSpec& spec_;
   SampleDesign design_;
-  ColumnLayout layout_;
-  std::vector<double> uniforms_, row_;
-  Recovered state_;  // reused at every output time
+  std::vector<double> uniforms_;
+  std::vector<double> parameters_;  // this sample's parameter vector
+  InitialState state_;              // this sample's initial state
+  Model model_;                     // derived from parameters_ (storage reused)
+  Recorder recorder_;
 };
 
 }  // namespace treedyn::ensemble

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "hdf5/trajectory_file.hpp"
+#include "output/final_state.hpp"
 #include "output/quantities.hpp"
 
 namespace treedyn {
@@ -16,10 +18,9 @@ void describe(hid_t set, const std::string& units, const std::string& descriptio
   if (!columns.empty()) h5::write_attribute(set, "columns", columns);
 }
 
-std::vector<std::string> final_state_columns(const Job& job) {
+std::vector<std::string> integrator_stat_columns() {
   std::vector<std::string> out;
-  for (const BodySpec& b : job.model.spec.bodies)
-    for (const char* s : {"q0", "q1", "q2", "q3", "wx", "wy", "wz"}) out.push_back(b.name + "." + s);
+  for (const IntegratorStatField& f : kIntegratorStatFields) out.emplace_back(f.name);
   return out;
 }
 
@@ -27,7 +28,7 @@ std::vector<std::string> final_state_columns(const Job& job) {
 
 EnsembleWriter::EnsembleWriter(const std::filesystem::path& path, const Job& job,
                                const ensemble::EnsembleSpec& spec,
-                               const ensemble::ColumnLayout& layout, std::size_t final_state_size)
+                               const ColumnLayout& layout, std::size_t final_state_size)
     : job_(job), spec_(spec), layout_(layout), final_size_(final_state_size), file_(path) {
   const std::size_t n = spec.samples;
   const std::size_t chunk = std::max<std::size_t>(spec.block_size * 16, 64);
@@ -38,10 +39,14 @@ EnsembleWriter::EnsembleWriter(const std::filesystem::path& path, const Job& job
   const std::size_t d = spec.input_dimensions();
   if (d > 0) {
     inputs_ = h5::create_rows(g, "inputs", H5T_NATIVE_DOUBLE, n, d, chunk);
-    describe(inputs_.id(), "SI (rad for angles, rad/s for angular velocities)",
+    describe(inputs_.id(), "SI (per column: the 'column_units' attribute)",
              "the sampled value of every perturbed input ([[ensemble.perturbation]] targets; "
              "orientation perturbations are rotation vectors)",
              spec.input_names());
+    std::vector<std::string> units;
+    for (const ensemble::Perturbation& p : spec.perturbations)
+      for (int k = 0; k < p.dimensions(); ++k) units.push_back(p.mode == ensemble::Perturbation::Mode::scale ? "1" : p.si_unit);
+    h5::write_attribute(inputs_.id(), "column_units", units);
   }
   status_ = h5::create_rows(g, "status", H5T_NATIVE_INT32, n, 0, chunk);
   describe(status_.id(), "1", "0 ok, 1 integration failed, 2 invalid model (perturbed input refused)", {});
@@ -49,15 +54,14 @@ EnsembleWriter::EnsembleWriter(const std::filesystem::path& path, const Job& job
   describe(reason_.id(), "1", "why the sample failed; empty when ok", {});
   time_reached_ = h5::create_rows(g, "time_reached", H5T_NATIVE_DOUBLE, n, 0, chunk);
   describe(time_reached_.id(), "s", "time the integration reached (the end time when ok)", {});
-  integrator_stats_ = h5::create_rows(g, "integrator_stats", H5T_NATIVE_INT64, n, 5, chunk);
-  describe(integrator_stats_.id(), "1", "integrator statistics per sample",
-           {"steps", "rhs_evaluations", "error_test_failures", "nonlinear_convergence_failures",
-            "chart_changes"});
+  integrator_stats_ = h5::create_rows(g, "integrator_stats", H5T_NATIVE_INT64, n,
+                                      kIntegratorStatFields.size(), chunk);
+  describe(integrator_stats_.id(), "1", "integrator statistics per sample", integrator_stat_columns());
   final_state_ = h5::create_rows(g, "final_state", H5T_NATIVE_DOUBLE, n, final_state_size, chunk);
   describe(final_state_.id(), "1, rad/s",
            "state at the last output time: per body the orientation quaternion (q0 >= 0) and "
            "the inertial angular velocity; NaN for failed samples",
-           final_state_columns(job));
+           final_state_columns(job.model.tree()));
   max_group_ = h5::create_group(g, "max_over_time");
   h5::write_attribute(max_group_.id(), "description",
                       std::string("per sample, the maximum over the output times of every column of "
@@ -97,8 +101,7 @@ void EnsembleWriter::write_run(const std::vector<SampleRecord>& run) {
     inputs.insert(inputs.end(), in.begin(), in.end());
     times.push_back(r.time_reached);
     status.push_back(static_cast<std::int32_t>(r.status));
-    stats.insert(stats.end(), {r.stats.steps, r.stats.rhs_evaluations, r.stats.error_test_failures,
-                               r.stats.nonlinear_convergence_failures, r.stats.chart_changes});
+    for (const IntegratorStatField& f : kIntegratorStatFields) stats.push_back(r.stats.*f.member);
     reasons.push_back(r.reason);
     finals.insert(finals.end(), r.final_state.begin(), r.final_state.end());
   }
@@ -106,7 +109,8 @@ void EnsembleWriter::write_run(const std::vector<SampleRecord>& run) {
   h5::write_rows(status_.id(), H5T_NATIVE_INT32, first, rows, 0, status.data());
   h5::write_string_rows(reason_.id(), first, reasons, kReasonLength);
   h5::write_rows(time_reached_.id(), H5T_NATIVE_DOUBLE, first, rows, 0, times.data());
-  h5::write_rows(integrator_stats_.id(), H5T_NATIVE_INT64, first, rows, 5, stats.data());
+  h5::write_rows(integrator_stats_.id(), H5T_NATIVE_INT64, first, rows, kIntegratorStatFields.size(),
+                 stats.data());
   h5::write_rows(final_state_.id(), H5T_NATIVE_DOUBLE, first, rows, final_size_, finals.data());
   for (std::size_t q = 0; q < layout_.quantity.size(); ++q) {
     const std::size_t cols = layout_.names[q].size();
@@ -126,18 +130,7 @@ void EnsembleWriter::write_nominal(const std::vector<double>& trajectory) {
   const std::vector<double>& t = job_.request.output_times;
   h5::Handle time = h5::write_vector(group.id(), "time", t);
   describe(time.id(), "s", "output times", {});
-  const std::size_t columns = layout_.columns;
-  for (std::size_t q = 0; q < layout_.quantity.size(); ++q) {
-    const std::size_t cols = layout_.names[q].size();
-    std::vector<double> values;
-    for (std::size_t k = 0; k < t.size(); ++k) {
-      const auto begin = trajectory.begin() + static_cast<long>(k * columns + layout_.offset[q]);
-      values.insert(values.end(), begin, begin + static_cast<long>(cols));
-    }
-    const QuantityInfo* info = find_quantity(layout_.quantity[q]);
-    h5::Handle set = h5::write_matrix(group.id(), layout_.quantity[q], values, t.size(), cols);
-    describe(set.id(), std::string(info->units), std::string(info->description), layout_.names[q]);
-  }
+  write_quantity_datasets(group.id(), layout_, t.size(), trajectory, "/nominal/time");
 }
 
 void EnsembleWriter::write_statistics(const ensemble::EnsembleStatistics& s) {

@@ -27,7 +27,7 @@ class EnsembleWriter {
   static constexpr std::size_t kReasonLength = 256;
 
   EnsembleWriter(const std::filesystem::path& path, const Job& job,
-                 const ensemble::EnsembleSpec& spec, const ensemble::ColumnLayout& layout,
+                 const ensemble::EnsembleSpec& spec, const ColumnLayout& layout,
                  std::size_t final_state_size);
 
   void write_records(std::vector<ensemble::SampleRecord> records);
@@ -40,7 +40,7 @@ class EnsembleWriter {
 
   const Job& job_;
   const ensemble::EnsembleSpec& spec_;
-  const ensemble::ColumnLayout& layout_;
+  const ColumnLayout& layout_;
   std::size_t final_size_;
   h5::File file_;
   h5::Handle samples_, inputs_, status_, reason_, time_reached_, integrator_stats_, final_state_;

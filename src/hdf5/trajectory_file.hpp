@@ -1,17 +1,28 @@
-// The HDF5 file of one trajectory (`treedyn run`).
+// The HDF5 file of one trajectory (`treedyn run`), and the per-quantity
+// datasets it shares with the ensemble file's nominal run.
 #pragma once
 
 #include <filesystem>
+#include <span>
+#include <string>
 
+#include "hdf5/hdf5.hpp"
 #include "integrate/settings.hpp"
 #include "job/job.hpp"
+#include "output/quantities.hpp"
 #include "output/recorder.hpp"
 
 namespace treedyn {
 
+// One (times x columns) dataset per recorded quantity under `group`, sliced
+// from a recorder's flat rows, with units, description and column labels.
+// `time_path` names the dataset of the rows' times, for the description.
+void write_quantity_datasets(hid_t group, const ColumnLayout& layout, std::size_t times,
+                             std::span<const double> values, const std::string& time_path);
+
 // Writes /time, one dataset per quantity, and the run's attributes, under a
 // temporary name renamed into place when complete. Throws h5::IoError.
-void write_trajectory(const std::filesystem::path& path, const Job& job,
-                      const TrajectoryRecorder& recorder, const IntegrationOutcome& outcome);
+void write_trajectory(const std::filesystem::path& path, const Job& job, const Recorder& recorder,
+                      const IntegrationOutcome& outcome);
 
 }  // namespace treedyn

@@ -5,6 +5,7 @@
 #include <string_view>
 
 #include "common/enum_names.hpp"
+#include "integrate/integrator_stats.hpp"
 
 namespace treedyn {
 
@@ -29,16 +30,6 @@ struct IntegratorSettings {
   long max_steps = 100000;     // per output interval (SUNDIALS' mxstep)
   double max_step = 0.0;       // 0: no limit
   double initial_step = 0.0;   // 0: the integrator's estimate
-};
-
-struct IntegratorStats {
-  long steps = 0;
-  long rhs_evaluations = 0;
-  long error_test_failures = 0;
-  long nonlinear_convergence_failures = 0;  // CVODE only
-  long root_evaluations = 0;
-  long chart_changes = 0;                   // body orientations re-expressed in a fresh chart
-  long restarts = 0;                        // integrator re-initialisations for them
 };
 
 enum class FailureKind {

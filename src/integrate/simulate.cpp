@@ -28,21 +28,13 @@ std::unique_ptr<Stepper> make_stepper(TreeOde& ode, const IntegratorSettings& se
 
 namespace {
 
-void add(IntegratorStats& total, const IntegratorStats& part) {
-  total.steps += part.steps;
-  total.rhs_evaluations += part.rhs_evaluations;
-  total.error_test_failures += part.error_test_failures;
-  total.nonlinear_convergence_failures += part.nonlinear_convergence_failures;
-  total.root_evaluations += part.root_evaluations;
-}
-
-void check_request(const Model& model, const SimulationRequest& r) {
+void check_request(const Model& model, const InitialState& initial, const SimulationRequest& r) {
   const auto& s = r.settings;
   if (!(s.relative_tolerance > 0.0) || !(s.absolute_tolerance > 0.0))
     throw std::invalid_argument("integrator: tolerances must be positive");
   if (s.max_steps <= 0) throw std::invalid_argument("integrator: max_steps must be positive");
-  if (static_cast<int>(r.initial.rotation.size()) != model.n ||
-      static_cast<int>(r.initial.angular_velocity.size()) != model.n)
+  if (static_cast<int>(initial.rotation.size()) != model.n ||
+      static_cast<int>(initial.angular_velocity.size()) != model.n)
     throw std::invalid_argument("initial state: need one rotation and one angular velocity per body");
   double previous = r.start_time;
   for (double t : r.output_times) {
@@ -54,9 +46,9 @@ void check_request(const Model& model, const SimulationRequest& r) {
 
 }  // namespace
 
-IntegrationOutcome simulate(const Model& model, const SimulationRequest& request,
-                            const OutputObserver& observer) {
-  check_request(model, request);
+IntegrationOutcome simulate(const Model& model, const InitialState& initial,
+                            const SimulationRequest& request, const OutputObserver& observer) {
+  check_request(model, initial, request);
   IntegrationOutcome outcome;
   outcome.time_reached = request.start_time;
 
@@ -64,7 +56,7 @@ IntegrationOutcome simulate(const Model& model, const SimulationRequest& request
   sundials::Context context;
   sundials::Vector y(sundials::check_created(N_VNew_Serial(ode.size(), context), "N_VNew_Serial"));
   std::span<double> state{N_VGetArrayPointer(y.get()), static_cast<std::size_t>(ode.size())};
-  ode.pack(request.initial, state);
+  ode.pack(initial, state);
 
   auto report = [&](double t) {
     ode.unpack(t, state);

@@ -8,6 +8,7 @@
 #include "integrate/settings.hpp"
 #include "integrate/tree_ode.hpp"
 #include "kinematics/parameterisation.hpp"
+#include "model/initial_state.hpp"
 #include "model/model.hpp"
 
 namespace treedyn {
@@ -16,8 +17,9 @@ namespace treedyn {
 // forward dynamics already run on it (pass both to recover()).
 using OutputObserver = std::function<void(const Model& model, const Data& data)>;
 
+// How to integrate: from when, to which output times, in which coordinates,
+// with which method. What to integrate is a Model and an InitialState.
 struct SimulationRequest {
-  TreeState initial;
   double start_time = 0.0;
   std::vector<double> output_times;  // non-decreasing, >= start_time
   Parameterisation parameterisation = Parameterisation::quaternion;
@@ -27,7 +29,7 @@ struct SimulationRequest {
 // Never throws for integration trouble: a failure comes back in the outcome
 // with the time reached. Throws std::invalid_argument for a malformed request
 // (wrong sizes, decreasing output times, non-positive tolerances).
-IntegrationOutcome simulate(const Model& model, const SimulationRequest& request,
-                            const OutputObserver& observer);
+IntegrationOutcome simulate(const Model& model, const InitialState& initial,
+                            const SimulationRequest& request, const OutputObserver& observer);
 
 }  // namespace treedyn

@@ -15,12 +15,12 @@ TreeOde::TreeOde(const Model& model, Parameterisation parameterisation)
       chart_(static_cast<std::size_t>(model.n), Mat3::Identity()),
       data_(model) {}
 
-void TreeOde::pack(const TreeState& state, std::span<double> y) {
+void TreeOde::pack(const InitialState& state, std::span<double> y) {
   if (static_cast<int>(state.rotation.size()) != model_.n ||
       static_cast<int>(state.angular_velocity.size()) != model_.n)
     throw std::invalid_argument("initial state: need one rotation and one angular velocity per body");
   for (int i = 0; i < model_.n; ++i) {
-    const int u = model_.user_index[i];
+    const int u = model_.tree().user_index[i];
     double* q = coordinates(y, i);
     // Quaternion sign reference for recentre: +identity.
     for (int c = 0; c < count_; ++c) q[c] = c == 0 ? 1.0 : 0.0;

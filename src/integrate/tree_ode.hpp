@@ -12,15 +12,10 @@
 #include "common/linalg.hpp"
 #include "dynamics/data.hpp"
 #include "kinematics/parameterisation.hpp"
+#include "model/initial_state.hpp"
 #include "model/model.hpp"
 
 namespace treedyn {
-
-// Initial state in the user's body order.
-struct TreeState {
-  std::vector<Mat3> rotation;          // A_i, body -> inertial
-  std::vector<Vec3> angular_velocity;  // w_i, inertial frame
-};
 
 class TreeOde {
  public:
@@ -33,7 +28,7 @@ class TreeOde {
   Data& data() { return data_; }
 
   // Writes y for `state` (user order), choosing a fresh chart for every body.
-  void pack(const TreeState& state, std::span<double> y);
+  void pack(const InitialState& state, std::span<double> y);
   // Rotations and angular velocities of y into data (no dynamics).
   void unpack(double t, std::span<const double> y);
   // y' = f(t, y). False on a numerical failure (non-finite state or result).

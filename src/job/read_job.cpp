@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "common/error.hpp"
+#include "dynamics/mass_matrix.hpp"
 #include "job/job.hpp"
 #include "job/readers.hpp"
 #include "output/quantities.hpp"
@@ -141,18 +142,19 @@ Job parse_job(std::string_view text, const std::string& file) {
   }
   read_loads(root, spec);
 
+  // The model's own checks name the body (or the base); point at the table
+  // that defined it.
   try {
-    job.model = build_model(spec);
+    job.definition = define_model(spec);
+    require_sparse_factor_fits(*job.definition.topology);
+    derive_model(job.definition, job.definition.parameters.nominal(), job.model);
   } catch (const ModelError& e) {
     const auto it = bodies.where.find(e.subject());
-    // The message names the body (or the base) already; point at the table
-    // that defined it.
     if (it != bodies.where.end())
       throw JobError(file, line_of(*it->second), column_of(*it->second), "", e.what());
     throw JobError(file, 0, 0, "", e.what());
   }
-  job.request.initial = std::move(bodies.initial);
-  job.spin_in_body_frame = std::move(bodies.spin_in_body_frame);
+  job.initial = std::move(bodies.initial);
 
   if (auto integrator = root.subtable("integrator")) read_integrator(*integrator, job.request);
   const auto output = root.subtable("output");

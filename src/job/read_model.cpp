@@ -2,7 +2,6 @@
 #include <cmath>
 #include <numbers>
 
-#include "model/solids.hpp"
 #include "job/readers.hpp"
 
 namespace treedyn {
@@ -15,14 +14,16 @@ double positive(const TomlView& t, std::string_view key, const char* unit) {
   return v;
 }
 
-// Mass from `mass` or `density` x volume (exactly one of them).
-double mass_of(const TomlView& t, double volume) {
+// `mass` or `density` (exactly one of them) of a solid.
+void read_mass_or_density(const TomlView& t, BodySpec& body) {
   const bool has_mass = t.has("mass"), has_density = t.has("density");
   if (has_mass == has_density)
     t.fail(has_mass ? "density" : "mass",
            "give exactly one of 'mass' (kg) or 'density' (kg/m^3) for a body with a shape");
-  if (has_mass) return positive(t, "mass", "kg");
-  return positive(t, "density", "kg/m^3") * volume;
+  if (has_mass)
+    body.mass = positive(t, "mass", "kg");
+  else
+    body.density = positive(t, "density", "kg/m^3");
 }
 
 void read_mass_and_inertia(const TomlView& t, BodySpec& body) {
@@ -30,25 +31,24 @@ void read_mass_and_inertia(const TomlView& t, BodySpec& body) {
   if (shape) {
     for (std::string_view k : {"inertia", "principal_moments", "principal_axes"})
       if (t.has(k)) t.fail(k, "not allowed together with 'shape': the shape defines the inertia");
-    Vec3 moments;
-    if (*shape == "box") {
+    if (!parse_in(kSolidNames, *shape, body.solid))
+      t.fail("shape", "\"" + *shape + "\" is not a shape; allowed: " + choices(kSolidNames));
+    if (body.solid == Solid::box) {
       const auto size = t.vec3("size");
       if (!size) t.fail("size", "missing: a box needs size = [x, y, z] in m");
       if (!(size->minCoeff() > 0.0)) t.fail("size", "every edge must be positive (m)");
-      body.mass = mass_of(t, box_volume(*size));
-      moments = box_principal_moments(body.mass, *size);
-    } else if (*shape == "cylinder") {
-      const double r = positive(t, "radius", "m"), l = positive(t, "length", "m");
-      body.mass = mass_of(t, cylinder_volume(r, l));
-      moments = cylinder_principal_moments(body.mass, r, l);
-    } else if (*shape == "sphere") {
-      const double r = positive(t, "radius", "m");
-      body.mass = mass_of(t, sphere_volume(r));
-      moments = sphere_principal_moments(body.mass, r);
+      body.size = *size;
     } else {
-      t.fail("shape", "\"" + *shape + "\" is not a shape; allowed: \"box\", \"cylinder\", \"sphere\"");
+      body.radius = positive(t, "radius", "m");
+      if (body.solid == Solid::cylinder) body.length = positive(t, "length", "m");
     }
-    body.inertia = moments.asDiagonal();
+    for (std::string_view k : {"size", "radius", "length"}) {
+      const bool used = k == "size" ? body.solid == Solid::box
+                        : k == "radius" ? body.solid != Solid::box
+                                        : body.solid == Solid::cylinder;
+      if (t.has(k) && !used) t.fail(k, "not a dimension of a " + *shape);
+    }
+    read_mass_or_density(t, body);
     return;
   }
   for (std::string_view k : {"size", "radius", "length", "density"})
@@ -74,8 +74,10 @@ void read_mass_and_inertia(const TomlView& t, BodySpec& body) {
 }
 
 JointSpring read_spring(const TomlView& t) {
-  t.check_keys({"stiffness", "damping", "reference"});
+  t.check_keys({"stiffness", "damping", "reference", "law"});
   JointSpring s;
+  if (auto law = t.string("law"); law && !parse_in(kSpringLawNames, *law, s.law))
+    t.fail("law", "\"" + *law + "\" is not a spring law; allowed: " + choices(kSpringLawNames));
   if (auto k = t.mat3_or_scalar("stiffness")) s.stiffness = *k;
   if (auto c = t.mat3_or_scalar("damping")) s.damping = *c;
   if (auto r = t.subtable("reference")) s.reference = Quat(read_orientation(*r));
@@ -89,7 +91,7 @@ void read_state(const TomlView& t, ReadBodies& out) {
   if (auto v = t.subtable("angular_velocity")) w = read_angular_velocity(*v, A);
   out.initial.rotation.push_back(A);
   out.initial.angular_velocity.push_back(w.inertial);
-  out.spin_in_body_frame.push_back(w.body);
+  out.initial.body_frame_spin.push_back(w.body);
 }
 
 void read_body(const TomlView& t, ReadBodies& out) {
@@ -122,11 +124,11 @@ void read_chain(const TomlView& t, ReadBodies& out) {
   const auto links = t.integer("links");
   if (!links) t.fail("links", "missing required field: the number of links (integer >= 1)");
   if (*links < 1 || *links > 3000) t.fail("links", "must be an integer from 1 to 3000");
-  const double length = positive(t, "link_length", "m");
-  const double radius = t.has("radius") ? positive(t, "radius", "m") : length / 50.0;
   BodySpec link;
-  link.mass = mass_of(t, cylinder_volume(radius, length));
-  link.inertia = cylinder_principal_moments(link.mass, radius, length).asDiagonal();
+  link.solid = Solid::cylinder;
+  link.length = positive(t, "link_length", "m");
+  link.radius = t.has("radius") ? positive(t, "radius", "m") : link.length / 50.0;
+  read_mass_or_density(t, link);
   JointSpring spring;
   if (auto s = t.subtable("spring")) spring = read_spring(*s);
   std::string parent = t.string("parent").value_or(kBaseName);
@@ -135,9 +137,12 @@ void read_chain(const TomlView& t, ReadBodies& out) {
     JointSpec joint;
     joint.child = link.name;
     joint.parent = parent;
-    joint.on_parent = k == 1 ? t.vec3("joint_on_parent").value_or(Vec3::Zero())
-                             : Vec3(0.0, 0.0, -0.5 * length);
-    joint.on_child = Vec3(0.0, 0.0, 0.5 * length);
+    // The joint points move with the link lengths: (0, 0, +L/2) on the
+    // link, (0, 0, -L/2) on the previous link.
+    if (k == 1)
+      joint.on_parent = t.vec3("joint_on_parent").value_or(Vec3::Zero());
+    joint.on_parent_follows_length = k > 1;
+    joint.on_child_follows_length = true;
     joint.spring = spring;
     out.where[link.name] = &t.table();
     out.bodies.push_back(link);

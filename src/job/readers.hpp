@@ -5,7 +5,7 @@
 #include <optional>
 #include <string>
 
-#include "integrate/tree_ode.hpp"
+#include "model/initial_state.hpp"
 #include "job/toml_view.hpp"
 #include "model/model_spec.hpp"
 
@@ -27,8 +27,7 @@ AngularVelocityInput read_angular_velocity(const TomlView& table, const Mat3& or
 struct ReadBodies {
   std::vector<BodySpec> bodies;
   std::vector<JointSpec> joints;
-  TreeState initial;
-  std::vector<std::optional<Vec3>> spin_in_body_frame;
+  InitialState initial;
   std::map<std::string, const toml::node*> where;
 };
 ReadBodies read_bodies(const TomlView& root);

@@ -86,16 +86,25 @@ std::vector<Vec3> spline_moments(const TabulatedBase& b) {
 
 }  // namespace
 
-BaseMotion::BaseMotion(BaseMotionSpec spec) : spec_(std::move(spec)) {
-  std::visit([](const auto& b) { validate(b); }, spec_);
-  if (const auto* tab = std::get_if<TabulatedBase>(&spec_)) second_derivatives_ = spline_moments(*tab);
+BaseMotion::BaseMotion(BaseMotionSpec spec) {
+  std::visit([](const auto& b) { validate(b); }, spec);
+  if (auto* tab = std::get_if<TabulatedBase>(&spec)) {
+    std::vector<Vec3> moments = spline_moments(*tab);
+    motion_ = std::make_shared<const Spline>(Spline{std::move(*tab), std::move(moments)});
+  } else if (auto* f = std::get_if<FixedBase>(&spec)) {
+    motion_ = *f;
+  } else if (auto* c = std::get_if<ConstantAccelerationBase>(&spec)) {
+    motion_ = *c;
+  } else {
+    motion_ = std::move(std::get<HarmonicBase>(spec));
+  }
 }
 
 bool BaseMotion::is_fixed() const {
-  if (std::holds_alternative<FixedBase>(spec_)) return true;
-  if (const auto* c = std::get_if<ConstantAccelerationBase>(&spec_))
+  if (std::holds_alternative<FixedBase>(motion_)) return true;
+  if (const auto* c = std::get_if<ConstantAccelerationBase>(&motion_))
     return c->velocity.isZero(0.0) && c->acceleration.isZero(0.0);
-  if (const auto* h = std::get_if<HarmonicBase>(&spec_)) {
+  if (const auto* h = std::get_if<HarmonicBase>(&motion_)) {
     for (const auto& axis : h->axes)
       for (const auto& term : axis)
         if (term.amplitude != 0.0 && term.frequency != 0.0) return false;
@@ -106,13 +115,13 @@ bool BaseMotion::is_fixed() const {
 
 BaseKinematics BaseMotion::at(double t) const {
   BaseKinematics k;
-  if (const auto* f = std::get_if<FixedBase>(&spec_)) {
+  if (const auto* f = std::get_if<FixedBase>(&motion_)) {
     k.position = f->position;
-  } else if (const auto* c = std::get_if<ConstantAccelerationBase>(&spec_)) {
+  } else if (const auto* c = std::get_if<ConstantAccelerationBase>(&motion_)) {
     k.position = c->position + c->velocity * t + 0.5 * c->acceleration * t * t;
     k.velocity = c->velocity + c->acceleration * t;
     k.acceleration = c->acceleration;
-  } else if (const auto* harmonic = std::get_if<HarmonicBase>(&spec_)) {
+  } else if (const auto* harmonic = std::get_if<HarmonicBase>(&motion_)) {
     k.position = harmonic->offset;
     for (int axis = 0; axis < 3; ++axis) {
       for (const Harmonic& term : harmonic->axes[axis]) {
@@ -125,9 +134,10 @@ BaseKinematics BaseMotion::at(double t) const {
       }
     }
   } else {
-    const auto& tab = std::get<TabulatedBase>(spec_);
+    const Spline& spline = *std::get<std::shared_ptr<const Spline>>(motion_);
+    const auto& tab = spline.table;
     const auto& ts = tab.times;
-    const auto& m = second_derivatives_;
+    const auto& m = spline.moments;
     const std::size_t n = ts.size();
     auto slope_at_end = [&](std::size_t i0, std::size_t i1, bool left_end) {
       const double h = ts[i1] - ts[i0];

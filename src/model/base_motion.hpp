@@ -2,6 +2,7 @@
 #pragma once
 
 #include <array>
+#include <memory>
 #include <variant>
 #include <vector>
 
@@ -53,20 +54,24 @@ struct TabulatedBase {
 using BaseMotionSpec =
     std::variant<FixedBase, ConstantAccelerationBase, HarmonicBase, TabulatedBase>;
 
-// A validated base motion, cheap to evaluate (spline coefficients precomputed).
+// A validated base motion, cheap to evaluate (spline coefficients precomputed)
+// and cheap to copy (a table and its spline are shared between copies).
 class BaseMotion {
  public:
   BaseMotion() = default;
   explicit BaseMotion(BaseMotionSpec spec);  // throws ModelError when invalid
 
   BaseKinematics at(double t) const;
-  const BaseMotionSpec& spec() const { return spec_; }
   // True when r0' = r0'' = 0 for all t (energy of the tree is then conserved).
   bool is_fixed() const;
 
  private:
-  BaseMotionSpec spec_ = FixedBase{};
-  std::vector<Vec3> second_derivatives_;  // spline moments, TabulatedBase only
+  struct Spline {
+    TabulatedBase table;
+    std::vector<Vec3> moments;  // second derivatives at the knots
+  };
+  std::variant<FixedBase, ConstantAccelerationBase, HarmonicBase, std::shared_ptr<const Spline>>
+      motion_ = FixedBase{};
 };
 
 }  // namespace treedyn

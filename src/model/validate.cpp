@@ -35,6 +35,16 @@ void require_positive_mass(const std::string& who, double mass) {
   }
 }
 
+void require_positive(const std::string& who, const std::string& field, const std::string& unit,
+                      double value) {
+  if (!std::isfinite(value) || !(value > 0.0)) {
+    std::ostringstream s;
+    s << who << ": " << field << " " << value << " " << unit
+      << " is not allowed; it must be positive and finite";
+    throw ModelError(s.str());
+  }
+}
+
 void require_valid_inertia(const std::string& who, const Mat3& inertia) {
   if (!inertia.allFinite())
     throw ModelError(who + ": inertia has a NaN or infinite entry; all entries must be finite");

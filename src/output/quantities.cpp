@@ -14,8 +14,8 @@ void append_each(std::vector<double>& row, const std::vector<Vec3>& values) {
 
 std::vector<std::string> per_body(const Model& model, std::initializer_list<const char*> suffixes) {
   std::vector<std::string> out;
-  for (const BodySpec& b : model.spec.bodies)
-    for (const char* s : suffixes) out.push_back(b.name + "." + s);
+  for (int u = 0; u < model.n; ++u)
+    for (const char* s : suffixes) out.push_back(model.tree().user_body_name(u) + "." + s);
   return out;
 }
 
@@ -34,8 +34,7 @@ constexpr std::array<QuantityInfo, 15> kCatalogue{{
      [](const Model& m, const OutputSpec&) { return per_body(m, {"q0", "q1", "q2", "q3"}); },
      [](const Recovered& s, const OutputSpec&, std::vector<double>& row) {
        for (const Mat3& A : s.rotation) {
-         Quat q(A);
-         if (q.w() < 0.0) q.coeffs() *= -1.0;  // one of q, -q: the one with q0 >= 0
+         const Quat q = canonical_quaternion(A);
          row.insert(row.end(), {q.w(), q.x(), q.y(), q.z()});
        }
      }},
@@ -107,12 +106,6 @@ constexpr std::array<QuantityInfo, 15> kCatalogue{{
      }},
 }};
 
-const QuantityInfo& known(std::string_view name) {
-  const QuantityInfo* q = find_quantity(name);
-  if (!q) throw std::invalid_argument("unknown quantity " + std::string(name));
-  return *q;
-}
-
 }  // namespace
 
 std::span<const QuantityInfo> quantity_catalogue() { return kCatalogue; }
@@ -123,14 +116,18 @@ const QuantityInfo* find_quantity(std::string_view name) {
   return nullptr;
 }
 
-std::vector<std::string> quantity_columns(std::string_view name, const Model& model,
-                                          const OutputSpec& output) {
-  return known(name).columns(model, output);
-}
-
-void extract_quantity(std::string_view name, const OutputSpec& output, const Recovered& state,
-                      std::vector<double>& row) {
-  known(name).extract(state, output, row);
+ColumnLayout column_layout(const Model& model, const OutputSpec& output) {
+  ColumnLayout l;
+  for (const std::string& q : output.quantities) {
+    const QuantityInfo* info = find_quantity(q);
+    if (!info) throw std::invalid_argument("unknown quantity " + q);
+    l.quantity.push_back(q);
+    l.info.push_back(info);
+    l.offset.push_back(l.columns);
+    l.names.push_back(info->columns(model, output));
+    l.columns += l.names.back().size();
+  }
+  return l;
 }
 
 }  // namespace treedyn

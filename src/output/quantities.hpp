@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "dynamics/recovered.hpp"
-#include "job/job.hpp"
 #include "model/model.hpp"
+#include "output/output_spec.hpp"
 
 namespace treedyn {
 
@@ -28,10 +28,16 @@ struct QuantityInfo {
 std::span<const QuantityInfo> quantity_catalogue();
 const QuantityInfo* find_quantity(std::string_view name);
 
-// By name (throws std::invalid_argument for an unknown one).
-std::vector<std::string> quantity_columns(std::string_view name, const Model& model,
-                                          const OutputSpec& output);
-void extract_quantity(std::string_view name, const OutputSpec& output, const Recovered& state,
-                      std::vector<double>& row);
+// The flat columns of the recorded quantities (output.quantities, in order):
+// one row per output time holds every column of every quantity.
+struct ColumnLayout {
+  std::vector<std::string> quantity;           // names, in order
+  std::vector<const QuantityInfo*> info;       // their catalogue entries
+  std::vector<std::size_t> offset;             // first column of each quantity
+  std::vector<std::vector<std::string>> names; // column labels of each quantity
+  std::size_t columns = 0;
+};
+// Throws std::invalid_argument for a quantity not in the catalogue.
+ColumnLayout column_layout(const Model& model, const OutputSpec& output);
 
 }  // namespace treedyn

@@ -3,30 +3,24 @@
 #include <algorithm>
 #include <cmath>
 
-#include "output/quantities.hpp"
-
 namespace treedyn {
 
-TrajectoryRecorder::TrajectoryRecorder(const Model& model, const OutputSpec& output)
-    : output_(output), values_(output.quantities.size()) {
-  for (const std::string& q : output.quantities) {
-    quantities_.push_back(find_quantity(q));
-    columns_.push_back(quantity_columns(q, model, output));
-  }
+Recorder::Recorder(const Model& model, const OutputSpec& output)
+    : output_(output), layout_(column_layout(model, output)) {}
+
+void Recorder::clear() {
+  times_.clear();
+  values_.clear();
+  max_energy_change_ = 0.0;
 }
 
-void TrajectoryRecorder::record(const Model& model, const Data& data) {
-  Recovered state = recover(model, data);
-  times_.push_back(state.time);
-  for (std::size_t k = 0; k < output_.quantities.size(); ++k) {
-    row_.clear();
-    quantities_[k]->extract(state, output_, row_);
-    values_[k].insert(values_[k].end(), row_.begin(), row_.end());
-  }
-  if (!first_) first_ = state;
+void Recorder::record(const Model& model, const Data& data) {
+  recover(model, data, state_);
+  if (times_.empty()) first_energy_ = state_.energy;
+  times_.push_back(state_.time);
+  for (const QuantityInfo* q : layout_.info) q->extract(state_, output_, values_);
   max_energy_change_ =
-      std::max(max_energy_change_, std::abs(state.energy.total() - first_->energy.total()));
-  last_ = std::move(state);
+      std::max(max_energy_change_, std::abs(state_.energy.total() - first_energy_.total()));
 }
 
 }  // namespace treedyn

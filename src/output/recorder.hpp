@@ -1,43 +1,49 @@
-// Records the requested quantities of one trajectory at every output time and
-// writes them to HDF5.
+// Records the requested quantities of one trajectory at every output time,
+// as one flat row of columns per time. `treedyn run` and every ensemble
+// sample use this one recorder.
 #pragma once
 
-#include <filesystem>
-#include <optional>
-#include <string>
 #include <vector>
 
+#include "dynamics/data.hpp"
 #include "dynamics/recovered.hpp"
-#include "integrate/settings.hpp"
-#include "job/job.hpp"
+#include "model/model.hpp"
+#include "output/output_spec.hpp"
 #include "output/quantities.hpp"
 
 namespace treedyn {
 
-class TrajectoryRecorder {
+class Recorder {
  public:
-  TrajectoryRecorder(const Model& model, const OutputSpec& output);
+  // `model` names the columns (any model of the same tree); `output` must
+  // outlive the recorder.
+  Recorder(const Model& model, const OutputSpec& output);
 
-  // The OutputObserver of simulate().
+  // Forgets the recorded trajectory (keeping its storage) before a new one.
+  void clear();
+  // The OutputObserver of simulate(): recovers the state and appends a row.
   void record(const Model& model, const Data& data);
 
+  const ColumnLayout& layout() const { return layout_; }
   const std::vector<double>& times() const { return times_; }
-  // Row-major samples x columns for quantity k of output.quantities.
-  const std::vector<double>& values(std::size_t k) const { return values_[k]; }
-  const std::vector<std::string>& columns(std::size_t k) const { return columns_[k]; }
-  const std::optional<Recovered>& first() const { return first_; }
-  const std::optional<Recovered>& last() const { return last_; }
-  // Largest |E(t) - E(0)| seen, J.
+  // times x columns, row-major.
+  const std::vector<double>& values() const { return values_; }
+  // Exchanges the recorded values with `other` (no copy; the recorder keeps
+  // `other`'s storage for the next trajectory).
+  void swap_values(std::vector<double>& other) { values_.swap(other); }
+  bool empty() const { return times_.empty(); }
+  // The state at the last output time recorded.
+  const Recovered& last() const { return state_; }
+  // Energies at the first output time, and the largest |E(t) - E(first)| seen, J.
+  const Energies& first_energy() const { return first_energy_; }
   double max_energy_change() const { return max_energy_change_; }
 
  private:
   const OutputSpec& output_;
-  std::vector<const QuantityInfo*> quantities_;
-  std::vector<double> times_;
-  std::vector<std::vector<double>> values_;
-  std::vector<std::vector<std::string>> columns_;
-  std::vector<double> row_;
-  std::optional<Recovered> first_, last_;
+  ColumnLayout layout_;
+  std::vector<double> times_, values_;
+  Recovered state_;  // reused at every output time
+  Energies first_energy_;
   double max_energy_change_ = 0.0;
 };
 

@@ -368,11 +368,11 @@ Eigen::MatrixXd oracle_mass_matrix(const ModelSpec& spec, const Model& model,
   const NewtonEulerSystem sys = newton_euler_system(spec, tree, A_user, w, 0.0);
   Eigen::MatrixXd unit_moments = Eigen::MatrixXd::Zero(9 * n, 3 * n);
   for (int i = 0; i < n; ++i)  // column block i: unit moments on regular body i
-    unit_moments.block<3, 3>(9 * model.user_index[i] + 3, 3 * i) = Mat3::Identity();
+    unit_moments.block<3, 3>(9 * model.tree().user_index[i] + 3, 3 * i) = Mat3::Identity();
   const Eigen::MatrixXd response = Eigen::FullPivLU<Eigen::MatrixXd>(sys.S).solve(unit_moments);
   Eigen::MatrixXd compliance(3 * n, 3 * n);
   for (int i = 0; i < n; ++i)
-    compliance.middleRows<3>(3 * i) = response.middleRows<3>(9 * model.user_index[i] + 3);
+    compliance.middleRows<3>(3 * i) = response.middleRows<3>(9 * model.tree().user_index[i] + 3);
   return compliance.inverse();
 }
 
@@ -457,11 +457,11 @@ ModelSpec random_scenario(std::mt19937_64& rng, const ScenarioOptions& o) {
 }
 
 // Copies a user-order state into data in the regular order.
-void set_state(const Model& model, const TreeState& s, double t, Data& data) {
+void set_state(const Model& model, const InitialState& s, double t, Data& data) {
   data.time = t;
   for (int i = 0; i < model.n; ++i) {
-    data.rotation[i] = s.rotation[model.user_index[i]];
-    data.angular_velocity[i] = s.angular_velocity[model.user_index[i]];
+    data.rotation[i] = s.rotation[model.tree().user_index[i]];
+    data.angular_velocity[i] = s.angular_velocity[model.tree().user_index[i]];
   }
 }
 
@@ -511,7 +511,7 @@ TEST(NewtonEuler, AngularAccelerationsAndReactionsMatchOracle) {
         const Model model = build_model(spec);
         Data data(model);
         for (int rep = 0; rep < 3; ++rep) {
-          const TreeState state = testing::random_state(rng, n, spins[rep]);
+          const InitialState state = testing::random_state(rng, n, spins[rep]);
           const double t = 5.0 * unit(rng);
           set_state(model, state, t, data);
           ASSERT_TRUE(forward_dynamics(model, data));
@@ -524,7 +524,7 @@ TEST(NewtonEuler, AngularAccelerationsAndReactionsMatchOracle) {
           // Solver's w' straight from data, mapped to the user order.
           std::vector<Vec3> alpha(n);
           for (int i = 0; i < n; ++i)
-            alpha[model.user_index[i]] = data.angular_acceleration.segment<3>(3 * i);
+            alpha[model.tree().user_index[i]] = data.angular_acceleration.segment<3>(3 * i);
           for (int u = 0; u < n; ++u)  // recover() must report the same w' (a copy)
             ASSERT_EQ((alpha[u] - rec.angular_acceleration[u]).norm(), 0.0);
 
@@ -580,7 +580,7 @@ TEST(NewtonEuler, JointSpringMomentMatchesIndependentLaw) {
     const SpecTree tree = spec_tree(spec);
     Data data(model);
     for (int rep = 0; rep < 5; ++rep) {
-      const TreeState s = testing::random_state(rng, n, 4.0);
+      const InitialState s = testing::random_state(rng, n, 4.0);
       set_state(model, s, 0.0, data);
       ASSERT_TRUE(forward_dynamics(model, data));
       const Recovered rec = recover(model, data);
@@ -631,7 +631,7 @@ TEST(NewtonEuler, DenseMassMatrixSymmetricPositiveDefiniteAndSolvesAlike) {
         const ModelSpec spec = random_scenario(rng, o);
         const Model model = build_model(spec);
         Data data(model);
-        const TreeState state = testing::random_state(rng, n, 3.0);
+        const InitialState state = testing::random_state(rng, n, 3.0);
         set_state(model, state, 3.0 * unit(rng), data);
         ASSERT_TRUE(forward_dynamics(model, data));
         const Eigen::MatrixXd K = dense_mass_matrix(model, data);
@@ -708,7 +708,7 @@ TEST(NewtonEuler, HotPathDoesNotAllocate) {
       const ModelSpec spec = random_scenario(rng, o);
       const Model model = build_model(spec);
       Data data(model);
-      std::vector<TreeState> states;
+      std::vector<InitialState> states;
       for (int k = 0; k < 4; ++k) states.push_back(testing::random_state(rng, n, 3.0));
 
       set_state(model, states[0], 0.1, data);

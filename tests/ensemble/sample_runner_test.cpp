@@ -56,7 +56,7 @@ upper = 1.1
   std::vector<double> trajectory;
   const SampleRecord r = runner.run(1, false, trajectory);
   ASSERT_EQ(r.status, SampleStatus::ok) << r.reason;
-  const Vec3 w = final_spin(r), nominal = job.request.initial.angular_velocity[0];
+  const Vec3 w = final_spin(r), nominal = job.initial.angular_velocity[0];
   EXPECT_EQ(w.x(), nominal.x());
   EXPECT_EQ(w.y(), nominal.y());
   EXPECT_EQ(w.z(), nominal.z());
@@ -90,7 +90,7 @@ upper = 8.0
     ASSERT_EQ(r.status, SampleStatus::ok) << r.reason;
     const double angle = r.inputs[0], wz = r.inputs[1];
     const Mat3 rotated = Eigen::AngleAxisd(angle, Vec3::UnitY()).toRotationMatrix() *
-                         job.request.initial.rotation[0];
+                         job.initial.rotation[0];
     const Vec3 expected_xy = rotated * Vec3(0.3, -1.2, 5.0);
     const Vec3 w = final_spin(r);
     EXPECT_NEAR(w.x(), expected_xy.x(), 1e-14) << k;

@@ -20,14 +20,20 @@ struct Recording {
   std::vector<Recovered> states;
 };
 
-Recording record_run(const Model& model, SimulationRequest request) {
+// What simulate() takes besides the model.
+struct Request : SimulationRequest {
+  InitialState initial;
+};
+
+Recording record_run(const Model& model, const Request& request) {
   Recording r;
-  r.outcome = simulate(model, request, [&](const Model& m, const Data& d) { r.states.push_back(recover(m, d)); });
+  r.outcome = simulate(model, request.initial, request,
+                       [&](const Model& m, const Data& d) { r.states.push_back(recover(m, d)); });
   return r;
 }
 
-SimulationRequest tumbling_request(const Model& model, std::mt19937_64& rng, double end, int outputs) {
-  SimulationRequest request;
+Request tumbling_request(const Model& model, std::mt19937_64& rng, double end, int outputs) {
+  Request request;
   request.initial = testing::random_state(rng, model.n, 4.0);
   for (int k = 0; k <= outputs; ++k) request.output_times.push_back(end * k / outputs);
   return request;
@@ -42,7 +48,7 @@ TEST(Simulate, AllMethodsAgree) {
   testing::RandomTreeOptions options;
   options.bodies = 4;
   const Model model = build_model(testing::random_tree(rng, options));
-  SimulationRequest request = tumbling_request(model, rng, 3.0, 30);
+  Request request = tumbling_request(model, rng, 3.0, 30);
   request.settings.relative_tolerance = 1e-11;
   request.settings.absolute_tolerance = 1e-11;
   std::vector<Recording> runs;
@@ -76,10 +82,10 @@ TEST(Simulate, OutputsUseDenseOutputNotForcedSteps) {
   options.bodies = 3;
   const Model model = build_model(testing::random_tree(rng, options));
   for (Method m : {Method::cvode_adams, Method::erk_dormand_prince}) {
-    SimulationRequest few = tumbling_request(model, rng, 2.0, 1);
+    Request few = tumbling_request(model, rng, 2.0, 1);
     few.settings.method = m;
     few.settings.relative_tolerance = few.settings.absolute_tolerance = 1e-10;
-    SimulationRequest many = few;
+    Request many = few;
     many.output_times.clear();
     for (int k = 0; k <= 1000; ++k) many.output_times.push_back(2.0 * k / 1000);
     const Recording a = record_run(model, few), b = record_run(model, many);
@@ -87,7 +93,7 @@ TEST(Simulate, OutputsUseDenseOutputNotForcedSteps) {
     EXPECT_EQ(a.outcome.stats.steps, b.outcome.stats.steps) << name(m);
     EXPECT_EQ(b.states.size(), 1001u);
     // The midpoint through dense output vs a run whose last output is there.
-    SimulationRequest to_mid = few;
+    Request to_mid = few;
     to_mid.output_times = {1.0};
     const Recording c = record_run(model, to_mid);
     for (int i = 0; i < model.n; ++i)
@@ -104,11 +110,11 @@ TEST(Simulate, TooMuchWorkIsATypedFailureWithTheTimeReached) {
   options.bodies = 3;
   const Model model = build_model(testing::random_tree(rng, options));
   for (Method m : {Method::cvode_adams, Method::erk_verner}) {
-    SimulationRequest request = tumbling_request(model, rng, 10.0, 1);
+    Request request = tumbling_request(model, rng, 10.0, 1);
     request.settings.method = m;
     request.settings.max_steps = 20;
     int outputs = 0;
-    const IntegrationOutcome o = simulate(model, request, [&](const Model&, const Data&) { ++outputs; });
+    const IntegrationOutcome o = simulate(model, request.initial, request, [&](const Model&, const Data&) { ++outputs; });
     EXPECT_FALSE(o.ok());
     EXPECT_EQ(o.failure, FailureKind::too_much_work) << name(m) << ": " << o.message;
     EXPECT_GT(o.time_reached, 0.0);
@@ -127,10 +133,10 @@ TEST(Simulate, NonFiniteStateIsATypedFailure) {
   options.bodies = 2;
   const Model model = build_model(testing::random_tree(rng, options));
   for (Method m : {Method::cvode_adams, Method::cvode_bdf, Method::erk_dormand_prince}) {
-    SimulationRequest request = tumbling_request(model, rng, 1.0, 1);
+    Request request = tumbling_request(model, rng, 1.0, 1);
     request.settings.method = m;
     request.initial.angular_velocity[1].x() = std::numeric_limits<double>::quiet_NaN();
-    const IntegrationOutcome o = simulate(model, request, {});
+    const IntegrationOutcome o = simulate(model, request.initial, request, {});
     EXPECT_FALSE(o.ok()) << name(m);
     EXPECT_NE(o.failure, FailureKind::none);
     EXPECT_EQ(o.time_reached, 0.0) << name(m);
@@ -141,12 +147,12 @@ TEST(Simulate, NonFiniteStateIsATypedFailure) {
 TEST(Simulate, MalformedRequestsThrow) {
   std::mt19937_64 rng(15);
   const Model model = build_model(testing::random_tree(rng, {}));
-  SimulationRequest request = tumbling_request(model, rng, 1.0, 2);
+  Request request = tumbling_request(model, rng, 1.0, 2);
   request.output_times = {0.5, 0.2};
-  EXPECT_THROW(simulate(model, request, {}), std::invalid_argument);
+  EXPECT_THROW(simulate(model, request.initial, request, {}), std::invalid_argument);
   request.output_times = {0.5};
   request.settings.relative_tolerance = 0.0;
-  EXPECT_THROW(simulate(model, request, {}), std::invalid_argument);
+  EXPECT_THROW(simulate(model, request.initial, request, {}), std::invalid_argument);
 }
 
 // Chart changes restart the integrator; the reported statistics are the sum
@@ -162,7 +168,7 @@ TEST(Simulate, StatisticsAccumulateOverChartRestarts) {
   j.child = "ball";
   spec.joints.push_back(j);
   const Model model = build_model(spec);
-  SimulationRequest request;
+  Request request;
   request.initial.rotation = {Mat3::Identity()};
   request.initial.angular_velocity = {Vec3(0.0, 3.0, 0.0)};  // through Bryant a2 = 90 deg
   for (int k = 0; k <= 10; ++k) request.output_times.push_back(0.5 * k);

@@ -346,18 +346,17 @@ struct Trajectory {
   std::vector<double> energy;
 };
 
-Trajectory run(const ModelSpec& spec, const TreeState& initial, Parameterisation p,
+Trajectory run(const ModelSpec& spec, const InitialState& initial, Parameterisation p,
         const std::vector<double>& times, double rtol, double atol) {
   const Model model = build_model(spec);
   SimulationRequest request;
-  request.initial = initial;
   request.parameterisation = p;
   request.settings.method = Method::cvode_adams;
   request.settings.relative_tolerance = rtol;
   request.settings.absolute_tolerance = atol;
   request.output_times = times;
   Trajectory out;
-  out.outcome = simulate(model, request, [&](const Model& m, const Data& data) {
+  out.outcome = simulate(model, initial, request, [&](const Model& m, const Data& data) {
     const Recovered r = recover(m, data);
     out.time.push_back(r.time);
     out.rotation.push_back(r.rotation);
@@ -390,7 +389,7 @@ TEST(ParameterisationRuns, AllFourAgreeOnTumblingTree) {
   testing::RandomTreeOptions options;
   options.bodies = 3;
   const ModelSpec spec = testing::random_tree(rng, options);
-  const TreeState initial = testing::random_state(rng, options.bodies, 8.0);
+  const InitialState initial = testing::random_state(rng, options.bodies, 8.0);
   const std::vector<double> times = grid(10.0, 400);
   auto worst_difference = [&](const Trajectory& a, const Trajectory& b, double* at = nullptr,
                               double* w_diff = nullptr) {
@@ -487,7 +486,7 @@ TEST(ParameterisationRuns, SingularPassagesMatchClosedForm) {
   };
   const std::vector<double> times = grid(10.0, 1000);
   for (const Case& c : cases) {
-    TreeState initial;
+    InitialState initial;
     initial.rotation = {c.A0};
     initial.angular_velocity = {c.w};
     for (Parameterisation p : kAll) {
@@ -532,7 +531,7 @@ TEST(ParameterisationRuns, LongRunKeepsRotationsOrthonormal) {
   testing::RandomTreeOptions options;
   options.bodies = 1;
   const ModelSpec spec = testing::random_tree(rng, options);
-  TreeState initial;
+  InitialState initial;
   initial.rotation = {testing::random_rotation(rng)};
   initial.angular_velocity = {Vec3(3.0, -4.0, 5.0)};
   const std::vector<double> times = grid(200.0, 4000);

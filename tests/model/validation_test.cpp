@@ -405,25 +405,25 @@ TEST(Validation, InvalidBaseMotionIsAModelError) {
 void expect_regular(const Model& m, const ModelSpec& spec) {
   const int n = m.n;
   ASSERT_EQ(n, static_cast<int>(spec.bodies.size()));
-  ASSERT_EQ(static_cast<int>(m.parent.size()), n);
-  ASSERT_EQ(static_cast<int>(m.user_index.size()), n);
-  ASSERT_EQ(static_cast<int>(m.regular_index.size()), n);
-  ASSERT_EQ(static_cast<int>(m.body_name.size()), n);
-  EXPECT_EQ(m.parent[0], kBase);
+  ASSERT_EQ(static_cast<int>(m.tree().parent.size()), n);
+  ASSERT_EQ(static_cast<int>(m.tree().user_index.size()), n);
+  ASSERT_EQ(static_cast<int>(m.tree().regular_index.size()), n);
+  ASSERT_EQ(static_cast<int>(m.tree().body_name.size()), n);
+  EXPECT_EQ(m.tree().parent[0], kBase);
   for (int i = 1; i < n; ++i) {
-    EXPECT_GE(m.parent[i], 0) << "only body 0 hangs from the base";
-    EXPECT_LT(m.parent[i], i) << "body " << i;
+    EXPECT_GE(m.tree().parent[i], 0) << "only body 0 hangs from the base";
+    EXPECT_LT(m.tree().parent[i], i) << "body " << i;
   }
   for (int i = 0; i < n; ++i) {
-    EXPECT_EQ(m.regular_index[m.user_index[i]], i);
-    EXPECT_EQ(m.user_index[m.regular_index[i]], i);
-    EXPECT_EQ(m.body_name[i], spec.bodies[m.user_index[i]].name);
-    EXPECT_EQ(m.mass[i], spec.bodies[m.user_index[i]].mass);
-    EXPECT_EQ(m.depth[i], m.parent[i] == kBase ? 1 : m.depth[m.parent[i]] + 1);
-    EXPECT_TRUE(std::is_sorted(m.children[i].begin(), m.children[i].end()));
-    for (int k : m.children[i]) EXPECT_EQ(m.parent[k], i);
+    EXPECT_EQ(m.tree().regular_index[m.tree().user_index[i]], i);
+    EXPECT_EQ(m.tree().user_index[m.tree().regular_index[i]], i);
+    EXPECT_EQ(m.tree().body_name[i], spec.bodies[m.tree().user_index[i]].name);
+    EXPECT_EQ(m.mass[i], spec.bodies[m.tree().user_index[i]].mass);
+    EXPECT_EQ(m.tree().depth[i], m.tree().parent[i] == kBase ? 1 : m.tree().depth[m.tree().parent[i]] + 1);
+    EXPECT_TRUE(std::is_sorted(m.tree().children[i].begin(), m.tree().children[i].end()));
+    for (int k : m.tree().children[i]) EXPECT_EQ(m.tree().parent[k], i);
   }
-  std::vector<int> sorted = m.user_index;
+  std::vector<int> sorted = m.tree().user_index;
   std::sort(sorted.begin(), sorted.end());
   std::vector<int> identity(n);
   std::iota(identity.begin(), identity.end(), 0);
@@ -432,25 +432,25 @@ void expect_regular(const Model& m, const ModelSpec& spec) {
   // The joint of regular body i names body i as its child and p(i) (or the
   // base) as its parent.
   for (const JointSpec& j : spec.joints) {
-    const auto child = std::find(m.body_name.begin(), m.body_name.end(), j.child);
-    ASSERT_NE(child, m.body_name.end());
-    const int i = static_cast<int>(child - m.body_name.begin());
+    const auto child = std::find(m.tree().body_name.begin(), m.tree().body_name.end(), j.child);
+    ASSERT_NE(child, m.tree().body_name.end());
+    const int i = static_cast<int>(child - m.tree().body_name.begin());
     if (j.parent == kBaseName) {
-      EXPECT_EQ(m.parent[i], kBase);
+      EXPECT_EQ(m.tree().parent[i], kBase);
     } else {
-      ASSERT_NE(m.parent[i], kBase);
-      EXPECT_EQ(m.body_name[m.parent[i]], j.parent);
+      ASSERT_NE(m.tree().parent[i], kBase);
+      EXPECT_EQ(m.tree().body_name[m.tree().parent[i]], j.parent);
     }
     EXPECT_EQ(m.com_to_inboard_joint[i], j.on_child);
-    if (m.parent[i] != kBase) {
+    if (m.tree().parent[i] != kBase) {
       EXPECT_EQ(m.parent_com_to_joint[i], j.on_parent);
     }
   }
   // Preorder: every subtree is a contiguous index range.
   for (int i = 0; i < n; ++i) {
     int last = i;
-    for (int j = i + 1; j < n && (m.is_ancestor(i, j)); ++j) last = j;
-    for (int j = last + 1; j < n; ++j) EXPECT_FALSE(m.is_ancestor(i, j)) << i << " " << j;
+    for (int j = i + 1; j < n && (m.tree().is_ancestor(i, j)); ++j) last = j;
+    for (int j = last + 1; j < n; ++j) EXPECT_FALSE(m.tree().is_ancestor(i, j)) << i << " " << j;
   }
 }
 
@@ -469,23 +469,23 @@ TEST(Relabel, HandWrittenShuffledOrder) {
   s.moments.push_back(mo);
   const Model m = build_model(s);
   expect_regular(m, s);
-  EXPECT_EQ(m.body_name[0], "c");
-  EXPECT_EQ(m.user_index[0], 3);
-  EXPECT_EQ(m.regular_index[3], 0);
+  EXPECT_EQ(m.tree().body_name[0], "c");
+  EXPECT_EQ(m.tree().user_index[0], 3);
+  EXPECT_EQ(m.tree().regular_index[3], 0);
   EXPECT_DOUBLE_EQ(m.total_mass, 10.0);
-  const int b = m.regular_index[0];
-  const int a = m.regular_index[1];
-  const int d = m.regular_index[2];
-  EXPECT_EQ(m.body_name[b], "b");
-  EXPECT_EQ(m.parent[b], d);
-  EXPECT_EQ(m.parent[d], 0);
-  EXPECT_EQ(m.parent[a], 0);
+  const int b = m.tree().regular_index[0];
+  const int a = m.tree().regular_index[1];
+  const int d = m.tree().regular_index[2];
+  EXPECT_EQ(m.tree().body_name[b], "b");
+  EXPECT_EQ(m.tree().parent[b], d);
+  EXPECT_EQ(m.tree().parent[d], 0);
+  EXPECT_EQ(m.tree().parent[a], 0);
   EXPECT_DOUBLE_EQ(m.subtree_mass[d], 4.0);
   ASSERT_EQ(m.point_forces[b].size(), 1u);
   EXPECT_EQ(m.point_forces[b][0].force, Vec3(1.0, 2.0, 3.0));
   EXPECT_TRUE(m.has_point_forces);
   EXPECT_EQ(m.applied_moment[a], Vec3(0.0, 0.0, 5.0));
-  EXPECT_EQ(m.joint_name[b], "d-b");
+  EXPECT_EQ(m.tree().joint_name[b], "d-b");
 }
 
 TEST(Relabel, RandomShuffledTrees) {
@@ -526,7 +526,7 @@ TEST(Constants, HandComputedYTree) {
   jb.on_child = Vec3(0.0, 0.5, 0.0);
   s.joints = {ja, jb, jr};
   const Model m = build_model(s);
-  const int R = m.regular_index[2], A = m.regular_index[1], B = m.regular_index[0];
+  const int R = m.tree().regular_index[2], A = m.tree().regular_index[1], B = m.tree().regular_index[0];
   ASSERT_EQ(R, 0);
   const double tol = 1e-14;
 
@@ -574,8 +574,8 @@ TEST(Constants, HandComputedYTree) {
 Vec3 b_vector(const Model& m, int i, int j) {
   const Vec3& beta = m.barycentre[i];
   if (i == j) return -beta;
-  for (int k : m.children[i])
-    if (k == j || m.is_ancestor(k, j)) return m.parent_com_to_joint[k] - beta;
+  for (int k : m.tree().children[i])
+    if (k == j || m.tree().is_ancestor(k, j)) return m.parent_com_to_joint[k] - beta;
   return m.com_to_inboard_joint[i] - beta;  // j not in sub(i): b_i0
 }
 
@@ -583,8 +583,8 @@ Vec3 b_inboard(const Model& m, int i) { return m.com_to_inboard_joint[i] - m.bar
 
 Vec3 d_vector(const Model& m, int i, int j) {
   if (i == j) return m.com_to_inboard_joint[i];
-  for (int k : m.children[i])
-    if (k == j || m.is_ancestor(k, j)) return m.com_to_inboard_joint[i] - m.parent_com_to_joint[k];
+  for (int k : m.tree().children[i])
+    if (k == j || m.tree().is_ancestor(k, j)) return m.com_to_inboard_joint[i] - m.parent_com_to_joint[k];
   return Vec3::Zero();
 }
 
@@ -603,7 +603,7 @@ TEST(Constants, RandomTreesSatisfyPageIdentities) {
       // mu_i by membership.
       double mu = 0.0;
       for (int j = 0; j < m.n; ++j)
-        if (j == i || m.is_ancestor(i, j)) mu += m.mass[j];
+        if (j == i || m.tree().is_ancestor(i, j)) mu += m.mass[j];
       EXPECT_NEAR(m.subtree_mass[i], mu, 1e-13 * M);
 
       Vec3 sum_b = Vec3::Zero(), sum_d = Vec3::Zero();
@@ -627,7 +627,7 @@ TEST(Constants, RandomTreesSatisfyPageIdentities) {
       EXPECT_TRUE(m.augmented_inertia[i].isApprox(K, 1e-12)) << "K_" << i << "\n"
                                                               << m.augmented_inertia[i] << "\nvs\n"
                                                               << K;
-      for (int k : m.children[i])
+      for (int k : m.tree().children[i])
         EXPECT_LT((m.branch_d[k] - d_vector(m, i, k)).norm(), 1e-15);
     }
   }

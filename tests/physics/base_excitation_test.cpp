@@ -24,11 +24,10 @@ struct Trajectory {
   std::vector<Recovered> out;  // one per output time
 };
 
-Trajectory run(const ModelSpec& spec, const TreeState& initial, const std::vector<double>& times,
+Trajectory run(const ModelSpec& spec, const InitialState& initial, const std::vector<double>& times,
         double rtol, double atol, Parameterisation p = Parameterisation::quaternion) {
   const Model model = build_model(spec);
   SimulationRequest request;
-  request.initial = initial;
   request.parameterisation = p;
   request.settings.method = Method::cvode_adams;
   request.settings.relative_tolerance = rtol;
@@ -36,7 +35,7 @@ Trajectory run(const ModelSpec& spec, const TreeState& initial, const std::vecto
   request.output_times = times;
   Trajectory r;
   r.out.reserve(times.size());
-  r.outcome = simulate(model, request,
+  r.outcome = simulate(model, initial, request,
                        [&](const Model& m, const Data& data) { r.out.push_back(recover(m, data)); });
   return r;
 }
@@ -77,7 +76,7 @@ TEST(BaseExcitation, ConstantAccelerationIsExtraGravity) {
   testing::RandomTreeOptions options;
   options.bodies = 4;
   const ModelSpec tree = testing::random_tree(rng, options);
-  const TreeState initial = testing::random_state(rng, options.bodies, 3.0);
+  const InitialState initial = testing::random_state(rng, options.bodies, 3.0);
   const double g = 9.81;
   struct Case {
     const char* what;
@@ -194,7 +193,7 @@ Powers powers(const ModelSpec& spec, const Recovered& r) {
 TEST(BaseExcitation, HarmonicWorkBalancesEnergy) {
   std::mt19937_64 rng(9090);
   const ModelSpec spec = damped_sprung_tree(rng);
-  const TreeState initial = testing::random_state(rng, 3, 3.0);
+  const InitialState initial = testing::random_state(rng, 3, 3.0);
   const double duration = 4.0;
   const int intervals = 8000;  // 0.5 ms, even, for Simpson
   const std::vector<double> times = grid(duration, intervals);
@@ -338,7 +337,7 @@ TEST(BaseExcitation, TabulatedBaseIsAccurateAndContinuous) {
 TEST(BaseExcitation, TabulatedBaseReproducesHarmonicRun) {
   std::mt19937_64 rng(9090);
   const ModelSpec harmonic = damped_sprung_tree(rng);
-  const TreeState initial = testing::random_state(rng, 3, 3.0);
+  const InitialState initial = testing::random_state(rng, 3, 3.0);
   ModelSpec tabulated = harmonic;
   tabulated.base_motion = tabulate(BaseMotion(two_axis_shaker()), -0.2, 4.2, 1e-3);
   const std::vector<double> times = grid(4.0, 400);
@@ -393,7 +392,7 @@ TEST(BaseExcitation, SpringsConserveEnergyOnFixedBase) {
         j.spring.reference = Quat(testing::random_rotation(rng));
       }
     }
-    const TreeState initial = testing::random_state(rng, n, 4.0);
+    const InitialState initial = testing::random_state(rng, n, 4.0);
     const Trajectory r = run(spec, initial, times, 1e-12, 1e-12);
     ASSERT_TRUE(r.outcome.ok()) << r.outcome.message;
     ASSERT_EQ(r.out.size(), times.size());

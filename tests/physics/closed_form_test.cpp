@@ -38,12 +38,11 @@ struct Trajectory {
   std::vector<Recovered> out;
 };
 
-Trajectory run(const ModelSpec& spec, const TreeState& initial, const std::vector<double>& times,
+Trajectory run(const ModelSpec& spec, const InitialState& initial, const std::vector<double>& times,
         Method method, Parameterisation p = Parameterisation::quaternion, double rtol = 1e-12,
         double atol = 1e-12) {
   const Model model = build_model(spec);
   SimulationRequest request;
-  request.initial = initial;
   request.parameterisation = p;
   request.settings.method = method;
   request.settings.relative_tolerance = rtol;
@@ -51,7 +50,7 @@ Trajectory run(const ModelSpec& spec, const TreeState& initial, const std::vecto
   request.output_times = times;
   Trajectory r;
   r.out.reserve(times.size());
-  r.outcome = simulate(model, request, [&](const Model& m, const Data& data) {
+  r.outcome = simulate(model, initial, request, [&](const Model& m, const Data& data) {
     r.out.push_back(recover(m, data));
   });
   return r;
@@ -159,7 +158,7 @@ PeriodResult pendulum_period(int swing_axis /* 0: x, 1: y */) {
 
   const double theta0 = 0.01;
   const Mat3 turn = swing_axis == 0 ? rot_x(theta0) : rot_y(theta0);
-  TreeState initial;
+  InitialState initial;
   initial.rotation = {Mat3(turn * axes.transpose())};  // principal axes = inertial axes, turned
   initial.angular_velocity = {Vec3::Zero()};
 
@@ -269,7 +268,7 @@ ConicalResult conical(double m, double L, double A, double C, double theta,
                   : std::sqrt(m * kG * L / ((A + m * L * L - C) * std::cos(theta)));
   // Body z axis (CoM -> pivot) at angle theta from the upward vertical, tilted
   // towards -x, so the CoM is at L (sin theta, 0, -cos theta).
-  TreeState initial;
+  InitialState initial;
   initial.rotation = {rot_y(-theta)};
   initial.angular_velocity = {Vec3(0.0, 0.0, res.omega)};
 
@@ -383,7 +382,7 @@ TEST(ClosedForm, HeavySymmetricTopNutationBounds) {
   // Euler 3-1-3 with phi = psi = 0: A = Rx(theta0); the symmetry axis e3 = A z.
   const Mat3 R0 = rot_x(theta0);
   const Vec3 e30 = R0.col(2);
-  TreeState initial;
+  InitialState initial;
   initial.rotation = {R0};
   initial.angular_velocity = {Vec3(phi_dot0 * Vec3::UnitZ() + psi_dot0 * e30)};
 
@@ -545,7 +544,7 @@ TEST_P(PlanarDoublePendulum, StaysPlanarAndMatchesTwoAngleEquations) {
   spec.joints = {lower, upper};
   const int iu = 1, il = 0;  // user indices
 
-  TreeState initial;
+  InitialState initial;
   initial.rotation = {rot_y(s0[1]), rot_y(s0[0])};
   initial.angular_velocity = {Vec3(0.0, s0[3], 0.0), Vec3(0.0, s0[2], 0.0)};
 

@@ -18,11 +18,10 @@ struct Drift {
   IntegrationOutcome outcome;
 };
 
-Drift measure_drift(const ModelSpec& spec, const TreeState& initial, Parameterisation p,
+Drift measure_drift(const ModelSpec& spec, const InitialState& initial, Parameterisation p,
                     Method method, double duration) {
   const Model model = build_model(spec);
   SimulationRequest request;
-  request.initial = initial;
   request.parameterisation = p;
   request.settings.method = method;
   request.settings.relative_tolerance = 1e-12;
@@ -31,7 +30,7 @@ Drift measure_drift(const ModelSpec& spec, const TreeState& initial, Parameteris
   std::vector<Energies> energy;
   std::vector<double> hz;
   Drift d;
-  d.outcome = simulate(model, request, [&](const Model& m, const Data& data) {
+  d.outcome = simulate(model, initial, request, [&](const Model& m, const Data& data) {
     const Recovered r = recover(m, data);
     energy.push_back(r.energy);
     hz.push_back(r.angular_momentum_about_base.z());
@@ -55,7 +54,7 @@ TEST(Conservation, RandomTreesEnergyAndVerticalMomentum) {
     testing::RandomTreeOptions options;
     options.bodies = n;
     const ModelSpec spec = testing::random_tree(rng, options);
-    const TreeState state = testing::random_state(rng, n, 3.0);
+    const InitialState state = testing::random_state(rng, n, 3.0);
     const Drift d = measure_drift(spec, state, Parameterisation::quaternion, Method::cvode_adams, 20.0);
     ASSERT_TRUE(d.outcome.ok()) << d.outcome.message;
     EXPECT_LT(d.energy, 1e-8) << "n = " << n;

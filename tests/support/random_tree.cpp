@@ -54,8 +54,8 @@ ModelSpec random_tree(std::mt19937_64& rng, const RandomTreeOptions& options) {
   return spec;
 }
 
-TreeState random_state(std::mt19937_64& rng, int bodies, double spin) {
-  TreeState s;
+InitialState random_state(std::mt19937_64& rng, int bodies, double spin) {
+  InitialState s;
   for (int i = 0; i < bodies; ++i) {
     s.rotation.push_back(random_rotation(rng));
     s.angular_velocity.push_back(random_vector(rng, spin / std::sqrt(3.0)));

@@ -26,7 +26,7 @@ Mat3 random_rotation(std::mt19937_64& rng);
 Vec3 random_vector(std::mt19937_64& rng, double scale);
 
 // Random orientations and angular velocities (|w| up to `spin` rad/s), user order.
-TreeState random_state(std::mt19937_64& rng, int bodies, double spin);
+InitialState random_state(std::mt19937_64& rng, int bodies, double spin);
 
 // Rotation angle of A^T B, radians.
 double rotation_distance(const Mat3& A, const Mat3& B);

@@ -1,10 +1,9 @@
-#include "model/tree.hpp"
+#include "model/topology.hpp"
 
 #include <string>
 #include <unordered_map>
 
 #include "common/error.hpp"
-#include "model/model.hpp"
 
 namespace treedyn {
 namespace {
@@ -19,7 +18,7 @@ std::string joint_label(const JointSpec& j, std::size_t index) {
 
 }  // namespace
 
-Topology regular_order(const ModelSpec& spec) {
+Topology make_topology(const ModelSpec& spec) {
   const int n = static_cast<int>(spec.bodies.size());
   if (n == 0) throw ModelError("model: no bodies; a tree needs at least one body");
 
@@ -111,16 +110,35 @@ Topology regular_order(const ModelSpec& spec) {
                        "joints must form a tree",
                        spec.bodies[b].name);
 
+  topo.n = n;
   topo.parent.resize(n);
   topo.children.assign(n, {});
   topo.depth.resize(n);
+  topo.body_name.resize(n);
+  topo.joint_name.resize(n);
   for (int i = 0; i < n; ++i) {
-    const int pu = parent_user[topo.user_index[i]];
+    const int u = topo.user_index[i];
+    const int pu = parent_user[u];
     topo.parent[i] = pu == kBase ? kBase : topo.regular_index[pu];
     topo.depth[i] = pu == kBase ? 1 : topo.depth[topo.parent[i]] + 1;
     if (topo.parent[i] != kBase) topo.children[topo.parent[i]].push_back(i);
+    const JointSpec& joint = spec.joints[joint_of[u]];
+    topo.body_name[i] = spec.bodies[u].name;
+    topo.joint_name[i] = joint.name.empty() ? joint.parent + "-" + joint.child : joint.name;
   }
   return topo;
+}
+
+bool Topology::is_ancestor(int i, int j) const {
+  for (int a = parent[j]; a != kBase; a = parent[a])
+    if (a == i) return true;
+  return false;
+}
+
+int Topology::find_user_body(const std::string& name) const {
+  for (int u = 0; u < n; ++u)
+    if (user_body_name(u) == name) return u;
+  return -1;
 }
 
 }  // namespace treedyn

@@ -1,0 +1,69 @@
+#include "model/parameters.hpp"
+
+#include <algorithm>
+#include <array>
+#include <stdexcept>
+
+namespace treedyn {
+
+int Parameter::size() const {
+  switch (shape) {
+    case ParameterShape::scalar:
+      return 1;
+    case ParameterShape::vector3:
+      return 3;
+    case ParameterShape::matrix3:
+      return 9;
+  }
+  return 1;
+}
+
+std::string_view component_name(ParameterShape shape, int component) {
+  static constexpr std::array<std::string_view, 3> kAxes{"x", "y", "z"};
+  static constexpr std::array<std::string_view, 9> kEntries{"xx", "xy", "xz", "yx", "yy",
+                                                            "yz", "zx", "zy", "zz"};
+  switch (shape) {
+    case ParameterShape::scalar:
+      return "";
+    case ParameterShape::vector3:
+      return kAxes.at(static_cast<std::size_t>(component));
+    case ParameterShape::matrix3:
+      return kEntries.at(static_cast<std::size_t>(component));
+  }
+  return "";
+}
+
+int ParameterTable::add(std::string name, std::string unit, ParameterShape shape,
+                        std::string enters, std::span<const double> nominal) {
+  Parameter p{std::move(name), std::move(unit), std::move(enters), shape,
+              static_cast<int>(nominal_.size())};
+  if (static_cast<int>(nominal.size()) != p.size())
+    throw std::logic_error("parameter " + p.name + ": wrong number of nominal entries");
+  if (find(p.name)) throw std::logic_error("parameter " + p.name + " defined twice");
+  nominal_.insert(nominal_.end(), nominal.begin(), nominal.end());
+  parameters_.push_back(std::move(p));
+  return parameters_.back().offset;
+}
+
+const Parameter* ParameterTable::find(std::string_view name) const {
+  const auto it = std::find_if(parameters_.begin(), parameters_.end(),
+                               [&](const Parameter& p) { return p.name == name; });
+  return it == parameters_.end() ? nullptr : &*it;
+}
+
+const Parameter& ParameterTable::owner(int index) const {
+  // Parameters are stored in offset order: the last one starting at or before index.
+  const auto it = std::upper_bound(parameters_.begin(), parameters_.end(), index,
+                                   [](int i, const Parameter& p) { return i < p.offset; });
+  if (it == parameters_.begin() || index < 0 || index >= static_cast<int>(nominal_.size()))
+    throw std::out_of_range("parameter entry out of range");
+  return *(it - 1);
+}
+
+std::string ParameterTable::entry_name(int index) const {
+  const Parameter& p = owner(index);
+  if (p.shape == ParameterShape::scalar) return p.name;
+  return p.name + "." + std::string(component_name(p.shape, index - p.offset));
+}
+
+}  // namespace treedyn
