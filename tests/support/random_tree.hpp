@@ -5,7 +5,7 @@
 #include <random>
 #include <vector>
 
-#include "integrate/tree_ode.hpp"
+#include "model/initial_state.hpp"
 #include "model/model_spec.hpp"
 
 namespace treedyn::testing {
