@@ -39,7 +39,7 @@ void require_positive(const std::string& who, const std::string& field, const st
                       double value) {
   if (!std::isfinite(value) || !(value > 0.0)) {
     std::ostringstream s;
-    s << who << ": " << field << " " << value << " " << unit
+    s << who << ": " << field << " " << value << (unit == "1" ? "" : " " + unit)
       << " is not allowed; it must be positive and finite";
     throw ModelError(s.str());
   }
