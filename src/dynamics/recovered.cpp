@@ -80,9 +80,4 @@ Vec3 body_point_position(const Recovered& r, int user_body, const Vec3& point) {
   return r.com_position[user_body] + r.rotation[user_body] * point;
 }
 
-Vec3 body_point_velocity(const Recovered& r, int user_body, const Vec3& point) {
-  return r.com_velocity[user_body] +
-         r.angular_velocity[user_body].cross(r.rotation[user_body] * point);
-}
-
 }  // namespace treedyn

@@ -13,7 +13,7 @@ namespace treedyn {
 struct Energies {
   double kinetic = 0.0;     // T
   double potential = 0.0;   // V: gravity and the constant point forces
-  double spring = 0.0;      // joint springs, 2 e^T K e each
+  double spring = 0.0;      // joint springs, each by its law (model/model_spec.hpp)
   double total() const { return kinetic + potential + spring; }
 };
 
@@ -41,8 +41,7 @@ Recovered recover(const Model& model, const Data& data);
 // call with a given model): for code that recovers at every output time.
 void recover(const Model& model, const Data& data, Recovered& out);
 
-// Position and velocity of a point fixed in a body (from its CoM, body frame).
+// Position of a point fixed in a body (from its CoM, body frame).
 Vec3 body_point_position(const Recovered& r, int user_body, const Vec3& point);
-Vec3 body_point_velocity(const Recovered& r, int user_body, const Vec3& point);
 
 }  // namespace treedyn

@@ -33,44 +33,54 @@ SampleRecord SampleRunner::failed_record(std::uint64_t k, SampleStatus status,
   return record;
 }
 
-std::vector<double> SampleRunner::perturb(std::uint64_t k) {
+std::vector<double> SampleRunner::sample_inputs(std::uint64_t k) {
   design_.point(k, uniforms_);
   std::vector<double> inputs(uniforms_.size());
-  std::vector<std::size_t> first(spec_.perturbations.size());
   std::size_t d = 0;
-  for (std::size_t p = 0; p < spec_.perturbations.size(); ++p) {
-    const auto n = static_cast<std::size_t>(spec_.perturbations[p].dimensions());
-    first[p] = d;
-    spec_.perturbations[p].sample(std::span<const double>(uniforms_).subspan(d, n),
-                                  std::span<double>(inputs).subspan(d, n));
+  for (const Perturbation& p : spec_.perturbations) {
+    const auto n = static_cast<std::size_t>(p.dimensions());
+    p.sample(std::span<const double>(uniforms_).subspan(d, n), std::span<double>(inputs).subspan(d, n));
     d += n;
   }
-  auto apply = [&](bool angular_velocity) {
-    for (std::size_t p = 0; p < spec_.perturbations.size(); ++p) {
-      const Perturbation& pert = spec_.perturbations[p];
-      if ((pert.kind == Perturbation::Kind::angular_velocity) != angular_velocity) continue;
-      pert.apply(std::span<const double>(inputs).subspan(first[p], static_cast<std::size_t>(pert.dimensions())),
-                 parameters_, state_);
-    }
-  };
-  apply(false);
-  // A spin the job gave in a body's own frame turns with the body; the
-  // angular-velocity perturbations, in inertial components, come after.
-  turn_body_frame_spins(job_.initial, state_);
-  apply(true);
+  return inputs;
+}
+
+void SampleRunner::set_up(const std::vector<double>& inputs) {
+  const auto p0 = job_.definition.parameters.nominal();
+  parameters_.assign(p0.begin(), p0.end());
+  state_ = job_.initial;
+  if (!inputs.empty()) {
+    auto apply = [&](bool angular_velocity) {
+      std::size_t d = 0;
+      for (const Perturbation& p : spec_.perturbations) {
+        const auto n = static_cast<std::size_t>(p.dimensions());
+        if ((p.kind == Perturbation::Kind::angular_velocity) == angular_velocity)
+          p.apply(std::span<const double>(inputs).subspan(d, n), parameters_, state_);
+        d += n;
+      }
+    };
+    apply(false);
+    // A spin the job gave in a body's own frame turns with the body; the
+    // angular-velocity perturbations, in inertial components, come after.
+    turn_body_frame_spins(job_.initial, state_);
+    apply(true);
+  }
+  derive_model(job_.definition, parameters_, model_);
+}
+
+std::vector<double> SampleRunner::prepare(std::uint64_t k, bool nominal) {
+  std::vector<double> inputs;
+  if (!nominal) inputs = sample_inputs(k);
+  set_up(inputs);
   return inputs;
 }
 
 SampleRecord SampleRunner::run(std::uint64_t k, bool nominal, std::vector<double>& trajectory,
                                const std::function<void()>& between_outputs) {
-  const auto p0 = job_.definition.parameters.nominal();
-  parameters_.assign(p0.begin(), p0.end());
-  state_ = job_.initial;
   std::vector<double> inputs;
-  if (!nominal) inputs = perturb(k);
-
+  if (!nominal) inputs = sample_inputs(k);
   try {
-    derive_model(job_.definition, parameters_, model_);
+    set_up(inputs);
   } catch (const ModelError& e) {
     SampleRecord record = failed_record(k, SampleStatus::invalid_model, e.what());
     record.inputs = std::move(inputs);

@@ -52,9 +52,21 @@ class SampleRunner {
   // The record of a sample that produced nothing: NaN maxima and final state.
   SampleRecord failed_record(std::uint64_t k, SampleStatus status, std::string reason) const;
 
+  // The per-sample set-up on its own: sample k's parameter vector and
+  // initial state (the nominal ones for `nominal`), and the model derived
+  // from them. Returns the sampled inputs; throws ModelError when the
+  // perturbed parameters make an invalid model.
+  std::vector<double> prepare(std::uint64_t k, bool nominal);
+  const std::vector<double>& parameters() const { return parameters_; }
+  const InitialState& initial_state() const { return state_; }
+  const Model& model() const { return model_; }
+
  private:
-  // parameters_ and state_ of sample k; returns its sampled inputs.
-  std::vector<double> perturb(std::uint64_t k);
+  // The sampled values (SI) of sample k's perturbed inputs.
+  std::vector<double> sample_inputs(std::uint64_t k);
+  // parameters_ and state_: the nominal ones with `inputs` applied (none:
+  // nominal), then model_. Throws ModelError.
+  void set_up(const std::vector<double>& inputs);
 
   const Job& job_;
   const EnsembleSpec& spec_;

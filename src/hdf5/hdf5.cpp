@@ -218,19 +218,6 @@ Handle write_vector(hid_t parent, const std::string& name, std::span<const doubl
   return write_dataset(parent, name, H5T_NATIVE_DOUBLE, data.data(), dims, true);
 }
 
-Handle write_vector(hid_t parent, const std::string& name, std::span<const long long> data) {
-  const hsize_t dims[1] = {data.size()};
-  return write_dataset(parent, name, H5T_NATIVE_LLONG, data.data(), dims, true);
-}
-
-Handle write_strings(hid_t parent, const std::string& name, const std::vector<std::string>& data) {
-  std::size_t width = 0;
-  const std::vector<char> buffer = pack(data, width);
-  Handle type = string_type(width);
-  const hsize_t dims[1] = {data.size()};
-  return write_dataset(parent, name, type.id(), buffer.data(), dims, false);
-}
-
 void write_attribute(hid_t object, const std::string& name, const std::string& value) {
   Handle type = string_type(value.size() + 1);
   Handle space(H5Screate(H5S_SCALAR), H5Sclose, "creating a scalar dataspace");

@@ -72,8 +72,6 @@ Handle write_matrix(hid_t parent, const std::string& name, std::span<const doubl
                     std::size_t rows, std::size_t columns);
 // 1-D datasets.
 Handle write_vector(hid_t parent, const std::string& name, std::span<const double> data);
-Handle write_vector(hid_t parent, const std::string& name, std::span<const long long> data);
-Handle write_strings(hid_t parent, const std::string& name, const std::vector<std::string>& data);
 
 // An N-dimensional dataset of `type` (e.g. H5T_NATIVE_DOUBLE), chunked and
 // compressed, written whole.

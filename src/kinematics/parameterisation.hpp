@@ -21,8 +21,6 @@ enum class Parameterisation {
   direction_cosines,  // the 9 entries of A, row-major
 };
 
-inline constexpr int kMaxCoordinates = 9;
-
 int coordinate_count(Parameterisation p);
 inline constexpr NameTable<Parameterisation, 4> kParameterisationNames{
     {{Parameterisation::quaternion, "quaternion"},

@@ -39,6 +39,15 @@ struct BodySpec {
   std::optional<double> density;      // kg/m^3: a solid given by density instead of mass
 };
 
+// A body with an explicit mass and central inertia.
+inline BodySpec rigid_body(std::string name, double mass, const Mat3& inertia) {
+  BodySpec b;
+  b.name = std::move(name);
+  b.mass = mass;
+  b.inertia = inertia;
+  return b;
+}
+
 // Central inertia from principal moments and the principal axes (columns of
 // `axes`, a rotation matrix, expressed in the body frame).
 Mat3 inertia_from_principal(const Vec3& moments, const Mat3& axes = Mat3::Identity());

@@ -162,7 +162,7 @@ TEST(Simulate, MalformedRequestsThrow) {
 TEST(Simulate, StatisticsAccumulateOverChartRestarts) {
   ModelSpec spec;
   spec.gravity = Vec3::Zero();
-  spec.bodies.push_back({"ball", 1.0, Mat3::Identity() * 0.1});
+  spec.bodies.push_back(rigid_body("ball", 1.0, Mat3::Identity() * 0.1));
   JointSpec j;
   j.parent = kBaseName;
   j.child = "ball";

@@ -149,7 +149,7 @@ PeriodResult pendulum_period(int swing_axis /* 0: x, 1: y */) {
   const Mat3 axes = Eigen::AngleAxisd(0.7, Vec3(1.0, 2.0, 3.0).normalized()).toRotationMatrix();
 
   ModelSpec spec;
-  spec.bodies.push_back({"bob", m, inertia_from_principal(moments, axes)});
+  spec.bodies.push_back(rigid_body("bob", m, inertia_from_principal(moments, axes)));
   JointSpec joint;
   joint.parent = kBaseName;
   joint.child = "bob";
@@ -255,7 +255,7 @@ struct ConicalResult {
 ConicalResult conical(double m, double L, double A, double C, double theta,
                       double omega_override = 0.0) {
   ModelSpec spec;
-  spec.bodies.push_back({"bob", m, inertia_from_principal(Vec3(A, A, C))});
+  spec.bodies.push_back(rigid_body("bob", m, inertia_from_principal(Vec3(A, A, C))));
   JointSpec joint;
   joint.parent = kBaseName;
   joint.child = "bob";
@@ -372,7 +372,7 @@ TEST(ClosedForm, HeavySymmetricTopNutationBounds) {
   const double theta0 = kPi / 3.0, phi_dot0 = 1.5, psi_dot0 = 20.0;  // theta'(0) = 0
 
   ModelSpec spec;
-  spec.bodies.push_back({"top", M, inertia_from_principal(Vec3(A, A, C))});
+  spec.bodies.push_back(rigid_body("top", M, inertia_from_principal(Vec3(A, A, C))));
   JointSpec joint;
   joint.parent = kBaseName;
   joint.child = "top";
@@ -530,8 +530,8 @@ TEST_P(PlanarDoublePendulum, StaysPlanarAndMatchesTwoAngleEquations) {
 
   ModelSpec spec;
   // Listed out of regular order on purpose (the lower body first).
-  spec.bodies.push_back({"lower", dp.m2, inertia_from_principal(Vec3(0.03, dp.J2, 0.01))});
-  spec.bodies.push_back({"upper", dp.m1, inertia_from_principal(Vec3(0.05, dp.J1, 0.02))});
+  spec.bodies.push_back(rigid_body("lower", dp.m2, inertia_from_principal(Vec3(0.03, dp.J2, 0.01))));
+  spec.bodies.push_back(rigid_body("upper", dp.m1, inertia_from_principal(Vec3(0.05, dp.J1, 0.02))));
   JointSpec lower;
   lower.parent = "upper";
   lower.child = "lower";
