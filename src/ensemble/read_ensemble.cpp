@@ -193,6 +193,7 @@ EnsembleSpec read_ensemble(const Job& job) {
       pert.kind = target.kind;
       pert.first = target.first;
       pert.entries = target.entries;
+      pert.factor = target.factor;
       pert.axis = target.axis;
       pert.si_unit = target.unit;
       pert.enters = target.enters;

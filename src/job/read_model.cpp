@@ -46,7 +46,9 @@ void read_mass_and_inertia(const TomlView& t, BodySpec& body) {
       const bool used = k == "size" ? body.solid == Solid::box
                         : k == "radius" ? body.solid != Solid::box
                                         : body.solid == Solid::cylinder;
-      if (t.has(k) && !used) t.fail(k, "not a dimension of a " + *shape);
+      if (t.has(k) && !used)
+        t.fail(k, "not a dimension of a " + *shape +
+                      " (a box has size, a cylinder radius and length, a sphere radius)");
     }
     read_mass_or_density(t, body);
     return;

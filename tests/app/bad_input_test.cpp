@@ -166,6 +166,22 @@ TEST(BadInput, NegativeMassIsRefusedWithTheAllowedRange) {
                    {"-2.5", "must be positive", "kg"});
 }
 
+TEST(BadInput, UnknownSpringLawListsTheLaws) {
+  const std::string text =
+      with(kGoodJob, "joint_on_child = [0.0, 0.0, 0.5]",
+           "joint_on_child = [0.0, 0.0, 0.5]\nspring = { stiffness = 2.0, law = \"linear\" }");
+  Case c("unknown spring law", text);
+  c.expect_refused(2, c.job() + ":" + value_position(text, "law = \"linear\"") + ": body[1].spring.law: ",
+                   {"\"linear\" is not a spring law", "\"quaternion\"", "\"rotation_vector\""});
+}
+
+TEST(BadInput, DimensionOfAnotherShapeIsRefused) {
+  const std::string text = with(kGoodJob, "length = 1.0", "length = 1.0\nsize = [1.0, 1.0, 1.0]");
+  Case c("box size on a cylinder", text);
+  c.expect_refused(2, c.job() + ":" + value_position(text, "size = [") + ": body[1].size: ",
+                   {"not a dimension of a cylinder"});
+}
+
 // Bodies given with mass and principal moments, so each [[body]] is five lines.
 std::string body(const std::string& name, const std::string& parent) {
   return "[[body]]\nname = \"" + name + "\"\nmass = 1.0\nprincipal_moments = [0.1, 0.1, 0.01]\n" +

@@ -509,4 +509,91 @@ TEST(ReadEnsemble, RefusesBadInput) {
   }
 }
 
+// Names that are not targets of this job say why, and what to perturb.
+TEST(ReadEnsemble, MissingTargetsSayWhyAndWhatInstead) {
+  const std::string model = R"([base]
+type = "harmonic"
+z = [{ amplitude = 0.01, frequency = 2.0 }]
+
+[[body]]
+name = "arm"
+mass = 1.0
+principal_moments = [0.1, 0.1, 0.05]
+parent = "base"
+joint_on_child = [0.0, 0.0, 0.3]
+
+[[body]]
+name = "crate"
+shape = "box"
+size = [0.2, 0.2, 0.2]
+density = 500.0
+parent = "arm"
+joint_on_parent = [0.0, 0.0, -0.3]
+
+[[chain]]
+name = "link"
+links = 3
+link_length = 0.2
+mass = 0.1
+parent = "crate"
+
+[output]
+end_time = 0.1
+step = 0.05
+
+[ensemble]
+samples = 2
+
+[[ensemble.perturbation]]
+distribution = "normal"
+std = 0.01
+)";
+  const std::vector<std::pair<std::string, std::vector<std::string>>> cases = {
+      {"body.link2.joint_on_child.z", {"follow the link lengths", "body.link2.length"}},
+      {"body.link2.joint_on_parent.z", {"follow the link lengths"}},
+      {"body.arm.joint_on_parent.x", {"hangs from the base", "[base]"}},
+      {"body.arm.density", {"given explicitly", "body.arm.mass", "inertia_scale"}},
+      {"body.arm.length", {"no shape", "given explicitly"}},
+      {"body.crate.length", {"is a box", "body.crate.size.x"}},
+      {"body.crate.inertia", {"homogeneous box", "inertia_scale"}},
+      {"gravity", {"is a vector", "gravity.x"}},
+      {"gravity.w", {"axis 'w'", "x, y or z"}},
+      {"base.acceleration.z", {"constant_acceleration"}},
+      {"base.z[2].amplitude", {"1 term on that axis"}},
+      {"joint.hand.stiffness", {"'hand' is not a body", "named by its child"}},
+      {"body.arm.colour", {"is not a target", "allowed targets for body 'arm'", "body.arm.mass"}},
+      {"spring.arm", {"is not a target", "treedyn check --parameters"}},
+  };
+  for (const auto& [target, says] : cases) {
+    const Job job = parse_job(model + "target = \"" + target + "\"\n", "missing.toml");
+    try {
+      read_ensemble(job);
+      ADD_FAILURE() << target << ": accepted";
+    } catch (const JobError& e) {
+      EXPECT_EQ(e.field(), "ensemble.perturbation[1].target") << target;
+      for (const std::string& s : says)
+        EXPECT_NE(std::string(e.what()).find(s), std::string::npos) << target << ": '" << s << "' not in " << e.what();
+    }
+  }
+  // ... while the ones that exist resolve, including the mass of a solid
+  // given by its density (through the density, at the nominal volume).
+  for (const std::string target : {"body.crate.mass", "body.crate.size.y", "body.link2.length",
+                                   "body.link1.joint_on_parent.x", "base.z[1].phase", "base.offset.z"}) {
+    const Job job = parse_job(model + "target = \"" + target + "\"\n" +
+                                  (target == "base.z[1].phase" ? "unit = \"rad\"\n" : ""),
+                              "exists.toml");
+    EXPECT_NO_THROW(read_ensemble(job)) << target;
+  }
+  const Job job = parse_job(model + "target = \"body.crate.mass\"\nmode = \"set\"\n", "mass.toml");
+  const EnsembleSpec spec = read_ensemble(job);
+  std::vector<double> params(job.definition.parameters.nominal().begin(), job.definition.parameters.nominal().end());
+  InitialState state = job.initial;
+  spec.perturbations[0].apply(std::vector<double>{6.0}, params, state);
+  Model m;
+  derive_model(job.definition, params, m);
+  const int crate = job.model.tree().regular_index[1];
+  EXPECT_NEAR(m.mass[crate], 6.0, 1e-15 * 6.0);  // (6 / V) x V: one rounding each way
+  EXPECT_NEAR(m.inertia[crate](0, 0), 6.0 * (0.04 + 0.04) / 12.0, 1e-15);
+}
+
 }  // namespace
