@@ -29,7 +29,9 @@ SparseMassMatrix::SparseMassMatrix(const Topology& tree) {
   path_offset.assign(n + 1, 0);
   for (std::size_t i = 0; i < n; ++i) path_offset[i + 1] = path_offset[i] + tree.depth[i] - 1;
   diagonal_block.assign(n, Mat3::Zero());
-  diagonal_factor.assign(n, Eigen::LLT<Mat3>());
+  // A default LLT leaves its status uninitialised, and copying it reads that
+  // (undefined behaviour, found by UBSan): copy a factored identity instead.
+  diagonal_factor.assign(n, Eigen::LLT<Mat3>(Mat3::Identity()));
   path_block.assign(static_cast<std::size_t>(path_offset.back()), Mat3::Zero());
   const int max_depth = *std::max_element(tree.depth.begin(), tree.depth.end());
   scratch_path.assign(static_cast<std::size_t>(max_depth), Mat3::Zero());

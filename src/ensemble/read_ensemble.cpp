@@ -112,8 +112,8 @@ void print_ensemble_summary(std::ostream& out, const Job& job, const EnsembleSpe
     else
       out << (p.mode == Mode::scale ? " multiplies" : p.mode == Mode::add ? " is added to" : " replaces")
           << " the nominal "
-          << format_number(p.kind == Kind::parameter ? nominal[p.first] / p.factor
-                                                     : job.initial.angular_velocity[p.first][p.axis])
+          << (p.kind == Kind::parameter ? nominal[p.first] / p.factor
+                                        : job.initial.angular_velocity[p.first][p.axis])
           << " " << p.si_unit;
     out << "\n      " << p.enters << "\n";
   }

@@ -81,13 +81,13 @@ void add_joint_parameters(ParameterTable& table, const std::string& child_name,
   const std::string who = quoted(child_name);
   if (!j.on_child_follows_length)
     form.on_child = add(table, prefix + "joint_on_child", "m", Shape::vector3,
-                        "point of " + who + "'s joint to its parent, from the CoM of " + who +
-                            ", its body frame",
+                        "the joint point of " + who + " (its joint to its parent), from its CoM, " +
+                            "in its body frame",
                         j.on_child);
   if (!on_base && !j.on_parent_follows_length)
     form.on_parent = add(table, prefix + "joint_on_parent", "m", Shape::vector3,
-                         "point of " + who + "'s joint on its parent " + quoted(j.parent) +
-                             ", from the parent's CoM, its body frame",
+                         "the point of the joint of " + who + " on its parent " + quoted(j.parent) +
+                             ", from the parent's CoM, in the parent's body frame",
                          j.on_parent);
   const std::string joint = "joint " + quoted(joint_name) + " (" + std::string(name(j.spring.law)) +
                             " law), child frame";

@@ -53,7 +53,7 @@ TEST(EnsembleCommand, RunWithoutOutputIsBadInput) {
   TempDir dir("ensemble_command_test");
   const CommandResult r =
       ensemble({std::string(TREEDYN_JOBS_DIR) + "/spherical_pendulum.toml"}, dir);
-  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_NE(r.err.find("--output is required"), std::string::npos) << r.err;
 }
 

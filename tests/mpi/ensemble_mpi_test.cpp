@@ -51,14 +51,6 @@ namespace fs = std::filesystem;
 
 using namespace treedyn::testing;
 
-// Open MPI refuses to start as root without these (CI runs as root). CTest
-// sets them too; setting them here lets the binary run on its own.
-[[maybe_unused]] const bool kRootAllowed = [] {
-  setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
-  setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
-  return true;
-}();
-
 // Seconds `timeout` gives each mpirun before killing it (then 10 s more
 // before SIGKILL). A normal run here takes 0.3 - 3 s.
 constexpr int kTimeoutSeconds = 120;

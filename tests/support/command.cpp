@@ -57,6 +57,10 @@ std::string quote(const std::string& s) {
 CommandResult run_command(const std::string& binary, const std::vector<std::string>& args,
                           const fs::path& capture, const std::vector<std::string>& prefix) {
   fs::create_directories(capture);
+  // Open MPI refuses to run as root (as CI does) without these; they reach
+  // mpirun, its ranks and a singleton treedyn-ensemble alike.
+  setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
+  setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
   const fs::path out = capture / "stdout.txt", err = capture / "stderr.txt";
   std::string command;
   for (const auto& word : prefix) command += quote(word) + " ";
