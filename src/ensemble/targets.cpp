@@ -124,14 +124,15 @@ std::string why_absent(const ModelDefinition& d, int u, const std::string& field
     return name + " is a homogeneous " + solid + ": its inertia follows from its mass and " +
            "dimensions; perturb those, or " + prefix + "inertia_scale";
   if (field.rfind("joint_on_child", 0) == 0 && joint.on_child < 0)
-    return "the joint points of the chain link " + name + " follow the link lengths (0, 0, +L/2 on "
-           "the link, 0, 0, -L/2 on the previous link); perturb " + prefix + "length";
+    return "the joint point of " + name + " is the upper end of the cylinder (0, 0, +L/2) and "
+           "follows its length; perturb " + prefix + "length";
   if (field.rfind("joint_on_parent", 0) == 0 && joint.on_parent < 0)
     return tree.parent[i] == kBase
                ? name + " hangs from the base: its joint point there is the base point r0; perturb "
                         "the [base] motion instead (e.g. base.position.AXIS)"
-               : "the joint points of the chain link " + name + " follow the link lengths; perturb "
-                 "the length of the link above it";
+               : "the joint of " + name + " is the lower end of the cylinder " +
+                     quoted(tree.body_name[tree.parent[i]]) + " (0, 0, -L/2) and follows its "
+                     "length; perturb body." + tree.body_name[tree.parent[i]] + ".length";
   return "";
 }
 

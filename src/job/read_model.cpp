@@ -86,6 +86,22 @@ JointSpring read_spring(const TomlView& t) {
   return s;
 }
 
+// A joint point: [x, y, z] in m, or the end of a cylinder that the point
+// follows when the cylinder's length changes: `end` is "upper_end" for
+// joint_on_child (0, 0, +L/2 of this body) or "lower_end" for
+// joint_on_parent (0, 0, -L/2 of the parent). Whether that body is a
+// cylinder is checked with the whole tree (define_model).
+Vec3 read_joint_point(const TomlView& t, std::string_view key, std::string_view end, bool& follows) {
+  if (t.has(key) && t.table().get(key)->is_string()) {
+    if (*t.string(key) != end)
+      t.fail(key, "\"" + *t.string(key) + "\" is not allowed; give [x, y, z] in m, or \"" +
+                      std::string(end) + "\" (the cylinder's end, moving with its length)");
+    follows = true;
+    return Vec3::Zero();
+  }
+  return t.vec3(key).value_or(Vec3::Zero());
+}
+
 void read_state(const TomlView& t, ReadBodies& out) {
   Mat3 A = Mat3::Identity();
   if (auto o = t.subtable("orientation")) A = read_orientation(*o);
@@ -108,8 +124,8 @@ void read_body(const TomlView& t, ReadBodies& out) {
   const auto parent = t.string("parent");
   if (!parent) t.fail("parent", "missing required field: the parent body's name, or \"base\"");
   joint.parent = *parent;
-  joint.on_parent = t.vec3("joint_on_parent").value_or(Vec3::Zero());
-  joint.on_child = t.vec3("joint_on_child").value_or(Vec3::Zero());
+  joint.on_parent = read_joint_point(t, "joint_on_parent", "lower_end", joint.on_parent_follows_length);
+  joint.on_child = read_joint_point(t, "joint_on_child", "upper_end", joint.on_child_follows_length);
   if (auto s = t.subtable("spring")) joint.spring = read_spring(*s);
   out.where[body.name] = &t.table();
   out.bodies.push_back(body);
@@ -142,8 +158,9 @@ void read_chain(const TomlView& t, ReadBodies& out) {
     // The joint points move with the link lengths: (0, 0, +L/2) on the
     // link, (0, 0, -L/2) on the previous link.
     if (k == 1)
-      joint.on_parent = t.vec3("joint_on_parent").value_or(Vec3::Zero());
-    joint.on_parent_follows_length = k > 1;
+      joint.on_parent = read_joint_point(t, "joint_on_parent", "lower_end", joint.on_parent_follows_length);
+    else
+      joint.on_parent_follows_length = true;
     joint.on_child_follows_length = true;
     joint.spring = spring;
     out.where[link.name] = &t.table();

@@ -5,6 +5,7 @@
 #include <array>
 #include <string>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "common/error.hpp"
 #include "model/definition.hpp"
@@ -35,7 +36,8 @@ std::string solid_note(const BodySpec& b) {
          (b.density ? ", and its mass (density x volume)" : "; its mass stays");
 }
 
-void add_body_parameters(ParameterTable& table, const BodySpec& b, BodyForm& form) {
+// `ends_follow`: a joint sits at an end of this cylinder and moves with its length.
+void add_body_parameters(ParameterTable& table, const BodySpec& b, bool ends_follow, BodyForm& form) {
   const std::string prefix = "body." + b.name + ".";
   const std::string who = quoted(b.name);
   form.solid = b.solid;
@@ -67,7 +69,8 @@ void add_body_parameters(ParameterTable& table, const BodySpec& b, BodyForm& for
                         "radius of the " + solid + " " + who + " (" + solid_note(b) + ")", b.radius);
     if (b.solid == Solid::cylinder)
       form.length = add(table, prefix + "length", "m", Shape::scalar,
-                        "length of the cylinder " + who + " along its body z (" + solid_note(b) + ")",
+                        "length of the cylinder " + who + " along its body z (" + solid_note(b) + ")" +
+                            (ends_follow ? "; the joints at its ends (0, 0, +-L/2) move with it" : ""),
                         b.length);
   }
   form.inertia_scale = add(table, prefix + "inertia_scale", "1", Shape::scalar,
@@ -141,6 +144,9 @@ ModelDefinition define_model(const ModelSpec& spec) {
   ModelDefinition d;
   d.body.resize(tree.n);
   d.joint.resize(tree.n);
+  std::unordered_set<std::string> carries_at_lower_end;  // parents of joints that follow their length
+  for (const JointSpec& j : spec.joints)
+    if (j.on_parent_follows_length) carries_at_lower_end.insert(j.parent);
   for (int u = 0; u < tree.n; ++u) {
     const int i = tree.regular_index[u];
     const BodySpec& body = spec.bodies[u];
@@ -151,7 +157,19 @@ ModelDefinition define_model(const ModelSpec& spec) {
                            ": reference orientation must be a finite, non-zero quaternion",
                        body.name);
     d.joint[i].reference = joint.spring.reference.normalized();
-    add_body_parameters(d.parameters, body, d.body[i]);
+    // A joint point that follows a length sits on a cylinder's end.
+    const int parent = tree.parent[i];
+    if (joint.on_child_follows_length && body.solid != Solid::cylinder)
+      throw ModelError("body " + quoted(body.name) + ": its joint point follows its length (\"upper_end\"), "
+                       "so it must be a cylinder (shape = \"cylinder\")", body.name);
+    if (joint.on_parent_follows_length &&
+        (parent == kBase || spec.bodies[tree.user_index[parent]].solid != Solid::cylinder))
+      throw ModelError("body " + quoted(body.name) + ": its joint point on the parent follows the parent's "
+                       "length (\"lower_end\"), so the parent must be a cylinder, not " +
+                       (parent == kBase ? std::string("the base") : quoted(tree.body_name[parent])),
+                       body.name);
+    const bool ends_follow = joint.on_child_follows_length || carries_at_lower_end.count(body.name) > 0;
+    add_body_parameters(d.parameters, body, ends_follow, d.body[i]);
     add_joint_parameters(d.parameters, body.name, tree.joint_name[i], joint, tree.parent[i] == kBase,
                          d.joint[i]);
   }

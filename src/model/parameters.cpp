@@ -39,16 +39,16 @@ int ParameterTable::add(std::string name, std::string unit, ParameterShape shape
               static_cast<int>(nominal_.size())};
   if (static_cast<int>(nominal.size()) != p.size())
     throw std::logic_error("parameter " + p.name + ": wrong number of nominal entries");
-  if (find(p.name)) throw std::logic_error("parameter " + p.name + " defined twice");
+  if (!by_name_.emplace(p.name, parameters_.size()).second)
+    throw std::logic_error("parameter " + p.name + " defined twice");
   nominal_.insert(nominal_.end(), nominal.begin(), nominal.end());
   parameters_.push_back(std::move(p));
   return parameters_.back().offset;
 }
 
 const Parameter* ParameterTable::find(std::string_view name) const {
-  const auto it = std::find_if(parameters_.begin(), parameters_.end(),
-                               [&](const Parameter& p) { return p.name == name; });
-  return it == parameters_.end() ? nullptr : &*it;
+  const auto it = by_name_.find(std::string(name));
+  return it == by_name_.end() ? nullptr : &parameters_[it->second];
 }
 
 const Parameter& ParameterTable::owner(int index) const {

@@ -9,6 +9,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <unordered_map>
 #include <vector>
 
 namespace treedyn {
@@ -47,6 +48,7 @@ class ParameterTable {
 
  private:
   std::vector<Parameter> parameters_;
+  std::unordered_map<std::string, std::size_t> by_name_;  // index in parameters_
   std::vector<double> nominal_;
 };
 

@@ -175,6 +175,15 @@ TEST(BadInput, UnknownSpringLawListsTheLaws) {
                    {"\"linear\" is not a spring law", "\"quaternion\"", "\"rotation_vector\""});
 }
 
+TEST(BadInput, UpperEndNeedsACylinder) {
+  const std::string text =
+      "[[body]]\nname = \"ball\"\nshape = \"sphere\"\nradius = 0.1\nmass = 1.0\nparent = \"base\"\n"
+      "joint_on_child = \"upper_end\"\n\n[output]\nend_time = 1.0\nstep = 0.1\n";
+  Case c("upper_end on a sphere", text);
+  c.expect_refused(2, c.job() + ":" + position_of(text, "[[body]]") + ": body 'ball': ",
+                   {"\"upper_end\"", "must be a cylinder"});
+}
+
 TEST(BadInput, DimensionOfAnotherShapeIsRefused) {
   const std::string text = with(kGoodJob, "length = 1.0", "length = 1.0\nsize = [1.0, 1.0, 1.0]");
   Case c("box size on a cylinder", text);

@@ -109,10 +109,11 @@ std::string explicit_chain(double length2) {
   return text + chain.substr(chain.find("[integrator]"));
 }
 
-std::string ensemble_section(const std::string& target, double lower, double upper) {
+std::string ensemble_section(const std::string& target, double lower, double upper,
+                             const std::string& extra = "") {
   return "\n[ensemble]\nsamples = 6\nseed = 4\ndesign = \"latin_hypercube\"\npilot_samples = 2\n\n"
          "[[ensemble.perturbation]]\ntarget = \"" + target + "\"\ndistribution = \"uniform\"\n"
-         "lower = " + number(lower) + "\nupper = " + number(upper) + "\n";
+         "lower = " + number(lower) + "\nupper = " + number(upper) + "\n" + extra;
 }
 
 struct Case {
@@ -121,6 +122,7 @@ struct Case {
   // The job text with the sampled value written in.
   std::string (*rerun)(double value);
   std::string ensemble_job;  // without [ensemble]
+  std::string extra = "";    // more keys of the perturbation (a unit)
 };
 
 std::string pendulum(double length, double mass, double density) {
@@ -132,7 +134,7 @@ void expect_samples_match_reruns(const Case& c) {
   SCOPED_TRACE(c.target);
   TempDir dir("perturbed_run_test");
   const fs::path job = dir.path() / "ensemble.toml", out = dir.path() / "ensemble.h5";
-  write_text(job, c.ensemble_job + ensemble_section(c.target, c.lower, c.upper));
+  write_text(job, c.ensemble_job + ensemble_section(c.target, c.lower, c.upper, c.extra));
   fs::create_directory(dir.path() / "capture");
   const CommandResult e = run_command(TREEDYN_ENSEMBLE_BINARY, {job.string(), "-o", out.string(), "-q"},
                                       dir.path() / "capture");
@@ -199,6 +201,50 @@ TEST(PerturbedRun, MassOfASolidGivenByDensityEqualsItsDensityWrittenIn) {
          return pendulum(1.0, 1.0, v * (1.0 / volume));
        },
        pendulum(1.0, 1.0, 7800.0)});
+}
+
+// The pendulum with its rod's joints given as `upper` and `lower`.
+std::string with_ends(double length, const std::string& upper, const std::string& lower) {
+  std::string t = pendulum(length, 1.0, 7800.0);
+  const std::string child = "joint_on_child = [0.0, 0.0, 0.5]", parent = "joint_on_parent = [0.0, 0.0, -0.5]";
+  t.replace(t.find(child), child.size(), "joint_on_child = " + upper);
+  t.replace(t.find(parent), parent.size(), "joint_on_parent = " + lower);
+  return t;
+}
+
+// "upper_end" and "lower_end" follow the rod's length: the same as the job
+// with both ends written out for that length.
+TEST(PerturbedRun, CylinderEndsFollowTheLength) {
+  expect_samples_match_reruns(
+      {"body.rod.length", 0.6, 1.4,
+       [](double v) {
+         return with_ends(v, "[0.0, 0.0, " + number(0.5 * v) + "]", "[0.0, 0.0, " + number(-0.5 * v) + "]");
+       },
+       with_ends(1.0, "\"upper_end\"", "\"lower_end\"")});
+}
+
+// The bodies listed child first (the file's order is not the tree's order):
+// a parameter and an initial-state target of the child still land on it.
+std::string shuffled(const std::string& text) {
+  const std::size_t rod = text.find("[[body]]"), ball = text.find("[[body]]", rod + 1);
+  const std::size_t end = text.find("[integrator]");
+  return text.substr(0, rod) + text.substr(ball, end - ball) + text.substr(rod, ball - rod) + text.substr(end);
+}
+
+TEST(PerturbedRun, ShuffledBodyOrder) {
+  expect_samples_match_reruns({"body.ball.density", 2000.0, 9000.0,
+                               [](double v) { return shuffled(pendulum(1.0, 1.0, v)); },
+                               shuffled(pendulum(1.0, 1.0, 7800.0))});
+  expect_samples_match_reruns(
+      {"body.ball.rotation.x", 0.1, 0.5,
+       [](double v) {
+         std::string t = shuffled(pendulum(1.0, 1.0, 7800.0));
+         const std::string at = "joint_on_child = [0.0, 0.0, 0.05]\n";
+         return t.replace(t.find(at), at.size(),
+                          at + "orientation = { type = \"axis_angle\", axis = [1, 0, 0], angle = " +
+                              number(v) + ", unit = \"rad\" }\n");
+       },
+       shuffled(pendulum(1.0, 1.0, 7800.0)), "unit = \"rad\"\n"});
 }
 
 TEST(PerturbedRun, ChainLinkLengthMovesItsJoints) {

@@ -106,6 +106,31 @@ TEST(JointSpring, MomentIsMinusTheEnergyGradient) {
   }
 }
 
+// Below 1e-3 rad the rotation-vector law's coefficient c of theta x (theta x
+// K theta) comes from its series; there the closed form
+// c = 1/angle^2 - cot(angle/2) / (2 angle), evaluated in long double, must
+// give the same moment. With anisotropic K the c term is ~angle^2/12 of the
+// moment, so a wrong series would show at 1e-8 relative; the check is 1e-13.
+TEST(JointSpring, RotationVectorSmallAngleSeriesMatchesTheClosedForm) {
+  std::mt19937_64 rng(5);
+  for (double angle : {1e-5, 1e-4, 5e-4, 9.9e-4}) {
+    const Mat3 K = random_spd(rng);
+    const Vec3 n = testing::random_vector(rng, 1.0).normalized();
+    const JointLoad load = joint_spring_load(spring(K, SpringLaw::rotation_vector), Mat3::Identity(),
+                                             rotation(angle, n), Vec3::Zero(), Vec3::Zero());
+    const Mat3 A = rotation(angle, n);
+    const Vec3 theta = angle * n;
+    const long double a = angle;
+    const long double c = 1.0L / (a * a) - 1.0L / (std::tan(a / 2.0L) * 2.0L * a);
+    const Vec3 Kt = K * theta;
+    const Vec3 expected =
+        -(Kt - 0.5 * theta.cross(Kt) + static_cast<double>(c) * theta.cross(theta.cross(Kt)));
+    EXPECT_LT((A.transpose() * load.moment - expected).norm(), 1e-13 * Kt.norm()) << angle;
+    // And the c term is large enough here to matter at this tolerance.
+    EXPECT_GT((static_cast<double>(c) * theta.cross(theta.cross(Kt))).norm(), 1e-12 * Kt.norm()) << angle;
+  }
+}
+
 // At 180 degrees: the quaternion law's moment falls to zero (smooth); the
 // rotation-vector law's moment has size k pi and reverses as the angle
 // passes pi (theta jumps to -theta), while its energy stays continuous.

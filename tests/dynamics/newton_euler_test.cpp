@@ -380,7 +380,7 @@ Eigen::MatrixXd oracle_mass_matrix(const ModelSpec& spec, const Model& model,
 // Random scenarios.
 // ---------------------------------------------------------------------------
 
-enum class BaseKind { fixed, harmonic, constant_acceleration };
+enum class BaseKind { fixed, harmonic, constant_acceleration, tabulated };
 
 Mat3 random_spd(std::mt19937_64& rng, double lo, double hi) {
   std::uniform_real_distribution<double> u(lo, hi);
@@ -395,6 +395,7 @@ struct ScenarioOptions {
   bool springs = false;  // springs / dampers / references on some joints
   bool loads = false;    // point forces and moments on some bodies
   BaseKind base = BaseKind::fixed;
+  SpringLaw law = SpringLaw::quaternion;  // of every spring
 };
 
 ModelSpec random_scenario(std::mt19937_64& rng, const ScenarioOptions& o) {
@@ -418,6 +419,7 @@ ModelSpec random_scenario(std::mt19937_64& rng, const ScenarioOptions& o) {
         j.spring.stiffness = random_spd(rng, 1.0, 30.0);  // anisotropic
       if (unit(rng) < 0.6) j.spring.damping = random_spd(rng, 0.1, 3.0);
       if (unit(rng) < 0.5) j.spring.reference = Quat(testing::random_rotation(rng));
+      j.spring.law = o.law;
     }
   }
   if (o.loads) {
@@ -452,6 +454,15 @@ ModelSpec random_scenario(std::mt19937_64& rng, const ScenarioOptions& o) {
           ConstantAccelerationBase{testing::random_vector(rng, 1.0), testing::random_vector(rng, 2.0),
                                    testing::random_vector(rng, 8.0)};
       break;
+    case BaseKind::tabulated: {  // not used by the oracle comparisons
+      TabulatedBase tab;
+      for (int k = 0; k <= 20; ++k) {
+        tab.times.push_back(0.1 * k);
+        tab.positions.push_back(testing::random_vector(rng, 0.3));
+      }
+      spec.base_motion = tab;
+      break;
+    }
   }
   return spec;
 }
@@ -704,7 +715,9 @@ TEST(NewtonEuler, HotPathDoesNotAllocate) {
       o.chain = shape == 0;
       o.springs = true;
       o.loads = true;
-      o.base = shape == 0 ? BaseKind::harmonic : BaseKind::constant_acceleration;
+      // Every base motion and both spring laws go through the hot path.
+      o.base = n == 12 ? BaseKind::tabulated : shape == 0 ? BaseKind::harmonic : BaseKind::constant_acceleration;
+      o.law = n % 2 == 0 ? SpringLaw::rotation_vector : SpringLaw::quaternion;
       const ModelSpec spec = random_scenario(rng, o);
       const Model model = build_model(spec);
       Data data(model);

@@ -549,8 +549,8 @@ distribution = "normal"
 std = 0.01
 )";
   const std::vector<std::pair<std::string, std::vector<std::string>>> cases = {
-      {"body.link2.joint_on_child.z", {"follow the link lengths", "body.link2.length"}},
-      {"body.link2.joint_on_parent.z", {"follow the link lengths"}},
+      {"body.link2.joint_on_child.z", {"upper end of the cylinder", "body.link2.length"}},
+      {"body.link2.joint_on_parent.z", {"lower end of the cylinder 'link1'", "body.link1.length"}},
       {"body.arm.joint_on_parent.x", {"hangs from the base", "[base]"}},
       {"body.arm.density", {"given explicitly", "body.arm.mass", "inertia_scale"}},
       {"body.arm.length", {"no shape", "given explicitly"}},

@@ -180,7 +180,9 @@ TEST(Parameters, ReusedStorageKeepsNothingOfTheLastVector) {
   const ModelDefinition d = define_model(mixed_spec());
   std::vector<double> a(d.parameters.nominal().begin(), d.parameters.nominal().end()), b = a;
   b[d.parameters.find("force[1].force")->offset + 1] = 7.0;
-  b[d.parameters.find("joint.arm.stiffness")->offset + 4] = 9.0;
+  // Entries xy and yx, the second 1e-12 off: symmetric within the allowed 1e-9.
+  b[d.parameters.find("joint.arm.stiffness")->offset + 1] = 1.0;
+  b[d.parameters.find("joint.arm.stiffness")->offset + 3] = 1.0 + 1e-12;
   b[d.parameters.find("base.z[1].frequency")->offset] = 1.0;
   b[d.parameters.find("moment[1].moment")->offset + 2] = -2.0;
   Model reused, fresh_a, fresh_b;
@@ -196,8 +198,11 @@ TEST(Parameters, ReusedStorageKeepsNothingOfTheLastVector) {
   EXPECT_EQ(reused.base_motion.at(0.1).position, fresh_a.base_motion.at(0.1).position);
   EXPECT_NE(fresh_b.base_motion.at(0.1).position, fresh_a.base_motion.at(0.1).position);
   for (int i = 0; i < reused.n; ++i) EXPECT_TRUE(reused.augmented_inertia[i] == fresh_a.augmented_inertia[i]);
-  // Stiffness given as a non-symmetric entry is symmetrised, and a spring is on.
-  EXPECT_EQ(fresh_b.spring[arm].stiffness(1, 1), 9.0);
+  // The entries land where they are named, and the matrix is symmetrised.
+  const double mean = 0.5 * (1.0 + (1.0 + 1e-12));
+  EXPECT_EQ(fresh_b.spring[arm].stiffness(0, 1), mean);
+  EXPECT_EQ(fresh_b.spring[arm].stiffness(1, 0), mean);
+  EXPECT_EQ(fresh_b.spring[arm].stiffness(0, 2), 0.0);
 }
 
 std::string refusal(const ModelDefinition& d, const std::string& name, double value, int c = 0) {
