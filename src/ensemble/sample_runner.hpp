@@ -57,8 +57,6 @@ class SampleRunner {
   // from them. Returns the sampled inputs; throws ModelError when the
   // perturbed parameters make an invalid model.
   std::vector<double> prepare(std::uint64_t k, bool nominal);
-  const std::vector<double>& parameters() const { return parameters_; }
-  const InitialState& initial_state() const { return state_; }
   const Model& model() const { return model_; }
 
  private:

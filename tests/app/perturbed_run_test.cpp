@@ -37,9 +37,22 @@ std::string with(std::string text, const std::string& name, const std::string& v
   return text;
 }
 
+// What every job here integrates and records: 2 s, tight tolerances, the
+// final state's quantities.
+const std::string kSettings = R"(
+[integrator]
+rtol = 1e-10
+atol = 1e-12
+
+[output]
+end_time = 2.0
+step = 0.05
+quantities = ["orientation", "angular_velocity"]
+)";
+
 // A rod (a cylinder given by mass) with a ball (a sphere given by density)
 // on its end, released tilted and spinning, for 2 s.
-const char* kPendulum = R"(
+const std::string kPendulum = R"(
 [[body]]
 name = "rod"
 shape = "cylinder"
@@ -60,19 +73,11 @@ parent = "rod"
 joint_on_parent = [0.0, 0.0, -0.5]
 joint_on_child = [0.0, 0.0, 0.05]
 
-[integrator]
-rtol = 1e-10
-atol = 1e-12
-
-[output]
-end_time = 2.0
-step = 0.05
-quantities = ["orientation", "angular_velocity"]
-)";
+)" + kSettings;
 
 // Three links, given as a [[chain]] (joints at their ends, moving with their
 // lengths) ...
-const char* kChain = R"(
+const std::string kChain = R"(
 [[chain]]
 name = "c"
 links = 3
@@ -82,15 +87,7 @@ mass = 0.3
 orientation = { type = "axis_angle", axis = [1, 1, 0], angle = 50, unit = "deg" }
 angular_velocity = { value = [0.0, 0.0, 2.0], frame = "inertial" }
 
-[integrator]
-rtol = 1e-10
-atol = 1e-12
-
-[output]
-end_time = 2.0
-step = 0.05
-quantities = ["orientation", "angular_velocity"]
-)";
+)" + kSettings;
 
 // ... and written out as bodies with explicit joint points.
 std::string explicit_chain(double length2) {
@@ -105,8 +102,7 @@ std::string explicit_chain(double length2) {
     text += "orientation = { type = \"axis_angle\", axis = [1, 1, 0], angle = 50, unit = \"deg\" }\n"
             "angular_velocity = { value = [0.0, 0.0, 2.0], frame = \"inertial\" }\n\n";
   }
-  const std::string chain = kChain;
-  return text + chain.substr(chain.find("[integrator]"));
+  return text + kSettings;
 }
 
 std::string ensemble_section(const std::string& target, double lower, double upper,
