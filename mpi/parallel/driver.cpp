@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "app/exit_codes.hpp"
+#include "ensemble/answers.hpp"
 #include "ensemble/ensemble_spec.hpp"
 #include "ensemble/sample_runner.hpp"
 #include "ensemble/statistics.hpp"
@@ -216,11 +217,12 @@ EnsembleSummary reduce(Context& c, ensemble::EnsembleStatistics& stats) {
 // attributes, then the rename into place. Returns an exit code.
 int write_results(EnsembleWriter& writer, const RecordWriter& records,
                   const std::vector<double>& nominal, const ensemble::EnsembleStatistics& stats,
-                  const EnsembleSummary& summary) {
+                  const std::vector<ensemble::ResponseAnswer>& answers, const EnsembleSummary& summary) {
   try {
     if (!records.io_error().empty()) throw h5::IoError(records.io_error());
     writer.write_nominal(nominal);
     writer.write_statistics(stats);
+    writer.write_answers(answers);
     writer.finish(summary);
   } catch (const h5::IoError& e) {
     std::cerr << "error: " << e.what() << "\n";
@@ -241,8 +243,11 @@ int run(MPI_Comm comm, int rank, int size, const EnsembleOptions& options, const
   ensemble::Progress progress(spec.samples, options.progress_interval, rank == 0 && !options.quiet);
   std::unique_ptr<RecordSink> sink;
   RecordWriter* records = nullptr;  // rank 0's view of the sink
+  // Rank 0 keeps every sample's inputs and responses (only when there are responses).
+  ensemble::ResponseTable table(rank == 0 && !spec.responses.empty() ? spec.samples : 0,
+                                spec.input_dimensions(), spec.responses.size());
   if (rank == 0) {
-    auto w = std::make_unique<RecordWriter>(comm, size, *writer, progress);
+    auto w = std::make_unique<RecordWriter>(comm, size, *writer, progress, table);
     records = w.get();
     sink = std::move(w);
   } else {
@@ -258,11 +263,17 @@ int run(MPI_Comm comm, int rank, int size, const EnsembleOptions& options, const
     summary.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     summary.failed = records->failed();
     summary.ok = records->done() - summary.failed;
-    failure = write_results(*writer, *records, nominal, stats, summary);
+    const std::vector<ensemble::ResponseAnswer> answers =
+        spec.responses.empty() ? std::vector<ensemble::ResponseAnswer>{}
+                               : ensemble::answer_responses(spec, table);
+    failure = write_results(*writer, *records, nominal, stats, answers, summary);
     if (failure != kExitOk) {
       writer.reset();  // removes the temporary file
     } else {
-      if (!options.quiet) print_summary(c, stats, summary.ok, summary.failed, summary.wall_seconds);
+      if (!options.quiet) {
+        print_summary(c, stats, summary.ok, summary.failed, summary.wall_seconds);
+        print_response_summary(std::cout, spec, answers);
+      }
       std::printf("wrote %s\n", options.output_path.c_str());
     }
   }

@@ -19,8 +19,9 @@ void RecordSink::poll() {
   make_progress();
 }
 
-RecordWriter::RecordWriter(MPI_Comm comm, int ranks, EnsembleWriter& writer, ensemble::Progress& progress)
-    : comm_(comm), ranks_(ranks), writer_(writer), progress_(progress) {}
+RecordWriter::RecordWriter(MPI_Comm comm, int ranks, EnsembleWriter& writer,
+                           ensemble::Progress& progress, ensemble::ResponseTable& table)
+    : comm_(comm), ranks_(ranks), writer_(writer), progress_(progress), table_(table) {}
 
 void RecordWriter::add(ensemble::SampleRecord record) { local_.push_back(std::move(record)); }
 
@@ -40,6 +41,7 @@ void RecordWriter::write(std::vector<ensemble::SampleRecord> records) {
   for (const auto& r : records) {
     ++done_;
     if (r.status != ensemble::SampleStatus::ok) ++failed_;
+    table_.add(r);
   }
   if (io_error_.empty()) {
     try {

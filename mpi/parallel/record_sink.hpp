@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "ensemble/answers.hpp"
 #include "ensemble/sample_runner.hpp"
 #include "hdf5/ensemble_file.hpp"
 #include "ensemble/progress.hpp"
@@ -40,7 +41,10 @@ class RecordSink {
 // so no rank waits for rank 0 forever, and it is reported at the end (exit 4).
 class RecordWriter final : public RecordSink {
  public:
-  RecordWriter(MPI_Comm comm, int ranks, EnsembleWriter& writer, ensemble::Progress& progress);
+  // Every record also goes into `table` (status, inputs, responses), for
+  // the answers computed at the end.
+  RecordWriter(MPI_Comm comm, int ranks, EnsembleWriter& writer, ensemble::Progress& progress,
+               ensemble::ResponseTable& table);
   void add(ensemble::SampleRecord record) override;
   void flush() override;
   void close() override;
@@ -57,6 +61,7 @@ class RecordWriter final : public RecordSink {
   int ranks_;
   EnsembleWriter& writer_;
   ensemble::Progress& progress_;
+  ensemble::ResponseTable& table_;
   std::vector<ensemble::SampleRecord> local_;
   int finished_ranks_ = 0;
   std::uint64_t done_ = 0, failed_ = 0;

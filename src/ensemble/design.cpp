@@ -7,6 +7,7 @@
 #include <boost/random/sobol.hpp>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace treedyn::ensemble {
 namespace {
@@ -94,27 +95,44 @@ std::uint32_t sobol_bits(std::uint64_t k, unsigned dimension, unsigned dimension
 SampleDesign::SampleDesign(Design design, std::uint64_t seed, std::uint64_t samples,
                            unsigned dimensions)
     : design_(design), seed_(seed), samples_(samples), dimensions_(dimensions) {
-  if (design == Design::sobol && dimensions > boost::random::detail::qrng_tables::sobol::max_dimension)
-    throw std::invalid_argument("sobol design: at most " +
+  const unsigned sobol_dimensions = design == Design::saltelli ? 2 * dimensions : dimensions;
+  const bool uses_sobol = design == Design::sobol || design == Design::saltelli;
+  if (uses_sobol && sobol_dimensions > boost::random::detail::qrng_tables::sobol::max_dimension)
+    throw std::invalid_argument(std::string(name(design)) + " design: at most " +
                                 std::to_string(boost::random::detail::qrng_tables::sobol::max_dimension) +
-                                " input dimensions");
-  if (design == Design::sobol && samples > 0xffffffffULL)
-    throw std::invalid_argument("sobol design: at most 2^32 - 1 samples");
+                                " Sobol dimensions");
+  const std::uint64_t points = design == Design::saltelli ? samples / saltelli_block(dimensions) : samples;
+  if (uses_sobol && points > 0xffffffffULL)
+    throw std::invalid_argument(std::string(name(design)) + " design: at most 2^32 - 1 Sobol points");
+}
+
+void SampleDesign::sobol_point(std::uint64_t index, unsigned total, unsigned first,
+                               std::span<double> u) const {
+  boost::random::sobol_engine<std::uint32_t, 32> engine(std::max(total, 1u));
+  // Point 0 is all zeros; Boost's seed(j) yields point j + 1 (32-bit points).
+  if (index > 0) engine.seed(static_cast<std::uint32_t>(index - 1));
+  for (unsigned d = 0; d < first + u.size(); ++d) {
+    const std::uint32_t bits = index > 0 ? engine() : 0u;
+    if (d < first) continue;
+    const auto seed32 = static_cast<std::uint32_t>(mix(seed_ ^ mix(d + 1)));
+    u[d - first] = (static_cast<double>(owen_scramble(bits, seed32)) + 0.5) * 0x1.0p-32;
+  }
 }
 
 void SampleDesign::point(std::uint64_t sample, std::span<double> u) const {
-  if (design_ != Design::sobol) {
-    for (unsigned d = 0; d < u.size(); ++d) u[d] = uniform(sample, d);
+  if (design_ == Design::sobol) return sobol_point(sample, dimensions_, 0, u);
+  if (design_ == Design::saltelli) {
+    const SaltelliPlace at = saltelli_place(sample, dimensions_);
+    const unsigned d = dimensions_;
+    sobol_point(at.base, 2 * d, at.role == SaltelliRole::b ? d : 0, u);
+    if (at.role == SaltelliRole::ab) {
+      double from_b = 0.0;
+      sobol_point(at.base, 2 * d, d + at.input, std::span<double>(&from_b, 1));
+      u[at.input] = from_b;
+    }
     return;
   }
-  boost::random::sobol_engine<std::uint32_t, 32> engine(std::max(dimensions_, 1u));
-  // Point 0 is all zeros; Boost's seed(j) yields point j + 1 (32-bit points: samples < 2^32).
-  if (sample > 0) engine.seed(static_cast<std::uint32_t>(sample - 1));
-  for (unsigned d = 0; d < u.size(); ++d) {
-    const auto seed32 = static_cast<std::uint32_t>(mix(seed_ ^ mix(d + 1)));
-    const std::uint32_t bits = sample > 0 ? engine() : 0u;
-    u[d] = (static_cast<double>(owen_scramble(bits, seed32)) + 0.5) * 0x1.0p-32;
-  }
+  for (unsigned d = 0; d < u.size(); ++d) u[d] = uniform(sample, d);
 }
 
 double SampleDesign::uniform(std::uint64_t sample, unsigned dimension) const {
@@ -130,6 +148,11 @@ double SampleDesign::uniform(std::uint64_t sample, unsigned dimension) const {
       // Rounding must not carry u into the next stratum (or to 1).
       const double top = (static_cast<double>(stratum) + 1.0) / n;
       return u < top ? u : std::nextafter(top, 0.0);
+    }
+    case Design::saltelli: {
+      std::vector<double> all(dimensions_);
+      point(sample, all);
+      return all[dimension];
     }
     case Design::sobol: {
       const auto seed32 = static_cast<std::uint32_t>(mix(seed_ ^ mix(dimension + 1)));

@@ -15,11 +15,35 @@ enum class Design {
   monte_carlo,      // independent uniforms from a counter-based generator (Philox4x64)
   latin_hypercube,  // every dimension split into N strata, each hit exactly once
   sobol,            // Sobol points (Joe-Kuo direction numbers), Owen-scrambled by hashing
+  saltelli,         // Saltelli's A, B, AB_i from one scrambled Sobol sequence over 2D dimensions
 };
 
-inline constexpr NameTable<Design, 3> kDesignNames{{{Design::monte_carlo, "monte_carlo"},
+inline constexpr NameTable<Design, 4> kDesignNames{{{Design::monte_carlo, "monte_carlo"},
                                                     {Design::latin_hypercube, "latin_hypercube"},
-                                                    {Design::sobol, "sobol"}}};
+                                                    {Design::sobol, "sobol"},
+                                                    {Design::saltelli, "saltelli"}}};
+
+// Saltelli's design over D inputs and base size N makes N (D + 2) runs, in
+// blocks of D + 2 per base point j (so a prefix of whole blocks is itself a
+// Saltelli design): sample k = j (D + 2) + r is
+//   r = 0:      A_j      (dimensions 0 .. D-1 of scrambled Sobol point j of 2D),
+//   r = 1:      B_j      (dimensions D .. 2D-1 of the same point),
+//   r = 2 + i:  AB_i,j   (A_j with input i taken from B_j).
+enum class SaltelliRole { a, b, ab };
+struct SaltelliPlace {
+  std::uint64_t base = 0;  // j
+  SaltelliRole role = SaltelliRole::a;
+  unsigned input = 0;      // i, for ab
+};
+inline std::uint64_t saltelli_block(unsigned dimensions) { return dimensions + 2u; }
+inline SaltelliPlace saltelli_place(std::uint64_t sample, unsigned dimensions) {
+  const std::uint64_t block = saltelli_block(dimensions), r = sample % block;
+  return {sample / block, r == 0 ? SaltelliRole::a : r == 1 ? SaltelliRole::b : SaltelliRole::ab,
+          r >= 2 ? static_cast<unsigned>(r - 2) : 0u};
+}
+// Whether the design's prefixes are nested (sample k does not depend on N):
+// what makes convergence by prefix meaningful. Latin hypercube is not.
+inline bool nested_prefixes(Design d) { return d != Design::latin_hypercube; }
 inline std::string_view name(Design d) { return name_in(kDesignNames, d); }
 inline bool parse_design(std::string_view text, Design& out) { return parse_in(kDesignNames, text, out); }
 
@@ -36,6 +60,10 @@ class SampleDesign {
   unsigned dimensions() const { return dimensions_; }
 
  private:
+  // Scrambled Sobol point `index` of `total` dimensions: dimensions
+  // first .. first + u.size() - 1 into u.
+  void sobol_point(std::uint64_t index, unsigned total, unsigned first, std::span<double> u) const;
+
   Design design_;
   std::uint64_t seed_;
   std::uint64_t samples_;

@@ -65,4 +65,23 @@ void Perturbation::apply(std::span<const double> v, std::span<double> parameters
   }
 }
 
+void apply_inputs(std::span<const Perturbation> perturbations, std::span<const double> inputs,
+                  const InitialState& nominal_state, std::span<double> parameters,
+                  InitialState& state) {
+  auto apply = [&](bool angular_velocity) {
+    std::size_t d = 0;
+    for (const Perturbation& p : perturbations) {
+      const auto n = static_cast<std::size_t>(p.dimensions());
+      if ((p.kind == Perturbation::Kind::angular_velocity) == angular_velocity)
+        p.apply(inputs.subspan(d, n), parameters, state);
+      d += n;
+    }
+  };
+  apply(false);
+  // A spin the job gave in a body's own frame turns with the body; the
+  // angular-velocity perturbations, in inertial components, come after.
+  turn_body_frame_spins(nominal_state, state);
+  apply(true);
+}
+
 }  // namespace treedyn::ensemble

@@ -46,4 +46,12 @@ struct Perturbation {
              InitialState& state) const;
 };
 
+// Applies a sample's inputs (values of `perturbations`, concatenated) to the
+// nominal parameter vector and initial state, in the one order every run
+// uses: parameters and orientations first, then the job's body-frame spins
+// turned with their bodies, then the angular-velocity perturbations (inertial).
+void apply_inputs(std::span<const Perturbation> perturbations, std::span<const double> inputs,
+                  const InitialState& nominal_state, std::span<double> parameters,
+                  InitialState& state);
+
 }  // namespace treedyn::ensemble

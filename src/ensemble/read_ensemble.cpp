@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -79,7 +80,103 @@ Distribution read_distribution(const TomlView& t) {
   return d;
 }
 
+// [ensemble] per_sample = ["final", "max", ...]: which reductions to store.
+std::vector<Reduction> read_per_sample(const TomlView& t) {
+  const toml::node* node = t.table().get("per_sample");
+  const toml::array* list = node ? node->as_array() : nullptr;
+  if (!list) t.fail("per_sample", "expected an array of reductions: " + choices(kReductionNames));
+  std::vector<Reduction> out;
+  for (const toml::node& e : *list) {
+    Reduction r{};
+    const auto text = e.value<std::string>();
+    if (!text || !parse_in(kReductionNames, *text, r))
+      t.fail_at(&e, "per_sample", "not a reduction; allowed: " + choices(kReductionNames));
+    if (std::find(out.begin(), out.end(), r) != out.end())
+      t.fail_at(&e, "per_sample", "\"" + *text + "\" is listed twice");
+    out.push_back(r);
+  }
+  // Stored in the catalogue's order, whatever the order given.
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// One [[ensemble.response]]: a named scalar of one recorded column.
+Response read_response(const TomlView& t, const Job& job, const ColumnLayout& layout) {
+  t.check_keys({"name", "quantity", "column", "reduce", "time", "threshold", "limit", "fail_if"});
+  Response r;
+  r.name = t.required_string("name");
+  if (r.name.empty() || r.name.find('/') != std::string::npos || r.name == "." || r.name == "..")
+    t.fail("name", "must be a non-empty name without '/' (it names an HDF5 group)");
+  r.quantity = t.required_string("quantity");
+  const auto q = std::find(layout.quantity.begin(), layout.quantity.end(), r.quantity);
+  if (q == layout.quantity.end()) {
+    std::string recorded;
+    for (const auto& name : layout.quantity) recorded += " " + name;
+    t.fail("quantity", "\"" + r.quantity + "\" is not recorded; add it to [output] quantities "
+                       "or use one of:" + recorded);
+  }
+  const auto qi = static_cast<std::size_t>(q - layout.quantity.begin());
+  r.column = t.required_string("column");
+  const auto& names = layout.names[qi];
+  const auto c = std::find(names.begin(), names.end(), r.column);
+  if (c == names.end()) {
+    std::vector<std::string_view> allowed(names.begin(), names.end());
+    std::string listed;
+    for (std::size_t k = 0; k < std::min<std::size_t>(names.size(), 12); ++k) listed += " " + names[k];
+    if (names.size() > 12) listed += " ...";
+    t.fail("column", "\"" + r.column + "\" is not a column of " + r.quantity +
+                         did_you_mean(r.column, allowed) + " Columns:" + listed);
+  }
+  const auto ci = static_cast<std::size_t>(c - names.begin());
+  r.column_index = layout.offset[qi] + ci;
+  const std::string reduce = t.required_string("reduce");
+  if (!parse_in(kResponseReduceNames, reduce, r.reduce))
+    t.fail("reduce", "\"" + reduce + "\" is not allowed; use " + choices(kResponseReduceNames));
+  using Reduce = Response::Reduce;
+  const bool crossing = r.reduce == Reduce::first_time_above || r.reduce == Reduce::first_time_below;
+  r.units = crossing ? "s" : column_unit(layout, qi, ci);
+  const std::vector<double>& times = job.request.output_times;
+  if (r.reduce == Reduce::at_time) {
+    r.time = t.required_number("time");
+    if (!(r.time >= times.front() && r.time <= times.back()))
+      t.fail("time", format_number(r.time) + " s is outside the output times [" +
+                         format_number(times.front()) + ", " + format_number(times.back()) + "] s");
+  } else if (t.has("time")) {
+    t.fail("time", "only used with reduce = \"at_time\"");
+  }
+  if (crossing)
+    r.threshold = t.required_number("threshold");
+  else if (t.has("threshold"))
+    t.fail("threshold", "only used with reduce = \"first_time_above\" or \"first_time_below\"");
+  const auto fail_if = t.string("fail_if");
+  if (t.has("limit") && !fail_if)
+    t.fail("limit", "a limit needs fail_if = \"above\" or \"below\" (which side is failure)");
+  if (fail_if) {
+    if (*fail_if == "above")
+      r.fail_if = Response::FailIf::above;
+    else if (*fail_if == "below")
+      r.fail_if = Response::FailIf::below;
+    else
+      t.fail("fail_if", "\"" + *fail_if + "\" is not allowed; use \"above\" or \"below\"");
+    if (!t.has("limit")) t.fail("fail_if", "needs a limit = value (in " + r.units + ")");
+    r.limit = t.required_number("limit");
+  }
+  return r;
+}
+
 }  // namespace
+
+double per_sample_bytes(const Job& job, const EnsembleSpec& spec) {
+  const std::size_t columns = column_layout(job.model, job.output).columns;
+  return 8.0 * static_cast<double>(spec.samples) * static_cast<double>(columns) *
+         static_cast<double>(spec.per_sample.size());
+}
+
+double stored_trajectory_bytes(const Job& job, const EnsembleSpec& spec) {
+  const std::size_t columns = column_layout(job.model, job.output).columns;
+  return 8.0 * static_cast<double>(spec.store_trajectories) *
+         static_cast<double>(job.request.output_times.size()) * static_cast<double>(columns);
+}
 
 double statistics_bytes(const Job& job, const EnsembleSpec& spec) {
   const std::size_t columns = column_layout(job.model, job.output).columns;
@@ -152,7 +249,8 @@ EnsembleSpec read_ensemble(const Job& job) {
                    "missing [ensemble] section: give at least samples = N (and seed, perturbations)");
   const TomlView& t = *section;
   t.check_keys({"samples", "seed", "design", "quantiles", "histogram_bins", "pilot_samples",
-                "block_size", "perturbation"});
+                "block_size", "perturbation", "per_sample", "response", "store_trajectories",
+                "bootstrap_resamples"});
   EnsembleSpec s;
   const auto samples = t.integer("samples");
   if (!samples) t.fail("samples", "missing required field: the number of samples (integer >= 1)");
@@ -211,8 +309,62 @@ EnsembleSpec read_ensemble(const Job& job) {
   }
   if (s.design == Design::sobol && s.input_dimensions() > 1000)
     t.fail("perturbation", "sobol supports at most 1000 input dimensions");
+  s.base_samples = s.samples;
+  if (s.design == Design::saltelli) {
+    const unsigned d = s.input_dimensions();
+    if (d == 0)
+      t.fail("design", "saltelli needs at least one [[ensemble.perturbation]] (the inputs to rank)");
+    if (2 * d > 1000) t.fail("perturbation", "saltelli supports at most 500 input dimensions (2D Sobol dimensions)");
+    // samples is the base size N: N (D + 2) runs.
+    if (s.base_samples > 0xffffffffULL / saltelli_block(d))
+      t.fail("samples", "saltelli makes samples x (D + 2) = " + std::to_string(s.base_samples) + " x " +
+                            std::to_string(saltelli_block(d)) +
+                            " runs; at most 4294967295 (sample indices are 32-bit): use at most " +
+                            std::to_string(0xffffffffULL / saltelli_block(d)));
+    s.samples = s.base_samples * saltelli_block(d);
+    s.pilot_samples = std::min(s.pilot_samples, s.samples);
+  }
   // 32-bit Sobol points and 32-bit histogram counters.
   if (s.samples > 0xffffffffULL) t.fail("samples", "at most 4294967295 samples");
+
+  if (t.has("per_sample")) s.per_sample = read_per_sample(t);
+  const ColumnLayout layout = column_layout(job.model, job.output);
+  for (const TomlView& r : t.table_array("response")) {
+    s.responses.push_back(read_response(r, job, layout));
+    for (std::size_t k = 0; k + 1 < s.responses.size(); ++k)
+      if (s.responses[k].name == s.responses.back().name)
+        r.fail("name", "response \"" + s.responses.back().name + "\" is defined twice; names must be unique");
+  }
+  if (auto b = t.integer("bootstrap_resamples")) {
+    if (*b < 0 || *b > 100000) t.fail("bootstrap_resamples", "must be from 0 to 100000");
+    s.bootstrap_resamples = static_cast<int>(*b);
+  }
+  if (auto m = t.integer("store_trajectories")) {
+    if (*m < 0) t.fail("store_trajectories", "must be >= 0 (samples 0 .. M-1 are stored)");
+    s.store_trajectories = static_cast<std::uint64_t>(*m);
+    if (s.store_trajectories > s.samples)
+      t.fail("store_trajectories", "is more than the " + std::to_string(s.samples) + " samples");
+    // Each stored trajectory travels to rank 0 with its record, a block of
+    // them at a time: that block must fit in memory.
+    const double one = stored_trajectory_bytes(job, s) / static_cast<double>(std::max<std::uint64_t>(s.store_trajectories, 1));
+    const double batch_gib = one * static_cast<double>(s.block_size) / (1024.0 * 1024.0 * 1024.0);
+    if (s.store_trajectories > 0 && batch_gib > 1.0)
+      t.fail("store_trajectories", "one trajectory is " + format_number(std::round(one / (1024.0 * 1024.0))) +
+                                       " MiB and a block of " + std::to_string(s.block_size) +
+                                       " would need " + format_number(std::round(batch_gib)) +
+                                       " GiB in memory; at most 1 GiB: use fewer output times or "
+                                       "quantities, or block_size = 1");
+  }
+  // Rank 0 keeps every sample's inputs and responses for the analysis.
+  if (!s.responses.empty()) {
+    const double gib = 8.0 * static_cast<double>(s.samples) *
+                       static_cast<double>(s.input_dimensions() + s.responses.size() + 1) /
+                       (1024.0 * 1024.0 * 1024.0);
+    if (gib > 8.0)
+      t.fail("response", "the responses and inputs of " + std::to_string(s.samples) +
+                             " samples would need " + format_number(std::round(gib)) +
+                             " GiB on rank 0; at most 8: use fewer samples");
+  }
   const double gib = statistics_bytes(job, s) / (1024.0 * 1024.0 * 1024.0);
   if (gib > 8.0)
     t.fail("histogram_bins", "the statistics would need " + format_number(std::round(gib)) +

@@ -64,8 +64,10 @@ void append_record(const ensemble::SampleRecord& r, std::vector<char>& b) {
   put(b, static_cast<std::uint64_t>(r.reason.size()));
   b.insert(b.end(), r.reason.begin(), r.reason.end());
   put_doubles(b, r.inputs);
-  put_doubles(b, r.max_over_time);
+  put_doubles(b, r.reductions);
+  put_doubles(b, r.responses);
   put_doubles(b, r.final_state);
+  put_doubles(b, r.trajectory);
 }
 
 std::vector<ensemble::SampleRecord> read_records(const std::vector<char>& buffer) {
@@ -79,8 +81,10 @@ std::vector<ensemble::SampleRecord> read_records(const std::vector<char>& buffer
     for (const IntegratorStatField& f : kIntegratorStatFields) r.stats.*f.member = in.get<long>();
     r.reason = in.text();
     r.inputs = in.doubles();
-    r.max_over_time = in.doubles();
+    r.reductions = in.doubles();
+    r.responses = in.doubles();
     r.final_state = in.doubles();
+    r.trajectory = in.doubles();
     out.push_back(std::move(r));
   }
   return out;

@@ -28,7 +28,9 @@ SampleRecord SampleRunner::failed_record(std::uint64_t k, SampleStatus status,
   record.index = k;
   record.status = status;
   record.reason = std::move(reason);
-  record.max_over_time.assign(layout().columns, std::numeric_limits<double>::quiet_NaN());
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  record.reductions.assign(spec_.per_sample.size() * layout().columns, nan);
+  record.responses.assign(spec_.responses.size(), nan);
   record.final_state.assign(final_state_size(), std::numeric_limits<double>::quiet_NaN());
   return record;
 }
@@ -49,22 +51,7 @@ void SampleRunner::set_up(const std::vector<double>& inputs) {
   const auto p0 = job_.definition.parameters.nominal();
   parameters_.assign(p0.begin(), p0.end());
   state_ = job_.initial;
-  if (!inputs.empty()) {
-    auto apply = [&](bool angular_velocity) {
-      std::size_t d = 0;
-      for (const Perturbation& p : spec_.perturbations) {
-        const auto n = static_cast<std::size_t>(p.dimensions());
-        if ((p.kind == Perturbation::Kind::angular_velocity) == angular_velocity)
-          p.apply(std::span<const double>(inputs).subspan(d, n), parameters_, state_);
-        d += n;
-      }
-    };
-    apply(false);
-    // A spin the job gave in a body's own frame turns with the body; the
-    // angular-velocity perturbations, in inertial components, come after.
-    turn_body_frame_spins(job_.initial, state_);
-    apply(true);
-  }
+  if (!inputs.empty()) apply_inputs(spec_.perturbations, inputs, job_.initial, parameters_, state_);
   derive_model(job_.definition, parameters_, model_);
 }
 
@@ -111,9 +98,11 @@ SampleRecord SampleRunner::run(std::uint64_t k, bool nominal, std::vector<double
   record.time_reached = outcome.time_reached;
   recorder_.swap_values(trajectory);
   const std::size_t columns = layout().columns;
-  record.max_over_time.assign(columns, -std::numeric_limits<double>::infinity());
-  for (std::size_t e = 0; e < trajectory.size(); ++e)
-    record.max_over_time[e % columns] = std::max(record.max_over_time[e % columns], trajectory[e]);
+  const std::vector<double>& times = recorder_.times();
+  reduce_columns(trajectory, times, columns, spec_.per_sample, record.reductions);
+  for (const Response& response : spec_.responses)
+    record.responses.push_back(evaluate(response, trajectory, times, columns));
+  if (!nominal && k < spec_.store_trajectories) record.trajectory = trajectory;
   record.final_state.resize(final_state_size());
   write_final_state(recorder_.last(), record.final_state);  // the state at the last output time
   return record;

@@ -30,8 +30,10 @@ struct SampleRecord {
   double time_reached = 0.0;
   IntegratorStats stats;
   std::vector<double> inputs;        // the sampled input values, SI
-  std::vector<double> max_over_time; // per column of the recorded quantities (NaN when failed)
+  std::vector<double> reductions;    // per spec.per_sample reduction, one per column (NaN when failed)
+  std::vector<double> responses;     // per spec.responses (NaN when failed)
   std::vector<double> final_state;   // output/final_state.hpp; NaN when failed
+  std::vector<double> trajectory;    // times x columns, only for samples < store_trajectories
 };
 
 class SampleRunner {
@@ -49,7 +51,7 @@ class SampleRunner {
   SampleRecord run(std::uint64_t k, bool nominal, std::vector<double>& trajectory,
                    const std::function<void()>& between_outputs = {});
 
-  // The record of a sample that produced nothing: NaN maxima and final state.
+  // The record of a sample that produced nothing: NaN reductions, responses and final state.
   SampleRecord failed_record(std::uint64_t k, SampleStatus status, std::string reason) const;
 
   // The per-sample set-up on its own: sample k's parameter vector and
@@ -58,10 +60,12 @@ class SampleRunner {
   // perturbed parameters make an invalid model.
   std::vector<double> prepare(std::uint64_t k, bool nominal);
   const Model& model() const { return model_; }
+  const InitialState& initial_state() const { return state_; }
 
- private:
   // The sampled values (SI) of sample k's perturbed inputs.
   std::vector<double> sample_inputs(std::uint64_t k);
+
+ private:
   // parameters_ and state_: the nominal ones with `inputs` applied (none:
   // nominal), then model_. Throws ModelError.
   void set_up(const std::vector<double>& inputs);

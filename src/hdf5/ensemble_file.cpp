@@ -1,6 +1,9 @@
 #include "hdf5/ensemble_file.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
+#include <optional>
 
 #include "hdf5/trajectory_file.hpp"
 #include "output/final_state.hpp"
@@ -62,15 +65,74 @@ EnsembleWriter::EnsembleWriter(const std::filesystem::path& path, const Job& job
            "state at the last output time: per body the orientation quaternion (q0 >= 0) and "
            "the inertial angular velocity; NaN for failed samples",
            final_state_columns(job.model.tree()));
-  max_group_ = h5::create_group(g, "max_over_time");
-  h5::write_attribute(max_group_.id(), "description",
-                      std::string("per sample, the maximum over the output times of every column of "
-                                  "every recorded quantity"));
-  for (std::size_t q = 0; q < layout.quantity.size(); ++q) {
-    max_.push_back(h5::create_rows(max_group_.id(), layout.quantity[q], H5T_NATIVE_DOUBLE, n,
-                                   layout.names[q].size(), chunk));
-    describe(max_.back().id(), std::string(find_quantity(layout.quantity[q])->units),
-             "maximum over time of " + layout.quantity[q], layout.names[q]);
+  for (ensemble::Reduction r : spec.per_sample) {
+    const std::string what(ensemble::name(r));
+    reduction_groups_.push_back(h5::create_group(g, what));
+    const bool time = r == ensemble::Reduction::argmin_time || r == ensemble::Reduction::argmax_time;
+    const std::string about =
+        r == ensemble::Reduction::final ? "value at the last output time"
+        : r == ensemble::Reduction::min ? "minimum over the output times"
+        : r == ensemble::Reduction::max ? "maximum over the output times"
+        : r == ensemble::Reduction::argmin_time ? "first output time of the minimum"
+                                                : "first output time of the maximum";
+    h5::write_attribute(reduction_groups_.back().id(), "description",
+                        "per sample, the " + about +
+                            " of every column of every recorded quantity; NaN when the sample failed");
+    reductions_.emplace_back();
+    for (std::size_t q = 0; q < layout.quantity.size(); ++q) {
+      reductions_.back().push_back(h5::create_rows(reduction_groups_.back().id(), layout.quantity[q],
+                                                   H5T_NATIVE_DOUBLE, n, layout.names[q].size(), chunk));
+      describe(reductions_.back().back().id(), time ? "s" : std::string(layout.info[q]->units),
+               about + " of " + layout.quantity[q], layout.names[q]);
+    }
+  }
+  if (!spec.responses.empty()) {
+    const std::size_t R = spec.responses.size();
+    responses_ = h5::create_rows(g, "responses", H5T_NATIVE_DOUBLE, n, R, chunk);
+    std::vector<std::string> names, units, quantity, column, reduce, fail_if;
+    std::vector<double> limit, parameter;
+    for (const ensemble::Response& r : spec.responses) {
+      names.push_back(r.name);
+      units.push_back(r.units);
+      quantity.push_back(r.quantity);
+      column.push_back(r.column);
+      reduce.emplace_back(ensemble::name(r.reduce));
+      fail_if.push_back(r.fail_if == ensemble::Response::FailIf::above   ? "above"
+                        : r.fail_if == ensemble::Response::FailIf::below ? "below"
+                                                                         : "");
+      limit.push_back(r.has_limit() ? r.limit : std::numeric_limits<double>::quiet_NaN());
+      parameter.push_back(r.reduce == ensemble::Response::Reduce::at_time ? r.time
+                          : r.reduce == ensemble::Response::Reduce::first_time_above ||
+                                  r.reduce == ensemble::Response::Reduce::first_time_below
+                              ? r.threshold
+                              : std::numeric_limits<double>::quiet_NaN());
+    }
+    describe(responses_.id(), "per column: the 'column_units' attribute",
+             "each sample's named responses ([[ensemble.response]]): one column per response; "
+             "NaN when the sample failed, +inf for a level never crossed",
+             names);
+    h5::write_attribute(responses_.id(), "column_units", units);
+    h5::write_attribute(responses_.id(), "quantity", quantity);
+    h5::write_attribute(responses_.id(), "column", column);
+    h5::write_attribute(responses_.id(), "reduce", reduce);
+    h5::write_attribute(responses_.id(), "time_or_threshold", std::span<const double>(parameter));
+    h5::write_attribute(responses_.id(), "limit", std::span<const double>(limit));
+    h5::write_attribute(responses_.id(), "fail_if", fail_if);
+  }
+  if (spec.store_trajectories > 0) {
+    trajectory_group_ = h5::create_group(file_.id(), "trajectories");
+    h5::write_attribute(trajectory_group_.id(), "description",
+                        "full trajectories of samples 0 .. M-1 (store_trajectories = M): sample x "
+                        "output time x column; NaN rows for samples that failed");
+    const hsize_t times = job.request.output_times.size();
+    for (std::size_t q = 0; q < layout.quantity.size(); ++q) {
+      const hsize_t shape[2] = {times, layout.names[q].size()};
+      trajectories_.push_back(h5::create_row_array(trajectory_group_.id(), layout.quantity[q],
+                                                   H5T_NATIVE_DOUBLE, spec.store_trajectories, shape, 1));
+      describe(trajectories_.back().id(), std::string(layout.info[q]->units),
+               std::string(layout.info[q]->description) + "; sample x time (/stats/time) x column",
+               layout.names[q]);
+    }
   }
 }
 
@@ -112,14 +174,36 @@ void EnsembleWriter::write_run(const std::vector<SampleRecord>& run) {
   h5::write_rows(integrator_stats_.id(), H5T_NATIVE_INT64, first, rows, kIntegratorStatFields.size(),
                  stats.data());
   h5::write_rows(final_state_.id(), H5T_NATIVE_DOUBLE, first, rows, final_size_, finals.data());
-  for (std::size_t q = 0; q < layout_.quantity.size(); ++q) {
-    const std::size_t cols = layout_.names[q].size();
-    std::vector<double> block;
-    for (const SampleRecord& r : run) {
-      const auto begin = r.max_over_time.begin() + static_cast<long>(layout_.offset[q]);
-      block.insert(block.end(), begin, begin + static_cast<long>(cols));
+  const std::size_t columns = layout_.columns;
+  std::vector<double> block;
+  for (std::size_t r = 0; r < spec_.per_sample.size(); ++r)
+    for (std::size_t q = 0; q < layout_.quantity.size(); ++q) {
+      const std::size_t cols = layout_.names[q].size();
+      block.clear();
+      for (const SampleRecord& record : run) {
+        const auto begin = record.reductions.begin() + static_cast<long>(r * columns + layout_.offset[q]);
+        block.insert(block.end(), begin, begin + static_cast<long>(cols));
+      }
+      h5::write_rows(reductions_[r][q].id(), H5T_NATIVE_DOUBLE, first, rows, cols, block.data());
     }
-    h5::write_rows(max_[q].id(), H5T_NATIVE_DOUBLE, first, rows, cols, block.data());
+  if (!spec_.responses.empty()) {
+    block.clear();
+    for (const SampleRecord& record : run) block.insert(block.end(), record.responses.begin(), record.responses.end());
+    h5::write_rows(responses_.id(), H5T_NATIVE_DOUBLE, first, rows, spec_.responses.size(), block.data());
+  }
+  // Stored trajectories: one row per sample below M (NaN when it failed).
+  const std::size_t T = job_.request.output_times.size();
+  for (const SampleRecord& record : run) {
+    if (record.index >= spec_.store_trajectories) break;
+    for (std::size_t q = 0; q < layout_.quantity.size(); ++q) {
+      const std::size_t cols = layout_.names[q].size();
+      block.assign(T * cols, std::numeric_limits<double>::quiet_NaN());
+      if (record.trajectory.size() == T * columns)
+        for (std::size_t k = 0; k < T; ++k)
+          std::copy_n(record.trajectory.begin() + static_cast<long>(k * columns + layout_.offset[q]), cols,
+                      block.begin() + static_cast<long>(k * cols));
+      h5::write_row_block(trajectories_[q].id(), H5T_NATIVE_DOUBLE, record.index, 1, block.data());
+    }
   }
 }
 
@@ -148,7 +232,7 @@ void EnsembleWriter::write_statistics(const ensemble::EnsembleStatistics& s) {
     const std::string units(find_quantity(layout_.quantity[q])->units);
     h5::Handle qg = h5::create_group(group.id(), layout_.quantity[q]);
     h5::write_attribute(qg.id(), "units", units);
-    std::vector<double> mean, sd, mn, mx;
+    std::vector<double> mean, sd, sem, mn, mx;
     std::vector<std::uint64_t> count;
     std::vector<double> quantiles(spec_.quantiles.size() * T * cols);
     for (std::size_t k = 0; k < T; ++k)
@@ -157,6 +241,8 @@ void EnsembleWriter::write_statistics(const ensemble::EnsembleStatistics& s) {
         count.push_back(s.count(e));
         mean.push_back(s.mean(e));
         sd.push_back(s.std_dev(e));
+        sem.push_back(s.count(e) > 1 ? s.std_dev(e) / std::sqrt(static_cast<double>(s.count(e)))
+                                     : std::numeric_limits<double>::quiet_NaN());
         mn.push_back(s.min(e));
         mx.push_back(s.max(e));
         for (std::size_t p = 0; p < spec_.quantiles.size(); ++p)
@@ -171,6 +257,7 @@ void EnsembleWriter::write_statistics(const ensemble::EnsembleStatistics& s) {
     };
     matrix("mean", mean, "mean");
     matrix("std", sd, "sample standard deviation (n - 1)");
+    matrix("sem", sem, "standard error of the mean, std / sqrt(count),");
     matrix("min", mn, "minimum");
     matrix("max", mx, "maximum");
     const hsize_t dims3[3] = {spec_.quantiles.size(), T, cols};
@@ -211,6 +298,104 @@ void EnsembleWriter::write_statistics(const ensemble::EnsembleStatistics& s) {
   }
 }
 
+void EnsembleWriter::write_answers(const std::vector<ensemble::ResponseAnswer>& answers) {
+  if (answers.empty()) return;
+  h5::Handle responses = h5::create_group(file_.id(), "responses");
+  h5::write_attribute(responses.id(), "description",
+                      std::string("per named response ([[ensemble.response]]): mean and standard "
+                                  "error over the successful samples with finite values, the "
+                                  "exceedance of its limit, and their convergence"));
+  const std::vector<std::string> inputs = spec_.input_names();
+  std::optional<h5::Handle> sensitivity;
+  if (!inputs.empty()) {
+    sensitivity = h5::create_group(file_.id(), "sensitivity");
+    h5::write_attribute(sensitivity->id(), "description",
+                        std::string("per response, how much each sampled input (/samples/inputs "
+                                    "columns) drives it"));
+  }
+  for (std::size_t r = 0; r < answers.size(); ++r) {
+    const ensemble::Response& response = spec_.responses[r];
+    const ensemble::ResponseAnswer& a = answers[r];
+    h5::Handle g = h5::create_group(responses.id(), response.name);
+    h5::write_attribute(g.id(), "units", response.units);
+    h5::write_attribute(g.id(), "quantity", response.quantity);
+    h5::write_attribute(g.id(), "column", response.column);
+    h5::write_attribute(g.id(), "reduce", std::string(ensemble::name(response.reduce)));
+    auto scalar = [&](hid_t group, const char* name, auto value, const std::string& units,
+                      const std::string& what) {
+      h5::Handle set = h5::write_scalar(group, name, value);
+      describe(set.id(), units, what, {});
+    };
+    scalar(g.id(), "mean", a.mean, response.units, "mean over the successful samples with finite values");
+    scalar(g.id(), "std", a.std, response.units, "sample standard deviation (n - 1)");
+    scalar(g.id(), "sem", a.sem, response.units, "standard error of the mean, std / sqrt(used)");
+    scalar(g.id(), "used", a.used, "1", "successful samples with a finite value");
+    scalar(g.id(), "not_finite", a.not_finite, "1", "successful samples with +-inf (a level never crossed)");
+    scalar(g.id(), "failed", a.failed, "1", "samples that failed (left out)");
+    if (a.exceedance) {
+      const ensemble::Exceedance& e = *a.exceedance;
+      h5::Handle x = h5::create_group(g.id(), "exceedance");
+      h5::write_attribute(x.id(), "description",
+                          "limit state: value " + std::string(response.fail_if == ensemble::Response::FailIf::above ? "above" : "below") +
+                              " the limit, over the successful samples; failed samples are counted "
+                              "beside it (survivor bias)");
+      h5::write_attribute(x.id(), "limit", response.limit);
+      h5::write_attribute(x.id(), "fail_if", std::string(response.fail_if == ensemble::Response::FailIf::above ? "above" : "below"));
+      scalar(x.id(), "probability", e.probability, "1", "exceeded / successful");
+      scalar(x.id(), "count", e.exceeded, "1", "successful samples beyond the limit");
+      scalar(x.id(), "successful", e.successful, "1", "successful samples (the denominator)");
+      scalar(x.id(), "failed", e.failed, "1", "samples that failed and are not in the denominator");
+      const double interval[2] = {e.interval.low, e.interval.high};
+      const hsize_t two[1] = {2};
+      h5::Handle w = h5::write_array(x.id(), "interval", H5T_NATIVE_DOUBLE, interval, two);
+      describe(w.id(), "1", "95 % Wilson score interval of the probability: low, high", {"low", "high"});
+    }
+    std::vector<double> table;
+    for (const ensemble::ConvergencePoint& p : a.convergence)
+      table.insert(table.end(), {static_cast<double>(p.samples), static_cast<double>(p.used), p.mean, p.sem,
+                                 p.probability, p.interval.low, p.interval.high});
+    h5::Handle c = h5::write_matrix(g.id(), "convergence", table, a.convergence.size(), 7);
+    describe(c.id(), "per column: the 'column_units' attribute",
+             "answers from samples 0 .. m-1 for m = 1, 2, 4, ... and N, in sample-index order "
+             "(meaningful as convergence for nested designs: monte_carlo, sobol, saltelli)",
+             {"samples", "used", "mean", "sem", "exceedance_probability", "wilson_low", "wilson_high"});
+    h5::write_attribute(c.id(), "column_units",
+                        std::vector<std::string>{"1", "1", response.units, response.units, "1", "1", "1"});
+
+    if (!sensitivity) continue;
+    h5::Handle sg = h5::create_group(sensitivity->id(), response.name);
+    h5::write_attribute(sg.id(), "description",
+                        std::string(spec_.design == ensemble::Design::saltelli
+                                        ? "rank measures over the A and B runs; Sobol' indices from all blocks"
+                                        : "rank measures over the successful samples"));
+    auto per_input = [&](const char* name, const std::vector<double>& v, const std::string& what) {
+      h5::Handle set = h5::write_vector(sg.id(), name, v);
+      describe(set.id(), "1", what, inputs);
+    };
+    per_input("spearman", a.ranks.spearman, "Spearman rank correlation of each input with the response");
+    per_input("srrc", a.ranks.srrc,
+              "standardised rank regression coefficient of each input (see the r_squared attribute)");
+    h5::write_attribute(sg.id(), "rank_r_squared", a.ranks.r_squared);
+    h5::write_attribute(sg.id(), "rank_samples", static_cast<long long>(a.ranks.samples));
+    if (a.sobol) {
+      const ensemble::SobolIndices& s = *a.sobol;
+      per_input("first_order", s.first, "first-order Sobol' index (Saltelli 2010) of each input");
+      per_input("total_order", s.total, "total Sobol' index (Jansen) of each input");
+      auto interval = [&](const char* name, const std::vector<double>& v, const std::string& what) {
+        h5::Handle set = h5::write_matrix(sg.id(), name, v, inputs.size(), 2);
+        describe(set.id(), "1", what + ": input x (low, high); rows follow the 'inputs' attribute",
+                 {"low", "high"});
+        h5::write_attribute(set.id(), "inputs", inputs);
+      };
+      interval("first_order_ci", s.first_ci, "95 % bootstrap interval of the first-order index");
+      interval("total_order_ci", s.total_ci, "95 % bootstrap interval of the total index");
+      h5::write_attribute(sg.id(), "sobol_variance", s.variance);
+      h5::write_attribute(sg.id(), "sobol_base_samples", static_cast<long long>(s.base_samples));
+      h5::write_attribute(sg.id(), "bootstrap_resamples", static_cast<long long>(spec_.bootstrap_resamples));
+    }
+  }
+}
+
 void EnsembleWriter::finish(const EnsembleSummary& summary) {
   const hid_t root = file_.id();
   h5::write_attribute(root, "software", std::string("treedyn ") + TREEDYN_VERSION);
@@ -231,10 +416,12 @@ void EnsembleWriter::finish(const EnsembleSummary& summary) {
   h5::write_attribute(root, "parameterisation", std::string(name(job_.request.parameterisation)));
   h5::write_attribute(root, "histogram_bins", static_cast<long long>(spec_.histogram_bins));
   h5::write_attribute(root, "pilot_samples", static_cast<long long>(spec_.pilot_samples));
+  reductions_.clear();
+  reduction_groups_.clear();
+  trajectories_.clear();
   for (h5::Handle* h : {&inputs_, &status_, &reason_, &time_reached_, &integrator_stats_,
-                        &final_state_, &max_group_, &samples_})
+                        &final_state_, &responses_, &trajectory_group_, &samples_})
     h->reset();
-  max_.clear();
   file_.commit();
 }
 

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <vector>
 
+#include "ensemble/answers.hpp"
 #include "ensemble/ensemble_spec.hpp"
 #include "ensemble/sample_runner.hpp"
 #include "ensemble/statistics.hpp"
@@ -33,6 +34,8 @@ class EnsembleWriter {
   void write_records(std::vector<ensemble::SampleRecord> records);
   void write_nominal(const std::vector<double>& trajectory);
   void write_statistics(const ensemble::EnsembleStatistics& stats);
+  // /responses/<name> and /sensitivity/<name>, one per spec response.
+  void write_answers(const std::vector<ensemble::ResponseAnswer>& answers);
   void finish(const EnsembleSummary& summary);
 
  private:
@@ -44,8 +47,11 @@ class EnsembleWriter {
   std::size_t final_size_;
   h5::File file_;
   h5::Handle samples_, inputs_, status_, reason_, time_reached_, integrator_stats_, final_state_;
-  h5::Handle max_group_;
-  std::vector<h5::Handle> max_;
+  h5::Handle responses_;
+  std::vector<h5::Handle> reduction_groups_;         // /samples/<reduction>
+  std::vector<std::vector<h5::Handle>> reductions_;  // [reduction][quantity]
+  h5::Handle trajectory_group_;
+  std::vector<h5::Handle> trajectories_;             // [quantity], (M, T, columns)
 };
 
 }  // namespace treedyn

@@ -169,6 +169,24 @@ Handle write_array(hid_t parent, const std::string& name, hid_t type, const void
   return write_dataset(parent, name, type, data, dims, true);
 }
 
+namespace {
+Handle scalar_dataset(hid_t parent, const std::string& name, hid_t type, const void* value) {
+  Handle space(H5Screate(H5S_SCALAR), H5Sclose, "creating a scalar dataspace");
+  Handle set(H5Dcreate2(parent, name.c_str(), type, space.id(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+             H5Dclose, "creating dataset " + name);
+  check(H5Dwrite(set.id(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, value), "writing dataset " + name);
+  return set;
+}
+}  // namespace
+
+Handle write_scalar(hid_t parent, const std::string& name, double value) {
+  return scalar_dataset(parent, name, H5T_NATIVE_DOUBLE, &value);
+}
+
+Handle write_scalar(hid_t parent, const std::string& name, std::uint64_t value) {
+  return scalar_dataset(parent, name, H5T_NATIVE_UINT64, &value);
+}
+
 Handle create_rows(hid_t parent, const std::string& name, hid_t type, std::size_t rows,
                    std::size_t columns, std::size_t chunk_rows) {
   const hsize_t dims[2] = {rows, std::max<std::size_t>(columns, 1)};
@@ -194,6 +212,38 @@ void write_rows(hid_t dataset, hid_t type, std::size_t first_row, std::size_t ro
   check(H5Sselect_hyperslab(file_space.id(), H5S_SELECT_SET, start, nullptr, count, nullptr),
         "selecting rows");
   Handle memory_space = simple_space(std::span<const hsize_t>(count, static_cast<std::size_t>(rank)));
+  check(H5Dwrite(dataset, type, memory_space.id(), file_space.id(), H5P_DEFAULT, data), "writing rows");
+}
+
+Handle create_row_array(hid_t parent, const std::string& name, hid_t type, std::size_t rows,
+                        std::span<const hsize_t> row_shape, std::size_t chunk_rows) {
+  std::vector<hsize_t> dims{rows}, chunk{std::clamp<hsize_t>(chunk_rows, 1, std::max<hsize_t>(rows, 1))};
+  for (hsize_t extent : row_shape) {
+    dims.push_back(extent);
+    chunk.push_back(std::max<hsize_t>(extent, 1));
+  }
+  Handle space = simple_space(dims);
+  Handle plist(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, "creating dataset properties");
+  if (rows > 0) {
+    check(H5Pset_chunk(plist.id(), static_cast<int>(dims.size()), chunk.data()), "setting chunks");
+    check(H5Pset_deflate(plist.id(), 4), "setting deflate compression");
+  }
+  return Handle(H5Dcreate2(parent, name.c_str(), type, space.id(), H5P_DEFAULT, plist.id(), H5P_DEFAULT),
+                H5Dclose, "creating dataset " + name);
+}
+
+void write_row_block(hid_t dataset, hid_t type, std::size_t first_row, std::size_t rows,
+                     const void* data) {
+  if (rows == 0) return;
+  Handle file_space(H5Dget_space(dataset), H5Sclose, "getting a dataspace");
+  const int rank = H5Sget_simple_extent_ndims(file_space.id());
+  std::vector<hsize_t> extent(static_cast<std::size_t>(rank)), start(extent.size(), 0);
+  H5Sget_simple_extent_dims(file_space.id(), extent.data(), nullptr);
+  extent[0] = rows;
+  start[0] = first_row;
+  check(H5Sselect_hyperslab(file_space.id(), H5S_SELECT_SET, start.data(), nullptr, extent.data(), nullptr),
+        "selecting rows");
+  Handle memory_space = simple_space(extent);
   check(H5Dwrite(dataset, type, memory_space.id(), file_space.id(), H5P_DEFAULT, data), "writing rows");
 }
 

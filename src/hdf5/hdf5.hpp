@@ -77,12 +77,23 @@ Handle write_vector(hid_t parent, const std::string& name, std::span<const doubl
 // compressed, written whole.
 Handle write_array(hid_t parent, const std::string& name, hid_t type, const void* data,
                    std::span<const hsize_t> dims);
+// A scalar dataset (no chunks, no compression): one number a reader gets
+// with f[path][()].
+Handle write_scalar(hid_t parent, const std::string& name, double value);
+Handle write_scalar(hid_t parent, const std::string& name, std::uint64_t value);
 // A rows x columns dataset created empty (HDF5's default fill, zero), filled
 // later block by block with write_rows: for records that arrive out of order.
 Handle create_rows(hid_t parent, const std::string& name, hid_t type, std::size_t rows,
                    std::size_t columns, std::size_t chunk_rows);
 void write_rows(hid_t dataset, hid_t type, std::size_t first_row, std::size_t rows,
                 std::size_t columns, const void* data);
+// The same with rows of any shape: (rows, row_shape...), e.g. one
+// (times x columns) trajectory per row. write_row_block writes rows
+// first_row .. first_row + rows - 1 whole.
+Handle create_row_array(hid_t parent, const std::string& name, hid_t type, std::size_t rows,
+                        std::span<const hsize_t> row_shape, std::size_t chunk_rows);
+void write_row_block(hid_t dataset, hid_t type, std::size_t first_row, std::size_t rows,
+                     const void* data);
 // Fixed-length strings, one per row, filled later with write_rows.
 Handle create_string_rows(hid_t parent, const std::string& name, std::size_t rows,
                           std::size_t length, std::size_t chunk_rows);

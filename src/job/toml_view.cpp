@@ -24,6 +24,22 @@ std::size_t edit_distance(std::string_view a, std::string_view b) {
   return row[b.size()];
 }
 
+}  // namespace
+
+std::string did_you_mean(std::string_view word, std::span<const std::string_view> allowed) {
+  std::string_view best;
+  std::size_t best_distance = 1000;
+  for (std::string_view a : allowed) {
+    const std::size_t d = edit_distance(word, a);
+    if (d < best_distance) best_distance = d, best = a;
+  }
+  if (best_distance <= std::max<std::size_t>(2, word.size() / 3))
+    return "; did you mean '" + std::string(best) + "'?";
+  return "";
+}
+
+namespace {
+
 std::string type_name(const toml::node& n) {
   switch (n.type()) {
     case toml::node_type::table:
@@ -77,15 +93,8 @@ void TomlView::check_keys(std::initializer_list<std::string_view> allowed) const
   for (const auto& [key, value] : table_) {
     const std::string_view k = key.str();
     if (std::find(allowed.begin(), allowed.end(), k) != allowed.end()) continue;
-    std::string_view best;
-    std::size_t best_distance = 1000;
-    for (std::string_view a : allowed) {
-      const std::size_t d = edit_distance(k, a);
-      if (d < best_distance) best_distance = d, best = a;
-    }
     std::ostringstream what;
-    what << "unknown key '" << k << "'";
-    if (best_distance <= std::max<std::size_t>(2, k.size() / 3)) what << "; did you mean '" << best << "'?";
+    what << "unknown key '" << k << "'" << did_you_mean(k, std::span(allowed.begin(), allowed.size()));
     what << " Allowed here:";
     for (std::string_view a : allowed) what << " " << a;
     throw JobError(file_, line_of(value), column_of(value), field(k), what.str());

@@ -5,6 +5,7 @@
 
 #include <initializer_list>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -55,6 +56,10 @@ class TomlView {
   std::string path_;
   const std::string& file_;
 };
+
+// "; did you mean 'X'?" for the allowed word nearest to `word` (edit
+// distance), or "" when none is near.
+std::string did_you_mean(std::string_view word, std::span<const std::string_view> allowed);
 
 // A number as a user wrote it (shortest round-trip form, e.g. 1e-07, -2.5).
 std::string format_number(double v);

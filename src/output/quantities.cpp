@@ -27,7 +27,7 @@ void body_vectors(const Recovered& s, const OutputSpec&, std::vector<double>& ro
   append_each(row, s.*member);
 }
 
-constexpr std::array<QuantityInfo, 15> kCatalogue{{
+constexpr std::array<QuantityInfo, 16> kCatalogue{{
     {"orientation", "1",
      "orientation of each body as a unit quaternion (q0 scalar first, q0 >= 0), rotating "
      "body-frame components into the inertial frame",
@@ -55,6 +55,13 @@ constexpr std::array<QuantityInfo, 15> kCatalogue{{
      "constraint force of each joint on its child body (the joint is named by its child), "
      "inertial frame",
      body_xyz, body_vectors<&Recovered::joint_reaction>},
+    {"joint_reaction_magnitude", "N",
+     "magnitude of each joint's constraint force (joint_reaction): a cable's or link's tension "
+     "at its upper joint",
+     [](const Model& m, const OutputSpec&) { return per_body(m, {"magnitude"}); },
+     [](const Recovered& s, const OutputSpec&, std::vector<double>& row) {
+       for (const Vec3& f : s.joint_reaction) row.push_back(f.norm());
+     }},
     {"joint_angle", "rad",
      "rotation angle of each joint: child relative to parent (to the inertial frame for the "
      "joint on the base), in [0, pi]",
@@ -128,6 +135,20 @@ ColumnLayout column_layout(const Model& model, const OutputSpec& output) {
     l.columns += l.names.back().size();
   }
   return l;
+}
+
+std::string column_unit(const ColumnLayout& layout, std::size_t quantity, std::size_t column) {
+  const std::string_view all = layout.info[quantity]->units;
+  std::vector<std::string> units;
+  for (std::size_t start = 0;;) {
+    const std::size_t comma = all.find(", ", start);
+    units.emplace_back(all.substr(start, comma == std::string_view::npos ? all.npos : comma - start));
+    if (comma == std::string_view::npos) break;
+    start = comma + 2;
+  }
+  const std::size_t columns = layout.names[quantity].size();
+  if (units.size() == 1 || columns % units.size() != 0) return std::string(all);
+  return units[column / (columns / units.size())];
 }
 
 }  // namespace treedyn

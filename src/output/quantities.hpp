@@ -37,6 +37,10 @@ struct ColumnLayout {
   std::vector<std::vector<std::string>> names; // column labels of each quantity
   std::size_t columns = 0;
 };
+// Units of column `column` of quantity `quantity` (an index into the
+// layout): a quantity with mixed units ("m, m/s, m/s^2") lists one per equal
+// group of columns.
+std::string column_unit(const ColumnLayout& layout, std::size_t quantity, std::size_t column);
 // Throws std::invalid_argument for a quantity not in the catalogue.
 ColumnLayout column_layout(const Model& model, const OutputSpec& output);
 

@@ -1,0 +1,151 @@
+#include "ensemble/answers.hpp"
+
+#include <cmath>
+#include <limits>
+
+namespace treedyn::ensemble {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// Welford's running mean and sum of squared deviations, in sample order.
+struct Running {
+  std::uint64_t n = 0;
+  double mean = 0.0, m2 = 0.0;
+  void add(double x) {
+    ++n;
+    const double delta = x - mean;
+    mean += delta / static_cast<double>(n);
+    m2 += delta * (x - mean);
+  }
+  double std_dev() const { return n > 1 ? std::sqrt(m2 / static_cast<double>(n - 1)) : kNaN; }
+  double sem() const { return n > 1 ? std_dev() / std::sqrt(static_cast<double>(n)) : kNaN; }
+};
+
+double ratio(std::uint64_t k, std::uint64_t n) {
+  return n > 0 ? static_cast<double>(k) / static_cast<double>(n) : kNaN;
+}
+
+RankSensitivity ranks_of(const EnsembleSpec& spec, const ResponseTable& table, std::size_t r) {
+  const std::size_t d = table.input_count();
+  std::vector<double> x, y;
+  for (std::uint64_t k = 0; k < table.samples(); ++k) {
+    if (!table.ok(k) || std::isnan(table.response(k, r))) continue;
+    // Saltelli's AB_i rows repeat A's inputs but one: only A and B are an
+    // independent sample of the inputs.
+    if (spec.design == Design::saltelli &&
+        saltelli_place(k, static_cast<unsigned>(d)).role == SaltelliRole::ab)
+      continue;
+    for (std::size_t i = 0; i < d; ++i) x.push_back(table.input(k, i));
+    y.push_back(table.response(k, r));
+  }
+  return rank_sensitivity(x, d, y);
+}
+
+SobolIndices sobol_of(const EnsembleSpec& spec, const ResponseTable& table, std::size_t r) {
+  const std::size_t d = table.input_count(), block = saltelli_block(static_cast<unsigned>(d));
+  std::vector<double> f_a, f_b, f_ab;
+  for (std::uint64_t j = 0; j < spec.base_samples; ++j) {
+    // A block counts only when all its D + 2 runs succeeded with finite values.
+    bool complete = true;
+    for (std::size_t m = 0; m < block; ++m) {
+      const std::uint64_t k = j * block + m;
+      complete = complete && table.ok(k) && std::isfinite(table.response(k, r));
+    }
+    if (!complete) continue;
+    f_a.push_back(table.response(j * block, r));
+    f_b.push_back(table.response(j * block + 1, r));
+    for (std::size_t i = 0; i < d; ++i) f_ab.push_back(table.response(j * block + 2 + i, r));
+  }
+  return saltelli_indices(f_a, f_b, f_ab, d, spec.bootstrap_resamples, spec.seed);
+}
+
+}  // namespace
+
+ResponseTable::ResponseTable(std::uint64_t samples, std::size_t inputs, std::size_t responses)
+    : status_(samples, static_cast<std::int32_t>(SampleStatus::integration_failed)),
+      inputs_(samples * inputs, kNaN),
+      responses_(samples * responses, kNaN),
+      inputs_count_(inputs),
+      responses_count_(responses) {}
+
+ResponseTable::ResponseTable(std::vector<std::int32_t> status, std::vector<double> inputs,
+                             std::vector<double> responses, std::size_t input_count,
+                             std::size_t response_count)
+    : status_(std::move(status)),
+      inputs_(std::move(inputs)),
+      responses_(std::move(responses)),
+      inputs_count_(input_count),
+      responses_count_(response_count) {}
+
+void ResponseTable::add(const SampleRecord& record) {
+  const std::uint64_t k = record.index;
+  status_[k] = static_cast<std::int32_t>(record.status);
+  for (std::size_t d = 0; d < std::min(inputs_count_, record.inputs.size()); ++d)
+    inputs_[k * inputs_count_ + d] = record.inputs[d];
+  for (std::size_t r = 0; r < std::min(responses_count_, record.responses.size()); ++r)
+    responses_[k * responses_count_ + r] = record.responses[r];
+}
+
+Interval wilson_interval(std::uint64_t k, std::uint64_t n, double z) {
+  if (n == 0) return {kNaN, kNaN};
+  const double nn = static_cast<double>(n), p = static_cast<double>(k) / nn, z2 = z * z;
+  const double denominator = 1.0 + z2 / nn;
+  const double centre = (p + z2 / (2.0 * nn)) / denominator;
+  const double half = z / denominator * std::sqrt(p * (1.0 - p) / nn + z2 / (4.0 * nn * nn));
+  return {std::max(0.0, centre - half), std::min(1.0, centre + half)};
+}
+
+std::vector<ResponseAnswer> answer_responses(const EnsembleSpec& spec, const ResponseTable& table) {
+  std::vector<ResponseAnswer> answers;
+  for (std::size_t r = 0; r < spec.responses.size(); ++r) {
+    const Response& response = spec.responses[r];
+    ResponseAnswer a;
+    Running running;
+    std::uint64_t successful = 0, exceeded = 0, next_report = 1;
+    for (std::uint64_t k = 0; k < table.samples(); ++k) {
+      if (!table.ok(k)) {
+        ++a.failed;
+      } else {
+        ++successful;
+        const double v = table.response(k, r);
+        if (std::isfinite(v))
+          running.add(v);
+        else
+          ++a.not_finite;
+        if (response.exceeds(v)) ++exceeded;
+      }
+      const std::uint64_t m = k + 1;
+      if (m == next_report || m == table.samples()) {
+        ConvergencePoint p;
+        p.samples = m;
+        p.used = running.n;
+        p.mean = running.n > 0 ? running.mean : kNaN;
+        p.sem = running.sem();
+        p.probability = response.has_limit() ? ratio(exceeded, successful) : kNaN;
+        p.interval = response.has_limit() ? wilson_interval(exceeded, successful) : Interval{kNaN, kNaN};
+        a.convergence.push_back(p);
+        while (next_report <= m) next_report *= 2;
+      }
+    }
+    a.used = running.n;
+    a.mean = running.n > 0 ? running.mean : kNaN;
+    a.std = running.std_dev();
+    a.sem = running.sem();
+    if (response.has_limit()) {
+      Exceedance e;
+      e.exceeded = exceeded;
+      e.successful = successful;
+      e.failed = a.failed;
+      e.probability = ratio(exceeded, successful);
+      e.interval = wilson_interval(exceeded, successful);
+      a.exceedance = e;
+    }
+    if (table.input_count() > 0) a.ranks = ranks_of(spec, table, r);
+    if (spec.design == Design::saltelli) a.sobol = sobol_of(spec, table, r);
+    answers.push_back(std::move(a));
+  }
+  return answers;
+}
+
+}  // namespace treedyn::ensemble

@@ -1,0 +1,58 @@
+// Sensitivity of a response to the sampled inputs, from per-sample values
+// alone (no model): rank measures for any design, and Sobol' indices from
+// Saltelli's design. Pure functions of their arguments, so the same records
+// give the same bits on any number of ranks.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace treedyn::ensemble {
+
+// Ranks 1..n of `values`; ties share the mean of their ranks. +-inf rank as
+// the extremes; NaN is not allowed (callers drop those rows).
+std::vector<double> average_ranks(std::span<const double> values);
+
+struct RankSensitivity {
+  std::vector<double> spearman;  // per input: Spearman's rank correlation with the response
+  std::vector<double> srrc;      // per input: standardised rank regression coefficient
+  double r_squared = 0.0;        // of the rank regression: SRRC explain this share of the
+                                 // rank variance (trust them when it is near 1); NaN with the SRRC
+  std::size_t samples = 0;       // rows used
+};
+
+// `inputs`: n rows x `dimensions` columns, row-major; `response`: n values.
+// A constant input or response gives NaN for its correlations; SRRC are NaN
+// when n <= dimensions + 1 or the rank regression is singular. Throws
+// std::invalid_argument for mismatched sizes, no inputs or a NaN value.
+RankSensitivity rank_sensitivity(std::span<const double> inputs, std::size_t dimensions,
+                                 std::span<const double> response);
+
+struct SobolIndices {
+  std::vector<double> first;     // per input: first-order index (Saltelli 2010)
+  std::vector<double> total;     // per input: total index (Jansen 1999)
+  std::vector<double> first_ci;  // per input: 95 % bootstrap interval, low and high (2 per input)
+  std::vector<double> total_ci;
+  double variance = 0.0;         // of f over A and B together (the denominator)
+  std::size_t base_samples = 0;  // N, the blocks used
+};
+
+// Saltelli 2010, Table 2 (b) and (f): with m and V the mean and the
+// population variance (1/2N) of f over the 2N values of A and B,
+//   S_i  = (1/N) sum_j (f(B)_j - m) (f(AB_i)_j - f(A)_j) / V,
+//   ST_i = (1/2N) sum_j (f(A)_j - f(AB_i)_j)^2 / V
+// (f(B) centred: the same expectation as Saltelli's f(B), less noise when f
+// has a large offset). Intervals: first_ci[2i], [2i+1] = low, high. The
+// bootstrap treats the blocks as independent draws; with scrambled Sobol
+// points the actual error is usually well inside the interval.
+// f_a, f_b: N values; f_ab: N rows x `dimensions`, row j column i = f(AB_i)_j.
+// The intervals are percentile intervals of `resamples` bootstrap
+// resamplings of the N blocks, drawn from a counter-based generator keyed
+// by `seed` (reproducible). Zero variance gives NaN indices.
+SobolIndices saltelli_indices(std::span<const double> f_a, std::span<const double> f_b,
+                              std::span<const double> f_ab, std::size_t dimensions, int resamples,
+                              std::uint64_t seed);
+
+}  // namespace treedyn::ensemble
