@@ -1,4 +1,5 @@
 // [[body]], [[chain]], [base], [[force]], [[moment]].
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -193,8 +194,21 @@ std::vector<Harmonic> read_harmonics(const TomlView& base, std::string_view axis
 
 ReadBodies read_bodies(const TomlView& root) {
   ReadBodies out;
-  for (const TomlView& b : root.table_array("body")) read_body(b, out);
-  for (const TomlView& c : root.table_array("chain")) read_chain(c, out);
+  // Bodies in the job file's order, a [[chain]]'s links where its table
+  // stands: that order is the user order of every output column.
+  struct Entry {
+    int line, column;
+    bool chain;
+    const TomlView* view;
+  };
+  const std::vector<TomlView> bodies = root.table_array("body"), chains = root.table_array("chain");
+  std::vector<Entry> entries;
+  for (const TomlView& b : bodies) entries.push_back({line_of(b.table()), column_of(b.table()), false, &b});
+  for (const TomlView& c : chains) entries.push_back({line_of(c.table()), column_of(c.table()), true, &c});
+  std::stable_sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
+    return a.line != b.line ? a.line < b.line : a.column < b.column;
+  });
+  for (const Entry& e : entries) (e.chain ? read_chain : read_body)(*e.view, out);
   if (out.bodies.empty())
     throw JobError(root.file(), 0, 0, "body",
                    "the job defines no bodies; add at least one [[body]] or [[chain]]");
