@@ -6,6 +6,8 @@
 
 #include "app/exit_codes.hpp"
 #include "app/model_summary.hpp"
+#include "app/rerun_sample.hpp"
+#include "ensemble/sample_job.hpp"
 #include "ensemble/ensemble_spec.hpp"
 #include "job/job_error.hpp"
 #include "parallel/driver.hpp"
@@ -16,7 +18,7 @@ namespace {
 // --check: validate the job and its [ensemble], print what would run, run nothing.
 int check(const std::string& job_path) {
   try {
-    const treedyn::Job job = treedyn::read_job(job_path);
+    const treedyn::Job job = treedyn::ensemble::load_job(job_path);
     const auto spec = treedyn::ensemble::read_ensemble(job);
     treedyn::print_model_summary(std::cout, job);
     treedyn::ensemble::print_ensemble_summary(std::cout, job, spec);
@@ -49,6 +51,18 @@ int main(int argc, char** argv) {
                "validate the job and its [ensemble], print the model and the ensemble, run nothing")
       ->excludes(output);
   app.add_flag("-q,--quiet", options.quiet, "no progress and no summary");
+  std::uint64_t sample = 0, job_sample = 0;
+  auto* sample_option = app.add_option(
+      "--sample", sample,
+      "integrate sample K alone and write its full trajectory (treedyn run layout, with "
+      "/sample/inputs) to --output; its final state is bitwise the ensemble's /samples/final_state[K]");
+  auto* write_job_option = app.add_option(
+      "--write-job", job_sample,
+      "write sample K as a standalone job file to --output (the job without [ensemble], plus a "
+      "[sample] section with its inputs); treedyn run of it reproduces the sample");
+  sample_option->excludes(write_job_option);
+  sample_option->excludes("--check");
+  write_job_option->excludes("--check");
   app.add_option("--progress-interval", options.progress_interval,
                  "seconds between progress lines when stderr is not a terminal")
       ->check(CLI::PositiveNumber);
@@ -62,6 +76,15 @@ int main(int argc, char** argv) {
   if (options.output_path.empty()) {
     if (session.rank() == 0) std::cerr << "error: --output is required (or use --check)\n";
     return kExitBadInput;
+  }
+  // One sample on its own is serial: rank 0 does it, every rank returns its code.
+  if (*sample_option || *write_job_option) {
+    int code = kExitOk;
+    if (session.rank() == 0)
+      code = *sample_option ? rerun_sample(options.job_path, sample, options.output_path, options.quiet)
+                            : write_sample_job(options.job_path, job_sample, options.output_path);
+    MPI_Bcast(&code, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    return code;
   }
   try {
     return parallel::run_ensemble(MPI_COMM_WORLD, options);

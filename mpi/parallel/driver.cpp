@@ -13,6 +13,7 @@
 #include "app/exit_codes.hpp"
 #include "ensemble/answers.hpp"
 #include "ensemble/ensemble_spec.hpp"
+#include "ensemble/sample_job.hpp"
 #include "ensemble/sample_runner.hpp"
 #include "ensemble/statistics.hpp"
 #include "hdf5/ensemble_file.hpp"
@@ -298,6 +299,7 @@ int run_ensemble(MPI_Comm comm, const EnsembleOptions& options) {
   ensemble::EnsembleSpec spec;
   try {
     job = parse_job(text, options.job_path);
+    ensemble::apply_sample_section(job);
     spec = ensemble::read_ensemble(job);
   } catch (const JobError& e) {
     if (rank == 0) std::cerr << "error: " << e.what() << "\n";

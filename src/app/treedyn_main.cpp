@@ -1,23 +1,22 @@
 // The `treedyn` command: check a job, run one trajectory into HDF5.
 #include <CLI/CLI.hpp>
 
-#include <chrono>
 #include <cstdint>
 #include <iostream>
 
 #include "app/exit_codes.hpp"
 #include "app/model_summary.hpp"
+#include "app/run_trajectory.hpp"
+#include "ensemble/sample_job.hpp"
 #include "hdf5/hdf5.hpp"
 #include "job/job.hpp"
 #include "job/job_error.hpp"
-#include "hdf5/trajectory_file.hpp"
-#include "output/recorder.hpp"
 
 namespace treedyn {
 namespace {
 
 int check_command(const std::string& job_path, bool all_parameters) {
-  const Job job = read_job(job_path);
+  const Job job = ensemble::load_job(job_path);
   print_model_summary(std::cout, job);
   print_parameters(std::cout, job.definition.parameters, all_parameters ? SIZE_MAX : 40);
   std::cout << job_path << ": OK\n";
@@ -25,27 +24,8 @@ int check_command(const std::string& job_path, bool all_parameters) {
 }
 
 int run_command(const std::string& job_path, const std::string& output_path, bool quiet) {
-  const Job job = read_job(job_path);
-  h5::check_output_path(output_path);  // refuse before integrating, not after
-  Recorder recorder(job.model, job.output);
-  const auto start = std::chrono::steady_clock::now();
-  const IntegrationOutcome outcome =
-      simulate(job.model, job.initial, job.request,
-               [&](const Model& m, const Data& d) { recorder.record(m, d); });
-  const double wall =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  if (!outcome.ok()) {
-    std::cerr << job_path << ": integration failed (" << name(outcome.failure) << ") at t = "
-              << outcome.time_reached << " s after " << outcome.stats.steps << " steps";
-    if (!outcome.message.empty()) std::cerr << ": " << outcome.message;
-    std::cerr << "\nno output written. Loosen the tolerances, raise [integrator] max_steps, or "
-                 "check the model.\n";
-    return kExitIntegration;
-  }
-  write_trajectory(output_path, job, recorder, outcome);
-  if (!quiet) print_run_summary(std::cout, job, recorder, outcome, wall);
-  std::cout << "wrote " << output_path << " (" << recorder.times().size() << " output times)\n";
-  return kExitOk;
+  const Job job = ensemble::load_job(job_path);
+  return run_trajectory(job, job.model, job.initial, output_path, quiet);
 }
 
 }  // namespace

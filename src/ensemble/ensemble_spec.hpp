@@ -31,6 +31,8 @@ struct EnsembleSpec {
 
   unsigned input_dimensions() const;
   std::vector<std::string> input_names() const;
+  // SI unit of every input column ("1" for a scale factor).
+  std::vector<std::string> input_units() const;
 };
 
 // Memory the statistics need on every rank: bin counters, sums, minima and

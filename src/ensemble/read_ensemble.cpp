@@ -234,6 +234,14 @@ std::vector<std::string> EnsembleSpec::input_names() const {
   return names;
 }
 
+std::vector<std::string> EnsembleSpec::input_units() const {
+  std::vector<std::string> units;
+  for (const Perturbation& p : perturbations)
+    for (int k = 0; k < p.dimensions(); ++k)
+      units.push_back(p.mode == Mode::scale && p.kind != Kind::orientation && p.kind != Kind::rotation ? "1" : p.si_unit);
+  return units;
+}
+
 EnsembleSpec read_ensemble(const Job& job) {
   toml::table root_table;
   try {

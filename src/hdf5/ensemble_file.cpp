@@ -46,10 +46,7 @@ EnsembleWriter::EnsembleWriter(const std::filesystem::path& path, const Job& job
              "the sampled value of every perturbed input ([[ensemble.perturbation]] targets; "
              "orientation perturbations are rotation vectors)",
              spec.input_names());
-    std::vector<std::string> units;
-    for (const ensemble::Perturbation& p : spec.perturbations)
-      for (int k = 0; k < p.dimensions(); ++k) units.push_back(p.mode == ensemble::Perturbation::Mode::scale ? "1" : p.si_unit);
-    h5::write_attribute(inputs_.id(), "column_units", units);
+    h5::write_attribute(inputs_.id(), "column_units", spec.input_units());
   }
   status_ = h5::create_rows(g, "status", H5T_NATIVE_INT32, n, 0, chunk);
   describe(status_.id(), "1", "0 ok, 1 integration failed, 2 invalid model (perturbed input refused)", {});

@@ -1,5 +1,7 @@
 #include "hdf5/trajectory_file.hpp"
 
+#include "output/final_state.hpp"
+
 namespace treedyn {
 
 void write_quantity_datasets(hid_t group, const ColumnLayout& layout, std::size_t times,
@@ -23,7 +25,7 @@ void write_quantity_datasets(hid_t group, const ColumnLayout& layout, std::size_
 }
 
 void write_trajectory(const std::filesystem::path& path, const Job& job, const Recorder& recorder,
-                      const IntegrationOutcome& outcome) {
+                      const IntegrationOutcome& outcome, const SampleOrigin* sample) {
   h5::File file(path);
   const hid_t root = file.id();
   h5::write_attribute(root, "software", std::string("treedyn ") + TREEDYN_VERSION);
@@ -47,6 +49,31 @@ void write_trajectory(const std::filesystem::path& path, const Job& job, const R
     h5::write_attribute(time.id(), "description", std::string("output times"));
   }
   write_quantity_datasets(root, recorder.layout(), t.size(), recorder.values(), "/time");
+  if (!recorder.empty()) {
+    std::vector<double> final_state(kFinalStatePerBody * static_cast<std::size_t>(job.model.n));
+    write_final_state(recorder.last(), final_state);
+    h5::Handle set = h5::write_vector(root, "final_state", final_state);
+    h5::write_attribute(set.id(), "units", std::string("1, rad/s"));
+    h5::write_attribute(set.id(), "description",
+                        std::string("state at the last output time: per body the orientation "
+                                    "quaternion (q0 >= 0) and the inertial angular velocity"));
+    h5::write_attribute(set.id(), "columns", final_state_columns(job.model.tree()));
+  }
+  if (sample) {
+    h5::Handle group = h5::create_group(root, "sample");
+    h5::write_attribute(group.id(), "description",
+                        std::string("this trajectory is one ensemble sample integrated alone "
+                                    "(treedyn-ensemble --sample)"));
+    h5::write_attribute(group.id(), "index", static_cast<long long>(sample->index));
+    if (!sample->inputs.empty()) {
+      h5::Handle set = h5::write_vector(group.id(), "inputs", sample->inputs);
+      h5::write_attribute(set.id(), "units", std::string("SI (per column: the 'column_units' attribute)"));
+      h5::write_attribute(set.id(), "description",
+                          std::string("the sample's sampled inputs, as in the ensemble's /samples/inputs row"));
+      h5::write_attribute(set.id(), "columns", sample->input_names);
+      h5::write_attribute(set.id(), "column_units", sample->input_units);
+    }
+  }
   file.commit();
 }
 

@@ -4,7 +4,9 @@
 
 #include <filesystem>
 #include <span>
+#include <cstdint>
 #include <string>
+#include <vector>
 
 #include "hdf5/hdf5.hpp"
 #include "integrate/settings.hpp"
@@ -20,9 +22,17 @@ namespace treedyn {
 void write_quantity_datasets(hid_t group, const ColumnLayout& layout, std::size_t times,
                              std::span<const double> values, const std::string& time_path);
 
-// Writes /time, one dataset per quantity, and the run's attributes, under a
-// temporary name renamed into place when complete. Throws h5::IoError.
+// Where a trajectory came from when it is one ensemble sample rerun alone.
+struct SampleOrigin {
+  std::uint64_t index = 0;
+  std::vector<std::string> input_names, input_units;
+  std::vector<double> inputs;  // SI
+};
+
+// Writes /time, one dataset per quantity, /final_state and the run's
+// attributes (and /sample for a rerun sample), under a temporary name
+// renamed into place when complete. Throws h5::IoError.
 void write_trajectory(const std::filesystem::path& path, const Job& job, const Recorder& recorder,
-                      const IntegrationOutcome& outcome);
+                      const IntegrationOutcome& outcome, const SampleOrigin* sample = nullptr);
 
 }  // namespace treedyn

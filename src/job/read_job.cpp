@@ -121,7 +121,8 @@ Job parse_job(std::string_view text, const std::string& file) {
   }
   const TomlView root(root_table, "", file);
   root.check_keys({"title", "environment", "base", "body", "chain", "force", "moment",
-                   "integrator", "output", "ensemble"});  // [ensemble]: read by treedyn-ensemble
+                   "integrator", "output", "ensemble", "sample"});
+  // [ensemble] is read by treedyn-ensemble, [sample] by ensemble/sample_job.cpp.
 
   Job job;
   job.file = file;

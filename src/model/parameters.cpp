@@ -66,4 +66,10 @@ std::string ParameterTable::entry_name(int index) const {
   return p.name + "." + std::string(component_name(p.shape, index - p.offset));
 }
 
+void ParameterTable::set_nominal(std::span<const double> values) {
+  if (values.size() != nominal_.size())
+    throw std::invalid_argument("ParameterTable::set_nominal: the vector has the wrong size");
+  nominal_.assign(values.begin(), values.end());
+}
+
 }  // namespace treedyn

@@ -41,6 +41,9 @@ class ParameterTable {
   // The nominal vector (the job as written).
   std::span<const double> nominal() const { return nominal_; }
   std::size_t size() const { return nominal_.size(); }
+  // Replaces the nominal vector (same size): a job whose [sample] section
+  // makes one ensemble sample its nominal.
+  void set_nominal(std::span<const double> values);
   // The parameter that holds entry `index`.
   const Parameter& owner(int index) const;
   // "gravity.z", "body.rod.mass", "joint.lower.stiffness.xy": one entry's name.

@@ -1,0 +1,102 @@
+#include "app/rerun_sample.hpp"
+
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <iostream>
+
+#include "app/exit_codes.hpp"
+#include "app/run_trajectory.hpp"
+#include "common/error.hpp"
+#include "ensemble/ensemble_spec.hpp"
+#include "ensemble/sample_job.hpp"
+#include "ensemble/sample_runner.hpp"
+#include "hdf5/hdf5.hpp"
+#include "job/job_error.hpp"
+
+namespace treedyn {
+namespace {
+
+// Sample k must exist: the message says how many there are.
+void require_sample(const Job& job, const ensemble::EnsembleSpec& spec, std::uint64_t k) {
+  if (k >= spec.samples)
+    throw JobError(job.file, 0, 0, "ensemble.samples",
+                   "there is no sample " + std::to_string(k) + ": the ensemble has " +
+                       std::to_string(spec.samples) + " samples, 0 .. " +
+                       std::to_string(spec.samples - 1) +
+                       (spec.design == ensemble::Design::saltelli ? " (saltelli: samples x (D + 2) runs)" : ""));
+}
+
+// Writes `text` to `path` under a temporary name, renamed when complete.
+void write_text_atomically(const std::string& path, const std::string& text) {
+  h5::check_output_path(path);
+  const std::string temporary = path + ".tmp-" + std::to_string(::getpid());
+  {
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    out << text;
+    out.flush();
+    if (!out) {
+      std::remove(temporary.c_str());
+      throw h5::IoError(temporary + ": cannot write (" + std::strerror(errno) + ")");
+    }
+  }
+  if (std::rename(temporary.c_str(), path.c_str()) != 0) {
+    const std::string why = std::strerror(errno);
+    std::remove(temporary.c_str());
+    throw h5::IoError(path + ": cannot rename the temporary file into place (" + why + ")");
+  }
+}
+
+}  // namespace
+
+int rerun_sample(const std::string& job_path, std::uint64_t k, const std::string& output_path,
+                 bool quiet) {
+  try {
+    const Job job = ensemble::load_job(job_path);
+    const ensemble::EnsembleSpec spec = ensemble::read_ensemble(job);
+    require_sample(job, spec, k);
+    ensemble::SampleRunner runner(job, spec);
+    SampleOrigin origin;
+    origin.index = k;
+    origin.input_names = spec.input_names();
+    origin.input_units = spec.input_units();
+    try {
+      origin.inputs = runner.prepare(k, false);
+    } catch (const ModelError& e) {
+      std::cerr << job_path << ", sample " << k << ": the sampled inputs give an invalid model: "
+                << e.what() << "\n(the ensemble records this sample with status 2); no output written\n";
+      return kExitIntegration;
+    }
+    return run_trajectory(job, runner.model(), runner.initial_state(), output_path, quiet, &origin);
+  } catch (const JobError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return kExitBadInput;
+  } catch (const h5::IoError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return kExitIo;
+  }
+}
+
+int write_sample_job(const std::string& job_path, std::uint64_t k, const std::string& output_path) {
+  try {
+    const Job job = ensemble::load_job(job_path);
+    const ensemble::EnsembleSpec spec = ensemble::read_ensemble(job);
+    require_sample(job, spec, k);
+    ensemble::SampleRunner runner(job, spec);
+    const std::vector<double> inputs = runner.sample_inputs(k);
+    write_text_atomically(output_path, ensemble::sample_job_text(job, spec, k, inputs));
+    std::cout << "wrote " << output_path << " (sample " << k << " of " << job_path
+              << "; run it with treedyn run)\n";
+    return kExitOk;
+  } catch (const JobError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return kExitBadInput;
+  } catch (const h5::IoError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return kExitIo;
+  }
+}
+
+}  // namespace treedyn

@@ -1,0 +1,179 @@
+#include "ensemble/sample_job.hpp"
+
+#include <cstdio>
+#include <regex>
+#include <sstream>
+#include <vector>
+
+#include "common/error.hpp"
+#include "ensemble/targets.hpp"
+#include "job/toml_view.hpp"
+#include "model/definition.hpp"
+
+namespace treedyn::ensemble {
+namespace {
+
+using Kind = Perturbation::Kind;
+using Mode = Perturbation::Mode;
+
+inline constexpr NameTable<Mode, 3> kModes{{{Mode::set, "set"}, {Mode::add, "add"}, {Mode::scale, "scale"}}};
+
+// A TOML float that reads back to the same double: the shortest round-trip
+// digits, with ".0" where they would otherwise read as an integer.
+std::string toml_float(double v) {
+  std::string s = format_number(v);
+  if (s.find_first_of(".eEn") == std::string::npos) s += ".0";  // "n": nan, inf
+  return s;
+}
+
+bool is_ensemble_header(const std::string& line) {
+  static const std::regex header(R"(^\s*\[\[?\s*"?ensemble"?\s*(\.|\]))");
+  return std::regex_search(line, header);
+}
+
+bool is_header(const std::string& line) {
+  static const std::regex header(R"(^\s*\[)");
+  return std::regex_search(line, header);
+}
+
+bool is_comment(const std::string& line) {
+  static const std::regex comment(R"(^\s*#)");
+  return std::regex_search(line, comment);
+}
+
+// A TOML basic string.
+std::string toml_string(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') out += '\\';
+    if (static_cast<unsigned char>(c) < 0x20) {
+      char escaped[8];
+      std::snprintf(escaped, sizeof escaped, "\\u%04x", static_cast<unsigned>(c));
+      out += escaped;
+    } else {
+      out += c;
+    }
+  }
+  return out + "\"";
+}
+
+// The job text without its [ensemble] tables (and the comment block just
+// above each of them, which describes them).
+std::string without_ensemble(const std::string& text) {
+  std::vector<std::string> lines;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  std::vector<bool> keep(lines.size(), true);
+  bool inside = false;
+  for (std::size_t k = 0; k < lines.size(); ++k) {
+    if (is_header(lines[k])) {
+      inside = is_ensemble_header(lines[k]);
+      for (std::size_t j = k; inside && j > 0 && is_comment(lines[j - 1]); --j) keep[j - 1] = false;
+    }
+    if (inside) keep[k] = false;
+  }
+  std::string out;
+  for (std::size_t k = 0; k < lines.size(); ++k)
+    if (keep[k]) out += lines[k] + "\n";
+  while (out.size() >= 2 && out.ends_with("\n\n")) out.pop_back();
+  return out;
+}
+
+}  // namespace
+
+void apply_sample_section(Job& job) {
+  toml::table root_table = toml::parse(job.text, job.file);  // parse_job has accepted it
+  const TomlView root(root_table, "", job.file);
+  const auto section = root.subtable("sample");
+  if (!section) return;
+  const TomlView& t = *section;
+  t.check_keys({"index", "source", "design", "seed", "input"});
+  std::vector<Perturbation> inputs;
+  std::vector<double> values;
+  for (const TomlView& e : t.table_array("input")) {
+    e.check_keys({"target", "mode", "value"});
+    Perturbation p;
+    p.target = e.required_string("target");
+    try {
+      const Target target = resolve_target(job.definition, p.target);
+      p.kind = target.kind;
+      p.first = target.first;
+      p.entries = target.entries;
+      p.factor = target.factor;
+      p.axis = target.axis;
+      p.si_unit = target.unit;
+    } catch (const TargetError& error) {
+      e.fail("target", error.what());
+    }
+    const std::string mode = e.string("mode").value_or("set");
+    if (!parse_in(kModes, mode, p.mode))
+      e.fail("mode", "\"" + mode + "\" is not allowed; use " + choices(kModes));
+    if (p.kind == Kind::orientation) {
+      const auto v = e.vec3("value");
+      if (!v) e.fail("value", "missing required field: a rotation vector [x, y, z] in rad");
+      values.insert(values.end(), {v->x(), v->y(), v->z()});
+    } else {
+      values.push_back(e.required_number("value"));
+    }
+    inputs.push_back(std::move(p));
+  }
+  std::vector<double> parameters(job.definition.parameters.nominal().begin(),
+                                 job.definition.parameters.nominal().end());
+  InitialState state = job.initial;
+  apply_inputs(inputs, values, job.initial, parameters, state);
+  try {
+    derive_model(job.definition, parameters, job.model);
+  } catch (const ModelError& error) {
+    t.fail("input", std::string("the sample's inputs give an invalid model: ") + error.what());
+  }
+  job.definition.parameters.set_nominal(parameters);
+  job.initial = std::move(state);
+}
+
+Job load_job(const std::filesystem::path& path) {
+  Job job = read_job(path);
+  apply_sample_section(job);
+  return job;
+}
+
+std::string sample_job_text(const Job& job, const EnsembleSpec& spec, std::uint64_t k,
+                            std::span<const double> inputs) {
+  {
+    toml::table root = toml::parse(job.text, job.file);
+    if (root.contains("sample"))
+      throw JobError(job.file, 0, 0, "sample",
+                     "this job already is one sample of an ensemble (it has a [sample] section); "
+                     "write sample jobs from the original ensemble job");
+  }
+  std::ostringstream out;
+  out << without_ensemble(job.text) << "\n"
+      << "# Sample " << k << " of the ensemble in " << job.file << " (design " << name(spec.design)
+      << ", seed " << spec.seed << "),\n"
+      << "# written by treedyn-ensemble --write-job " << k
+      << ". Its sampled inputs, SI, applied to the nominal\n"
+      << "# model above exactly as the ensemble applied them: `treedyn run` of this file\n"
+      << "# reproduces the sample's trajectory bit for bit.\n"
+      << "[sample]\n"
+      << "index = " << k << "\n"
+      << "source = " << toml_string(job.file) << "\n"
+      << "design = \"" << name(spec.design) << "\"\n"
+      << "seed = " << spec.seed << "\n";
+  std::size_t d = 0;
+  for (const Perturbation& p : spec.perturbations) {
+    out << "\n[[sample.input]]\n"
+        << "target = \"" << p.target << "\"\n";
+    if (p.kind == Kind::parameter || p.kind == Kind::angular_velocity)
+      out << "mode = \"" << name_in(kModes, p.mode) << "\"\n";
+    if (p.kind == Kind::orientation) {
+      out << "value = [" << toml_float(inputs[d]) << ", " << toml_float(inputs[d + 1]) << ", "
+          << toml_float(inputs[d + 2]) << "]  # rotation vector, rad\n";
+    } else {
+      out << "value = " << toml_float(inputs[d]) << "  # "
+          << (p.mode == Mode::scale && p.kind != Kind::rotation ? "factor" : p.si_unit) << "\n";
+    }
+    d += static_cast<std::size_t>(p.dimensions());
+  }
+  return out.str();
+}
+
+}  // namespace treedyn::ensemble
