@@ -1,5 +1,6 @@
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 
 #include "ensemble/ensemble_spec.hpp"
@@ -190,10 +191,31 @@ double statistics_bytes(const Job& job, const EnsembleSpec& spec) {
                     8.0 * (1.0 + static_cast<double>(spec.pilot_samples)));
 }
 
+namespace {
+
+std::string bytes_text(double bytes) {
+  const char* unit = "KiB";
+  double value = bytes / 1024.0;
+  if (value >= 1024.0) value /= 1024.0, unit = "MiB";
+  if (value >= 1024.0) value /= 1024.0, unit = "GiB";
+  char buffer[48];
+  std::snprintf(buffer, sizeof buffer, "%.1f %s", value, unit);
+  return buffer;
+}
+
+}  // namespace
+
 void print_ensemble_summary(std::ostream& out, const Job& job, const EnsembleSpec& s) {
   out << "ensemble: " << s.samples << " samples, seed " << s.seed << ", design " << name(s.design)
       << ", " << s.perturbations.size() << " perturbation" << (s.perturbations.size() == 1 ? "" : "s")
       << " (" << s.input_dimensions() << " sampled inputs)\n";
+  if (s.design == Design::saltelli)
+    out << "  saltelli: base size N = " << s.base_samples << ", N (D + 2) = " << s.base_samples << " x "
+        << saltelli_block(s.input_dimensions()) << " = " << s.samples
+        << " runs; sample j (D + 2) + r is A_j (r = 0), B_j (r = 1), AB_i,j (r = 2 + i)\n";
+  if (!nested_prefixes(s.design))
+    out << "  latin_hypercube: sample k depends on N too, so prefixes are not nested samples "
+           "(convergence by prefix is not meaningful)\n";
   const auto nominal = job.definition.parameters.nominal();
   for (const Perturbation& p : s.perturbations) {
     out << "  " << p.target << ": " << p.distribution.describe();
@@ -219,6 +241,24 @@ void print_ensemble_summary(std::ostream& out, const Job& job, const EnsembleSpe
   out << "; " << s.histogram_bins << " histogram bins; pilot samples 0-" << s.pilot_samples - 1
       << "; blocks of " << s.block_size << "; about "
       << format_number(std::round(statistics_bytes(job, s) / (1024.0 * 1024.0))) << " MiB per rank\n";
+  out << "per sample: ";
+  for (std::size_t k = 0; k < s.per_sample.size(); ++k) out << (k ? ", " : "") << name(s.per_sample[k]);
+  if (s.per_sample.empty()) out << "no reductions";
+  out << " of every column: " << bytes_text(per_sample_bytes(job, s)) << " in the file\n";
+  if (s.store_trajectories > 0)
+    out << "stored trajectories: samples 0-" << s.store_trajectories - 1 << ", "
+        << bytes_text(stored_trajectory_bytes(job, s)) << " in the file\n";
+  for (const Response& r : s.responses) {
+    out << "response " << r.name << ": " << name(r.reduce) << " of " << r.quantity << " " << r.column;
+    if (r.reduce == Response::Reduce::at_time) out << " at t = " << format_number(r.time) << " s";
+    if (r.reduce == Response::Reduce::first_time_above || r.reduce == Response::Reduce::first_time_below)
+      out << ", threshold " << format_number(r.threshold);
+    out << " (" << r.units << ")";
+    if (r.has_limit())
+      out << "; fails " << (r.fail_if == Response::FailIf::above ? "above " : "below ") << format_number(r.limit)
+          << " " << r.units;
+    out << "\n";
+  }
 }
 
 unsigned EnsembleSpec::input_dimensions() const {
