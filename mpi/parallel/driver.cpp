@@ -8,6 +8,7 @@
 #include <iostream>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <sstream>
 
 #include "app/exit_codes.hpp"
@@ -245,10 +246,11 @@ int run(MPI_Comm comm, int rank, int size, const EnsembleOptions& options, const
   std::unique_ptr<RecordSink> sink;
   RecordWriter* records = nullptr;  // rank 0's view of the sink
   // Rank 0 keeps every sample's inputs and responses (only when there are responses).
-  ensemble::ResponseTable table(rank == 0 && !spec.responses.empty() ? spec.samples : 0,
-                                spec.input_dimensions(), spec.responses.size());
+  std::optional<ensemble::ResponseTable> table;
+  if (rank == 0 && !spec.responses.empty())
+    table.emplace(spec.samples, spec.input_dimensions(), spec.responses.size());
   if (rank == 0) {
-    auto w = std::make_unique<RecordWriter>(comm, size, *writer, progress, table);
+    auto w = std::make_unique<RecordWriter>(comm, size, *writer, progress, table ? &*table : nullptr);
     records = w.get();
     sink = std::move(w);
   } else {
@@ -265,8 +267,7 @@ int run(MPI_Comm comm, int rank, int size, const EnsembleOptions& options, const
     summary.failed = records->failed();
     summary.ok = records->done() - summary.failed;
     const std::vector<ensemble::ResponseAnswer> answers =
-        spec.responses.empty() ? std::vector<ensemble::ResponseAnswer>{}
-                               : ensemble::answer_responses(spec, table);
+        table ? ensemble::answer_responses(spec, *table) : std::vector<ensemble::ResponseAnswer>{};
     failure = write_results(*writer, *records, nominal, stats, answers, summary);
     if (failure != kExitOk) {
       writer.reset();  // removes the temporary file

@@ -20,7 +20,7 @@ void RecordSink::poll() {
 }
 
 RecordWriter::RecordWriter(MPI_Comm comm, int ranks, EnsembleWriter& writer,
-                           ensemble::Progress& progress, ensemble::ResponseTable& table)
+                           ensemble::Progress& progress, ensemble::ResponseTable* table)
     : comm_(comm), ranks_(ranks), writer_(writer), progress_(progress), table_(table) {}
 
 void RecordWriter::add(ensemble::SampleRecord record) { local_.push_back(std::move(record)); }
@@ -41,7 +41,7 @@ void RecordWriter::write(std::vector<ensemble::SampleRecord> records) {
   for (const auto& r : records) {
     ++done_;
     if (r.status != ensemble::SampleStatus::ok) ++failed_;
-    table_.add(r);
+    if (table_) table_->add(r);
   }
   if (io_error_.empty()) {
     try {

@@ -41,10 +41,10 @@ class RecordSink {
 // so no rank waits for rank 0 forever, and it is reported at the end (exit 4).
 class RecordWriter final : public RecordSink {
  public:
-  // Every record also goes into `table` (status, inputs, responses), for
-  // the answers computed at the end.
+  // Every record also goes into `table` (status, inputs, responses), if
+  // given, for the answers computed at the end.
   RecordWriter(MPI_Comm comm, int ranks, EnsembleWriter& writer, ensemble::Progress& progress,
-               ensemble::ResponseTable& table);
+               ensemble::ResponseTable* table);
   void add(ensemble::SampleRecord record) override;
   void flush() override;
   void close() override;
@@ -61,7 +61,7 @@ class RecordWriter final : public RecordSink {
   int ranks_;
   EnsembleWriter& writer_;
   ensemble::Progress& progress_;
-  ensemble::ResponseTable& table_;
+  ensemble::ResponseTable* table_;
   std::vector<ensemble::SampleRecord> local_;
   int finished_ranks_ = 0;
   std::uint64_t done_ = 0, failed_ = 0;

@@ -686,7 +686,7 @@ TEST_P(EnsembleMpiExample, RunsOnTwoRanksWithEverySampleOkAndTheDocumentedShapes
     const hsize_t C = labels.size();
     ASSERT_GT(C, 0u);
     const std::string s = "/stats/" + q + "/";
-    for (const char* m : {"count", "mean", "std", "min", "max"}) {
+    for (const char* m : {"count", "mean", "std", "sem", "min", "max"}) {
       EXPECT_EQ(shape(f, s + m), (Dims{T, C})) << m;
       expected_stats.push_back(s + m);
     }
@@ -701,7 +701,10 @@ TEST_P(EnsembleMpiExample, RunsOnTwoRanksWithEverySampleOkAndTheDocumentedShapes
       expected_stats.push_back(s + m);
     EXPECT_EQ(shape(f, "/nominal/" + q), (Dims{T, C}));
     expected_nominal.push_back("/nominal/" + q);
-    EXPECT_EQ(shape(f, "/samples/max_over_time/" + q), (Dims{N, C}));
+    for (const char* reduction : {"final", "min", "max", "argmin_time", "argmax_time"}) {
+      EXPECT_EQ(shape(f, std::string("/samples/") + reduction + "/" + q), (Dims{N, C})) << reduction;
+      EXPECT_EQ(read_string_attribute(f, std::string("/samples/") + reduction + "/" + q, "columns"), labels);
+    }
     // Every sample is in the statistics of every entry.
     for (long long c : read_integers(f, s + "count")) EXPECT_EQ(c, static_cast<long long>(N));
   }
@@ -709,7 +712,22 @@ TEST_P(EnsembleMpiExample, RunsOnTwoRanksWithEverySampleOkAndTheDocumentedShapes
   std::sort(expected_nominal.begin(), expected_nominal.end());
   EXPECT_EQ(datasets_under(f, "/stats"), expected_stats);
   EXPECT_EQ(datasets_under(f, "/nominal"), expected_nominal);
-  EXPECT_EQ(datasets_under(f, "/samples/max_over_time").size(), job.output.quantities.size());
+  for (const char* reduction : {"final", "min", "max", "argmin_time", "argmax_time"})
+    EXPECT_EQ(datasets_under(f, std::string("/samples/") + reduction).size(), job.output.quantities.size());
+  // Named responses: one column each, and their answers.
+  const std::size_t R = spec.responses.size();
+  if (R > 0) {
+    EXPECT_EQ(shape(f, "/samples/responses"), (Dims{N, R}));
+    for (const auto& response : spec.responses) {
+      EXPECT_EQ(shape(f, "/responses/" + response.name + "/convergence").at(1), 7u);
+      if (response.has_limit()) {
+        EXPECT_EQ(shape(f, "/responses/" + response.name + "/exceedance/interval"), Dims{2});
+      }
+      if (D > 0) {
+        EXPECT_EQ(shape(f, "/sensitivity/" + response.name + "/spearman"), Dims{D});
+      }
+    }
+  }
 }
 
 std::string job_test_name(const ::testing::TestParamInfo<std::string>& job) { return job.param; }
