@@ -43,6 +43,7 @@
 #include "job/job.hpp"
 #include "output/quantities.hpp"
 #include "support/command.hpp"
+#include "support/ensemble_run.hpp"
 #include "support/hdf5_reader.hpp"
 
 namespace {
@@ -50,31 +51,6 @@ namespace {
 namespace fs = std::filesystem;
 
 using namespace treedyn::testing;
-
-// Seconds `timeout` gives each mpirun before killing it (then 10 s more
-// before SIGKILL). A normal run here takes 0.3 - 3 s.
-constexpr int kTimeoutSeconds = 120;
-
-// ---------------------------------------------------------------------------
-// Files and commands
-
-// Runs `treedyn-ensemble JOB -o OUTPUT -q`: alone when ranks == 0, else under
-// `mpirun --oversubscribe -np RANKS`; always under `timeout`. stdout and stderr
-// are captured in files under `capture` (not the output's directory, so that
-// directory holds only what the ensemble writes).
-CommandResult run_ensemble(int ranks, const fs::path& job, const fs::path& output,
-                           const fs::path& capture) {
-  std::vector<std::string> prefix = {"timeout", "-k", "10", std::to_string(kTimeoutSeconds)};
-  if (ranks > 0)
-    prefix.insert(prefix.end(),
-                  {TREEDYN_MPIEXEC, "--oversubscribe", "-np", std::to_string(ranks)});
-  return run_command(TREEDYN_ENSEMBLE_BINARY, {job.string(), "-o", output.string(), "-q"},
-                     capture, prefix);
-}
-
-std::string describe(int ranks) {
-  return ranks == 0 ? std::string("the binary alone") : "mpirun -np " + std::to_string(ranks);
-}
 
 // The names in `dir` (files and directories), sorted.
 std::vector<std::string> listing(const fs::path& dir) {
@@ -104,49 +80,6 @@ std::string with(std::string text, const std::string& from, const std::string& t
 
 // ---------------------------------------------------------------------------
 // HDF5 through the C API
-
-// Byte-for-byte equality of every dataset under `groups`, and of the dataset
-// lists themselves. Reports the first differing element of each dataset.
-void expect_identical_datasets(hid_t a, const std::string& a_name, hid_t b,
-                               const std::string& b_name, const std::vector<std::string>& groups) {
-  std::size_t compared = 0, bytes = 0;
-  for (const std::string& group : groups) {
-    const auto list_a = datasets_under(a, group), list_b = datasets_under(b, group);
-    EXPECT_EQ(list_a, list_b) << "datasets under " << group << " differ between " << a_name
-                              << " and " << b_name;
-    EXPECT_FALSE(list_a.empty()) << group << " holds no datasets";
-    for (const std::string& path : list_a) {
-      if (std::find(list_b.begin(), list_b.end(), path) == list_b.end()) continue;
-      const RawDataset x = read_raw(a, path), y = read_raw(b, path);
-      EXPECT_EQ(x.dims, y.dims) << path << ": shape differs, " << a_name << " vs " << b_name;
-      EXPECT_EQ(x.type_class, y.type_class) << path;
-      EXPECT_EQ(x.type_size, y.type_size) << path;
-      EXPECT_EQ(x.sign, y.sign) << path;
-      if (x.bytes.size() != y.bytes.size() || x.type_size == 0) {
-        ADD_FAILURE() << path << ": " << x.bytes.size() << " vs " << y.bytes.size() << " bytes";
-        continue;
-      }
-      ++compared;
-      bytes += x.bytes.size();
-      if (std::memcmp(x.bytes.data(), y.bytes.data(), x.bytes.size()) == 0) continue;
-      std::size_t first = 0;
-      while (x.bytes[first] == y.bytes[first]) ++first;
-      const std::size_t element = first / x.type_size;
-      std::ostringstream detail;
-      if (x.type_class == H5T_FLOAT && x.type_size == sizeof(double)) {
-        double u = 0.0, v = 0.0;
-        std::memcpy(&u, x.bytes.data() + element * sizeof(double), sizeof(double));
-        std::memcpy(&v, y.bytes.data() + element * sizeof(double), sizeof(double));
-        detail.precision(17);
-        detail << ": " << u << " vs " << v;
-      }
-      ADD_FAILURE() << path << " differs between " << a_name << " and " << b_name
-                    << " (first at flat element " << element << detail.str() << ")";
-    }
-  }
-  std::printf("  compared %zu datasets (%zu bytes) of %s with %s\n", compared, bytes,
-              b_name.c_str(), a_name.c_str());
-}
 
 // ---------------------------------------------------------------------------
 // 1. Same numbers on any number of ranks

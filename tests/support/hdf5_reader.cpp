@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <cstring>
+#include <sstream>
 
 namespace treedyn::testing {
 
@@ -206,5 +208,47 @@ std::vector<double> read_double_attribute(hid_t object, const std::string& name)
   if (H5Aread(attr.get(), H5T_NATIVE_DOUBLE, v.data()) < 0) ADD_FAILURE() << "cannot read " << name;
   return v;
 }
+
+void expect_identical_datasets(hid_t a, const std::string& a_name, hid_t b,
+                               const std::string& b_name, const std::vector<std::string>& groups) {
+  std::size_t compared = 0, bytes = 0;
+  for (const std::string& group : groups) {
+    const auto list_a = datasets_under(a, group), list_b = datasets_under(b, group);
+    EXPECT_EQ(list_a, list_b) << "datasets under " << group << " differ between " << a_name
+                              << " and " << b_name;
+    EXPECT_FALSE(list_a.empty()) << group << " holds no datasets";
+    for (const std::string& path : list_a) {
+      if (std::find(list_b.begin(), list_b.end(), path) == list_b.end()) continue;
+      const RawDataset x = read_raw(a, path), y = read_raw(b, path);
+      EXPECT_EQ(x.dims, y.dims) << path << ": shape differs, " << a_name << " vs " << b_name;
+      EXPECT_EQ(x.type_class, y.type_class) << path;
+      EXPECT_EQ(x.type_size, y.type_size) << path;
+      EXPECT_EQ(x.sign, y.sign) << path;
+      if (x.bytes.size() != y.bytes.size() || x.type_size == 0) {
+        ADD_FAILURE() << path << ": " << x.bytes.size() << " vs " << y.bytes.size() << " bytes";
+        continue;
+      }
+      ++compared;
+      bytes += x.bytes.size();
+      if (std::memcmp(x.bytes.data(), y.bytes.data(), x.bytes.size()) == 0) continue;
+      std::size_t first = 0;
+      while (x.bytes[first] == y.bytes[first]) ++first;
+      const std::size_t element = first / x.type_size;
+      std::ostringstream detail;
+      if (x.type_class == H5T_FLOAT && x.type_size == sizeof(double)) {
+        double u = 0.0, v = 0.0;
+        std::memcpy(&u, x.bytes.data() + element * sizeof(double), sizeof(double));
+        std::memcpy(&v, y.bytes.data() + element * sizeof(double), sizeof(double));
+        detail.precision(17);
+        detail << ": " << u << " vs " << v;
+      }
+      ADD_FAILURE() << path << " differs between " << a_name << " and " << b_name
+                    << " (first at flat element " << element << detail.str() << ")";
+    }
+  }
+  std::printf("  compared %zu datasets (%zu bytes) of %s with %s\n", compared, bytes,
+              b_name.c_str(), a_name.c_str());
+}
+
 
 }  // namespace treedyn::testing

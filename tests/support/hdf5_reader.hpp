@@ -98,4 +98,9 @@ std::string read_single_string_attribute(hid_t object, const std::string& name);
 long long read_integer_attribute(hid_t object, const std::string& name);
 std::vector<double> read_double_attribute(hid_t object, const std::string& name);
 
+// Byte-for-byte equality of every dataset under `groups`, and of the dataset
+// lists themselves (GoogleTest failures name the first differing element).
+void expect_identical_datasets(hid_t a, const std::string& a_name, hid_t b,
+                               const std::string& b_name, const std::vector<std::string>& groups);
+
 }  // namespace treedyn::testing
