@@ -93,7 +93,8 @@ Interval wilson_interval(std::uint64_t k, std::uint64_t n, double z) {
   const double denominator = 1.0 + z2 / nn;
   const double centre = (p + z2 / (2.0 * nn)) / denominator;
   const double half = z / denominator * std::sqrt(p * (1.0 - p) / nn + z2 / (4.0 * nn * nn));
-  return {std::max(0.0, centre - half), std::min(1.0, centre + half)};
+  // Exactly 0 for k = 0 and 1 for k = n (rounding would leave them a hair inside).
+  return {k == 0 ? 0.0 : std::max(0.0, centre - half), k == n ? 1.0 : std::min(1.0, centre + half)};
 }
 
 std::vector<ResponseAnswer> answer_responses(const EnsembleSpec& spec, const ResponseTable& table) {
