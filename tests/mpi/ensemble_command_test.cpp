@@ -69,3 +69,109 @@ TEST(EnsembleCommand, VersionAndHelp) {
 }
 
 }  // namespace
+
+// ---------------------------------------------------------------------------
+// Bad [ensemble] answers input: FILE:LINE:COLUMN: FIELD, what was wrong and
+// what is allowed, exit 2, nothing written.
+
+// The Kapitza ensemble (it records orientation, angular_velocity,
+// com_position, joint_angle, energy and base, and has two responses) with
+// `extra` appended to the job and `ensemble_extra` put inside [ensemble].
+void expect_refused(const std::string& extra, const std::vector<std::string>& words,
+                    const std::string& ensemble_extra = "") {
+  TempDir dir("ensemble_command_test");
+  std::string text = read_text(std::string(TREEDYN_JOBS_DIR) + "/kapitza.toml");
+  if (!ensemble_extra.empty()) {
+    const std::size_t at = text.find("[ensemble]\n");
+    text.insert(at + 11, ensemble_extra);
+  }
+  const fs::path job = dir.path() / "job.toml";
+  write_text(job, text + extra);
+  fs::create_directory(dir.path() / "capture");
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{"--check", job.string()},
+        std::vector<std::string>{job.string(), "-o", (dir.path() / "out.h5").string()}}) {
+    const CommandResult r = run_command(TREEDYN_ENSEMBLE_BINARY, args, dir.path() / "capture");
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_EQ(r.err.rfind("error: " + job.string() + ":", 0), 0u) << r.err;
+    for (const std::string& w : words) EXPECT_NE(r.err.find(w), std::string::npos) << w << "\n" << r.err;
+  }
+  EXPECT_FALSE(fs::exists(dir.path() / "out.h5"));
+  std::size_t files = 0;
+  for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir.path())) ++files;
+  EXPECT_EQ(files, 2u) << "only the job and the capture directory";
+}
+
+const std::string kResponse = "\n[[ensemble.response]]\nname = \"tip_low\"\n";  // the third
+
+TEST(EnsembleBadAnswers, ResponseOnAQuantityThatIsNotRecorded) {
+  expect_refused(kResponse + "quantity = \"joint_reaction\"\ncolumn = \"rod.z\"\nreduce = \"max\"\n",
+                 {"ensemble.response[3].quantity", "\"joint_reaction\" is not recorded",
+                  "add it to [output] quantities", "joint_angle"});
+}
+
+TEST(EnsembleBadAnswers, UnknownColumnSuggestsTheNearest) {
+  expect_refused(kResponse + "quantity = \"com_position\"\ncolumn = \"rod.zz\"\nreduce = \"min\"\n",
+                 {"ensemble.response[3].column", "\"rod.zz\" is not a column of com_position",
+                  "did you mean 'rod.z'?", "Columns: rod.x rod.y rod.z"});
+}
+
+TEST(EnsembleBadAnswers, LimitWithoutFailIf) {
+  expect_refused(kResponse + "quantity = \"com_position\"\ncolumn = \"rod.z\"\nreduce = \"min\"\nlimit = -0.5\n",
+                 {"ensemble.response[3].limit", "needs fail_if = \"above\" or \"below\""});
+}
+
+TEST(EnsembleBadAnswers, AtTimeOutsideTheOutputTimes) {
+  expect_refused(kResponse +
+                     "quantity = \"com_position\"\ncolumn = \"rod.z\"\nreduce = \"at_time\"\ntime = 99.0\n",
+                 {"ensemble.response[3].time", "99 s is outside the output times [0, "});
+}
+
+TEST(EnsembleBadAnswers, UnknownReductionAndDuplicateNames) {
+  expect_refused(kResponse + "quantity = \"com_position\"\ncolumn = \"rod.z\"\nreduce = \"median\"\n",
+                 {"ensemble.response[3].reduce", "\"median\" is not allowed", "first_time_below"});
+  const std::string one = kResponse + "quantity = \"com_position\"\ncolumn = \"rod.z\"\nreduce = \"min\"\n";
+  expect_refused(one + one, {"ensemble.response[4].name", "defined twice"});
+  expect_refused("", {"ensemble.per_sample", "not a reduction", "argmax_time"}, "per_sample = [\"max\", \"mode\"]\n");
+}
+
+TEST(EnsembleBadAnswers, SaltelliWithoutPerturbations) {
+  TempDir dir("ensemble_command_test");
+  const fs::path job = dir.path() / "job.toml";
+  std::string text = read_text(std::string(TREEDYN_JOBS_DIR) + "/double_pendulum.toml");
+  text = text.substr(0, text.find("[ensemble]")) + "[ensemble]\nsamples = 8\ndesign = \"saltelli\"\n";
+  write_text(job, text);
+  fs::create_directory(dir.path() / "capture");
+  const CommandResult r = run_command(TREEDYN_ENSEMBLE_BINARY, {"--check", job.string()}, dir.path() / "capture");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("ensemble.design: saltelli needs at least one [[ensemble.perturbation]]"), std::string::npos)
+      << r.err;
+}
+
+TEST(EnsembleBadAnswers, SaltelliBeyondTheSampleIndexLimit) {
+  // 5 inputs: 7 runs per base point; 2^32 - 1 runs at most.
+  TempDir dir("ensemble_command_test");
+  std::string text = read_text(std::string(TREEDYN_JOBS_DIR) + "/spherical_pendulum.toml");
+  const std::size_t at = text.find("samples = 64");
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, 12, "samples = 700000000\ndesign = \"saltelli\"");
+  const std::size_t design = text.find("design = \"latin_hypercube\"");
+  if (design != std::string::npos) text.erase(design, 26);
+  const fs::path job = dir.path() / "job.toml";
+  write_text(job, text);
+  fs::create_directory(dir.path() / "capture");
+  const CommandResult r = run_command(TREEDYN_ENSEMBLE_BINARY, {"--check", job.string()}, dir.path() / "capture");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("ensemble.samples: saltelli makes samples x (D + 2) = 700000000 x 7 runs; at most "
+                       "4294967295 (sample indices are 32-bit): use at most 613566756"),
+            std::string::npos)
+      << r.err;
+}
+
+TEST(EnsembleBadAnswers, StoredTrajectoriesOverTheMemoryLimit) {
+  // One trajectory is 2501 output times x 24 columns (469 KiB); a block of
+  // 100000 would need 45 GiB.
+  expect_refused("", {"ensemble.store_trajectories", "at most 1 GiB", "block_size = 1"},
+                 "store_trajectories = 100\nblock_size = 100000\n");
+  expect_refused("", {"ensemble.store_trajectories", "is more than the 128 samples"}, "store_trajectories = 129\n");
+}
