@@ -18,7 +18,8 @@ std::string number(double v, const char* format = "%.6g") {
 void print_response_summary(std::ostream& out, const EnsembleSpec& spec,
                             const std::vector<ResponseAnswer>& answers) {
   if (answers.empty()) return;
-  out << "responses: mean +- standard error (successful samples with finite values)\n";
+  out << "responses: mean +- standard error (successful samples with finite values"
+      << (spec.design == Design::saltelli ? "; saltelli: the A and B runs" : "") << ")\n";
   for (std::size_t r = 0; r < answers.size(); ++r) {
     const Response& response = spec.responses[r];
     const ResponseAnswer& a = answers[r];

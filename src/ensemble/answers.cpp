@@ -26,16 +26,21 @@ double ratio(std::uint64_t k, std::uint64_t n) {
   return n > 0 ? static_cast<double>(k) / static_cast<double>(n) : kNaN;
 }
 
+// Whether sample k is an independent draw of the inputs. Saltelli's AB_i
+// rows repeat all of A_j's inputs but one: each is distributed like the
+// inputs, but not independently of A_j, so the mean, the standard error,
+// the exceedance probability (and their intervals) and the rank measures
+// use the A and B runs only.
+bool independent_draw(const EnsembleSpec& spec, const ResponseTable& table, std::uint64_t k) {
+  return spec.design != Design::saltelli ||
+         saltelli_place(k, static_cast<unsigned>(table.input_count())).role != SaltelliRole::ab;
+}
+
 RankSensitivity ranks_of(const EnsembleSpec& spec, const ResponseTable& table, std::size_t r) {
   const std::size_t d = table.input_count();
   std::vector<double> x, y;
   for (std::uint64_t k = 0; k < table.samples(); ++k) {
-    if (!table.ok(k) || std::isnan(table.response(k, r))) continue;
-    // Saltelli's AB_i rows repeat A's inputs but one: only A and B are an
-    // independent sample of the inputs.
-    if (spec.design == Design::saltelli &&
-        saltelli_place(k, static_cast<unsigned>(d)).role == SaltelliRole::ab)
-      continue;
+    if (!table.ok(k) || std::isnan(table.response(k, r)) || !independent_draw(spec, table, k)) continue;
     for (std::size_t i = 0; i < d; ++i) x.push_back(table.input(k, i));
     y.push_back(table.response(k, r));
   }
@@ -105,7 +110,9 @@ std::vector<ResponseAnswer> answer_responses(const EnsembleSpec& spec, const Res
     Running running;
     std::uint64_t successful = 0, exceeded = 0, next_report = 1;
     for (std::uint64_t k = 0; k < table.samples(); ++k) {
-      if (!table.ok(k)) {
+      if (!independent_draw(spec, table, k)) {
+        // Saltelli's AB_i rows: left out here (see independent_draw).
+      } else if (!table.ok(k)) {
         ++a.failed;
       } else {
         ++successful;

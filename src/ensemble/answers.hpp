@@ -67,6 +67,9 @@ struct ConvergencePoint {
   Interval interval;
 };
 
+// For design = "saltelli" the counts, mean, standard error and exceedance
+// use the A and B runs only (the AB_i rows are not independent draws); the
+// Sobol' indices use every run.
 struct ResponseAnswer {
   std::uint64_t used = 0;        // successful samples with a finite value (in mean, std, sem)
   std::uint64_t not_finite = 0;  // successful samples with +-inf (e.g. a level never crossed)

@@ -300,8 +300,8 @@ void EnsembleWriter::write_answers(const std::vector<ensemble::ResponseAnswer>& 
   h5::Handle responses = h5::create_group(file_.id(), "responses");
   h5::write_attribute(responses.id(), "description",
                       std::string("per named response ([[ensemble.response]]): mean and standard "
-                                  "error over the successful samples with finite values, the "
-                                  "exceedance of its limit, and their convergence"));
+                                  "error over the successful samples with finite values (saltelli: "
+                                  "the A and B runs), the exceedance of its limit, and their convergence"));
   const std::vector<std::string> inputs = spec_.input_names();
   std::optional<h5::Handle> sensitivity;
   if (!inputs.empty()) {
