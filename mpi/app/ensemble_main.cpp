@@ -51,7 +51,7 @@ int main(int argc, char** argv) {
                "validate the job and its [ensemble], print the model and the ensemble, run nothing")
       ->excludes(output);
   app.add_flag("-q,--quiet", options.quiet, "no progress and no summary");
-  std::uint64_t sample = 0, job_sample = 0;
+  long long sample = 0, job_sample = 0;
   auto* sample_option = app.add_option(
       "--sample", sample,
       "integrate sample K alone and write its full trajectory (treedyn run layout, with "
@@ -60,6 +60,8 @@ int main(int argc, char** argv) {
       "--write-job", job_sample,
       "write sample K as a standalone job file to --output (the job without [ensemble], plus a "
       "[sample] section with its inputs); treedyn run of it reproduces the sample");
+  sample_option->check(CLI::NonNegativeNumber);
+  write_job_option->check(CLI::NonNegativeNumber);
   sample_option->excludes(write_job_option);
   sample_option->excludes("--check");
   write_job_option->excludes("--check");
@@ -81,8 +83,10 @@ int main(int argc, char** argv) {
   if (*sample_option || *write_job_option) {
     int code = kExitOk;
     if (session.rank() == 0)
-      code = *sample_option ? rerun_sample(options.job_path, sample, options.output_path, options.quiet)
-                            : write_sample_job(options.job_path, job_sample, options.output_path);
+      code = *sample_option
+                 ? rerun_sample(options.job_path, static_cast<std::uint64_t>(sample), options.output_path,
+                                options.quiet)
+                 : write_sample_job(options.job_path, static_cast<std::uint64_t>(job_sample), options.output_path);
     MPI_Bcast(&code, 1, MPI_INT, 0, MPI_COMM_WORLD);
     return code;
   }

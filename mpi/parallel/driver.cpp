@@ -155,6 +155,7 @@ ensemble::EnsembleStatistics run_pilot(Context& c, const std::vector<double>& no
   std::vector<std::vector<double>> pilot;
   std::vector<double> low(entries, std::numeric_limits<double>::infinity());
   std::vector<double> high(entries, -std::numeric_limits<double>::infinity());
+  std::uint64_t in_batch = 0;
   for (std::uint64_t k = static_cast<std::uint64_t>(c.rank); k < c.spec.pilot_samples;
        k += static_cast<std::uint64_t>(c.size)) {
     std::vector<double> trajectory;
@@ -167,6 +168,11 @@ ensemble::EnsembleStatistics run_pilot(Context& c, const std::vector<double>& no
       pilot.push_back(std::move(trajectory));
     }
     sink.add(std::move(r));
+    // Records travel in batches of block_size, as in the sweep.
+    if (++in_batch == c.spec.block_size) {
+      sink.flush();
+      in_batch = 0;
+    }
   }
   sink.flush();
   MPI_Allreduce(MPI_IN_PLACE, low.data(), static_cast<int>(entries), MPI_DOUBLE, MPI_MIN, c.comm);

@@ -82,6 +82,7 @@ int rerun_sample(const std::string& job_path, std::uint64_t k, const std::string
 int write_sample_job(const std::string& job_path, std::uint64_t k, const std::string& output_path) {
   try {
     const Job job = ensemble::load_job(job_path);
+    ensemble::require_not_a_sample_job(job);
     const ensemble::EnsembleSpec spec = ensemble::read_ensemble(job);
     require_sample(job, spec, k);
     ensemble::SampleRunner runner(job, spec);

@@ -1,11 +1,13 @@
 #include "app/run_trajectory.hpp"
 
 #include <chrono>
+#include <string>
 #include <iostream>
 
 #include "app/exit_codes.hpp"
 #include "app/model_summary.hpp"
 #include "hdf5/hdf5.hpp"
+#include "job/toml_view.hpp"
 #include "output/recorder.hpp"
 
 namespace treedyn {
@@ -19,9 +21,23 @@ int run_trajectory(const Job& job, const Model& model, const InitialState& initi
       model, initial, job.request, [&](const Model& m, const Data& d) { recorder.record(m, d); });
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (!outcome.ok() && sample) {
+    // A failed ensemble sample is what the user came to see: its trajectory
+    // up to the failure, marked as such (status 1, reason, time reached).
+    SampleOrigin failed = *sample;
+    failed.status = 1;
+    // Worded as the ensemble's /samples/reason.
+    failed.reason = std::string(name(outcome.failure)) + " at t = " + format_number(outcome.time_reached) +
+                    " s" + (outcome.message.empty() ? "" : ": " + outcome.message);
+    failed.time_reached = outcome.time_reached;
+    write_trajectory(output_path, job, recorder, outcome, &failed);
+    std::cout << "sample " << sample->index << " fails as in the ensemble: " << failed.reason << "\nwrote "
+              << output_path << " (the " << recorder.times().size()
+              << " output times before the failure; /sample status 1)\n";
+    return kExitOk;
+  }
   if (!outcome.ok()) {
-    std::cerr << job.file << (sample ? ", sample " + std::to_string(sample->index) : std::string())
-              << ": integration failed (" << name(outcome.failure) << ") at t = "
+    std::cerr << job.file << ": integration failed (" << name(outcome.failure) << ") at t = "
               << outcome.time_reached << " s after " << outcome.stats.steps << " steps";
     if (!outcome.message.empty()) std::cerr << ": " << outcome.message;
     std::cerr << "\nno output written. Loosen the tolerances, raise [integrator] max_steps, or "

@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -11,6 +12,26 @@ std::string number(double v, const char* format = "%.6g") {
   char buffer[64];
   std::snprintf(buffer, sizeof buffer, format, v);
   return buffer;
+}
+
+// The inputs that matter most: by total Sobol' index (saltelli), else by
+// |Spearman|; at most three.
+void print_drivers(std::ostream& out, const EnsembleSpec& spec, const ResponseAnswer& a) {
+  const std::vector<std::string> names = spec.input_names();
+  const bool sobol = a.sobol.has_value();
+  const std::vector<double>& measure = sobol ? a.sobol->total : a.ranks.spearman;
+  if (measure.size() != names.size() || names.empty()) return;
+  std::vector<std::size_t> order;
+  for (std::size_t i = 0; i < names.size(); ++i)
+    if (std::isfinite(measure[i])) order.push_back(i);
+  if (order.empty()) return;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) {
+    return std::abs(measure[x]) > std::abs(measure[y]);
+  });
+  out << "    drivers (" << (sobol ? "total Sobol' index" : "Spearman rank correlation") << "):";
+  for (std::size_t k = 0; k < std::min<std::size_t>(order.size(), 3); ++k)
+    out << (k ? "," : "") << " " << names[order[k]] << " " << number(measure[order[k]], "%.3g");
+  out << "\n";
 }
 
 }  // namespace
@@ -40,6 +61,7 @@ void print_response_summary(std::ostream& out, const EnsembleSpec& spec,
       if (e->failed > 0) out << "; " << e->failed << " failed samples not in the count";
       out << "\n";
     }
+    print_drivers(out, spec, a);
   }
 }
 

@@ -1,6 +1,7 @@
 #include "ensemble/answers.hpp"
 
 #include <cmath>
+#include <stdexcept>
 #include <limits>
 
 namespace treedyn::ensemble {
@@ -39,6 +40,8 @@ bool independent_draw(const EnsembleSpec& spec, const ResponseTable& table, std:
 RankSensitivity ranks_of(const EnsembleSpec& spec, const ResponseTable& table, std::size_t r) {
   const std::size_t d = table.input_count();
   std::vector<double> x, y;
+  x.reserve(table.samples() * d);
+  y.reserve(table.samples());
   for (std::uint64_t k = 0; k < table.samples(); ++k) {
     if (!table.ok(k) || std::isnan(table.response(k, r)) || !independent_draw(spec, table, k)) continue;
     for (std::size_t i = 0; i < d; ++i) x.push_back(table.input(k, i));
@@ -50,7 +53,7 @@ RankSensitivity ranks_of(const EnsembleSpec& spec, const ResponseTable& table, s
 SobolIndices sobol_of(const EnsembleSpec& spec, const ResponseTable& table, std::size_t r) {
   const std::size_t d = table.input_count(), block = saltelli_block(static_cast<unsigned>(d));
   std::vector<double> f_a, f_b, f_ab;
-  for (std::uint64_t j = 0; j < spec.base_samples; ++j) {
+  for (std::uint64_t j = 0; j < table.samples() / block; ++j) {
     // A block counts only when all its D + 2 runs succeeded with finite values.
     bool complete = true;
     for (std::size_t m = 0; m < block; ++m) {
@@ -81,7 +84,11 @@ ResponseTable::ResponseTable(std::vector<std::int32_t> status, std::vector<doubl
       inputs_(std::move(inputs)),
       responses_(std::move(responses)),
       inputs_count_(input_count),
-      responses_count_(response_count) {}
+      responses_count_(response_count) {
+  if (inputs_.size() != status_.size() * inputs_count_ ||
+      responses_.size() != status_.size() * responses_count_)
+    throw std::invalid_argument("ResponseTable: inputs or responses are not samples x columns");
+}
 
 void ResponseTable::add(const SampleRecord& record) {
   const std::uint64_t k = record.index;
@@ -108,7 +115,11 @@ std::vector<ResponseAnswer> answer_responses(const EnsembleSpec& spec, const Res
     const Response& response = spec.responses[r];
     ResponseAnswer a;
     Running running;
-    std::uint64_t successful = 0, exceeded = 0, next_report = 1;
+    // Convergence at 1, 2, 4, ... samples; for saltelli at 1, 2, 4, ...
+    // whole blocks (2 independent draws each).
+    const std::uint64_t unit =
+        spec.design == Design::saltelli ? saltelli_block(static_cast<unsigned>(table.input_count())) : 1;
+    std::uint64_t successful = 0, exceeded = 0, next_report = unit;
     for (std::uint64_t k = 0; k < table.samples(); ++k) {
       if (!independent_draw(spec, table, k)) {
         // Saltelli's AB_i rows: left out here (see independent_draw).

@@ -43,6 +43,8 @@ double statistics_bytes(const Job& job, const EnsembleSpec& spec);
 // trajectories.
 double per_sample_bytes(const Job& job, const EnsembleSpec& spec);
 double stored_trajectory_bytes(const Job& job, const EnsembleSpec& spec);
+// Peak memory of the responses' analysis on rank 0.
+double answers_bytes(const EnsembleSpec& spec);
 
 // A readable account of the ensemble: design, inputs, statistics settings.
 void print_ensemble_summary(std::ostream& out, const Job& job, const EnsembleSpec& spec);

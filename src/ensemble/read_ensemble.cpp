@@ -106,15 +106,19 @@ Response read_response(const TomlView& t, const Job& job, const ColumnLayout& la
   t.check_keys({"name", "quantity", "column", "reduce", "time", "threshold", "limit", "fail_if"});
   Response r;
   r.name = t.required_string("name");
-  if (r.name.empty() || r.name.find('/') != std::string::npos || r.name == "." || r.name == "..")
-    t.fail("name", "must be a non-empty name without '/' (it names an HDF5 group)");
+  const bool control = std::any_of(r.name.begin(), r.name.end(), [](char c) {
+    return static_cast<unsigned char>(c) < 0x20 || c == 0x7f;
+  });
+  if (r.name.empty() || control || r.name.find('/') != std::string::npos || r.name == "." || r.name == "..")
+    t.fail("name", "must be a non-empty name without '/' or control characters (it names an HDF5 group)");
   r.quantity = t.required_string("quantity");
   const auto q = std::find(layout.quantity.begin(), layout.quantity.end(), r.quantity);
   if (q == layout.quantity.end()) {
     std::string recorded;
     for (const auto& name : layout.quantity) recorded += " " + name;
-    t.fail("quantity", "\"" + r.quantity + "\" is not recorded; add it to [output] quantities "
-                       "or use one of:" + recorded);
+    const std::vector<std::string_view> names(layout.quantity.begin(), layout.quantity.end());
+    t.fail("quantity", "\"" + r.quantity + "\" is not recorded" + did_you_mean(r.quantity, names) +
+                           " Add it to [output] quantities or use one of:" + recorded);
   }
   const auto qi = static_cast<std::size_t>(q - layout.quantity.begin());
   r.column = t.required_string("column");
@@ -171,6 +175,16 @@ double per_sample_bytes(const Job& job, const EnsembleSpec& spec) {
   const std::size_t columns = column_layout(job.model, job.output).columns;
   return 8.0 * static_cast<double>(spec.samples) * static_cast<double>(columns) *
          static_cast<double>(spec.per_sample.size());
+}
+
+double answers_bytes(const EnsembleSpec& spec) {
+  if (spec.responses.empty()) return 0.0;
+  // The table (inputs, responses, status) and, while one response is
+  // analysed, its rows, their ranks, the standardised rank matrix and its QR
+  // copy: about 4 D more doubles per sample.
+  const double d = spec.input_dimensions();
+  return 8.0 * static_cast<double>(spec.samples) *
+         (d + static_cast<double>(spec.responses.size()) + 1.0 + 4.0 * d + 2.0);
 }
 
 double stored_trajectory_bytes(const Job& job, const EnsembleSpec& spec) {
@@ -248,6 +262,8 @@ void print_ensemble_summary(std::ostream& out, const Job& job, const EnsembleSpe
   if (s.store_trajectories > 0)
     out << "stored trajectories: samples 0-" << s.store_trajectories - 1 << ", "
         << bytes_text(stored_trajectory_bytes(job, s)) << " in the file\n";
+  if (!s.responses.empty())
+    out << "answers: about " << bytes_text(answers_bytes(s)) << " on rank 0 for the responses' analysis\n";
   for (const Response& r : s.responses) {
     out << "response " << r.name << ": " << name(r.reduce) << " of " << r.quantity << " " << r.column;
     if (r.reduce == Response::Reduce::at_time) out << " at t = " << format_number(r.time) << " s";
@@ -324,7 +340,6 @@ EnsembleSpec read_ensemble(const Job& job) {
     if (*pilot < 1) t.fail("pilot_samples", "must be at least 1");
     s.pilot_samples = static_cast<std::uint64_t>(*pilot);
   }
-  s.pilot_samples = std::min(s.pilot_samples, s.samples);
   if (auto block = t.integer("block_size")) {
     if (*block < 1) t.fail("block_size", "must be at least 1");
     s.block_size = static_cast<std::uint64_t>(*block);
@@ -370,10 +385,10 @@ EnsembleSpec read_ensemble(const Job& job) {
                             " runs; at most 4294967295 (sample indices are 32-bit): use at most " +
                             std::to_string(0xffffffffULL / saltelli_block(d)));
     s.samples = s.base_samples * saltelli_block(d);
-    s.pilot_samples = std::min(s.pilot_samples, s.samples);
   }
   // 32-bit Sobol points and 32-bit histogram counters.
   if (s.samples > 0xffffffffULL) t.fail("samples", "at most 4294967295 samples");
+  s.pilot_samples = std::min(s.pilot_samples, s.samples);  // runs, also for saltelli
 
   if (t.has("per_sample")) s.per_sample = read_per_sample(t);
   const ColumnLayout layout = column_layout(job.model, job.output);
@@ -405,9 +420,7 @@ EnsembleSpec read_ensemble(const Job& job) {
   }
   // Rank 0 keeps every sample's inputs and responses for the analysis.
   if (!s.responses.empty()) {
-    const double gib = 8.0 * static_cast<double>(s.samples) *
-                       static_cast<double>(s.input_dimensions() + s.responses.size() + 1) /
-                       (1024.0 * 1024.0 * 1024.0);
+    const double gib = answers_bytes(s) / (1024.0 * 1024.0 * 1024.0);
     if (gib > 8.0)
       t.fail("response", "the responses and inputs of " + std::to_string(s.samples) +
                              " samples would need " + format_number(std::round(gib)) +

@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <regex>
 #include <sstream>
+#include <stdexcept>
 #include <vector>
 
 #include "common/error.hpp"
@@ -46,7 +47,7 @@ std::string toml_string(const std::string& s) {
   std::string out = "\"";
   for (char c : s) {
     if (c == '"' || c == '\\') out += '\\';
-    if (static_cast<unsigned char>(c) < 0x20) {
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) {
       char escaped[8];
       std::snprintf(escaped, sizeof escaped, "\\u%04x", static_cast<unsigned>(c));
       out += escaped;
@@ -136,18 +137,28 @@ Job load_job(const std::filesystem::path& path) {
   return job;
 }
 
+void require_not_a_sample_job(const Job& job) {
+  if (toml::parse(job.text, job.file).contains("sample"))
+    throw JobError(job.file, 0, 0, "sample",
+                   "this job already is one sample of an ensemble (it has a [sample] section); "
+                   "write sample jobs from the original ensemble job");
+}
+
 std::string sample_job_text(const Job& job, const EnsembleSpec& spec, std::uint64_t k,
                             std::span<const double> inputs) {
-  {
-    toml::table root = toml::parse(job.text, job.file);
-    if (root.contains("sample"))
-      throw JobError(job.file, 0, 0, "sample",
-                     "this job already is one sample of an ensemble (it has a [sample] section); "
-                     "write sample jobs from the original ensemble job");
+  require_not_a_sample_job(job);
+  const std::string text = without_ensemble(job.text);
+  try {
+    if (toml::parse(text, job.file).contains("ensemble")) throw std::runtime_error("still there");
+  } catch (const std::exception&) {
+    throw JobError(job.file, 0, 0, "ensemble",
+                   "--write-job removes the [ensemble] tables by their [ensemble] / "
+                   "[[ensemble.*]] headers, and this job writes its ensemble otherwise (dotted keys "
+                   "or an inline table); write it with [ensemble] headers");
   }
   std::ostringstream out;
-  out << without_ensemble(job.text) << "\n"
-      << "# Sample " << k << " of the ensemble in " << job.file << " (design " << name(spec.design)
+  out << text << "\n"
+      << "# Sample " << k << " of the ensemble in the file 'source' below (design " << name(spec.design)
       << ", seed " << spec.seed << "),\n"
       << "# written by treedyn-ensemble --write-job " << k
       << ". Its sampled inputs, SI, applied to the nominal\n"
@@ -161,7 +172,7 @@ std::string sample_job_text(const Job& job, const EnsembleSpec& spec, std::uint6
   std::size_t d = 0;
   for (const Perturbation& p : spec.perturbations) {
     out << "\n[[sample.input]]\n"
-        << "target = \"" << p.target << "\"\n";
+        << "target = " << toml_string(p.target) << "\n";
     if (p.kind == Kind::parameter || p.kind == Kind::angular_velocity)
       out << "mode = \"" << name_in(kModes, p.mode) << "\"\n";
     if (p.kind == Kind::orientation) {

@@ -25,6 +25,10 @@ void apply_sample_section(Job& job);
 // read_job(), then apply_sample_section(): what both commands read.
 Job load_job(const std::filesystem::path& path);
 
+// Throws JobError when the job has a [sample] section (sample jobs are
+// written from the original ensemble job only).
+void require_not_a_sample_job(const Job& job);
+
 // The text of the standalone job of sample k (inputs: its sampled values,
 // SI). Throws JobError when the job already is a sample job.
 std::string sample_job_text(const Job& job, const EnsembleSpec& spec, std::uint64_t k,

@@ -38,7 +38,12 @@ EnsembleWriter::EnsembleWriter(const std::filesystem::path& path, const Job& job
   samples_ = h5::create_group(file_.id(), "samples");
   const hid_t g = samples_.id();
   h5::write_attribute(g, "description",
-                      std::string("one row per sample, by sample index 0 .. samples-1"));
+                      spec.design == ensemble::Design::saltelli
+                          ? std::string("one row per run, by sample index 0 .. samples-1; saltelli: "
+                                        "row j (D + 2) + r is A_j (r = 0), B_j (r = 1), AB_i,j (r = 2 + i: "
+                                        "A_j with input i from B_j); base_samples N and saltelli_block "
+                                        "D + 2 are root attributes")
+                          : std::string("one row per sample, by sample index 0 .. samples-1"));
   const std::size_t d = spec.input_dimensions();
   if (d > 0) {
     inputs_ = h5::create_rows(g, "inputs", H5T_NATIVE_DOUBLE, n, d, chunk);
@@ -218,7 +223,11 @@ void EnsembleWriter::write_statistics(const ensemble::EnsembleStatistics& s) {
   h5::Handle group = h5::create_group(file_.id(), "stats");
   h5::write_attribute(group.id(), "description",
                       std::string("statistics over the successful samples at every output time; "
-                                  "failed samples are left out (see /samples/status)"));
+                                  "failed samples are left out (see /samples/status)") +
+                          (spec_.design == ensemble::Design::saltelli
+                               ? "; saltelli: over every run, the correlated AB_i rows included (sem "
+                                 "assumes independent samples: use the A and B rows of /samples for it)"
+                               : ""));
   const std::vector<double>& t = job_.request.output_times;
   h5::Handle time = h5::write_vector(group.id(), "time", t);
   describe(time.id(), "s", "output times", {});
@@ -402,6 +411,9 @@ void EnsembleWriter::finish(const EnsembleSummary& summary) {
   h5::write_attribute(root, "seed", static_cast<long long>(spec_.seed));
   h5::write_attribute(root, "design", std::string(ensemble::name(spec_.design)));
   h5::write_attribute(root, "samples", static_cast<long long>(spec_.samples));
+  h5::write_attribute(root, "base_samples", static_cast<long long>(spec_.base_samples));
+  if (spec_.design == ensemble::Design::saltelli)
+    h5::write_attribute(root, "saltelli_block", static_cast<long long>(ensemble::saltelli_block(spec_.input_dimensions())));
   h5::write_attribute(root, "samples_ok", static_cast<long long>(summary.ok));
   h5::write_attribute(root, "samples_failed", static_cast<long long>(summary.failed));
   h5::write_attribute(root, "ranks", static_cast<long long>(summary.ranks));

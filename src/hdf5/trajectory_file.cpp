@@ -49,7 +49,7 @@ void write_trajectory(const std::filesystem::path& path, const Job& job, const R
     h5::write_attribute(time.id(), "description", std::string("output times"));
   }
   write_quantity_datasets(root, recorder.layout(), t.size(), recorder.values(), "/time");
-  if (!recorder.empty()) {
+  if (!recorder.empty() && outcome.ok()) {
     std::vector<double> final_state(kFinalStatePerBody * static_cast<std::size_t>(job.model.n));
     write_final_state(recorder.last(), final_state);
     h5::Handle set = h5::write_vector(root, "final_state", final_state);
@@ -65,6 +65,9 @@ void write_trajectory(const std::filesystem::path& path, const Job& job, const R
                         std::string("this trajectory is one ensemble sample integrated alone "
                                     "(treedyn-ensemble --sample)"));
     h5::write_attribute(group.id(), "index", static_cast<long long>(sample->index));
+    h5::write_attribute(group.id(), "status", static_cast<long long>(sample->status));
+    h5::write_attribute(group.id(), "reason", sample->reason);
+    h5::write_attribute(group.id(), "time_reached", sample->time_reached);
     if (!sample->inputs.empty()) {
       h5::Handle set = h5::write_vector(group.id(), "inputs", sample->inputs);
       h5::write_attribute(set.id(), "units", std::string("SI (per column: the 'column_units' attribute)"));

@@ -25,6 +25,9 @@ void write_quantity_datasets(hid_t group, const ColumnLayout& layout, std::size_
 // Where a trajectory came from when it is one ensemble sample rerun alone.
 struct SampleOrigin {
   std::uint64_t index = 0;
+  int status = 0;           // as in /samples/status: 1 when the integration failed
+  std::string reason;       // why it failed
+  double time_reached = 0.0;
   std::vector<std::string> input_names, input_units;
   std::vector<double> inputs;  // SI
 };

@@ -453,6 +453,38 @@ TEST_F(EnsembleFailures, FailedSamplesHaveNaNFinalState) {
                                << list.str();
 }
 
+// A failed sample rerun alone fails the same way, at the same time, and its
+// trajectory up to the failure is written (what happened in sample k?).
+TEST_F(EnsembleFailures, AFailedSampleRerunAloneFailsTheSameWay) {
+  H5File file(outputs_[1]);
+  ASSERT_TRUE(file.ok());
+  const auto status = read_integers(file.id(), "/samples/status");
+  const auto reason = read_strings(file.id(), "/samples/reason");
+  const auto reached = read_doubles(file.id(), "/samples/time_reached");
+  std::size_t k = 0;
+  while (k < status.size() && status[k] != 1) ++k;
+  ASSERT_LT(k, status.size()) << "no sample failed to integrate";
+  const fs::path out = dir_->path() / "failed_sample.h5";
+  const CommandResult r = run_command(
+      TREEDYN_ENSEMBLE_BINARY,
+      {(dir_->path() / "failing.toml").string(), "--sample", std::to_string(k), "-o", out.string(), "-q"},
+      dir_->path() / "capture");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("sample " + std::to_string(k) + " fails as in the ensemble: " + reason[k]),
+            std::string::npos)
+      << r.out;
+  H5File sample(out);
+  ASSERT_TRUE(sample.ok());
+  Hid group(H5Gopen2(sample.id(), "/sample", H5P_DEFAULT), H5Gclose);
+  EXPECT_EQ(read_integer_attribute(group.get(), "status"), 1);
+  EXPECT_EQ(read_single_string_attribute(group.get(), "reason"), reason[k]);
+  EXPECT_EQ(read_double_attribute(group.get(), "time_reached").at(0), reached[k]);
+  EXPECT_FALSE(exists(sample.id(), "/final_state"));
+  const auto times = read_doubles(sample.id(), "/time");
+  ASSERT_FALSE(times.empty());
+  EXPECT_LE(times.back(), reached[k]);
+}
+
 // ---------------------------------------------------------------------------
 // 3. A bad job fails on every rank without hanging
 
