@@ -107,7 +107,7 @@ const std::string kResponse = "\n[[ensemble.response]]\nname = \"tip_low\"\n";  
 TEST(EnsembleBadAnswers, ResponseOnAQuantityThatIsNotRecorded) {
   expect_refused(kResponse + "quantity = \"joint_reaction\"\ncolumn = \"rod.z\"\nreduce = \"max\"\n",
                  {"ensemble.response[3].quantity", "\"joint_reaction\" is not recorded",
-                  "add it to [output] quantities", "joint_angle"});
+                  "Add it to [output] quantities", "joint_angle"});
 }
 
 TEST(EnsembleBadAnswers, UnknownColumnSuggestsTheNearest) {
