@@ -34,7 +34,7 @@ class Reader {
     const auto n = get<std::uint64_t>();
     need(n * sizeof(double));
     std::vector<double> v(n);
-    std::memcpy(v.data(), b_.data() + at_, n * sizeof(double));
+    if (n > 0) std::memcpy(v.data(), b_.data() + at_, n * sizeof(double));  // empty: data() may be null
     at_ += n * sizeof(double);
     return v;
   }
