@@ -75,6 +75,7 @@ int main(int argc, char** argv) {
     return code == 0 ? kExitOk : kExitBadInput;
   }
   if (check_only) return session.rank() == 0 ? check(options.job_path) : kExitOk;
+  options.provenance = start_provenance(argc, argv, options.job_path);
   if (options.output_path.empty()) {
     if (session.rank() == 0) std::cerr << "error: --output is required (or use --check)\n";
     return kExitBadInput;
@@ -85,7 +86,7 @@ int main(int argc, char** argv) {
     if (session.rank() == 0)
       code = *sample_option
                  ? rerun_sample(options.job_path, static_cast<std::uint64_t>(sample), options.output_path,
-                                options.quiet)
+                                options.quiet, options.provenance)
                  : write_sample_job(options.job_path, static_cast<std::uint64_t>(job_sample), options.output_path);
     MPI_Bcast(&code, 1, MPI_INT, 0, MPI_COMM_WORLD);
     return code;

@@ -13,6 +13,7 @@
 
 #include "app/exit_codes.hpp"
 #include "ensemble/answers.hpp"
+#include "ensemble/digest.hpp"
 #include "ensemble/ensemble_spec.hpp"
 #include "ensemble/sample_job.hpp"
 #include "ensemble/sample_runner.hpp"
@@ -89,34 +90,27 @@ std::vector<double> column_scales(const std::vector<double>& nominal, std::size_
   return scale;
 }
 
-// A short summary: counts and rate, then the final-time mean, spread and
-// 5-95 % band of a few telling columns (the first recorded point, the last
-// body's centre of mass, the total energy).
-void print_summary(const Context& c, const ensemble::EnsembleStatistics& s, std::uint64_t ok,
-                   std::uint64_t failed, double wall) {
+// The end-of-run summary (ensemble/digest.hpp): counts and rate, then the
+// final-time mean, spread and outer quantile band of a few telling columns.
+ensemble::EnsembleDigest digest(const Context& c, const ensemble::EnsembleStatistics& s,
+                                const EnsembleSummary& summary) {
   const auto& layout = c.runner.layout();
   const std::size_t last = c.runner.times() - 1;
-  std::printf("ensemble: %llu samples (%llu ok, %llu failed) on %d rank%s in %.2f s (%.2f samples/s)\n",
-              static_cast<unsigned long long>(c.spec.samples), static_cast<unsigned long long>(ok),
-              static_cast<unsigned long long>(failed), c.size, c.size == 1 ? "" : "s", wall,
-              static_cast<double>(ok + failed) / wall);
-  if (ok == 0) return;
-  std::printf("at t = %g s: mean +- std [5%%, 95%%]\n", c.job.request.output_times[last]);
-  auto show = [&](const std::string& quantity, std::size_t first, std::size_t count) {
-    for (std::size_t q = 0; q < layout.quantity.size(); ++q) {
-      if (layout.quantity[q] != quantity) continue;
-      for (std::size_t k = first; k < std::min(first + count, layout.names[q].size()); ++k) {
-        const std::size_t e = last * layout.columns + layout.offset[q] + k;
-        std::printf("  %-16s %-18s % .6g +- %.3g  [% .6g, % .6g]\n", quantity.c_str(),
-                    layout.names[q][k].c_str(), s.mean(e), s.std_dev(e),
-                    s.quantile(e, 0.05), s.quantile(e, 0.95));
-      }
-    }
-  };
-  const std::size_t last_body = 3 * (static_cast<std::size_t>(c.job.model.n) - 1);
-  show("point_position", 0, 3);
-  show("com_position", last_body, 3);
-  show("energy", 3, 1);
+  ensemble::EnsembleDigest d;
+  d.samples = c.spec.samples;
+  d.ok = summary.ok;
+  d.failed = summary.failed;
+  d.ranks = c.size;
+  d.wall_seconds = summary.wall_seconds;
+  d.last_time = c.job.request.output_times[last];
+  d.low_probability = *std::min_element(c.spec.quantiles.begin(), c.spec.quantiles.end());
+  d.high_probability = *std::max_element(c.spec.quantiles.begin(), c.spec.quantiles.end());
+  for (auto [q, k] : ensemble::digest_columns(layout, c.job.model.n)) {
+    const std::size_t e = last * layout.columns + layout.offset[q] + k;
+    d.lines.push_back({layout.quantity[q], layout.names[q][k], s.mean(e), s.std_dev(e),
+                       s.quantile(e, d.low_probability), s.quantile(e, d.high_probability)});
+  }
+  return d;
 }
 
 // Phase 1, nominal: rank 0 opens the output (temporary name) before any
@@ -215,23 +209,42 @@ EnsembleSummary reduce(Context& c, ensemble::EnsembleStatistics& stats) {
   summary.ranks = c.size;
   for (int r = 0; r < c.size && c.rank == 0; ++r) {
     summary.peak_rss_mib.push_back(all[3 * r]);
-    summary.samples_per_rank.push_back(all[3 * r + 1]);
+    summary.samples_per_rank.push_back(static_cast<long long>(all[3 * r + 1]));
     summary.busy_seconds.push_back(all[3 * r + 2]);
   }
   return summary;
+}
+
+// Every rank's host name and the MPI library, for the file's provenance.
+RunProvenance gather_provenance(MPI_Comm comm, int rank, int size, RunProvenance run) {
+  char name[MPI_MAX_PROCESSOR_NAME] = {};
+  int length = 0;
+  MPI_Get_processor_name(name, &length);
+  std::vector<char> all(static_cast<std::size_t>(size) * MPI_MAX_PROCESSOR_NAME, '\0');
+  MPI_Gather(name, MPI_MAX_PROCESSOR_NAME, MPI_CHAR, all.data(), MPI_MAX_PROCESSOR_NAME, MPI_CHAR, 0, comm);
+  run.ranks = size;
+  for (int r = 0; r < size && rank == 0; ++r)
+    run.rank_hosts.emplace_back(all.data() + static_cast<std::size_t>(r) * MPI_MAX_PROCESSOR_NAME);
+  char library[MPI_MAX_LIBRARY_VERSION_STRING] = {};
+  MPI_Get_library_version(library, &length);
+  run.mpi_library = std::string(library, static_cast<std::size_t>(length));
+  while (!run.mpi_library.empty() && (run.mpi_library.back() == '\n' || run.mpi_library.back() == '\0'))
+    run.mpi_library.pop_back();
+  return run;
 }
 
 // Phase 5, write (rank 0): the nominal run, the statistics and the run's
 // attributes, then the rename into place. Returns an exit code.
 int write_results(EnsembleWriter& writer, const RecordWriter& records,
                   const std::vector<double>& nominal, const ensemble::EnsembleStatistics& stats,
-                  const std::vector<ensemble::ResponseAnswer>& answers, const EnsembleSummary& summary) {
+                  const std::vector<ensemble::ResponseAnswer>& answers, const EnsembleSummary& summary,
+                  const RunProvenance& run) {
   try {
     if (!records.io_error().empty()) throw h5::IoError(records.io_error());
     writer.write_nominal(nominal);
     writer.write_statistics(stats);
     writer.write_answers(answers);
-    writer.finish(summary);
+    writer.finish(summary, run);
   } catch (const h5::IoError& e) {
     std::cerr << "error: " << e.what() << "\n";
     return kExitIo;
@@ -266,6 +279,7 @@ int run(MPI_Comm comm, int rank, int size, const EnsembleOptions& options, const
   ensemble::EnsembleStatistics stats = run_pilot(c, nominal, *sink);
   run_sweep(c, stats, *sink);
   EnsembleSummary summary = reduce(c, stats);
+  const RunProvenance provenance = gather_provenance(comm, rank, size, options.provenance);
 
   int failure = kExitOk;
   if (rank == 0) {
@@ -274,13 +288,13 @@ int run(MPI_Comm comm, int rank, int size, const EnsembleOptions& options, const
     summary.ok = records->done() - summary.failed;
     const std::vector<ensemble::ResponseAnswer> answers =
         table ? ensemble::answer_responses(spec, *table) : std::vector<ensemble::ResponseAnswer>{};
-    failure = write_results(*writer, *records, nominal, stats, answers, summary);
+    failure = write_results(*writer, *records, nominal, stats, answers, summary, provenance);
     if (failure != kExitOk) {
       writer.reset();  // removes the temporary file
     } else {
       if (!options.quiet) {
-        print_summary(c, stats, summary.ok, summary.failed, summary.wall_seconds);
-        print_response_summary(std::cout, spec, answers);
+        ensemble::print_digest(std::cout, digest(c, stats, summary));
+        ensemble::print_response_summary(std::cout, spec, answers);
       }
       std::printf("wrote %s\n", options.output_path.c_str());
     }

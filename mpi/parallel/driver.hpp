@@ -18,9 +18,12 @@
 
 #include <string>
 
+#include "hdf5/provenance.hpp"
+
 namespace treedyn::parallel {
 
 struct EnsembleOptions {
+  RunProvenance provenance;  // command line, start time (ranks and hosts: filled by the driver)
   std::string job_path;
   std::string output_path;
   bool quiet = false;

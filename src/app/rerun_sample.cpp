@@ -52,7 +52,7 @@ void write_text_atomically(const std::string& path, const std::string& text) {
 }  // namespace
 
 int rerun_sample(const std::string& job_path, std::uint64_t k, const std::string& output_path,
-                 bool quiet) {
+                 bool quiet, const RunProvenance& run) {
   try {
     const Job job = ensemble::load_job(job_path);
     const ensemble::EnsembleSpec spec = ensemble::read_ensemble(job);
@@ -69,7 +69,7 @@ int rerun_sample(const std::string& job_path, std::uint64_t k, const std::string
                 << e.what() << "\n(the ensemble records this sample with status 2); no output written\n";
       return kExitIntegration;
     }
-    return run_trajectory(job, runner.model(), runner.initial_state(), output_path, quiet, &origin);
+    return run_trajectory(job, runner.model(), runner.initial_state(), output_path, quiet, run, &origin);
   } catch (const JobError& e) {
     std::cerr << "error: " << e.what() << "\n";
     return kExitBadInput;

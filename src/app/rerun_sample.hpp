@@ -6,11 +6,13 @@
 #include <cstdint>
 #include <string>
 
+#include "hdf5/provenance.hpp"
+
 namespace treedyn {
 
 // Both return the exit code and report errors on stderr.
 int rerun_sample(const std::string& job_path, std::uint64_t k, const std::string& output_path,
-                 bool quiet);
+                 bool quiet, const RunProvenance& run);
 int write_sample_job(const std::string& job_path, std::uint64_t k, const std::string& output_path);
 
 }  // namespace treedyn

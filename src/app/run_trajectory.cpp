@@ -13,7 +13,8 @@
 namespace treedyn {
 
 int run_trajectory(const Job& job, const Model& model, const InitialState& initial,
-                   const std::string& output_path, bool quiet, const SampleOrigin* sample) {
+                   const std::string& output_path, bool quiet, const RunProvenance& run,
+                   const SampleOrigin* sample) {
   h5::check_output_path(output_path);  // refuse before integrating, not after
   Recorder recorder(model, job.output);
   const auto start = std::chrono::steady_clock::now();
@@ -30,7 +31,7 @@ int run_trajectory(const Job& job, const Model& model, const InitialState& initi
     failed.reason = std::string(name(outcome.failure)) + " at t = " + format_number(outcome.time_reached) +
                     " s" + (outcome.message.empty() ? "" : ": " + outcome.message);
     failed.time_reached = outcome.time_reached;
-    write_trajectory(output_path, job, recorder, outcome, &failed);
+    write_trajectory(output_path, job, recorder, outcome, run, &failed);
     std::cout << "sample " << sample->index << " fails as in the ensemble: " << failed.reason << "\nwrote "
               << output_path << " (the " << recorder.times().size()
               << " output times before the failure; /sample status 1)\n";
@@ -44,7 +45,7 @@ int run_trajectory(const Job& job, const Model& model, const InitialState& initi
                  "check the model.\n";
     return kExitIntegration;
   }
-  write_trajectory(output_path, job, recorder, outcome, sample);
+  write_trajectory(output_path, job, recorder, outcome, run, sample);
   if (!quiet) print_run_summary(std::cout, job, recorder, outcome, wall);
   std::cout << "wrote " << output_path << " (" << recorder.times().size() << " output times)\n";
   return kExitOk;

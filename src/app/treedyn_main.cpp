@@ -6,6 +6,7 @@
 
 #include "app/exit_codes.hpp"
 #include "app/model_summary.hpp"
+#include "app/report_command.hpp"
 #include "app/run_trajectory.hpp"
 #include "ensemble/sample_job.hpp"
 #include "hdf5/hdf5.hpp"
@@ -23,9 +24,10 @@ int check_command(const std::string& job_path, bool all_parameters) {
   return kExitOk;
 }
 
-int run_command(const std::string& job_path, const std::string& output_path, bool quiet) {
+int run_command(const std::string& job_path, const std::string& output_path, bool quiet,
+                const RunProvenance& run) {
   const Job job = ensemble::load_job(job_path);
-  return run_trajectory(job, job.model, job.initial, output_path, quiet);
+  return run_trajectory(job, job.model, job.initial, output_path, quiet, run);
 }
 
 }  // namespace
@@ -52,6 +54,14 @@ int main(int argc, char** argv) {
   run->add_option("JOB", job_path, "job file (TOML)")->required();
   run->add_option("-o,--output", output_path, "output file (HDF5), written atomically")->required();
   run->add_flag("-q,--quiet", quiet, "print only the output file name");
+  std::string report_file, report_dir;
+  std::vector<std::string> report_quantities;
+  CLI::App* report = app.add_subcommand(
+      "report", "Draw a trajectory or ensemble file: DIR/index.html with PNG figures, and a text summary");
+  report->add_option("FILE", report_file, "a file written by treedyn run or treedyn-ensemble")->required();
+  report->add_option("-o,--output", report_dir, "report directory (default: FILE without .h5, plus _report)");
+  report->add_option("--quantity", report_quantities,
+                     "draw only these quantities (all of their column groups); repeatable");
 
   try {
     app.parse(argc, argv);
@@ -61,7 +71,8 @@ int main(int argc, char** argv) {
   }
   try {
     if (*check) return check_command(job_path, all_parameters);
-    return run_command(job_path, output_path, quiet);
+    if (*report) return report_command(report_file, report_dir, report_quantities);
+    return run_command(job_path, output_path, quiet, start_provenance(argc, argv, job_path));
   } catch (const JobError& e) {
     std::cerr << "error: " << e.what() << "\n";
     return kExitBadInput;

@@ -328,6 +328,7 @@ EnsembleSpec read_ensemble(const Job& job) {
     t.fail("design", "\"" + *design +
                          "\" is not allowed; use " + choices(kDesignNames));
   if (auto q = t.numbers("quantiles")) {
+    if (q->empty()) t.fail("quantiles", "list at least one probability in (0, 1)");
     for (double v : *q)
       if (!(v > 0.0 && v < 1.0)) t.fail("quantiles", "every quantile must be in (0, 1)");
     s.quantiles = *q;

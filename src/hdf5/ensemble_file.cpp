@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "hdf5/trajectory_file.hpp"
+#include "job/toml_view.hpp"
 #include "output/final_state.hpp"
 #include "output/quantities.hpp"
 
@@ -52,10 +53,26 @@ EnsembleWriter::EnsembleWriter(const std::filesystem::path& path, const Job& job
              "orientation perturbations are rotation vectors)",
              spec.input_names());
     h5::write_attribute(inputs_.id(), "column_units", spec.input_units());
+    // Each column described, so no reader has to parse job_text.
+    std::vector<std::string> target, distribution, mode;
+    for (const ensemble::Perturbation& p : spec.perturbations)
+      for (int k = 0; k < p.dimensions(); ++k) {
+        target.push_back(p.target);
+        distribution.push_back(p.distribution.describe() +
+                               (p.unit != 1.0 ? " x " + format_number(p.unit) + " (to " + p.si_unit + ")" : ""));
+        mode.push_back(p.kind == ensemble::Perturbation::Kind::orientation ? "rotation vector, composed"
+                       : p.kind == ensemble::Perturbation::Kind::rotation  ? "rotation, composed"
+                       : p.mode == ensemble::Perturbation::Mode::scale     ? "scale"
+                       : p.mode == ensemble::Perturbation::Mode::add       ? "add"
+                                                                           : "set");
+      }
+    h5::write_attribute(inputs_.id(), "column_targets", target);
+    h5::write_attribute(inputs_.id(), "column_distributions", distribution);
+    h5::write_attribute(inputs_.id(), "column_modes", mode);
   }
   status_ = h5::create_rows(g, "status", H5T_NATIVE_INT32, n, 0, chunk);
   describe(status_.id(), "1", "0 ok, 1 integration failed, 2 invalid model (perturbed input refused)", {});
-  reason_ = h5::create_string_rows(g, "reason", n, kReasonLength, chunk);
+  reason_ = h5::create_string_rows(g, "reason", n, chunk);
   describe(reason_.id(), "1", "why the sample failed; empty when ok", {});
   time_reached_ = h5::create_rows(g, "time_reached", H5T_NATIVE_DOUBLE, n, 0, chunk);
   describe(time_reached_.id(), "s", "time the integration reached (the end time when ok)", {});
@@ -171,7 +188,7 @@ void EnsembleWriter::write_run(const std::vector<SampleRecord>& run) {
   }
   if (d > 0) h5::write_rows(inputs_.id(), H5T_NATIVE_DOUBLE, first, rows, d, inputs.data());
   h5::write_rows(status_.id(), H5T_NATIVE_INT32, first, rows, 0, status.data());
-  h5::write_string_rows(reason_.id(), first, reasons, kReasonLength);
+  h5::write_string_rows(reason_.id(), first, reasons);
   h5::write_rows(time_reached_.id(), H5T_NATIVE_DOUBLE, first, rows, 0, times.data());
   h5::write_rows(integrator_stats_.id(), H5T_NATIVE_INT64, first, rows, kIntegratorStatFields.size(),
                  stats.data());
@@ -215,7 +232,7 @@ void EnsembleWriter::write_nominal(const std::vector<double>& trajectory) {
                       std::string("the unperturbed trajectory (the job without [ensemble])"));
   const std::vector<double>& t = job_.request.output_times;
   h5::Handle time = h5::write_vector(group.id(), "time", t);
-  describe(time.id(), "s", "output times", {});
+  describe(time.id(), "s", "output times", {"time"});
   write_quantity_datasets(group.id(), layout_, t.size(), trajectory, "/nominal/time");
 }
 
@@ -229,8 +246,9 @@ void EnsembleWriter::write_statistics(const ensemble::EnsembleStatistics& s) {
                                  "assumes independent samples: use the A and B rows of /samples for it)"
                                : ""));
   const std::vector<double>& t = job_.request.output_times;
+  h5::write_attribute(group.id(), "quantities", layout_.quantity);  // in the job's order
   h5::Handle time = h5::write_vector(group.id(), "time", t);
-  describe(time.id(), "s", "output times", {});
+  describe(time.id(), "s", "output times", {"time"});
   const std::size_t T = t.size(), C = layout_.columns;
   const int bins = s.bins();
   for (std::size_t q = 0; q < layout_.quantity.size(); ++q) {
@@ -260,6 +278,7 @@ void EnsembleWriter::write_statistics(const ensemble::EnsembleStatistics& s) {
     auto matrix = [&](const char* name, const std::vector<double>& v, const std::string& what) {
       h5::Handle set = h5::write_matrix(qg.id(), name, v, T, cols);
       describe(set.id(), units, what + " over the successful samples; rows: /stats/time", layout_.names[q]);
+      write_column_units(set.id(), layout_, q);
     };
     matrix("mean", mean, "mean");
     matrix("std", sd, "sample standard deviation (n - 1)");
@@ -402,8 +421,9 @@ void EnsembleWriter::write_answers(const std::vector<ensemble::ResponseAnswer>& 
   }
 }
 
-void EnsembleWriter::finish(const EnsembleSummary& summary) {
+void EnsembleWriter::finish(const EnsembleSummary& summary, const RunProvenance& run) {
   const hid_t root = file_.id();
+  write_provenance(root, run);
   h5::write_attribute(root, "software", std::string("treedyn ") + TREEDYN_VERSION);
   h5::write_attribute(root, "job_file", job_.file);
   h5::write_attribute(root, "job_text", job_.text);
@@ -416,10 +436,9 @@ void EnsembleWriter::finish(const EnsembleSummary& summary) {
     h5::write_attribute(root, "saltelli_block", static_cast<long long>(ensemble::saltelli_block(spec_.input_dimensions())));
   h5::write_attribute(root, "samples_ok", static_cast<long long>(summary.ok));
   h5::write_attribute(root, "samples_failed", static_cast<long long>(summary.failed));
-  h5::write_attribute(root, "ranks", static_cast<long long>(summary.ranks));
   h5::write_attribute(root, "wall_time_seconds", summary.wall_seconds);
   h5::write_attribute(root, "peak_rss_mib_per_rank", std::span<const double>(summary.peak_rss_mib));
-  h5::write_attribute(root, "samples_per_rank", std::span<const double>(summary.samples_per_rank));
+  h5::write_attribute(root, "samples_per_rank", std::span<const long long>(summary.samples_per_rank));
   h5::write_attribute(root, "busy_seconds_per_rank", std::span<const double>(summary.busy_seconds));
   h5::write_attribute(root, "method", std::string(name(job_.request.settings.method)));
   h5::write_attribute(root, "parameterisation", std::string(name(job_.request.parameterisation)));

@@ -11,6 +11,7 @@
 #include "ensemble/sample_runner.hpp"
 #include "ensemble/statistics.hpp"
 #include "hdf5/hdf5.hpp"
+#include "hdf5/provenance.hpp"
 
 namespace treedyn {
 
@@ -19,14 +20,12 @@ struct EnsembleSummary {
   int ranks = 1;
   double wall_seconds = 0.0;
   std::vector<double> peak_rss_mib;      // per rank (getrusage maximum resident set)
-  std::vector<double> samples_per_rank;  // samples each rank integrated
+  std::vector<long long> samples_per_rank;  // samples each rank integrated
   std::vector<double> busy_seconds;      // time each rank spent integrating samples
 };
 
 class EnsembleWriter {
  public:
-  static constexpr std::size_t kReasonLength = 256;
-
   EnsembleWriter(const std::filesystem::path& path, const Job& job,
                  const ensemble::EnsembleSpec& spec, const ColumnLayout& layout,
                  std::size_t final_state_size);
@@ -36,7 +35,7 @@ class EnsembleWriter {
   void write_statistics(const ensemble::EnsembleStatistics& stats);
   // /responses/<name> and /sensitivity/<name>, one per spec response.
   void write_answers(const std::vector<ensemble::ResponseAnswer>& answers);
-  void finish(const EnsembleSummary& summary);
+  void finish(const EnsembleSummary& summary, const RunProvenance& run);
 
  private:
   void write_run(const std::vector<ensemble::SampleRecord>& run);

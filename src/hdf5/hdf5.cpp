@@ -24,12 +24,18 @@ void check(herr_t status, const std::string& what) {
   if (status < 0) throw IoError("HDF5: " + what + " failed");
 }
 
-Handle string_type(std::size_t length) {
+// Variable-length UTF-8: what h5py reads as `str` and MATLAB as a string.
+Handle text_type() {
   Handle type(H5Tcopy(H5T_C_S1), H5Tclose, "copying the string type");
-  check(H5Tset_size(type.id(), std::max<std::size_t>(length, 1)), "setting a string size");
-  check(H5Tset_strpad(type.id(), H5T_STR_NULLTERM), "setting string padding");
+  check(H5Tset_size(type.id(), H5T_VARIABLE), "making a variable-length string type");
   check(H5Tset_cset(type.id(), H5T_CSET_UTF8), "setting the UTF-8 character set");
   return type;
+}
+
+std::vector<const char*> pointers_to(const std::vector<std::string>& values) {
+  std::vector<const char*> out;
+  for (const std::string& v : values) out.push_back(v.c_str());
+  return out;
 }
 
 Handle simple_space(std::span<const hsize_t> dims) {
@@ -68,16 +74,10 @@ void attribute(hid_t object, const std::string& name, hid_t type, hid_t space, c
   check(H5Awrite(attr.id(), type, data), "writing attribute " + name);
 }
 
-std::vector<char> pack(const std::vector<std::string>& values, std::size_t& width) {
-  width = 1;
-  for (const auto& v : values) width = std::max(width, v.size() + 1);
-  std::vector<char> buffer(values.size() * width, '\0');
-  for (std::size_t k = 0; k < values.size(); ++k)
-    std::copy(values[k].begin(), values[k].end(), buffer.begin() + static_cast<long>(k * width));
-  return buffer;
-}
 
 }  // namespace
+
+void quiet_errors() { silence_hdf5(); }
 
 Handle::Handle(hid_t id, Closer close, const std::string& what) : id_(id), close_(close) {
   silence_hdf5();
@@ -248,19 +248,15 @@ void write_row_block(hid_t dataset, hid_t type, std::size_t first_row, std::size
 }
 
 Handle create_string_rows(hid_t parent, const std::string& name, std::size_t rows,
-                          std::size_t length, std::size_t chunk_rows) {
-  Handle type = string_type(length);
+                          std::size_t chunk_rows) {
+  Handle type = text_type();
   return create_rows(parent, name, type.id(), rows, 0, chunk_rows);
 }
 
-void write_string_rows(hid_t dataset, std::size_t first_row, const std::vector<std::string>& rows,
-                       std::size_t length) {
-  std::vector<char> buffer(rows.size() * length, '\0');
-  for (std::size_t k = 0; k < rows.size(); ++k)
-    std::copy_n(rows[k].begin(), std::min(rows[k].size(), length - 1),
-                buffer.begin() + static_cast<long>(k * length));
-  Handle type = string_type(length);
-  write_rows(dataset, type.id(), first_row, rows.size(), 0, buffer.data());
+void write_string_rows(hid_t dataset, std::size_t first_row, const std::vector<std::string>& rows) {
+  const std::vector<const char*> pointers = pointers_to(rows);
+  Handle type = text_type();
+  write_rows(dataset, type.id(), first_row, rows.size(), 0, pointers.data());
 }
 
 Handle write_vector(hid_t parent, const std::string& name, std::span<const double> data) {
@@ -269,9 +265,10 @@ Handle write_vector(hid_t parent, const std::string& name, std::span<const doubl
 }
 
 void write_attribute(hid_t object, const std::string& name, const std::string& value) {
-  Handle type = string_type(value.size() + 1);
+  Handle type = text_type();
   Handle space(H5Screate(H5S_SCALAR), H5Sclose, "creating a scalar dataspace");
-  attribute(object, name, type.id(), space.id(), value.c_str());
+  const char* text = value.c_str();
+  attribute(object, name, type.id(), space.id(), &text);
 }
 
 void write_attribute(hid_t object, const std::string& name, double value) {
@@ -285,12 +282,17 @@ void write_attribute(hid_t object, const std::string& name, long long value) {
 }
 
 void write_attribute(hid_t object, const std::string& name, const std::vector<std::string>& values) {
-  std::size_t width = 0;
-  const std::vector<char> buffer = pack(values, width);
-  Handle type = string_type(width);
+  const std::vector<const char*> pointers = pointers_to(values);
+  Handle type = text_type();
   const hsize_t dims[1] = {values.size()};
   Handle space = simple_space(dims);
-  attribute(object, name, type.id(), space.id(), buffer.data());
+  attribute(object, name, type.id(), space.id(), pointers.data());
+}
+
+void write_attribute(hid_t object, const std::string& name, std::span<const long long> values) {
+  const hsize_t dims[1] = {values.size()};
+  Handle space = simple_space(dims);
+  attribute(object, name, H5T_NATIVE_LLONG, space.id(), values.data());
 }
 
 void write_attribute(hid_t object, const std::string& name, std::span<const double> values) {

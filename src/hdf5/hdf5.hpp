@@ -65,6 +65,10 @@ class File {
 // not a directory); throws IoError saying what is wrong.
 void check_output_path(const std::filesystem::path& path);
 
+// HDF5 prints no error stack of its own (treedyn reports errors itself);
+// done by every Handle, needed before a call that does not make one.
+void quiet_errors();
+
 Handle create_group(hid_t parent, const std::string& name);
 
 // A 2-D dataset rows x columns of doubles, chunked and deflate-compressed.
@@ -94,16 +98,17 @@ Handle create_row_array(hid_t parent, const std::string& name, hid_t type, std::
                         std::span<const hsize_t> row_shape, std::size_t chunk_rows);
 void write_row_block(hid_t dataset, hid_t type, std::size_t first_row, std::size_t rows,
                      const void* data);
-// Fixed-length strings, one per row, filled later with write_rows.
+// Strings, one per row, filled later. Every string this layer writes
+// (datasets and attributes) is variable-length UTF-8: h5py gives `str`.
 Handle create_string_rows(hid_t parent, const std::string& name, std::size_t rows,
-                          std::size_t length, std::size_t chunk_rows);
-void write_string_rows(hid_t dataset, std::size_t first_row, const std::vector<std::string>& rows,
-                       std::size_t length);
+                          std::size_t chunk_rows);
+void write_string_rows(hid_t dataset, std::size_t first_row, const std::vector<std::string>& rows);
 
 void write_attribute(hid_t object, const std::string& name, const std::string& value);
 void write_attribute(hid_t object, const std::string& name, double value);
 void write_attribute(hid_t object, const std::string& name, long long value);
 void write_attribute(hid_t object, const std::string& name, const std::vector<std::string>& values);
 void write_attribute(hid_t object, const std::string& name, std::span<const double> values);
+void write_attribute(hid_t object, const std::string& name, std::span<const long long> values);
 
 }  // namespace treedyn::h5

@@ -1,8 +1,17 @@
 #include "hdf5/trajectory_file.hpp"
 
+#include <algorithm>
+
 #include "output/final_state.hpp"
 
 namespace treedyn {
+
+void write_column_units(hid_t dataset, const ColumnLayout& layout, std::size_t quantity) {
+  std::vector<std::string> units;
+  for (std::size_t c = 0; c < layout.names[quantity].size(); ++c) units.push_back(column_unit(layout, quantity, c));
+  if (std::any_of(units.begin(), units.end(), [&](const std::string& u) { return u != units.front(); }))
+    h5::write_attribute(dataset, "column_units", units);
+}
 
 void write_quantity_datasets(hid_t group, const ColumnLayout& layout, std::size_t times,
                              std::span<const double> values, const std::string& time_path) {
@@ -21,11 +30,13 @@ void write_quantity_datasets(hid_t group, const ColumnLayout& layout, std::size_
                         std::string(info.description) + "; rows: output times (" + time_path +
                             "), columns: see the 'columns' attribute");
     h5::write_attribute(set.id(), "columns", layout.names[q]);
+    write_column_units(set.id(), layout, q);
   }
 }
 
 void write_trajectory(const std::filesystem::path& path, const Job& job, const Recorder& recorder,
-                      const IntegrationOutcome& outcome, const SampleOrigin* sample) {
+                      const IntegrationOutcome& outcome, const RunProvenance& run,
+                      const SampleOrigin* sample) {
   h5::File file(path);
   const hid_t root = file.id();
   h5::write_attribute(root, "software", std::string("treedyn ") + TREEDYN_VERSION);
@@ -41,12 +52,14 @@ void write_trajectory(const std::filesystem::path& path, const Job& job, const R
   std::vector<std::string> bodies;
   for (int u = 0; u < job.model.n; ++u) bodies.push_back(job.model.tree().user_body_name(u));
   h5::write_attribute(root, "bodies", bodies);
+  write_provenance(root, run);
 
   const std::vector<double>& t = recorder.times();
   {
     h5::Handle time = h5::write_vector(root, "time", t);
     h5::write_attribute(time.id(), "units", std::string("s"));
     h5::write_attribute(time.id(), "description", std::string("output times"));
+    h5::write_attribute(time.id(), "columns", std::vector<std::string>{"time"});
   }
   write_quantity_datasets(root, recorder.layout(), t.size(), recorder.values(), "/time");
   if (!recorder.empty() && outcome.ok()) {

@@ -9,12 +9,17 @@
 #include <vector>
 
 #include "hdf5/hdf5.hpp"
+#include "hdf5/provenance.hpp"
 #include "integrate/settings.hpp"
 #include "job/job.hpp"
 #include "output/quantities.hpp"
 #include "output/recorder.hpp"
 
 namespace treedyn {
+
+// A 'column_units' attribute (one unit per column) when the quantity's
+// columns have mixed units (/base: m, m/s, m/s^2).
+void write_column_units(hid_t dataset, const ColumnLayout& layout, std::size_t quantity);
 
 // One (times x columns) dataset per recorded quantity under `group`, sliced
 // from a recorder's flat rows, with units, description and column labels.
@@ -36,6 +41,7 @@ struct SampleOrigin {
 // attributes (and /sample for a rerun sample), under a temporary name
 // renamed into place when complete. Throws h5::IoError.
 void write_trajectory(const std::filesystem::path& path, const Job& job, const Recorder& recorder,
-                      const IntegrationOutcome& outcome, const SampleOrigin* sample = nullptr);
+                      const IntegrationOutcome& outcome, const RunProvenance& run,
+                      const SampleOrigin* sample = nullptr);
 
 }  // namespace treedyn

@@ -51,8 +51,21 @@ std::vector<std::string> string_attribute(hid_t object, const std::string& name,
     return out;
   }
   Hid type(H5Aget_type(attr.get()), H5Tclose);
-  if (H5Tget_class(type.get()) != H5T_STRING || H5Tis_variable_str(type.get()) > 0) {
-    ADD_FAILURE() << "attribute " << name << of << " is not a fixed-length string";
+  if (H5Tget_class(type.get()) != H5T_STRING) {
+    ADD_FAILURE() << "attribute " << name << of << " is not a string";
+    return out;
+  }
+  if (H5Tis_variable_str(type.get()) > 0) {
+    Hid space(H5Aget_space(attr.get()), H5Sclose);
+    const auto count = static_cast<std::size_t>(H5Sget_simple_extent_npoints(space.get()));
+    std::vector<char*> pointers(count, nullptr);
+    Hid memory_type(H5Tget_native_type(type.get(), H5T_DIR_ASCEND), H5Tclose);
+    if (H5Aread(attr.get(), memory_type.get(), pointers.data()) < 0) {
+      ADD_FAILURE() << "cannot read attribute " << name << of;
+      return out;
+    }
+    for (char* p : pointers) out.emplace_back(p ? p : "");
+    H5Dvlen_reclaim(memory_type.get(), space.get(), H5P_DEFAULT, pointers.data());
     return out;
   }
   const std::size_t width = H5Tget_size(type.get());
@@ -109,6 +122,24 @@ std::vector<long long> read_integers(hid_t file, const std::string& path) {
 
 std::vector<std::string> read_strings(hid_t file, const std::string& path) {
   std::vector<std::string> out;
+  {
+    Hid set(open_dataset(file, path), H5Dclose);
+    if (!set.ok()) return out;
+    Hid type(H5Dget_type(set.get()), H5Tclose);
+    if (H5Tget_class(type.get()) == H5T_STRING && H5Tis_variable_str(type.get()) > 0) {
+      Hid space(H5Dget_space(set.get()), H5Sclose);
+      const auto count = static_cast<std::size_t>(H5Sget_simple_extent_npoints(space.get()));
+      std::vector<char*> pointers(count, nullptr);
+      Hid memory_type(H5Tget_native_type(type.get(), H5T_DIR_ASCEND), H5Tclose);
+      if (count > 0 && H5Dread(set.get(), memory_type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, pointers.data()) < 0) {
+        ADD_FAILURE() << "cannot read dataset " << path;
+        return out;
+      }
+      for (char* p : pointers) out.emplace_back(p ? p : "");
+      if (count > 0) H5Dvlen_reclaim(memory_type.get(), space.get(), H5P_DEFAULT, pointers.data());
+      return out;
+    }
+  }
   const RawDataset d = read_raw(file, path);
   if (d.type_class != H5T_STRING || d.type_size == 0) {
     ADD_FAILURE() << path << " is not a fixed-length string dataset";
@@ -129,6 +160,17 @@ RawDataset read_raw(hid_t file, const std::string& path) {
   d.dims = dims_of(space.get());
   Hid file_type(H5Dget_type(set.get()), H5Tclose);
   Hid native(H5Tget_native_type(file_type.get(), H5T_DIR_ASCEND), H5Tclose);
+  if (H5Tget_class(file_type.get()) == H5T_STRING && H5Tis_variable_str(file_type.get()) > 0) {
+    // Variable-length strings: their characters, each string NUL-ended (the
+    // pointers HDF5 returns would differ between reads).
+    d.type_class = H5T_STRING;
+    d.type_size = 1;
+    for (const std::string& s : read_strings(file, path)) {
+      d.bytes.insert(d.bytes.end(), s.begin(), s.end());
+      d.bytes.push_back(0);
+    }
+    return d;
+  }
   d.type_class = H5Tget_class(native.get());
   d.type_size = H5Tget_size(native.get());
   if (d.type_class == H5T_INTEGER) d.sign = H5Tget_sign(native.get());

@@ -1,0 +1,91 @@
+#include "hdf5/provenance.hpp"
+
+#include <sundials/sundials_config.h>
+#include <unistd.h>
+
+#include <Eigen/Core>
+#include <ctime>
+#include <filesystem>
+#include <toml++/toml.h>
+
+#include "hdf5/hdf5.hpp"
+
+#ifndef TREEDYN_GIT_COMMIT
+#define TREEDYN_GIT_COMMIT "unknown"
+#endif
+#ifndef TREEDYN_BUILD_TYPE
+#define TREEDYN_BUILD_TYPE "unknown"
+#endif
+#ifndef TREEDYN_COMPILER
+#define TREEDYN_COMPILER "unknown"
+#endif
+
+namespace treedyn {
+namespace {
+
+std::string host_name() {
+  char name[256] = {};
+  if (gethostname(name, sizeof name - 1) != 0) return "unknown";
+  return name;
+}
+
+// A word as a shell would need it to mean the same.
+std::string shell_word(const std::string& word) {
+  if (!word.empty() && word.find_first_not_of(
+                           "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789-_./=:,+@%") ==
+                           std::string::npos)
+    return word;
+  std::string out = "'";
+  for (char c : word) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+std::string number(int v) { return std::to_string(v); }
+
+}  // namespace
+
+std::string utc_now() {
+  const std::time_t now = std::time(nullptr);
+  std::tm utc{};
+  gmtime_r(&now, &utc);
+  char text[32];
+  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &utc);
+  return text;
+}
+
+RunProvenance start_provenance(int argc, const char* const* argv, const std::string& job_path) {
+  RunProvenance p;
+  p.start_utc = utc_now();
+  p.host = host_name();
+  for (int k = 0; k < argc; ++k) p.command_line += (k ? " " : "") + shell_word(argv[k]);
+  std::error_code error;
+  const auto absolute = std::filesystem::absolute(job_path, error);
+  p.job_path = error ? job_path : absolute.lexically_normal().string();
+  return p;
+}
+
+void write_provenance(hid_t root, const RunProvenance& run) {
+  h5::write_attribute(root, "start_utc", run.start_utc);
+  h5::write_attribute(root, "end_utc", utc_now());
+  h5::write_attribute(root, "host", run.host);
+  h5::write_attribute(root, "command_line", run.command_line);
+  h5::write_attribute(root, "job_path", run.job_path);
+  h5::write_attribute(root, "treedyn_version", std::string(TREEDYN_VERSION));
+  h5::write_attribute(root, "git_commit", std::string(TREEDYN_GIT_COMMIT));
+  h5::write_attribute(root, "build_type", std::string(TREEDYN_BUILD_TYPE));
+  h5::write_attribute(root, "compiler", std::string(TREEDYN_COMPILER));
+  h5::write_attribute(root, "sundials_version", std::string(SUNDIALS_VERSION));
+  unsigned major = 0, minor = 0, release = 0;
+  H5get_libversion(&major, &minor, &release);
+  h5::write_attribute(root, "hdf5_version",
+                      std::to_string(major) + "." + std::to_string(minor) + "." + std::to_string(release));
+  h5::write_attribute(root, "eigen_version", number(EIGEN_WORLD_VERSION) + "." + number(EIGEN_MAJOR_VERSION) +
+                                                 "." + number(EIGEN_MINOR_VERSION));
+  h5::write_attribute(root, "tomlplusplus_version",
+                      number(TOML_LIB_MAJOR) + "." + number(TOML_LIB_MINOR) + "." + number(TOML_LIB_PATCH));
+  h5::write_attribute(root, "mpi_library", run.mpi_library.empty() ? std::string("none (serial)") : run.mpi_library);
+  h5::write_attribute(root, "ranks", static_cast<long long>(run.ranks));
+  if (!run.rank_hosts.empty()) h5::write_attribute(root, "rank_hosts", run.rank_hosts);
+}
+
+}  // namespace treedyn
