@@ -1,0 +1,213 @@
+// `treedyn report` on the output of every shipped example (its ensemble,
+// with fewer samples, and one trajectory), provenance and strings in every
+// file, and the refusals: a file that is not HDF5 or not treedyn's, an
+// older layout, an unknown --quantity, a missing matplotlib.
+#include <gtest/gtest.h>
+#include <hdf5.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "support/command.hpp"
+#include "support/hdf5_reader.hpp"
+
+namespace {
+
+using namespace treedyn::testing;
+namespace fs = std::filesystem;
+
+const std::vector<std::string> kExamples = {"spherical_pendulum", "double_pendulum", "chain10",
+                                            "y_tree",             "crane_payload",   "kapitza"};
+const std::string kPython = "/usr/bin/python3";
+const std::string kChecks = std::string(TREEDYN_TEST_SUPPORT_DIR) + "/report_checks.py";
+
+// The example's job with a small ensemble: 8 samples (saltelli: base 4).
+std::string small_ensemble(const std::string& name) {
+  std::string text = read_text(std::string(TREEDYN_JOBS_DIR) + "/" + name + ".toml");
+  const std::size_t at = text.find("[ensemble]");
+  if (at == std::string::npos) throw std::runtime_error(name + " has no [ensemble]");
+  const bool saltelli = text.find("design = \"saltelli\"", at) != std::string::npos;
+  std::string tail = text.substr(at);
+  tail = std::regex_replace(tail, std::regex("\nsamples = [0-9]+"), saltelli ? "\nsamples = 4" : "\nsamples = 8",
+                            std::regex_constants::format_first_only);
+  return text.substr(0, at) + tail;
+}
+
+// The lines of `text` before the first that starts with "wrote ".
+std::string before_wrote(const std::string& text) {
+  const std::size_t at = text.find("\nwrote ");
+  return at == std::string::npos ? text : text.substr(0, at + 1);
+}
+
+CommandResult treedyn(const std::vector<std::string>& args, const fs::path& capture) {
+  return run_command(TREEDYN_BINARY, args, capture);
+}
+
+void expect_figures(const fs::path& dir) {
+  const CommandResult check = run_command(kPython, {kChecks, "pngs", dir.string()}, dir.parent_path() / "capture");
+  EXPECT_EQ(check.exit_code, 0) << check.out << check.err;
+  EXPECT_EQ(check.out.rfind("ok ", 0), 0u) << check.out;
+}
+
+class Report : public ::testing::TestWithParam<std::string> {};
+
+// The ensemble's report: every figure there and not blank; its text summary
+// is the ensemble's own end-of-run summary, and its numbers are the file's.
+TEST_P(Report, EnsembleOfTheExample) {
+  TempDir dir("report_test");
+  fs::create_directory(dir.path() / "capture");
+  const fs::path job = dir.path() / "job.toml", out = dir.path() / "e.h5", report = dir.path() / "page";
+  write_text(job, small_ensemble(GetParam()));
+  const CommandResult e =
+      run_command(TREEDYN_ENSEMBLE_BINARY, {job.string(), "-o", out.string()}, dir.path() / "capture");
+  ASSERT_EQ(e.exit_code, 0) << e.err;
+  const CommandResult r = treedyn({"report", out.string(), "-o", report.string()}, dir.path() / "capture");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err, "");
+  EXPECT_EQ(before_wrote(r.out), before_wrote(e.out)) << "one summary, two commands";
+  EXPECT_NE(r.out.find("wrote " + (report / "index.html").string()), std::string::npos) << r.out;
+  EXPECT_EQ(read_text(report / "summary.txt"), before_wrote(e.out));
+  expect_figures(report);
+
+  // "  quantity column mean +- std [low, high]" against /stats at the last time.
+  H5File f(out);
+  ASSERT_TRUE(f.ok());
+  const std::regex line(R"(^  (\S+)\s+(\S+)\s+(\S+) \+- (\S+)  \[\s*(\S+),\s*(\S+)\]$)");
+  std::istringstream lines(r.out);
+  std::size_t checked = 0;
+  for (std::string l; std::getline(lines, l);) {
+    std::smatch m;
+    if (!std::regex_match(l, m, line)) continue;
+    const std::string q = m[1], column = m[2];
+    const auto columns = read_string_attribute(f.id(), "/stats/" + q + "/mean", "columns");
+    const auto c = static_cast<std::size_t>(std::find(columns.begin(), columns.end(), column) - columns.begin());
+    ASSERT_LT(c, columns.size()) << l;
+    const auto mean = read_doubles(f.id(), "/stats/" + q + "/mean"), sd = read_doubles(f.id(), "/stats/" + q + "/std");
+    const std::size_t last = mean.size() / columns.size() - 1;
+    const double m_file = mean[last * columns.size() + c], s_file = sd[last * columns.size() + c];
+    // Printed with %.6g and %.3g.
+    EXPECT_NEAR(std::stod(m[3]), m_file, 5e-6 * std::abs(m_file) + 1e-300) << l;
+    EXPECT_NEAR(std::stod(m[4]), s_file, 5e-3 * std::abs(s_file) + 1e-300) << l;
+    ++checked;
+  }
+  EXPECT_GT(checked, 0u) << r.out;
+  // Strings read as str, and the provenance is there.
+  const CommandResult s = run_command(kPython, {kChecks, "strings", out.string()}, dir.path() / "capture");
+  EXPECT_EQ(s.exit_code, 0) << s.out << s.err;
+}
+
+TEST_P(Report, TrajectoryOfTheExample) {
+  TempDir dir("report_test");
+  fs::create_directory(dir.path() / "capture");
+  const fs::path out = dir.path() / "t.h5";
+  const CommandResult run =
+      treedyn({"run", std::string(TREEDYN_JOBS_DIR) + "/" + GetParam() + ".toml", "-o", out.string(), "-q"},
+              dir.path() / "capture");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const CommandResult r = treedyn({"report", out.string()}, dir.path() / "capture");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("trajectory: "), std::string::npos) << r.out;
+  expect_figures(dir.path() / "t_report");  // the default directory: FILE without .h5, plus _report
+  const CommandResult s = run_command(kPython, {kChecks, "strings", out.string()}, dir.path() / "capture");
+  EXPECT_EQ(s.exit_code, 0) << s.out << s.err;
+}
+
+INSTANTIATE_TEST_SUITE_P(Examples, Report, ::testing::ValuesIn(kExamples),
+                         [](const ::testing::TestParamInfo<std::string>& i) { return i.param; });
+
+// Every provenance attribute, non-empty, in both kinds of file.
+TEST(Provenance, EveryAttributeIsThereAndNotEmpty) {
+  TempDir dir("report_test");
+  fs::create_directory(dir.path() / "capture");
+  const fs::path job = dir.path() / "job.toml", trajectory = dir.path() / "t.h5", ensemble = dir.path() / "e.h5";
+  write_text(job, small_ensemble("spherical_pendulum"));
+  ASSERT_EQ(treedyn({"run", job.string(), "-o", trajectory.string(), "-q"}, dir.path() / "capture").exit_code, 0);
+  ASSERT_EQ(run_command(TREEDYN_ENSEMBLE_BINARY, {job.string(), "-o", ensemble.string(), "-q"},
+                        dir.path() / "capture")
+                .exit_code,
+            0);
+  for (const fs::path& file : {trajectory, ensemble}) {
+    SCOPED_TRACE(file.string());
+    H5File f(file);
+    ASSERT_TRUE(f.ok());
+    for (const char* name : {"start_utc", "end_utc", "host", "command_line", "job_path", "treedyn_version",
+                             "git_commit", "build_type", "compiler", "sundials_version", "hdf5_version",
+                             "eigen_version", "tomlplusplus_version", "mpi_library"}) {
+      ASSERT_TRUE(has_attribute(f.id(), name)) << name;
+      EXPECT_NE(read_single_string_attribute(f.id(), name), "") << name;
+    }
+    EXPECT_EQ(read_single_string_attribute(f.id(), "job_path"), fs::absolute(job).lexically_normal().string());
+    EXPECT_NE(read_single_string_attribute(f.id(), "command_line").find(job.string()), std::string::npos);
+    EXPECT_GE(read_integer_attribute(f.id(), "ranks"), 1);
+  }
+  H5File f(ensemble);
+  EXPECT_EQ(read_string_attribute(f.id(), "rank_hosts").size(), 1u);
+  EXPECT_NE(read_single_string_attribute(f.id(), "mpi_library"), "none (serial)");
+}
+
+// Refusals: one line on stderr, exit 2, never a traceback.
+void expect_refused(const std::vector<std::string>& args, const std::string& words, const fs::path& capture,
+                    const std::vector<std::string>& prefix = {}) {
+  const CommandResult r = run_command(TREEDYN_BINARY, args, capture, prefix);
+  EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+  EXPECT_NE(r.err.find(words), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("Traceback"), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+}
+
+TEST(ReportRefuses, FilesItCannotReport) {
+  TempDir dir("report_test");
+  fs::create_directory(dir.path() / "capture");
+  const fs::path text = dir.path() / "notes.h5";
+  write_text(text, "not hdf5\n");
+  expect_refused({"report", text.string()}, "not an HDF5 file", dir.path() / "capture");
+  expect_refused({"report", (dir.path() / "missing.h5").string()}, "no such file", dir.path() / "capture");
+  // HDF5, but not treedyn's.
+  const fs::path other = dir.path() / "other.h5";
+  {
+    const hid_t f = H5Fcreate(other.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    const hid_t g = H5Gcreate2(f, "data", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    H5Gclose(g);
+    H5Fclose(f);
+  }
+  expect_refused({"report", other.string()}, "not a treedyn trajectory or ensemble file", dir.path() / "capture");
+  // An older layout: a trajectory file without provenance.
+  const fs::path old = dir.path() / "old.h5";
+  {
+    const hid_t f = H5Fcreate(old.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    const hsize_t one = 1;
+    const hid_t space = H5Screate_simple(1, &one, nullptr);
+    const hid_t set = H5Dcreate2(f, "time", H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    H5Dclose(set);
+    H5Sclose(space);
+    H5Fclose(f);
+  }
+  expect_refused({"report", old.string()}, "written by an older treedyn", dir.path() / "capture");
+}
+
+TEST(ReportRefuses, UnknownQuantityAndMissingMatplotlib) {
+  TempDir dir("report_test");
+  fs::create_directory(dir.path() / "capture");
+  const fs::path out = dir.path() / "t.h5";
+  ASSERT_EQ(treedyn({"run", std::string(TREEDYN_JOBS_DIR) + "/kapitza.toml", "-o", out.string(), "-q"},
+                    dir.path() / "capture")
+                .exit_code,
+            0);
+  expect_refused({"report", out.string(), "--quantity", "joint_angel"},
+                 "--quantity joint_angel: not recorded in " + out.string() + "; recorded: orientation",
+                 dir.path() / "capture");
+  EXPECT_FALSE(fs::exists(dir.path() / "t_report")) << "nothing written for a refused report";
+  // A matplotlib that does not import: the message names the package.
+  const fs::path fake = dir.path() / "fake" / "matplotlib";
+  fs::create_directories(fake);
+  write_text(fake / "__init__.py", "raise ImportError('no matplotlib in this test')\n");
+  expect_refused({"report", out.string()}, "apt-get install python3-matplotlib", dir.path() / "capture",
+                 {"env", "PYTHONPATH=" + (dir.path() / "fake").string()});
+}
+
+}  // namespace
