@@ -248,7 +248,8 @@ def sensitivity_figures(f, page):
     for i in range(len(names)):
         for j in range(len(inputs)):
             if np.isfinite(rho[i, j]):
-                ax.text(i, j, f"{rho[i, j]:.2f}", ha="center", va="center", fontsize=7)
+                ax.text(i, j, f"{rho[i, j]:.2f}", ha="center", va="center", fontsize=7,
+                        color="white" if abs(rho[i, j]) > 0.6 else "black")
     fig.colorbar(image, ax=ax, label="Spearman rank correlation")
     page.figure(fig, "Spearman rank correlation of every input (rows) with every response (columns)")
     for n in names:
