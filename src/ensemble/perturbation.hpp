@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "common/enum_names.hpp"
 #include "ensemble/distribution.hpp"
 #include "model/initial_state.hpp"
 
@@ -45,6 +46,10 @@ struct Perturbation {
   void apply(std::span<const double> values, std::span<double> parameters,
              InitialState& state) const;
 };
+
+inline constexpr NameTable<Perturbation::Mode, 3> kModeNames{{{Perturbation::Mode::set, "set"},
+                                                             {Perturbation::Mode::add, "add"},
+                                                             {Perturbation::Mode::scale, "scale"}}};
 
 // Applies a sample's inputs (values of `perturbations`, concatenated) to the
 // nominal parameter vector and initial state, in the one order every run

@@ -37,8 +37,7 @@ double read_unit(const TomlView& t, const Perturbation& p) {
   return 1.0;
 }
 
-inline constexpr NameTable<Mode, 3> kModeNames{
-    {{Mode::set, "set"}, {Mode::add, "add"}, {Mode::scale, "scale"}}};
+
 
 Distribution read_distribution(const TomlView& t) {
   Distribution d;
@@ -351,14 +350,7 @@ EnsembleSpec read_ensemble(const Job& job) {
     Perturbation pert;
     pert.target = p.required_string("target");
     try {
-      const Target target = resolve_target(job.definition, pert.target);
-      pert.kind = target.kind;
-      pert.first = target.first;
-      pert.entries = target.entries;
-      pert.factor = target.factor;
-      pert.axis = target.axis;
-      pert.si_unit = target.unit;
-      pert.enters = target.enters;
+      aim(pert, job.definition);
     } catch (const TargetError& e) {
       p.fail("target", e.what());
     }

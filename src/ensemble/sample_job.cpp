@@ -1,7 +1,7 @@
 #include "ensemble/sample_job.hpp"
 
 #include <cstdio>
-#include <regex>
+#include <string_view>
 #include <sstream>
 #include <stdexcept>
 #include <vector>
@@ -17,7 +17,7 @@ namespace {
 using Kind = Perturbation::Kind;
 using Mode = Perturbation::Mode;
 
-inline constexpr NameTable<Mode, 3> kModes{{{Mode::set, "set"}, {Mode::add, "add"}, {Mode::scale, "scale"}}};
+
 
 // A TOML float that reads back to the same double: the shortest round-trip
 // digits, with ".0" where they would otherwise read as an integer.
@@ -27,19 +27,29 @@ std::string toml_float(double v) {
   return s;
 }
 
+// The line with its leading blanks removed.
+std::string_view trimmed(const std::string& line) {
+  const std::size_t first = line.find_first_not_of(" \t");
+  return first == std::string::npos ? std::string_view() : std::string_view(line).substr(first);
+}
+
+bool is_header(const std::string& line) { return trimmed(line).starts_with('['); }
+bool is_comment(const std::string& line) { return trimmed(line).starts_with('#'); }
+
+// [ensemble], [ensemble.x], [[ensemble.response]], ["ensemble"] ...
 bool is_ensemble_header(const std::string& line) {
-  static const std::regex header(R"(^\s*\[\[?\s*"?ensemble"?\s*(\.|\]))");
-  return std::regex_search(line, header);
-}
-
-bool is_header(const std::string& line) {
-  static const std::regex header(R"(^\s*\[)");
-  return std::regex_search(line, header);
-}
-
-bool is_comment(const std::string& line) {
-  static const std::regex comment(R"(^\s*#)");
-  return std::regex_search(line, comment);
+  std::string_view v = trimmed(line);
+  auto skip = [&](char c) {
+    while (!v.empty() && (v.front() == c || v.front() == ' ' || v.front() == '\t')) v.remove_prefix(1);
+  };
+  if (!v.starts_with('[')) return false;
+  skip('[');
+  if (v.starts_with('"')) v.remove_prefix(1);
+  if (!v.starts_with("ensemble")) return false;
+  v.remove_prefix(8);
+  if (v.starts_with('"')) v.remove_prefix(1);
+  skip(' ');
+  return v.starts_with('.') || v.starts_with(']');
 }
 
 // A TOML basic string.
@@ -96,19 +106,13 @@ void apply_sample_section(Job& job) {
     Perturbation p;
     p.target = e.required_string("target");
     try {
-      const Target target = resolve_target(job.definition, p.target);
-      p.kind = target.kind;
-      p.first = target.first;
-      p.entries = target.entries;
-      p.factor = target.factor;
-      p.axis = target.axis;
-      p.si_unit = target.unit;
+      aim(p, job.definition);
     } catch (const TargetError& error) {
       e.fail("target", error.what());
     }
     const std::string mode = e.string("mode").value_or("set");
-    if (!parse_in(kModes, mode, p.mode))
-      e.fail("mode", "\"" + mode + "\" is not allowed; use " + choices(kModes));
+    if (!parse_in(kModeNames, mode, p.mode))
+      e.fail("mode", "\"" + mode + "\" is not allowed; use " + choices(kModeNames));
     if (p.kind == Kind::orientation) {
       const auto v = e.vec3("value");
       if (!v) e.fail("value", "missing required field: a rotation vector [x, y, z] in rad");
@@ -174,7 +178,7 @@ std::string sample_job_text(const Job& job, const EnsembleSpec& spec, std::uint6
     out << "\n[[sample.input]]\n"
         << "target = " << toml_string(p.target) << "\n";
     if (p.kind == Kind::parameter || p.kind == Kind::angular_velocity)
-      out << "mode = \"" << name_in(kModes, p.mode) << "\"\n";
+      out << "mode = \"" << name_in(kModeNames, p.mode) << "\"\n";
     if (p.kind == Kind::orientation) {
       out << "value = [" << toml_float(inputs[d]) << ", " << toml_float(inputs[d + 1]) << ", "
           << toml_float(inputs[d + 2]) << "]  # rotation vector, rad\n";

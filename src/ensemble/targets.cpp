@@ -213,4 +213,15 @@ Target resolve_target(const ModelDefinition& d, const std::string& target) {
   throw TargetError(quoted(target) + " is not a target; " + kPatterns);
 }
 
+void aim(Perturbation& p, const ModelDefinition& model) {
+  const Target target = resolve_target(model, p.target);
+  p.kind = target.kind;
+  p.first = target.first;
+  p.entries = target.entries;
+  p.factor = target.factor;
+  p.axis = target.axis;
+  p.si_unit = target.unit;
+  p.enters = target.enters;
+}
+
 }  // namespace treedyn::ensemble

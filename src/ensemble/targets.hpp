@@ -28,5 +28,8 @@ class TargetError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 Target resolve_target(const ModelDefinition& model, const std::string& target);
+// Resolves p.target and fills p's kind, entries, factor, axis, unit and
+// where it enters. Throws TargetError.
+void aim(Perturbation& p, const ModelDefinition& model);
 
 }  // namespace treedyn::ensemble
