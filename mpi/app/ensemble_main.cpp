@@ -2,6 +2,7 @@
 // under mpirun (or alone as one rank).
 #include <CLI/CLI.hpp>
 
+#include <cstdlib>
 #include <iostream>
 
 #include "app/exit_codes.hpp"
@@ -90,6 +91,16 @@ int main(int argc, char** argv) {
                  : write_sample_job(options.job_path, static_cast<std::uint64_t>(job_sample), options.output_path);
     MPI_Bcast(&code, 1, MPI_INT, 0, MPI_COMM_WORLD);
     return code;
+  }
+  // Slurm asked for several tasks but MPI sees one rank (a plain `srun` of a
+  // binary started without PMI, say): each task would run the whole ensemble
+  // and race to rename the same output. Refuse before any work.
+  if (const char* tasks = std::getenv("SLURM_NTASKS"); tasks && session.size() == 1 && std::atol(tasks) > 1) {
+    std::cerr << "error: SLURM_NTASKS=" << tasks
+              << " but MPI sees 1 rank: every task would run the whole ensemble and race to write "
+              << options.output_path
+              << ". Start it with `srun --mpi=pmix` or `mpirun` inside the allocation (jobs/slurm_ensemble.sh)\n";
+    return kExitBadInput;
   }
   try {
     return parallel::run_ensemble(MPI_COMM_WORLD, options);

@@ -70,6 +70,27 @@ TEST(EnsembleCommand, VersionAndHelp) {
 
 }  // namespace
 
+// Slurm asked for 4 tasks, MPI sees one rank: refused before any work.
+TEST(EnsembleCommand, SlurmTasksWithOneMpiRankAreRefused) {
+  TempDir dir("ensemble_command_test");
+  fs::create_directory(dir.path() / "capture");
+  const fs::path out = dir.path() / "out.h5";
+  const CommandResult r =
+      run_command(TREEDYN_ENSEMBLE_BINARY,
+                  {std::string(TREEDYN_JOBS_DIR) + "/spherical_pendulum.toml", "-o", out.string(), "-q"},
+                  dir.path() / "capture", {"env", "SLURM_NTASKS=4"});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("SLURM_NTASKS=4 but MPI sees 1 rank"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("srun --mpi=pmix"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(out));
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir.path()), fs::directory_iterator()), 1) << "only capture/";
+  // One task is a normal serial run.
+  const CommandResult one =
+      run_command(TREEDYN_ENSEMBLE_BINARY, {"--check", std::string(TREEDYN_JOBS_DIR) + "/spherical_pendulum.toml"},
+                  dir.path() / "capture", {"env", "SLURM_NTASKS=1"});
+  EXPECT_EQ(one.exit_code, 0) << one.err;
+}
+
 // ---------------------------------------------------------------------------
 // Bad [ensemble] answers input: FILE:LINE:COLUMN: FIELD, what was wrong and
 // what is allowed, exit 2, nothing written.
