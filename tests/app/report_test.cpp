@@ -190,6 +190,22 @@ TEST(ReportRefuses, FilesItCannotReport) {
   expect_refused({"report", old.string()}, "written by an older treedyn", dir.path() / "capture");
 }
 
+// A report directory that cannot be made (a file stands there): exit 4.
+TEST(ReportRefuses, ADirectoryThatCannotBeMadeIsAnIoError) {
+  TempDir dir("report_test");
+  fs::create_directory(dir.path() / "capture");
+  const fs::path out = dir.path() / "t.h5", blocker = dir.path() / "page";
+  ASSERT_EQ(treedyn({"run", std::string(TREEDYN_JOBS_DIR) + "/kapitza.toml", "-o", out.string(), "-q"},
+                    dir.path() / "capture")
+                .exit_code,
+            0);
+  write_text(blocker, "a file, not a directory\n");
+  const CommandResult r = treedyn({"report", out.string(), "-o", blocker.string()}, dir.path() / "capture");
+  EXPECT_EQ(r.exit_code, 4) << r.out << r.err;
+  EXPECT_NE(r.err.find("cannot create the report directory"), std::string::npos) << r.err;
+  EXPECT_EQ(read_text(blocker), "a file, not a directory\n");
+}
+
 TEST(ReportRefuses, UnknownQuantityAndMissingMatplotlib) {
   TempDir dir("report_test");
   fs::create_directory(dir.path() / "capture");

@@ -2,7 +2,10 @@
 // --version, --help, and a missing --output.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <filesystem>
+#include <utility>
 
 #include "support/command.hpp"
 
@@ -69,6 +72,35 @@ TEST(EnsembleCommand, VersionAndHelp) {
 }
 
 }  // namespace
+
+// One sample's outputs into a directory that does not exist: exit 4, the
+// path named, nothing written anywhere.
+TEST(EnsembleCommand, SampleOutputsThatCannotBeWrittenAreIoErrors) {
+  TempDir dir("ensemble_command_test");
+  fs::create_directory(dir.path() / "capture");
+  const std::string job = std::string(TREEDYN_JOBS_DIR) + "/kapitza.toml";
+  for (const auto& [flag, name] : {std::pair{"--sample", "s.h5"}, std::pair{"--write-job", "s.toml"}}) {
+    SCOPED_TRACE(flag);
+    const fs::path out = dir.path() / "missing" / name;
+    const CommandResult r =
+        run_command(TREEDYN_ENSEMBLE_BINARY, {job, flag, "3", "-o", out.string(), "-q"}, dir.path() / "capture");
+    EXPECT_EQ(r.exit_code, 4) << r.out << r.err;
+    EXPECT_NE(r.err.find((dir.path() / "missing").string()), std::string::npos) << r.err;
+    EXPECT_EQ(std::distance(fs::directory_iterator(dir.path()), fs::directory_iterator()), 1) << "only capture/";
+  }
+  // --write-job into a directory it cannot write (read-only): no file, no temporary left.
+  const fs::path locked = dir.path() / "locked";
+  fs::create_directory(locked);
+  fs::permissions(locked, fs::perms::owner_read | fs::perms::owner_exec);
+  const CommandResult r = run_command(TREEDYN_ENSEMBLE_BINARY,
+                                      {job, "--write-job", "3", "-o", (locked / "s.toml").string()},
+                                      dir.path() / "capture");
+  if (::geteuid() != 0) {  // root writes anyway
+    EXPECT_EQ(r.exit_code, 4) << r.err;
+    EXPECT_TRUE(fs::is_empty(locked));
+  }
+  fs::permissions(locked, fs::perms::owner_all);
+}
 
 // Slurm asked for 4 tasks, MPI sees one rank: refused before any work.
 TEST(EnsembleCommand, SlurmTasksWithOneMpiRankAreRefused) {
