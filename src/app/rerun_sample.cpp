@@ -7,6 +7,7 @@
 #include <fstream>
 #include <iostream>
 
+#include "app/command_errors.hpp"
 #include "app/exit_codes.hpp"
 #include "app/run_trajectory.hpp"
 #include "common/error.hpp"
@@ -53,7 +54,7 @@ void write_text_atomically(const std::string& path, const std::string& text) {
 
 int rerun_sample(const std::string& job_path, std::uint64_t k, const std::string& output_path,
                  bool quiet, const RunProvenance& run) {
-  try {
+  return exit_code_of([&]() -> int {
     const Job job = ensemble::load_job(job_path);
     const ensemble::EnsembleSpec spec = ensemble::read_ensemble(job);
     require_sample(job, spec, k);
@@ -70,17 +71,11 @@ int rerun_sample(const std::string& job_path, std::uint64_t k, const std::string
       return kExitIntegration;
     }
     return run_trajectory(job, runner.model(), runner.initial_state(), output_path, quiet, run, &origin);
-  } catch (const JobError& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return kExitBadInput;
-  } catch (const h5::IoError& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return kExitIo;
-  }
+  });
 }
 
 int write_sample_job(const std::string& job_path, std::uint64_t k, const std::string& output_path) {
-  try {
+  return exit_code_of([&]() -> int {
     const Job job = ensemble::load_job(job_path);
     ensemble::require_not_a_sample_job(job);
     const ensemble::EnsembleSpec spec = ensemble::read_ensemble(job);
@@ -91,13 +86,7 @@ int write_sample_job(const std::string& job_path, std::uint64_t k, const std::st
     std::cout << "wrote " << output_path << " (sample " << k << " of " << job_path
               << "; run it with treedyn run)\n";
     return kExitOk;
-  } catch (const JobError& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return kExitBadInput;
-  } catch (const h5::IoError& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return kExitIo;
-  }
+  });
 }
 
 }  // namespace treedyn

@@ -4,14 +4,13 @@
 #include <cstdint>
 #include <iostream>
 
+#include "app/command_errors.hpp"
 #include "app/exit_codes.hpp"
 #include "app/model_summary.hpp"
 #include "app/report_command.hpp"
 #include "app/run_trajectory.hpp"
 #include "ensemble/sample_job.hpp"
-#include "hdf5/hdf5.hpp"
 #include "job/job.hpp"
-#include "job/job_error.hpp"
 
 namespace treedyn {
 namespace {
@@ -69,18 +68,9 @@ int main(int argc, char** argv) {
     const int code = app.exit(e);
     return code == 0 ? kExitOk : kExitBadInput;
   }
-  try {
+  return exit_code_of([&]() -> int {
     if (*check) return check_command(job_path, all_parameters);
     if (*report) return report_command(report_file, report_dir, report_quantities);
     return run_command(job_path, output_path, quiet, start_provenance(argc, argv, job_path));
-  } catch (const JobError& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return kExitBadInput;
-  } catch (const h5::IoError& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return kExitIo;
-  } catch (const std::exception& e) {
-    std::cerr << "internal error: " << e.what() << "\n";
-    return kExitInternal;
-  }
+  });
 }

@@ -1,0 +1,26 @@
+#include "app/command_errors.hpp"
+
+#include <iostream>
+
+#include "app/exit_codes.hpp"
+#include "hdf5/hdf5.hpp"
+#include "job/job_error.hpp"
+
+namespace treedyn {
+
+int exit_code_of(const std::function<int()>& command) {
+  try {
+    return command();
+  } catch (const JobError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return kExitBadInput;
+  } catch (const h5::IoError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return kExitIo;
+  } catch (const std::exception& e) {
+    std::cerr << "internal error: " << e.what() << "\n";
+    return kExitInternal;
+  }
+}
+
+}  // namespace treedyn
