@@ -25,6 +25,7 @@
 #include "ensemble/ensemble_spec.hpp"
 #include "job/job.hpp"
 #include "output/quantities.hpp"
+#include "support/branched_tree.hpp"
 #include "support/command.hpp"
 #include "support/ensemble_run.hpp"
 #include "support/hdf5_reader.hpp"
@@ -37,52 +38,7 @@ namespace ens = treedyn::ensemble;
 
 // The branched tree of ensemble_mpi_test.cpp, Saltelli's design over its 5
 // inputs (N = 8: 56 runs), responses of every kind, 6 stored trajectories.
-const std::string kJob = R"(title = "answers test: branched 3-body tree"
-
-[environment]
-gravity = [0.0, 0.0, -9.81]
-
-[[body]]
-name = "trunk"
-shape = "cylinder"
-radius = 0.02
-length = 0.5
-mass = 1.0
-parent = "base"
-joint_on_child = [0.0, 0.0, 0.25]
-orientation = { type = "axis_angle", axis = [1, 0, 0], angle = 30, unit = "deg" }
-
-[[body]]
-name = "arm"
-shape = "cylinder"
-radius = 0.02
-length = 0.4
-mass = 0.5
-parent = "trunk"
-joint_on_parent = [0.0, 0.0, -0.25]
-joint_on_child = [0.0, 0.0, 0.2]
-angular_velocity = { value = [0.0, 0.0, 2.0], frame = "inertial", unit = "rad/s" }
-
-[[body]]
-name = "bob"
-shape = "sphere"
-radius = 0.05
-mass = 0.3
-parent = "trunk"
-joint_on_parent = [0.05, 0.0, -0.25]
-joint_on_child = [0.0, 0.0, 0.05]
-
-[integrator]
-method = "cvode_adams"
-rtol = 1e-8
-atol = 1e-10
-
-[output]
-end_time = 2.0
-step = 0.05
-quantities = ["energy", "com_position", "angular_velocity", "joint_angle"]
-
-[ensemble]
+const std::string kJob = "title = \"answers test: branched 3-body tree\"\n" + kBranchedTreeModel + R"([ensemble]
 samples = 8
 seed = 42
 design = "saltelli"
