@@ -70,7 +70,8 @@ void print_model_summary(std::ostream& out, const Job& job) {
     for (int r = 0; r < 3; ++r) out << fmt("    [% .6e % .6e", K(r, 0), K(r, 1)) << fmt(" % .6e]\n", K(r, 2));
   }
   out << "integration: " << name(job.request.settings.method) << ", "
-      << name(job.request.parameterisation) << ", rtol " << job.request.settings.relative_tolerance
+      << name(job.request.parameterisation) << ", solver "
+      << name(resolve_solver(job.request.solver)) << ", rtol " << job.request.settings.relative_tolerance
       << ", atol " << job.request.settings.absolute_tolerance << "\n";
   out << "output: " << job.request.output_times.size() << " times from "
       << job.request.output_times.front() << " s to " << job.request.output_times.back()

@@ -4,6 +4,13 @@
 namespace treedyn {
 
 bool forward_dynamics(const Model& model, Data& data) {
+  if (data.solver == AccelerationSolver::recursive) {
+    compute_articulated_kinematics(model, data);
+    compute_applied_loads(model, data);
+    if (!sweep_articulated_inertias(model, data)) return false;
+    propagate_accelerations(model, data);
+    return data.angular_acceleration.allFinite();
+  }
   compute_frame_vectors(model, data);
   compute_velocity_terms(model, data);
   compute_applied_loads(model, data);

@@ -20,7 +20,7 @@ void require_sparse_factor_fits(const Topology& tree) {
   if (blocks > kMaxPathBlocks)
     throw ModelError("model: the tree is too deep for treedyn: " + std::to_string(blocks) +
                      " (body, ancestor) pairs, at most " + std::to_string(kMaxPathBlocks) +
-                     " (a single chain of about 3100 bodies); shorten the chains");
+                     " (a single chain of about 3100 bodies) for solver \"sparse_ldlt\"; use solver = \"recursive\" (the default)");
 }
 
 SparseMassMatrix::SparseMassMatrix(const Topology& tree) {

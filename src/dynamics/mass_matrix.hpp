@@ -23,6 +23,7 @@ long long path_block_count(const Topology& tree);
 void require_sparse_factor_fits(const Topology& tree);
 
 struct SparseMassMatrix {
+  SparseMassMatrix() = default;                      // empty: not the solver in use
   explicit SparseMassMatrix(const Topology& tree);  // throws ModelError when too deep
 
   std::vector<int> path_offset;               // start of body i's strict-ancestor blocks

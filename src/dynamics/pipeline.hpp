@@ -8,16 +8,33 @@
 
 namespace treedyn {
 
+// Force stage (both solvers): base kinematics at data.time, gravity and point
+// forces, applied moments, joint spring-damper moments and their energies.
+void compute_applied_loads(const Model& model, Data& data);
+
+// --- Recursive solver (data.solver == recursive), section 8. ---
+
+// Position and velocity stage: c_i, the rotated inertia about each inboard
+// joint, the gyroscopic and centripetal terms, and each joint's coupling to
+// its parent; clears the children's sums.
+void compute_articulated_kinematics(const Model& model, Data& data);
+
+// Leaves to root: H_i factored, the articulated mass Phi_i and bias phi_i of
+// every subtree. False if an H_i is not positive definite (non-finite state).
+bool sweep_articulated_inertias(const Model& model, Data& data);
+
+// Root to leaves: joint accelerations a_i, w' into data.angular_acceleration
+// and the joint reactions X_i of (12) into data.articulated.joint_reaction.
+void propagate_accelerations(const Model& model, Data& data);
+
+// --- Tree-sparse L^T D L solver (data.solver == sparse_ldlt), section 4. ---
+
 // Position stage: rotates K_i, b_i0, c_ii and the branch d-vectors into the
 // inertial frame using data.rotation.
 void compute_frame_vectors(const Model& model, Data& data);
 
 // Velocity stage: the centripetal sums of (55) from data.angular_velocity.
 void compute_velocity_terms(const Model& model, Data& data);
-
-// Force stage: base kinematics at data.time, gravity and point forces, applied
-// moments, joint spring-damper moments and their energies.
-void compute_applied_loads(const Model& model, Data& data);
 
 // Acceleration stage, part 1: the right-hand side Q of (59) with Mstar of (55).
 void compute_generalised_forces(const Model& model, Data& data);
@@ -30,12 +47,12 @@ bool factor_mass_matrix(const Model& model, Data& data);
 // Acceleration stage, part 3: w' = K^-1 Q into data.angular_acceleration.
 void solve_angular_accelerations(const Model& model, Data& data);
 
-// All stages. The caller sets data.time, data.rotation and
+// All stages of data.solver. The caller sets data.time, data.rotation and
 // data.angular_velocity first. False on a numerical failure.
 bool forward_dynamics(const Model& model, Data& data);
 
 // K as a dense 3n x 3n matrix (regular order), for tests and diagnostics.
-// Needs the position stage.
+// Needs the L^T D L position stage (a Data made for sparse_ldlt).
 Eigen::MatrixXd dense_mass_matrix(const Model& model, const Data& data);
 
 }  // namespace treedyn

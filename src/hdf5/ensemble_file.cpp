@@ -442,6 +442,7 @@ void EnsembleWriter::finish(const EnsembleSummary& summary, const RunProvenance&
   h5::write_attribute(root, "busy_seconds_per_rank", std::span<const double>(summary.busy_seconds));
   h5::write_attribute(root, "method", std::string(name(job_.request.settings.method)));
   h5::write_attribute(root, "parameterisation", std::string(name(job_.request.parameterisation)));
+  h5::write_attribute(root, "solver", std::string(name(resolve_solver(job_.request.solver))));
   h5::write_attribute(root, "histogram_bins", static_cast<long long>(spec_.histogram_bins));
   h5::write_attribute(root, "pilot_samples", static_cast<long long>(spec_.pilot_samples));
   reductions_.clear();

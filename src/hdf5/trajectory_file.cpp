@@ -45,6 +45,7 @@ void write_trajectory(const std::filesystem::path& path, const Job& job, const R
   h5::write_attribute(root, "title", job.title);
   h5::write_attribute(root, "method", std::string(name(job.request.settings.method)));
   h5::write_attribute(root, "parameterisation", std::string(name(job.request.parameterisation)));
+  h5::write_attribute(root, "solver", std::string(name(resolve_solver(job.request.solver))));
   h5::write_attribute(root, "relative_tolerance", job.request.settings.relative_tolerance);
   h5::write_attribute(root, "absolute_tolerance", job.request.settings.absolute_tolerance);
   for (const IntegratorStatField& f : kIntegratorStatFields)

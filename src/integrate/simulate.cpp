@@ -52,7 +52,7 @@ IntegrationOutcome simulate(const Model& model, const InitialState& initial,
   IntegrationOutcome outcome;
   outcome.time_reached = request.start_time;
 
-  TreeOde ode(model, request.parameterisation);
+  TreeOde ode(model, request.parameterisation, request.solver);
   sundials::Context context;
   sundials::Vector y(sundials::check_created(N_VNew_Serial(ode.size(), context), "N_VNew_Serial"));
   std::span<double> state{N_VGetArrayPointer(y.get()), static_cast<std::size_t>(ode.size())};

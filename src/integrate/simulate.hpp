@@ -23,6 +23,7 @@ struct SimulationRequest {
   double start_time = 0.0;
   std::vector<double> output_times;  // non-decreasing, >= start_time
   Parameterisation parameterisation = Parameterisation::quaternion;
+  AccelerationSolver solver = AccelerationSolver::automatic;  // [integrator] solver
   IntegratorSettings settings;
 };
 

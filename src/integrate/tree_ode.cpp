@@ -7,13 +7,13 @@
 
 namespace treedyn {
 
-TreeOde::TreeOde(const Model& model, Parameterisation parameterisation)
+TreeOde::TreeOde(const Model& model, Parameterisation parameterisation, AccelerationSolver solver)
     : model_(model),
       parameterisation_(parameterisation),
       count_(coordinate_count(parameterisation)),
       coordinate_offset_(static_cast<std::size_t>(model.n * coordinate_count(parameterisation))),
       chart_(static_cast<std::size_t>(model.n), Mat3::Identity()),
-      data_(model) {}
+      data_(model, solver) {}
 
 void TreeOde::pack(const InitialState& state, std::span<double> y) {
   if (static_cast<int>(state.rotation.size()) != model_.n ||

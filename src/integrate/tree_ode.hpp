@@ -19,7 +19,8 @@ namespace treedyn {
 
 class TreeOde {
  public:
-  TreeOde(const Model& model, Parameterisation parameterisation);
+  TreeOde(const Model& model, Parameterisation parameterisation,
+          AccelerationSolver solver = AccelerationSolver::automatic);
 
   int size() const { return static_cast<int>(coordinate_offset_ + 3 * model_.n); }
   int root_count() const { return model_.n; }

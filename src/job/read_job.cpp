@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "common/error.hpp"
+#include "dynamics/acceleration_solver.hpp"
 #include "dynamics/mass_matrix.hpp"
 #include "job/job.hpp"
 #include "job/readers.hpp"
@@ -15,13 +16,16 @@ namespace treedyn {
 namespace {
 
 void read_integrator(const TomlView& t, SimulationRequest& r) {
-  t.check_keys({"method", "parameterisation", "rtol", "atol", "max_steps", "max_step",
+  t.check_keys({"method", "parameterisation", "solver", "rtol", "atol", "max_steps", "max_step",
                 "initial_step"});
   if (auto m = t.string("method"); m && !parse_method(*m, r.settings.method))
     t.fail("method", "\"" + *m + "\" is not a method; allowed: " + choices(kMethodNames));
   if (auto p = t.string("parameterisation"); p && !parse_parameterisation(*p, r.parameterisation))
     t.fail("parameterisation",
            "\"" + *p + "\" is not a parameterisation; allowed: " + choices(kParameterisationNames));
+  if (auto s = t.string("solver"); s && !parse_acceleration_solver(*s, r.solver))
+    t.fail("solver", "\"" + *s + "\" is not an acceleration solver; allowed: " +
+                         choices(kAccelerationSolverNames));
   auto positive = [&](std::string_view key, double& value) {
     if (auto v = t.number(key)) {
       if (!(*v > 0.0)) t.fail(key, "must be positive");
@@ -147,7 +151,6 @@ Job parse_job(std::string_view text, const std::string& file) {
   // that defined it.
   try {
     job.definition = define_model(spec);
-    require_sparse_factor_fits(*job.definition.topology);
     derive_model(job.definition, job.definition.parameters.nominal(), job.model);
   } catch (const ModelError& e) {
     const auto it = bodies.where.find(e.subject());
@@ -157,7 +160,18 @@ Job parse_job(std::string_view text, const std::string& file) {
   }
   job.initial = std::move(bodies.initial);
 
-  if (auto integrator = root.subtable("integrator")) read_integrator(*integrator, job.request);
+  if (auto integrator = root.subtable("integrator")) {
+    read_integrator(*integrator, job.request);
+    // Only the L^T D L solver has a depth limit (its blocks grow like the
+    // sum of the depths); it is only ever chosen here, by name.
+    if (resolve_solver(job.request.solver) == AccelerationSolver::sparse_ldlt) {
+      try {
+        require_sparse_factor_fits(*job.definition.topology);
+      } catch (const ModelError& e) {
+        integrator->fail("solver", e.what());
+      }
+    }
+  }
   const auto output = root.subtable("output");
   if (!output)
     throw JobError(file, 0, 0, "output",

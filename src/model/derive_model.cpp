@@ -195,6 +195,7 @@ void compute_constants(Model& m) {
   m.barycentre_to_inboard.assign(n, Vec3::Zero());
   m.augmented_inertia.assign(n, Mat3::Zero());
   m.branch_d.assign(n, Vec3::Zero());
+  m.inertia_about_joint.assign(n, Mat3::Zero());
   for (int i = 0; i < n; ++i) {
     const Vec3& c_ii = m.com_to_inboard_joint[i];
     // beta_i: barycentre of the augmented body, M - mu_i at the inboard joint
@@ -210,6 +211,7 @@ void compute_constants(Model& m) {
       return Mat3(mass * (d.squaredNorm() * Mat3::Identity() - d * d.transpose()));
     };
     Mat3 K = m.inertia[i] + point_mass(m.mass[i], c_ii);
+    m.inertia_about_joint[i] = 0.5 * (K + K.transpose());  // H_i's own part (section 8)
     for (int k : tree.children[i]) {
       m.branch_d[k] = c_ii - m.parent_com_to_joint[k];  // d_ij, j in sub(k) (22)-(25)
       K += point_mass(m.subtree_mass[k], m.branch_d[k]);

@@ -41,6 +41,7 @@ struct Model {
   std::vector<Vec3> barycentre;               // beta_i, from the CoM of i
   std::vector<Vec3> barycentre_to_inboard;    // b_i0 = c_ii - beta_i (38)
   std::vector<Mat3> augmented_inertia;        // K_i about the inboard joint (47)-(48)
+  std::vector<Mat3> inertia_about_joint;      // J_i - m_i [c_ii]x^2: body i alone about its inboard joint
 
   // Applied loads and joint laws.
   Vec3 gravity = Vec3::Zero();

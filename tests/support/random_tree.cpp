@@ -24,7 +24,9 @@ ModelSpec random_tree(std::mt19937_64& rng, const RandomTreeOptions& options) {
   ModelSpec spec;
   std::vector<int> parent(n, -1);
   for (int i = 1; i < n; ++i)
-    parent[i] = options.chain ? i - 1 : std::uniform_int_distribution<int>(0, i - 1)(rng);
+    parent[i] = options.chain  ? i - 1
+                : options.star ? 0
+                               : std::uniform_int_distribution<int>(0, i - 1)(rng);
   std::vector<int> order(n);
   std::iota(order.begin(), order.end(), 0);
   if (options.shuffle_order) std::shuffle(order.begin(), order.end(), rng);

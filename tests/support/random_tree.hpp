@@ -13,6 +13,7 @@ namespace treedyn::testing {
 struct RandomTreeOptions {
   int bodies = 3;
   bool chain = false;             // each body hangs from the previous one
+  bool star = false;              // every other body hangs from the first
   bool shuffle_order = true;      // list bodies in a random (non-regular) order
   double spring_stiffness = 0.0;  // isotropic joint stiffness scale, 0: none
   double spring_damping = 0.0;    // isotropic joint damping scale, 0: none
