@@ -1,8 +1,10 @@
 // Cost of one right-hand-side evaluation of the tree ODE.
 //
-//   BM_Rhs/<shape>/n              TreeOde::rhs with quaternions: unpack the
-//                                 state, forward_dynamics, coordinate rates.
-//   BM_ForwardDynamics/<shape>/n  forward_dynamics alone on a filled Data.
+//   BM_Rhs/n/shape/solver              TreeOde::rhs with quaternions: unpack
+//                                      the state, forward_dynamics, rates.
+//   BM_ForwardDynamics/n/shape/solver  forward_dynamics alone on a filled Data.
+//
+// solver: 0 = recursive (section 8, the default), 1 = sparse_ldlt.
 //
 // Shapes: "chain" (body i hangs from body i-1) and "binary" (a balanced binary
 // tree, p(i) = (i-1)/2 in 0-based regular order). Bodies have random masses,
@@ -11,6 +13,7 @@
 // up to 3 rad/s. Times are per evaluation.
 #include <benchmark/benchmark.h>
 
+#include <cstdint>
 #include <random>
 #include <string>
 #include <vector>
@@ -74,10 +77,19 @@ InitialState make_state(int n) {
   return s;
 }
 
+AccelerationSolver solver_of(std::int64_t arg) {
+  return arg == 0 ? AccelerationSolver::recursive : AccelerationSolver::sparse_ldlt;
+}
+
+std::string label_of(const benchmark::State& state) {
+  return std::string(state.range(1) == kChain ? "chain" : "binary") + " " +
+         std::string(name(solver_of(state.range(2))));
+}
+
 void BM_Rhs(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0));
   const Model model = build_model(make_tree(n, static_cast<Shape>(state.range(1))));
-  TreeOde ode(model, Parameterisation::quaternion);
+  TreeOde ode(model, Parameterisation::quaternion, solver_of(state.range(2)));
   std::vector<double> y(static_cast<std::size_t>(ode.size())), y_dot(y.size());
   ode.pack(make_state(n), y);
   if (!ode.rhs(0.0, y, y_dot)) {
@@ -90,13 +102,13 @@ void BM_Rhs(benchmark::State& state) {
     benchmark::DoNotOptimize(ok);
     benchmark::ClobberMemory();
   }
-  state.SetLabel(state.range(1) == kChain ? "chain" : "binary");
+  state.SetLabel(label_of(state));
 }
 
 void BM_ForwardDynamics(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0));
   const Model model = build_model(make_tree(n, static_cast<Shape>(state.range(1))));
-  Data data(model);
+  Data data(model, solver_of(state.range(2)));
   const InitialState s = make_state(n);
   for (int i = 0; i < n; ++i) {
     data.rotation[i] = s.rotation[model.tree().user_index[i]];
@@ -112,13 +124,14 @@ void BM_ForwardDynamics(benchmark::State& state) {
     benchmark::DoNotOptimize(ok);
     benchmark::ClobberMemory();
   }
-  state.SetLabel(state.range(1) == kChain ? "chain" : "binary");
+  state.SetLabel(label_of(state));
 }
 
 void shapes_and_sizes(benchmark::internal::Benchmark* b) {
-  b->ArgNames({"n", "shape"});
-  for (int shape : {kChain, kBinary})
-    for (int n : {1, 3, 10, 30, 100}) b->Args({n, shape});
+  b->ArgNames({"n", "shape", "solver"});
+  for (int solver : {0, 1})
+    for (int shape : {kChain, kBinary})
+      for (int n : {1, 3, 10, 30, 100}) b->Args({n, shape, solver});
 }
 
 BENCHMARK(BM_Rhs)->Apply(shapes_and_sizes)->Unit(benchmark::kNanosecond);

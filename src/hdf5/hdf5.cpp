@@ -120,7 +120,14 @@ File::File(std::filesystem::path final_path) : final_path_(std::move(final_path)
   temporary_path_ = final_path_;
   temporary_path_ += ".tmp-" + std::to_string(getpid());
   guard_ = std::make_unique<RemoveOnSignal>(temporary_path_);
-  hid_t id = H5Fcreate(temporary_path_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  // The 1.8 file format (object header v2) moves an attribute that does not
+  // fit the 64 KiB object header into dense storage, so the per-column
+  // attributes of a model with thousands of bodies fit; every HDF5 >= 1.8
+  // (2008), h5py and MATLAB read it.
+  Handle access(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "creating file access properties");
+  if (H5Pset_libver_bounds(access.id(), H5F_LIBVER_V18, H5F_LIBVER_LATEST) < 0)
+    throw IoError("output " + final_path_.string() + ": HDF5 refused the 1.8 file format");
+  hid_t id = H5Fcreate(temporary_path_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access.id());
   if (id < 0) {
     std::error_code ec;
     std::filesystem::remove(temporary_path_, ec);  // HDF5 may have left a stub

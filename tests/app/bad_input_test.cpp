@@ -175,6 +175,31 @@ TEST(BadInput, UnknownSpringLawListsTheLaws) {
                    {"\"linear\" is not a spring law", "\"quaternion\"", "\"rotation_vector\""});
 }
 
+TEST(BadInput, UnknownAccelerationSolverListsTheSolvers) {
+  const std::string text = kGoodJob + "\n[integrator]\nsolver = \"featherstone\"\n";
+  Case c("unknown solver", text);
+  c.expect_refused(2, c.job() + ":" + value_position(text, "solver = \"featherstone\"") + ": integrator.solver: ",
+                   {"\"featherstone\" is not an acceleration solver", "\"auto\"", "\"recursive\"",
+                    "\"sparse_ldlt\""});
+}
+
+// A chain of 3200 bodies needs more (body, ancestor) blocks than the L^T D L
+// solver allows; the recursive solver (the default) has no such limit.
+TEST(BadInput, TooDeepForTheSparseSolverPointsAtTheSolverField) {
+  std::string bodies;
+  for (int i = 0; i < 3200; ++i)
+    bodies += "[[body]]\nname = \"b" + std::to_string(i) + "\"\nmass = 1.0\nprincipal_moments = [0.1, 0.1, 0.1]\nparent = \"" +
+              (i == 0 ? std::string("base") : "b" + std::to_string(i - 1)) +
+              "\"\njoint_on_child = [0.0, 0.0, 0.01]\njoint_on_parent = [0.0, 0.0, -0.01]\n";
+  const std::string text = bodies + "[integrator]\nsolver = \"sparse_ldlt\"\n[output]\nend_time = 1e-3\nstep = 1e-3\n";
+  Case c("too deep for sparse_ldlt", text);
+  c.expect_refused(2, c.job() + ":" + value_position(text, "solver = \"sparse_ldlt\"") + ": integrator.solver: ",
+                   {"too deep", "sparse_ldlt", "recursive"});
+  Case recursive("3200 bodies, recursive solver", with(text, "solver = \"sparse_ldlt\"", "solver = \"auto\""));
+  EXPECT_EQ(recursive.result().exit_code, 0) << recursive.err();
+  EXPECT_TRUE(fs::exists(recursive.output()));
+}
+
 TEST(BadInput, UpperEndNeedsACylinder) {
   const std::string text =
       "[[body]]\nname = \"ball\"\nshape = \"sphere\"\nradius = 0.1\nmass = 1.0\nparent = \"base\"\n"
