@@ -34,6 +34,45 @@ void write_quantity_datasets(hid_t group, const ColumnLayout& layout, std::size_
   }
 }
 
+namespace {
+
+// Where the integrator re-expressed an orientation in a fresh chart (angle
+// sets near their singular set, quaternions and direction cosines that
+// drifted): time and body of each change, and the count per body.
+void write_chart_changes(hid_t root, const Job& job, const IntegrationOutcome& outcome) {
+  h5::Handle group = h5::create_group(root, "chart_changes");
+  h5::write_attribute(group.id(), "description",
+                      std::string("orientation chart changes, each at the end of an integration step "
+                                  "(the integrator restarts there from its own state)"));
+  std::vector<double> times;
+  std::vector<long long> body, count(static_cast<std::size_t>(job.model.n), 0);
+  for (const ChartChange& c : outcome.chart_changes) {
+    times.push_back(c.time);
+    body.push_back(c.body);
+    ++count[static_cast<std::size_t>(c.body)];
+  }
+  {
+    h5::Handle set = h5::write_vector(group.id(), "time", times);
+    h5::write_attribute(set.id(), "units", std::string("s"));
+    h5::write_attribute(set.id(), "description", std::string("time of each change, in time order"));
+  }
+  {
+    const hsize_t dims[1] = {body.size()};
+    h5::Handle set = h5::write_array(group.id(), "body", H5T_NATIVE_LLONG, body.data(), dims);
+    h5::write_attribute(set.id(), "units", std::string("1"));
+    h5::write_attribute(set.id(), "description",
+                        std::string("body of each change: 0-based index into the root attribute 'bodies'"));
+  }
+  {
+    const hsize_t dims[1] = {count.size()};
+    h5::Handle set = h5::write_array(group.id(), "count", H5T_NATIVE_LLONG, count.data(), dims);
+    h5::write_attribute(set.id(), "units", std::string("1"));
+    h5::write_attribute(set.id(), "description", std::string("number of changes per body, in the order of 'bodies'"));
+  }
+}
+
+}  // namespace
+
 void write_trajectory(const std::filesystem::path& path, const Job& job, const Recorder& recorder,
                       const IntegrationOutcome& outcome, const RunProvenance& run,
                       const SampleOrigin* sample) {
@@ -73,6 +112,7 @@ void write_trajectory(const std::filesystem::path& path, const Job& job, const R
                                     "quaternion (q0 >= 0) and the inertial angular velocity"));
     h5::write_attribute(set.id(), "columns", final_state_columns(job.model.tree()));
   }
+  write_chart_changes(root, job, outcome);
   if (sample) {
     h5::Handle group = h5::create_group(root, "sample");
     h5::write_attribute(group.id(), "description",

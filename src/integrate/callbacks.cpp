@@ -23,16 +23,6 @@ int tree_rhs(double t, N_Vector y, N_Vector y_dot, void* ode) {
   }
 }
 
-int tree_roots(double, N_Vector y, double* g, void* ode) {
-  try {
-    auto* tree = static_cast<TreeOde*>(ode);
-    tree->chart_margins(view(y), {g, static_cast<std::size_t>(tree->root_count())});
-    return 0;
-  } catch (...) {
-    return -1;
-  }
-}
-
 void record_sundials_error(int, const char* module, const char* function, char* msg,
                            void* stepper) {
   try {

@@ -63,24 +63,18 @@ class CvodeStepper final : public Stepper {
           check_created(SUNNonlinSol_FixedPoint(y0, 0, ctx), "SUNNonlinSol_FixedPoint"));
       check(CVodeSetNonlinearSolver(m, nonlinear_.get()), "CVodeSetNonlinearSolver");
     }
-    check(CVodeRootInit(m, ode_.root_count(), tree_roots), "CVodeRootInit");
-    // Only a margin falling through zero stops the integration.
-    std::vector<int> downwards(static_cast<std::size_t>(ode_.root_count()), -1);
-    check(CVodeSetRootDirection(m, downwards.data()), "CVodeSetRootDirection");
-    check(CVodeSetNoInactiveRootWarn(m), "CVodeSetNoInactiveRootWarn");
   }
 
-  AdvanceResult advance(double tout, N_Vector y, double& t) override {
-    const int flag = CVode(mem_.get(), tout, y, &t, CV_NORMAL);
-    if (flag == CV_ROOT_RETURN) return AdvanceResult::root;
-    if (flag >= 0) return AdvanceResult::reached;
+  AdvanceResult step(double tout, N_Vector y, double& t) override {
+    const int flag = CVode(mem_.get(), tout, y, &t, CV_ONE_STEP);
+    if (flag >= 0) return AdvanceResult::stepped;
     failure_ = classify(flag);
     return AdvanceResult::failed;
   }
 
-  void restart(double t, N_Vector y) override { check(CVodeReInit(mem_.get(), t, y), "CVodeReInit"); }
+  void interpolate(double t, N_Vector y) override { check(CVodeGetDky(mem_.get(), t, 0, y), "CVodeGetDky"); }
 
-  void root_flags(int* flags) override { check(CVodeGetRootInfo(mem_.get(), flags), "CVodeGetRootInfo"); }
+  void restart(double t, N_Vector y) override { check(CVodeReInit(mem_.get(), t, y), "CVodeReInit"); }
 
   IntegratorStats counters() override {
     IntegratorStats s;
@@ -90,7 +84,6 @@ class CvodeStepper final : public Stepper {
     CVodeGetNumRhsEvals(m, &s.rhs_evaluations);
     CVodeGetNumErrTestFails(m, &s.error_test_failures);
     CVodeGetNumNonlinSolvConvFails(m, &nni_fails);
-    CVodeGetNumGEvals(m, &s.root_evaluations);
     s.nonlinear_convergence_failures = nni_fails;
     if (linear_) {  // difference-quotient Jacobian columns cost RHS evaluations too
       long jac_rhs = 0;

@@ -79,25 +79,20 @@ class ErkStepper final : public Stepper {
     check(ERKStepSetMaxNumSteps(m, s.max_steps), "ERKStepSetMaxNumSteps");
     if (s.max_step > 0.0) check(ERKStepSetMaxStep(m, s.max_step), "ERKStepSetMaxStep");
     if (s.initial_step > 0.0) check(ERKStepSetInitStep(m, s.initial_step), "ERKStepSetInitStep");
-    check(ERKStepRootInit(m, ode_.root_count(), tree_roots), "ERKStepRootInit");
-    std::vector<int> downwards(static_cast<std::size_t>(ode_.root_count()), -1);
-    check(ERKStepSetRootDirection(m, downwards.data()), "ERKStepSetRootDirection");
-    check(ERKStepSetNoInactiveRootWarn(m), "ERKStepSetNoInactiveRootWarn");
   }
 
-  AdvanceResult advance(double tout, N_Vector y, double& t) override {
-    const int flag = ERKStepEvolve(mem_.get(), tout, y, &t, ARK_NORMAL);
-    if (flag == ARK_ROOT_RETURN) return AdvanceResult::root;
-    if (flag >= 0) return AdvanceResult::reached;
+  AdvanceResult step(double tout, N_Vector y, double& t) override {
+    const int flag = ERKStepEvolve(mem_.get(), tout, y, &t, ARK_ONE_STEP);
+    if (flag >= 0) return AdvanceResult::stepped;
     failure_ = classify(flag);
     return AdvanceResult::failed;
   }
 
+  void interpolate(double t, N_Vector y) override { check(ERKStepGetDky(mem_.get(), t, 0, y), "ERKStepGetDky"); }
+
   void restart(double t, N_Vector y) override {
     check(ERKStepReInit(mem_.get(), tree_rhs, t, y), "ERKStepReInit");
   }
-
-  void root_flags(int* flags) override { check(ERKStepGetRootInfo(mem_.get(), flags), "ERKStepGetRootInfo"); }
 
   IntegratorStats counters() override {
     IntegratorStats s;
@@ -105,7 +100,6 @@ class ErkStepper final : public Stepper {
     ERKStepGetNumSteps(m, &s.steps);
     ERKStepGetNumRhsEvals(m, &s.rhs_evaluations);
     ERKStepGetNumErrTestFails(m, &s.error_test_failures);
-    ERKStepGetNumGEvals(m, &s.root_evaluations);
     return s;
   }
 

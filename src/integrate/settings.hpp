@@ -3,6 +3,7 @@
 
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "common/enum_names.hpp"
 #include "integrate/integrator_stats.hpp"
@@ -54,11 +55,18 @@ inline constexpr NameTable<FailureKind, 8> kFailureNames{{
     {FailureKind::other, "other"}}};
 inline std::string_view name(FailureKind f) { return name_in(kFailureNames, f); }
 
+// A body's orientation re-expressed in a fresh chart, at the end of a step.
+struct ChartChange {
+  double time = 0.0;
+  int body = 0;  // user order
+};
+
 struct IntegrationOutcome {
   FailureKind failure = FailureKind::none;
   double time_reached = 0.0;
   std::string message;  // SUNDIALS' own words, when it gave any
   IntegratorStats stats;
+  std::vector<ChartChange> chart_changes;  // in time order
   bool ok() const { return failure == FailureKind::none; }
 };
 

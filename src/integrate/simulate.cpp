@@ -55,55 +55,83 @@ IntegrationOutcome simulate(const Model& model, const InitialState& initial,
   TreeOde ode(model, request.parameterisation, request.solver);
   sundials::Context context;
   sundials::Vector y(sundials::check_created(N_VNew_Serial(ode.size(), context), "N_VNew_Serial"));
-  std::span<double> state{N_VGetArrayPointer(y.get()), static_cast<std::size_t>(ode.size())};
+  sundials::Vector y_out(sundials::check_created(N_VNew_Serial(ode.size(), context), "N_VNew_Serial"));
+  auto view = [&](N_Vector v) {
+    return std::span<double>{N_VGetArrayPointer(v), static_cast<std::size_t>(ode.size())};
+  };
+  const std::span<double> state = view(y.get());
   ode.pack(initial, state);
 
-  auto report = [&](double t) {
-    ode.unpack(t, state);
-    if (!forward_dynamics(model, ode.data())) return false;
-    if (observer) observer(model, ode.data());
-    return true;
-  };
-
   std::unique_ptr<Stepper> stepper;
+  auto fail = [&](FailureKind kind, std::string message, double time) {
+    if (stepper) add(outcome.stats, stepper->counters());
+    outcome.failure = kind;
+    outcome.message = std::move(message);
+    outcome.time_reached = time;
+    return outcome;
+  };
   try {
     stepper = make_stepper(ode, request.settings, request.start_time, y.get(), context);
   } catch (const sundials::SetupError& e) {
-    outcome.failure = FailureKind::setup;
-    outcome.message = e.what();
-    return outcome;
+    return fail(FailureKind::setup, e.what(), request.start_time);
   }
 
-  std::vector<int> roots(static_cast<std::size_t>(ode.root_count()), 0);
+  const std::vector<double>& outputs = request.output_times;
+  std::size_t next = 0;
+  std::vector<double> margins(static_cast<std::size_t>(ode.root_count()));
+  std::vector<int> change(margins.size(), 0);
+  long steps_since_output = 0;
   double t = request.start_time;
-  for (double tout : request.output_times) {
-    while (t < tout) {
-      const AdvanceResult result = stepper->advance(tout, y.get(), t);
-      if (result == AdvanceResult::failed) {
-        add(outcome.stats, stepper->counters());
-        outcome.failure = stepper->failure();
-        outcome.message = stepper->message();
-        outcome.time_reached = stepper->current_time();
-        return outcome;
+  try {
+    // Every output time up to t: the step's end itself, or its dense output.
+    auto report_up_to = [&](double t_end) {
+      for (; next < outputs.size() && outputs[next] <= t_end; ++next) {
+        const double tout = outputs[next];
+        N_Vector at = y.get();
+        if (tout < t_end) {
+          stepper->interpolate(tout, y_out.get());
+          at = y_out.get();
+        }
+        ode.unpack(tout, view(at));
+        if (!forward_dynamics(model, ode.data())) return false;
+        if (observer) observer(model, ode.data());
+        outcome.time_reached = tout;
+        steps_since_output = 0;
       }
-      if (result == AdvanceResult::root) {
-        // A chart is about to go bad: re-express and start afresh from here.
-        stepper->root_flags(roots.data());
-        outcome.stats.chart_changes += ode.recentre_charts(state, roots);
-        add(outcome.stats, stepper->counters());
-        stepper->restart(t, y.get());
-        ++outcome.stats.restarts;
+      return true;
+    };
+    if (!report_up_to(t)) return fail(FailureKind::nonfinite_state, "state is not finite at an output time", t);
+    while (next < outputs.size()) {
+      if (stepper->step(outputs[next], y.get(), t) == AdvanceResult::failed)
+        return fail(stepper->failure(), stepper->message(), stepper->current_time());
+      if (!report_up_to(t))
+        return fail(FailureKind::nonfinite_state, "state is not finite at an output time", outputs[next]);
+      if (next == outputs.size()) break;
+      if (++steps_since_output >= request.settings.max_steps)
+        return fail(FailureKind::too_much_work,
+                    "at t = " + std::to_string(t) + " s: " + std::to_string(request.settings.max_steps) +
+                        " steps (max_steps) taken before the next output time",
+                    t);
+      // A chart past its margin is changed here, at the step's end, where the
+      // state is the integrator's own: the restart adds no interpolation
+      // error. The switch instant is free inside the margin.
+      ode.chart_margins(state, margins);
+      ++outcome.stats.root_evaluations;
+      bool any = false;
+      for (std::size_t i = 0; i < margins.size(); ++i) {
+        change[i] = margins[i] < 0.0 ? 1 : 0;
+        any = any || change[i] != 0;
       }
-    }
-    // The output: at tout exactly (t == tout after a dense-output return).
-    if (!report(tout)) {
-      outcome.failure = FailureKind::nonfinite_state;
-      outcome.message = "state is not finite at an output time";
-      outcome.time_reached = tout;
+      if (!any) continue;
+      outcome.stats.chart_changes += ode.recentre_charts(state, change);
+      for (std::size_t i = 0; i < change.size(); ++i)
+        if (change[i] != 0) outcome.chart_changes.push_back({t, model.tree().user_index[i]});
       add(outcome.stats, stepper->counters());
-      return outcome;
+      stepper->restart(t, y.get());
+      ++outcome.stats.restarts;
     }
-    outcome.time_reached = tout;
+  } catch (const sundials::SetupError& e) {
+    return fail(FailureKind::setup, e.what(), t);
   }
   add(outcome.stats, stepper->counters());
   return outcome;

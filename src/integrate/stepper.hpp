@@ -1,5 +1,7 @@
-// One SUNDIALS time stepper (CVODE or ARKODE ERKStep) driving a TreeOde, with
-// chart-change roots. The callbacks never let an exception into SUNDIALS.
+// One SUNDIALS time stepper (CVODE or ARKODE ERKStep) driving a TreeOde, one
+// step at a time so that the caller can change charts at a step's end (where
+// the state is the integrator's own, not an interpolant). The callbacks never
+// let an exception into SUNDIALS.
 #pragma once
 
 #include <memory>
@@ -11,17 +13,20 @@
 
 namespace treedyn {
 
-enum class AdvanceResult { reached, root, failed };
+enum class AdvanceResult { stepped, failed };
 
 class Stepper {
  public:
   virtual ~Stepper() = default;
-  // Integrates towards tout; on return y holds the state at t (tout through
-  // the integrator's dense output, or the root, or where it failed).
-  virtual AdvanceResult advance(double tout, N_Vector y, double& t) = 0;
-  // Starts afresh from (t, y) after the state was re-expressed.
+  // One internal step towards tout (it may step past it); on return y holds
+  // the state at the step's end t.
+  virtual AdvanceResult step(double tout, N_Vector y, double& t) = 0;
+  // The dense output of the last step at t inside it, into y. Throws
+  // sundials::SetupError if SUNDIALS refuses.
+  virtual void interpolate(double t, N_Vector y) = 0;
+  // Starts afresh from (t, y) after the state was re-expressed. Throws
+  // sundials::SetupError if SUNDIALS refuses.
   virtual void restart(double t, N_Vector y) = 0;
-  virtual void root_flags(int* flags) = 0;
   // Counters since the last restart.
   virtual IntegratorStats counters() = 0;
   virtual double current_time() = 0;
@@ -42,7 +47,6 @@ void record_sundials_error(int code, const char* module, const char* function, c
 
 // C callbacks shared by both steppers; user_data is the TreeOde.
 int tree_rhs(double t, N_Vector y, N_Vector y_dot, void* ode);
-int tree_roots(double t, N_Vector y, double* g, void* ode);
 
 std::unique_ptr<Stepper> make_stepper(TreeOde& ode, const IntegratorSettings& settings,
                                       double t0, N_Vector y0, SUNContext context);

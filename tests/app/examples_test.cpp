@@ -225,6 +225,27 @@ class ExampleRun {
     steps_ = read_integer_attribute(file(), "steps");
     EXPECT_GT(steps_, 0);
     EXPECT_GT(read_integer_attribute(file(), "rhs_evaluations"), 0);
+    EXPECT_EQ(read_single_string_attribute(file(), "solver"), "recursive");
+
+    // The chart-change log adds up to the counter, per body and in all.
+    const long long changes = read_integer_attribute(file(), "chart_changes");
+    const std::vector<double> change_times = read_doubles(file(), "chart_changes/time");
+    const std::vector<long long> change_body = read_integers(file(), "chart_changes/body");
+    const std::vector<long long> per_body = read_integers(file(), "chart_changes/count");
+    EXPECT_EQ(static_cast<long long>(change_times.size()), changes);
+    EXPECT_EQ(change_body.size(), change_times.size());
+    EXPECT_EQ(per_body.size(), example_.bodies.size());
+    long long total = 0;
+    for (long long c : per_body) total += c;
+    EXPECT_EQ(total, changes);
+    for (std::size_t k = 0; k < change_times.size(); ++k) {
+      EXPECT_GE(change_body[k], 0);
+      EXPECT_LT(change_body[k], static_cast<long long>(example_.bodies.size()));
+      if (k > 0) {
+        EXPECT_LE(change_times[k - 1], change_times[k]);
+      }
+    }
+    std::printf("%s: %lld chart changes\n", example_.name.c_str(), changes);
     return true;
   }
 

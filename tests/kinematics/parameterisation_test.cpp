@@ -465,6 +465,11 @@ ModelSpec spherical_pendulum_body() {
 // rotation about y drives a2 through 90 degrees; the Euler chart starts at
 // theta = 90 degrees with C = A0 Rx(pi/2)^T, and rotation about body x by -90
 // degrees reaches theta = 0; a generic axis crosses both many times over.
+// Charts change at step ends. Along the three axis-aligned motions the angles
+// are exactly linear in time, so the integrator's steps grow by 10x at a time
+// and may step straight across the singular set, accurately (the rates stay
+// finite there for these motions); only the generic motion, whose rates do
+// blow up at the singular set, must change charts.
 // Tolerance 1e-8 rad on the orientation over 10 s (up to ~45 rad of rotation)
 // at rtol = atol = 1e-12: the integration error is ~1e-10; a wrong chart base
 // or a jump at a re-basing would show as an O(1) error.
@@ -474,14 +479,14 @@ TEST(ParameterisationRuns, SingularPassagesMatchClosedForm) {
     const char* what;
     Mat3 A0;
     Vec3 w;
-    bool bryant_singular;  // the motion reaches the Bryant (resp. Euler) set
-    bool euler_singular;   // of the first chart, so the chart must change
+    bool bryant_singular;  // the Bryant (resp. Euler) rates blow up on the way,
+    bool euler_singular;   // so the chart must change
   };
   const Mat3 tilted = Eigen::AngleAxisd(0.7, Vec3(1.0, -2.0, 0.5).normalized()).toRotationMatrix();
   const std::vector<Case> cases = {
-      {"about y from E (Bryant a2 -> 90 deg)", Mat3::Identity(), Vec3(0.0, 3.0, 0.0), true, false},
-      {"about -x from E (Euler theta -> 0)", Mat3::Identity(), Vec3(-3.0, 0.0, 0.0), false, true},
-      {"about x from E (Euler theta -> 180)", Mat3::Identity(), Vec3(2.5, 0.0, 0.0), false, true},
+      {"about y from E (Bryant a2 -> 90 deg)", Mat3::Identity(), Vec3(0.0, 3.0, 0.0), false, false},
+      {"about -x from E (Euler theta -> 0)", Mat3::Identity(), Vec3(-3.0, 0.0, 0.0), false, false},
+      {"about x from E (Euler theta -> 180)", Mat3::Identity(), Vec3(2.5, 0.0, 0.0), false, false},
       {"generic axis, tilted start", tilted, Vec3(1.3, -2.1, 2.7), true, true},
   };
   const std::vector<double> times = grid(10.0, 1000);
