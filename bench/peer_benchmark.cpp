@@ -12,6 +12,7 @@
 // every engine recomputes its kinematics each time.
 //
 //   peer_benchmark [--rounds R] [--min-ms T] [--cpu C]
+//   peer_benchmark --accuracy     accuracy per cost instead (see accuracy_table)
 //
 // Exit 1 when the engines disagree by more than 1e-8 relative.
 #include <mujoco/mujoco.h>
@@ -37,6 +38,7 @@
 #include "benchmark_models.hpp"
 #include "dynamics/data.hpp"
 #include "dynamics/pipeline.hpp"
+#include "integrate/simulate.hpp"
 #include "model/model.hpp"
 
 namespace {
@@ -186,7 +188,7 @@ struct DartEngine {
 // the included file's elements in place).
 using XmlFiles = std::vector<std::pair<std::string, std::string>>;  // name, text
 
-XmlFiles mujoco_xml(const Tree& t) {
+XmlFiles mujoco_xml(const Tree& t, double rk4_step) {
   XmlFiles files;
   auto number = [](double v) {
     std::ostringstream o;
@@ -220,17 +222,19 @@ XmlFiles mujoco_xml(const Tree& t) {
   for (int i = 0; i < t.n; ++i)
     if (t.parent[i] < 0) world += body(i, 0);
   files.emplace_back("tree.xml", "<mujoco model='tree'><compiler inertiafromgeom='false' angle='radian'/>"
-                                 "<option gravity='0 0 " + number(kGravity) +
-                                     "'><flag contact='disable'/></option><worldbody>" + world +
+                                 "<option gravity='0 0 " + number(kGravity) + "'" +
+                                     (rk4_step > 0.0 ? " integrator='RK4' timestep='" + number(rk4_step) + "'" : "") +
+                                     "><flag contact='disable'/></option><worldbody>" + world +
                                      "</worldbody></mujoco>");
   return files;
 }
 
 struct MujocoEngine {
-  explicit MujocoEngine(const Tree& t) : tree(t) {
+  // rk4_step > 0: the model integrates with MuJoCo's RK4 at that step.
+  explicit MujocoEngine(const Tree& t, double rk4_step = 0.0) : tree(t) {
     auto vfs = std::make_unique<mjVFS>();
     mj_defaultVFS(vfs.get());
-    for (const auto& [name, xml] : mujoco_xml(t)) {
+    for (const auto& [name, xml] : mujoco_xml(t, rk4_step)) {
       if (mj_makeEmptyFileVFS(vfs.get(), name.c_str(), static_cast<int>(xml.size())) != 0)
         throw std::runtime_error("mujoco: VFS full");
       std::memcpy(vfs->filedata[mj_findFileVFS(vfs.get(), name.c_str())], xml.data(), xml.size());
@@ -317,18 +321,131 @@ double median(std::vector<double> v) {
   return v.size() % 2 == 1 ? v[m] : 0.5 * (v[m - 1] + v[m]);
 }
 
+// ---------------------------------------------------------------------------
+// Accuracy per cost: the 10-link chain over 10 s of swinging about its
+// hanging equilibrium (found by letting a damped copy come to rest), with
+// random angular velocities up to 0.6 rad/s: large enough to be nonlinear,
+// small enough not to be chaotic, so that a reference can be trusted. The
+// final orientations against a tight reference (treedyn, erk_verner with
+// direction cosines at rtol = atol = 1e-14, checked against quaternions at
+// the same setting); error = the largest rotation angle over the bodies.
+// treedyn: every method with quaternions at several tolerances; MuJoCo: RK4
+// (4th order, quaternion integration) at several fixed steps.
+
+constexpr double kAccuracyEnd = 10.0;
+
+// Through the quaternion (2 atan2(|v|, |w|)): accurate for small angles,
+// where acos of the trace would floor at ~1e-8.
+double angle_between(const Mat3& a, const Mat3& b) {
+  const Quat q(Mat3(a.transpose() * b));
+  return 2.0 * std::atan2(q.vec().norm(), std::abs(q.w()));
+}
+
+double worst_angle(const std::vector<Mat3>& a, const std::vector<Mat3>& b) {
+  double worst = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i) worst = std::max(worst, angle_between(a[i], b[i]));
+  return worst;
+}
+
+struct TimedRun {
+  std::vector<Mat3> rotation;  // user order, at kAccuracyEnd
+  double cpu_ms = 0.0;
+  long rhs = 0;
+};
+
+TimedRun treedyn_run(const Model& model, const InitialState& initial, Method method, Parameterisation p,
+                     double tol, double end = kAccuracyEnd) {
+  SimulationRequest request;
+  request.output_times = {end};
+  request.parameterisation = p;
+  request.settings.method = method;
+  request.settings.relative_tolerance = tol;
+  request.settings.absolute_tolerance = tol;
+  request.settings.max_steps = 100'000'000;
+  TimedRun r;
+  const double start = thread_cpu_ns();
+  const IntegrationOutcome out = simulate(model, initial, request, [&](const Model& m, const Data& d) {
+    r.rotation.assign(static_cast<std::size_t>(m.n), Mat3::Identity());
+    for (int i = 0; i < m.n; ++i) r.rotation[m.tree().user_index[i]] = d.rotation[i];
+  });
+  r.cpu_ms = (thread_cpu_ns() - start) * 1e-6;
+  r.rhs = out.stats.rhs_evaluations;
+  if (!out.ok()) throw std::runtime_error("treedyn: " + out.message);
+  return r;
+}
+
+TimedRun mujoco_run(const Tree& tree, double step) {
+  MujocoEngine mj(tree, step);
+  TimedRun r;
+  const long steps = std::lround(kAccuracyEnd / step);
+  const double start = thread_cpu_ns();
+  std::copy(mj.qpos.begin(), mj.qpos.end(), mj.data->qpos);
+  std::copy(mj.qvel.begin(), mj.qvel.end(), mj.data->qvel);
+  for (long k = 0; k < steps; ++k) mj_step(mj.model, mj.data);
+  mj_kinematics(mj.model, mj.data);
+  r.cpu_ms = (thread_cpu_ns() - start) * 1e-6;
+  r.rhs = 4 * steps;
+  for (int i = 0; i < tree.n; ++i)
+    r.rotation.push_back(Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(
+        mj.data->xmat + 9 * mj.body_id(i)));
+  return r;
+}
+
+void accuracy_table() {
+  const int n = 10;
+  const ModelSpec spec = bench::make_tree(n, bench::kChain);
+  InitialState initial = bench::make_state(n);
+  {
+    ModelSpec damped = spec;
+    for (JointSpec& j : damped.joints) j.spring.damping = 2.0 * Mat3::Identity();
+    const TimedRun rest =
+        treedyn_run(build_model(damped), initial, Method::cvode_adams, Parameterisation::quaternion, 1e-10, 60.0);
+    initial.rotation = rest.rotation;
+    for (Vec3& w : initial.angular_velocity) w *= 0.2;
+  }
+  const Model model = build_model(spec);
+  const Tree tree = describe(spec, initial);
+  const TimedRun reference = treedyn_run(model, initial, Method::erk_verner, Parameterisation::direction_cosines, 1e-14);
+  const TimedRun check = treedyn_run(model, initial, Method::erk_verner, Parameterisation::quaternion, 1e-14);
+  std::printf("\naccuracy per cost: chain-10, 10 s; reference spread (quaternion vs direction cosines at 1e-14) "
+              "%.1e rad\n\n| integrator | setting | final-orientation error (rad) | CPU (ms) | rhs evaluations |\n"
+              "|---|---|---:|---:|---:|\n",
+              worst_angle(check.rotation, reference.rotation));
+  for (Method m : {Method::cvode_adams, Method::cvode_bdf, Method::erk_dormand_prince, Method::erk_verner}) {
+    for (double tol : {1e-6, 1e-8, 1e-10, 1e-12}) {
+      const TimedRun r = treedyn_run(model, initial, m, Parameterisation::quaternion, tol);
+      std::printf("| treedyn %s | rtol = atol = %.0e | %.1e | %.1f | %ld |\n", std::string(name(m)).c_str(), tol,
+                  worst_angle(r.rotation, reference.rotation), r.cpu_ms, r.rhs);
+      std::fflush(stdout);
+    }
+  }
+  for (double h : {4e-3, 2e-3, 1e-3, 5e-4, 2.5e-4, 1.25e-4}) {
+    const TimedRun r = mujoco_run(tree, h);
+    std::printf("| MuJoCo RK4 | h = %.2e s | %.1e | %.1f | %ld |\n", h, worst_angle(r.rotation, reference.rotation),
+                r.cpu_ms, r.rhs);
+    std::fflush(stdout);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   int rounds = 7, cpu = 0;
   double min_ms = 30.0;
-  for (int a = 1; a + 1 < argc; a += 2) {
+  bool accuracy = false;
+  for (int a = 1; a < argc; a += 2) {
     const std::string key = argv[a];
-    if (key == "--rounds") rounds = std::atoi(argv[a + 1]);
+    if (key == "--accuracy") {
+      accuracy = true;
+      --a;
+    } else if (a + 1 >= argc) {
+      std::fprintf(stderr, "%s needs a value\n", key.c_str());
+      return 2;
+    } else if (key == "--rounds") rounds = std::atoi(argv[a + 1]);
     else if (key == "--min-ms") min_ms = std::atof(argv[a + 1]);
     else if (key == "--cpu") cpu = std::atoi(argv[a + 1]);
     else {
-      std::fprintf(stderr, "usage: peer_benchmark [--rounds R] [--min-ms T] [--cpu C]\n");
+      std::fprintf(stderr, "usage: peer_benchmark [--rounds R] [--min-ms T] [--cpu C] [--accuracy]\n");
       return 2;
     }
   }
@@ -338,6 +455,10 @@ int main(int argc, char** argv) {
   if (sched_setaffinity(0, sizeof set, &set) != 0) std::perror("sched_setaffinity (not pinned)");
   else std::printf("pinned to CPU %d; %d rounds of >= %.0f ms CPU per engine and model\n", cpu, rounds, min_ms);
   mju_user_warning = [](const char* msg) { std::fprintf(stderr, "mujoco warning: %s\n", msg); };
+  if (accuracy) {
+    accuracy_table();
+    return 0;
+  }
 
   struct Case {
     Shape shape;
