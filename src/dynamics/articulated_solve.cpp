@@ -41,15 +41,20 @@ Mat3 minus_gram(const Mat3& P, const Mat3& Y) {
 void compute_articulated_kinematics(const Model& model, Data& data) {
   ArticulatedBodies& ab = data.articulated;
   const Topology& tree = model.tree();
+  data.base = model.base_motion.at(data.time);
   for (int i = 0; i < model.n; ++i) {
     const Mat3& A = data.rotation[i];
     const Vec3& w = data.angular_velocity[i];
     const Vec3 c = A * model.com_to_inboard_joint[i];  // c_i
     data.com_to_inboard_joint[i] = c;
-    ab.centripetal_c[i] = w.cross(w.cross(c));
-    // J_i^0 w_i = A_i J_i (A_i^T w_i): the body-frame inertia, no rotated J^0.
-    ab.gyroscopic[i] = w.cross(A * (model.inertia[i] * (A.transpose() * w)));
-    ab.inertia_about_joint[i] = rotate_symmetric(A, model.inertia_about_joint[i]);
+    const Vec3 w_x_c = w.cross(c);
+    ab.centripetal_c[i] = w.cross(w_x_c);
+    // One rotated inertia: about the joint, H_own = J_i^0 - m [c]x^2 (from a
+    // body-frame constant). The central J_i^0 w = H_own w + m c x (c x w)
+    // = H_own w - m c x (w x c) needs no second rotation.
+    const Mat3 H_own = rotate_symmetric(A, model.inertia_about_joint[i]);
+    ab.inertia_about_joint[i] = H_own;
+    ab.gyroscopic[i] = w.cross(H_own * w - model.mass[i] * c.cross(w_x_c));
     const int p = tree.parent[i];
     if (p == kBase) {
       ab.coupling_arm[i].setZero();
@@ -60,6 +65,7 @@ void compute_articulated_kinematics(const Model& model, Data& data) {
       ab.coupling_arm[i] = data.com_to_inboard_joint[p] - e;           // g_i: G_i = [c_p - e_i]x
       ab.joint_bias[i] = wp.cross(wp.cross(e)) - ab.centripetal_c[p];  // zeta_i - kappa_p
     }
+    compute_body_loads(model, data, i);
     ab.child_h[i].setZero();
     ab.child_b[i].setZero();
     ab.child_beta[i].setZero();

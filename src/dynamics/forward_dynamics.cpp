@@ -6,7 +6,6 @@ namespace treedyn {
 bool forward_dynamics(const Model& model, Data& data) {
   if (data.solver == AccelerationSolver::recursive) {
     compute_articulated_kinematics(model, data);
-    compute_applied_loads(model, data);
     if (!sweep_articulated_inertias(model, data)) return false;
     propagate_accelerations(model, data);
     return data.angular_acceleration.allFinite();

@@ -8,15 +8,17 @@
 
 namespace treedyn {
 
-// Force stage (both solvers): base kinematics at data.time, gravity and point
-// forces, applied moments, joint spring-damper moments and their energies.
-void compute_applied_loads(const Model& model, Data& data);
+// Force stage of body i: gravity and point forces F_i, moments M_i, its joint's
+// spring-damper moment Y_i and energy. Needs the rotations and velocities of
+// i and of its parent.
+void compute_body_loads(const Model& model, Data& data, int i);
 
 // --- Recursive solver (data.solver == recursive), section 8. ---
 
-// Position and velocity stage: c_i, the rotated inertia about each inboard
-// joint, the gyroscopic and centripetal terms, and each joint's coupling to
-// its parent; clears the children's sums.
+// Position, velocity and force stages in one pass over the bodies, parents
+// first: base kinematics at data.time; per body c_i, the rotated inertia
+// about its inboard joint, the gyroscopic and centripetal terms, its joint's
+// coupling to its parent and its loads; clears the children's sums.
 void compute_articulated_kinematics(const Model& model, Data& data);
 
 // Leaves to root: H_i factored, the articulated mass Phi_i and bias phi_i of
@@ -28,6 +30,10 @@ bool sweep_articulated_inertias(const Model& model, Data& data);
 void propagate_accelerations(const Model& model, Data& data);
 
 // --- Tree-sparse L^T D L solver (data.solver == sparse_ldlt), section 4. ---
+
+// Force stage: base kinematics at data.time, compute_body_loads for every
+// body, and the subtree sums of F.
+void compute_applied_loads(const Model& model, Data& data);
 
 // Position stage: rotates K_i, b_i0, c_ii and the branch d-vectors into the
 // inertial frame using data.rotation.
