@@ -41,8 +41,9 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", std::string("treedyn-ensemble ") + TREEDYN_VERSION);
   app.footer(
       "Run under mpirun -np P (or alone for one rank). Exit codes: 0 ok, 1 internal error, "
-      "2 bad input, 3 the nominal run failed, 4 output (I/O) failure. Failed samples do not "
-      "fail the job: they are recorded in /samples/status.");
+      "2 bad input, 3 the nominal run failed, 4 output (I/O) failure, 5 interrupted by SIGTERM or "
+      "SIGINT (resume with --resume). Failed samples do not fail the job: they are recorded in "
+      "/samples/status.");
   parallel::EnsembleOptions options;
   app.add_option("JOB", options.job_path, "job file (TOML) with an [ensemble] section")->required();
   bool check_only = false;
@@ -66,6 +67,13 @@ int main(int argc, char** argv) {
   sample_option->excludes(write_job_option);
   sample_option->excludes("--check");
   write_job_option->excludes("--check");
+  app.add_option("--checkpoint-every", options.checkpoint_every,
+                 "seconds between each rank's checkpoint in OUTPUT.checkpoint/ (0: no checkpoints); "
+                 "SIGTERM or SIGINT writes one and exits 5")
+      ->check(CLI::NonNegativeNumber);
+  app.add_flag("--resume", options.resume,
+               "continue from OUTPUT.checkpoint/ (any number of ranks); the result is bitwise that of an "
+               "uninterrupted run. Without a checkpoint it starts from the beginning");
   app.add_option("--progress-interval", options.progress_interval,
                  "seconds between progress lines when stderr is not a terminal")
       ->check(CLI::PositiveNumber);

@@ -2,8 +2,11 @@
 
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <chrono>
+#include <csignal>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <limits>
@@ -13,6 +16,8 @@
 
 #include "app/exit_codes.hpp"
 #include "ensemble/answers.hpp"
+#include "ensemble/checkpoint.hpp"
+#include "ensemble/interruption.hpp"
 #include "ensemble/digest.hpp"
 #include "ensemble/ensemble_spec.hpp"
 #include "ensemble/sample_job.hpp"
@@ -40,8 +45,63 @@ struct Context {
   ensemble::SampleRunner runner;
   double busy_seconds = 0.0;
   std::uint64_t samples_run = 0;
+  // This rank's checkpoint (none with --checkpoint-every 0, or after a
+  // checkpoint write failed: the run goes on without).
+  std::unique_ptr<ensemble::RankCheckpoint> checkpoint{};
+  double checkpoint_every = 0.0;
+  std::chrono::steady_clock::time_point last_checkpoint = std::chrono::steady_clock::now();
+  // Samples a resumed run already has, [first, end) intervals, sorted.
+  std::vector<std::pair<std::uint64_t, std::uint64_t>> finished{};
   std::size_t entries() const { return runner.times() * runner.layout().columns; }
+  bool is_finished(std::uint64_t k) const {
+    auto it = std::upper_bound(finished.begin(), finished.end(), k,
+                               [](std::uint64_t v, const auto& interval) { return v < interval.first; });
+    return it != finished.begin() && k < std::prev(it)->second;
+  }
 };
+
+// A record goes to rank 0 and into this rank's checkpoint.
+void keep(Context& c, ensemble::SampleRecord r, RecordSink& sink) {
+  if (c.checkpoint) c.checkpoint->add(r);
+  sink.add(std::move(r));
+}
+
+// Writes this rank's checkpoint (its statistics count exactly the ok records
+// kept so far). A failure is reported once and turns checkpoints off here.
+bool save_checkpoint(Context& c, ensemble::EnsembleStatistics& stats) {
+  if (!c.checkpoint) return false;
+  try {
+    c.checkpoint->save(stats);
+    c.last_checkpoint = std::chrono::steady_clock::now();
+    return true;
+  } catch (const ensemble::CheckpointError& e) {
+    std::cerr << "warning: rank " << c.rank << ": " << e.what() << "; checkpoints are off for this rank\n";
+    c.checkpoint.reset();
+    return false;
+  }
+}
+
+void checkpoint_if_due(Context& c, ensemble::EnsembleStatistics& stats) {
+  if (!c.checkpoint) return;
+  const double since = std::chrono::duration<double>(std::chrono::steady_clock::now() - c.last_checkpoint).count();
+  if (since >= c.checkpoint_every) save_checkpoint(c, stats);
+}
+
+// The same vector on every rank (rank 0's), in chunks: MPI counts are ints.
+template <class T>
+void broadcast(MPI_Comm comm, std::vector<T>& v) {
+  unsigned long long size = v.size();
+  MPI_Bcast(&size, 1, MPI_UNSIGNED_LONG_LONG, 0, comm);
+  v.resize(size);
+  constexpr std::size_t kChunk = std::size_t{1} << 24;
+  const std::size_t bytes = size * sizeof(T);
+  auto* data = reinterpret_cast<char*>(v.data());
+  for (std::size_t first = 0; first < bytes; first += kChunk)
+    MPI_Bcast(data + first, static_cast<int>(std::min(kChunk, bytes - first)), MPI_BYTE, 0, comm);
+}
+
+template <class T>
+void broadcast(MPI_Comm comm, std::vector<T>& v);
 
 // Rank 0's file text to everyone (or an error text and a failed flag).
 bool share_job_text(MPI_Comm comm, int rank, const std::string& path, std::string& text) {
@@ -58,10 +118,9 @@ bool share_job_text(MPI_Comm comm, int rank, const std::string& path, std::strin
     }
   }
   MPI_Bcast(&ok, 1, MPI_INT, 0, comm);
-  unsigned long long length = text.size();
-  MPI_Bcast(&length, 1, MPI_UNSIGNED_LONG_LONG, 0, comm);
-  text.resize(length);
-  MPI_Bcast(text.data(), static_cast<int>(length), MPI_CHAR, 0, comm);
+  std::vector<char> bytes(text.begin(), text.end());
+  broadcast(comm, bytes);
+  text.assign(bytes.begin(), bytes.end());
   return ok != 0;
 }
 
@@ -80,6 +139,14 @@ SampleRecord run_isolated(Context& c, std::uint64_t k, std::vector<double>& traj
   c.busy_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   ++c.samples_run;
   return r;
+}
+
+// Element-wise all-reduce of doubles in chunks (MPI counts are ints).
+void all_reduce(MPI_Comm comm, std::vector<double>& v, MPI_Op op) {
+  constexpr std::size_t kChunk = std::size_t{1} << 26;
+  for (std::size_t first = 0; first < v.size(); first += kChunk)
+    MPI_Allreduce(MPI_IN_PLACE, v.data() + first, static_cast<int>(std::min(kChunk, v.size() - first)),
+                  MPI_DOUBLE, op, comm);
 }
 
 // Per-column largest |nominal| over time: the fallback fixed-point unit.
@@ -116,17 +183,21 @@ ensemble::EnsembleDigest digest(const Context& c, const ensemble::EnsembleStatis
 // Phase 1, nominal: rank 0 opens the output (temporary name) before any
 // work, then integrates the nominal run, the centre of the statistics, and
 // sends it to everyone. Returns an exit code, the same on every rank.
+// A resumed run (`restored`) takes the nominal run from its checkpoint.
 int run_nominal(Context& c, const EnsembleOptions& options, std::unique_ptr<EnsembleWriter>& writer,
-                std::vector<double>& nominal) {
+                std::vector<double>& nominal, bool restored) {
   int failure = kExitOk;
   if (c.rank == 0) {
     try {
       writer = std::make_unique<EnsembleWriter>(options.output_path, c.job, c.spec, c.runner.layout(),
                                                 c.runner.final_state_size());
-      const SampleRecord r = c.runner.run(0, true, nominal);
-      if (r.status != SampleStatus::ok) {
-        std::cerr << c.job.file << ": the nominal run failed: " << r.reason << "\n";
-        failure = kExitIntegration;
+      catch_interruptions();  // over the writer's remove-on-signal guard: stop cleanly instead
+      if (!restored) {
+        const SampleRecord r = c.runner.run(0, true, nominal);
+        if (r.status != SampleStatus::ok) {
+          std::cerr << c.job.file << ": the nominal run failed: " << r.reason << "\n";
+          failure = kExitIntegration;
+        }
       }
     } catch (const h5::IoError& e) {
       std::cerr << "error: " << e.what() << "\n";
@@ -135,8 +206,7 @@ int run_nominal(Context& c, const EnsembleOptions& options, std::unique_ptr<Ense
   }
   MPI_Bcast(&failure, 1, MPI_INT, 0, c.comm);
   if (failure != kExitOk) return failure;
-  nominal.resize(c.entries());
-  MPI_Bcast(nominal.data(), static_cast<int>(c.entries()), MPI_DOUBLE, 0, c.comm);
+  broadcast(c.comm, nominal);
   return kExitOk;
 }
 
@@ -152,6 +222,7 @@ ensemble::EnsembleStatistics run_pilot(Context& c, const std::vector<double>& no
   std::uint64_t in_batch = 0;
   for (std::uint64_t k = static_cast<std::uint64_t>(c.rank); k < c.spec.pilot_samples;
        k += static_cast<std::uint64_t>(c.size)) {
+    if (interruption_signal() != 0) break;  // nothing is resumable before the calibration
     std::vector<double> trajectory;
     SampleRecord r = run_isolated(c, k, trajectory, sink);
     if (r.status == SampleStatus::ok) {
@@ -161,7 +232,7 @@ ensemble::EnsembleStatistics run_pilot(Context& c, const std::vector<double>& no
       }
       pilot.push_back(std::move(trajectory));
     }
-    sink.add(std::move(r));
+    keep(c, std::move(r), sink);
     // Records travel in batches of block_size, as in the sweep.
     if (++in_batch == c.spec.block_size) {
       sink.flush();
@@ -169,8 +240,8 @@ ensemble::EnsembleStatistics run_pilot(Context& c, const std::vector<double>& no
     }
   }
   sink.flush();
-  MPI_Allreduce(MPI_IN_PLACE, low.data(), static_cast<int>(entries), MPI_DOUBLE, MPI_MIN, c.comm);
-  MPI_Allreduce(MPI_IN_PLACE, high.data(), static_cast<int>(entries), MPI_DOUBLE, MPI_MAX, c.comm);
+  all_reduce(c.comm, low, MPI_MIN);
+  all_reduce(c.comm, high, MPI_MAX);
   ensemble::EnsembleStatistics stats(
       c.runner.times(), columns, c.spec.histogram_bins,
       ensemble::calibrate(nominal, low, high, column_scales(nominal, columns), columns,
@@ -179,20 +250,33 @@ ensemble::EnsembleStatistics run_pilot(Context& c, const std::vector<double>& no
   return stats;
 }
 
-// Phase 3, sweep: the other samples from the shared queue, in blocks.
-void run_sweep(Context& c, ensemble::EnsembleStatistics& stats, RecordSink& sink) {
-  WorkQueue queue(c.comm, c.spec.pilot_samples, c.spec.samples, c.spec.block_size);
+// Phase 3, sweep: the other samples from the shared queue, in blocks (a
+// resumed run: every sample it does not have yet). A signal stops it after
+// the sample in flight, on every rank. Returns whether it was interrupted.
+bool run_sweep(Context& c, std::uint64_t first, ensemble::EnsembleStatistics& stats, RecordSink& sink) {
+  WorkQueue queue(c.comm, first, c.spec.samples, c.spec.block_size);
   std::uint64_t begin = 0, end = 0;
   std::vector<double> trajectory;
-  while (queue.next(begin, end)) {
+  bool stop = false;
+  while (!stop && queue.next(begin, end)) {
     for (std::uint64_t k = begin; k < end; ++k) {
+      if (interruption_signal() != 0) queue.interrupt();
+      if (queue.interrupted()) {
+        stop = true;
+        break;
+      }
+      if (c.is_finished(k)) continue;
       SampleRecord r = run_isolated(c, k, trajectory, sink);
       if (r.status == SampleStatus::ok) stats.add_sample(trajectory);
-      sink.add(std::move(r));
+      keep(c, std::move(r), sink);
     }
     sink.flush();
+    if (!stop) checkpoint_if_due(c, stats);
   }
+  if (interruption_signal() != 0) queue.interrupt();
+  const bool interrupted = queue.interrupted();
   sink.close();
+  return interrupted;
 }
 
 // Phase 4, reduction: the statistics summed onto rank 0 exactly, and every
@@ -252,14 +336,132 @@ int write_results(EnsembleWriter& writer, const RecordWriter& records,
   return kExitOk;
 }
 
+// Phase 0 (rank 0): stale temporary files of dead processes, then the
+// checkpoint: loaded with --resume; refused without it (a fresh run must not
+// mix with an earlier run's parts); a fresh run starts an empty directory.
+// Returns an exit code, the same on every rank.
+int open_checkpoint(Context& c, const EnsembleOptions& options, const ensemble::CheckpointIdentity& id,
+                    std::optional<ensemble::RestoredRun>& restored) {
+  namespace fs = std::filesystem;
+  int code = kExitOk;
+  if (c.rank == 0) {
+    const fs::path output(options.output_path);
+    const fs::path dir = ensemble::checkpoint_directory(output);
+    std::vector<std::string> stale = ensemble::remove_stale_temporaries(output.parent_path(), output.filename().string());
+    std::error_code ec;
+    if (fs::is_directory(dir, ec))
+      for (auto& f : ensemble::remove_stale_temporaries(dir, "")) stale.push_back(std::move(f));
+    for (const std::string& f : stale)
+      std::cerr << "note: removed " << f << ", a temporary file left by a process that no longer runs\n";
+    try {
+      if (options.resume) {
+        restored = ensemble::load_checkpoint(dir, id, c.entries(), c.spec.histogram_bins);
+        if (!restored)
+          std::cerr << "note: no checkpoint " << dir.string() << " to resume (or it was written before the pilot "
+                    << "samples were done): starting from the beginning\n";
+      } else if (fs::exists(dir / "common.state", ec)) {
+        std::cerr << "error: " << dir.string() << " holds the checkpoint of an earlier run of this output: "
+                  << "resume it with --resume, or remove that directory to start afresh\n";
+        code = kExitBadInput;
+      }
+    } catch (const ensemble::CheckpointError& e) {
+      std::cerr << "error: " << e.what() << "\n";
+      code = kExitBadInput;
+    }
+    if (code == kExitOk && !restored && options.checkpoint_every > 0.0) {
+      ensemble::remove_checkpoint(dir);
+      fs::create_directories(dir, ec);
+      if (ec) {
+        std::cerr << "error: cannot create the checkpoint directory " << dir.string() << ": " << ec.message()
+                  << " (or turn checkpoints off with --checkpoint-every 0)\n";
+        code = kExitIo;
+      }
+    }
+  }
+  MPI_Bcast(&code, 1, MPI_INT, 0, c.comm);
+  return code;
+}
+
+// What a resumed run's ranks need from rank 0's checkpoint.
+void share_restored(Context& c, std::optional<ensemble::RestoredRun>& restored) {
+  int have = c.rank == 0 && restored ? 1 : 0;
+  MPI_Bcast(&have, 1, MPI_INT, 0, c.comm);
+  if (!have) return;
+  if (c.rank != 0) restored.emplace();
+  ensemble::Calibration& cal = restored->calibration;
+  for (auto* v : {&cal.center, &cal.scale, &cal.low, &cal.width}) broadcast(c.comm, *v);
+  std::vector<std::uint64_t> flat;
+  for (const auto& [a, b] : restored->finished) {
+    flat.push_back(a);
+    flat.push_back(b);
+  }
+  broadcast(c.comm, flat);
+  c.finished.clear();
+  for (std::size_t k = 0; k + 1 < flat.size(); k += 2) c.finished.emplace_back(flat[k], flat[k + 1]);
+}
+
+// Sum of a count over the ranks, on every rank.
+std::uint64_t sum_over_ranks(MPI_Comm comm, std::uint64_t mine) {
+  MPI_Allreduce(MPI_IN_PLACE, &mine, 1, MPI_UINT64_T, MPI_SUM, comm);
+  return mine;
+}
+
+bool any_rank(MPI_Comm comm, bool mine) {
+  int flag = mine ? 1 : 0;
+  MPI_Allreduce(MPI_IN_PLACE, &flag, 1, MPI_INT, MPI_MAX, comm);
+  return flag != 0;
+}
+
+// A signal stopped the run: every rank writes its checkpoint, rank 0 removes
+// the temporary output and says how far it got. Exit 5 on every rank.
+int stop_interrupted(Context& c, ensemble::EnsembleStatistics& stats, std::unique_ptr<EnsembleWriter>& writer,
+                     std::uint64_t restored_samples, bool resumable, const std::string& output) {
+  const bool saved = resumable && save_checkpoint(c, stats);
+  const bool all_saved = !any_rank(c.comm, resumable && !saved);
+  const std::uint64_t kept = sum_over_ranks(c.comm, saved ? c.checkpoint->saved_records() : 0) + restored_samples;
+  int signal_number = interruption_signal();
+  MPI_Allreduce(MPI_IN_PLACE, &signal_number, 1, MPI_INT, MPI_MAX, c.comm);
+  if (c.rank == 0) {
+    writer.reset();  // removes the temporary output
+    const char* what = signal_number == SIGINT    ? "SIGINT"
+                       : signal_number == SIGTERM ? "SIGTERM"
+                       : signal_number == SIGUSR1 ? "SIGUSR1"
+                                                  : "a signal";
+    const std::string dir = ensemble::checkpoint_directory(output).string();
+    if (!resumable) {
+      std::cerr << "interrupted by " << what << " during the pilot samples: nothing to resume yet; run it again\n";
+      ensemble::remove_checkpoint(dir);
+    } else if (c.checkpoint_every <= 0.0) {
+      std::cerr << "interrupted by " << what << "; checkpoints are off (--checkpoint-every 0), so nothing is kept\n";
+    } else if (!all_saved) {
+      std::cerr << "interrupted by " << what << "; a rank could not write its checkpoint (see above): --resume "
+                << "keeps what " << dir << " holds\n";
+    } else {
+      std::cerr << "interrupted by " << what << " after " << kept << " of " << c.spec.samples
+                << " samples; resume with --resume (checkpoint " << dir << ")\n";
+    }
+  }
+  return kExitInterrupted;
+}
+
 int run(MPI_Comm comm, int rank, int size, const EnsembleOptions& options, const Job& job,
         const ensemble::EnsembleSpec& spec) {
   const auto start = std::chrono::steady_clock::now();
+  catch_interruptions();
   Context c{comm, rank, size, job, spec, ensemble::SampleRunner(job, spec)};
+  c.checkpoint_every = options.checkpoint_every;
+  const ensemble::CheckpointIdentity id = ensemble::checkpoint_identity(job.text, build_identity());
+  const auto checkpoint_dir = ensemble::checkpoint_directory(options.output_path);
+
+  std::optional<ensemble::RestoredRun> restored;
+  if (const int code = open_checkpoint(c, options, id, restored); code != kExitOk) return code;
+  share_restored(c, restored);
 
   std::unique_ptr<EnsembleWriter> writer;
   std::vector<double> nominal;
-  if (const int failure = run_nominal(c, options, writer, nominal); failure != kExitOk) return failure;
+  if (rank == 0 && restored) nominal = restored->nominal;
+  if (const int failure = run_nominal(c, options, writer, nominal, restored.has_value()); failure != kExitOk)
+    return failure;
 
   ensemble::Progress progress(spec.samples, options.progress_interval, rank == 0 && !options.quiet);
   std::unique_ptr<RecordSink> sink;
@@ -276,9 +478,57 @@ int run(MPI_Comm comm, int rank, int size, const EnsembleOptions& options, const
     sink = std::make_unique<RecordSender>(comm);
   }
 
-  ensemble::EnsembleStatistics stats = run_pilot(c, nominal, *sink);
-  run_sweep(c, stats, *sink);
-  EnsembleSummary summary = reduce(c, stats);
+  // The calibration: from the pilot samples, or from the checkpoint. A
+  // resumed run's restored statistics stay apart (rank 0) until the end, so
+  // that this run's checkpoints hold only this run's samples.
+  std::uint64_t generation = 0, restored_samples = 0;
+  std::optional<ensemble::EnsembleStatistics> stats, restored_stats;
+  int code = kExitOk;
+  if (restored) {
+    stats.emplace(c.runner.times(), c.runner.layout().columns, spec.histogram_bins, restored->calibration);
+    if (rank == 0) {
+      restored_stats.emplace(*stats);
+      ensemble::restore_statistics(restored->statistics, *restored_stats);
+      restored_samples = restored->records.size();
+      try {
+        generation = ensemble::consolidate_checkpoint(checkpoint_dir, id, *restored, *restored_stats);
+      } catch (const ensemble::CheckpointError& e) {
+        std::cerr << "error: " << e.what() << "\n";
+        code = kExitIo;
+      }
+      std::cerr << "resuming: " << restored_samples << " of " << spec.samples << " samples from "
+                << checkpoint_dir.string() << "\n";
+      records->restore(std::move(restored->records));
+    }
+    MPI_Bcast(&code, 1, MPI_INT, 0, comm);
+    if (code != kExitOk) return code;
+    MPI_Bcast(&generation, 1, MPI_UINT64_T, 0, comm);
+    restored_samples = sum_over_ranks(comm, restored_samples);
+  }
+  if (options.checkpoint_every > 0.0)
+    c.checkpoint = std::make_unique<ensemble::RankCheckpoint>(checkpoint_dir, id, generation,
+                                                              "rank" + std::to_string(rank));
+  if (!restored) {
+    stats.emplace(run_pilot(c, nominal, *sink));
+    const bool pilot_complete = !any_rank(comm, interruption_signal() != 0);
+    if (!pilot_complete) {
+      sink->close();
+      return stop_interrupted(c, *stats, writer, 0, false, options.output_path);
+    }
+    if (rank == 0 && c.checkpoint) {
+      try {
+        ensemble::write_checkpoint_common(checkpoint_dir, id, nominal, stats->calibration());
+      } catch (const ensemble::CheckpointError& e) {
+        std::cerr << "warning: " << e.what() << "; the run goes on without checkpoints\n";
+      }
+    }
+  }
+  const bool interrupted = run_sweep(c, restored ? 0 : spec.pilot_samples, *stats, *sink);
+  if (any_rank(comm, interrupted))
+    return stop_interrupted(c, *stats, writer, restored_samples, true, options.output_path);
+
+  if (restored_stats) stats->merge(*restored_stats);
+  EnsembleSummary summary = reduce(c, *stats);
   const RunProvenance provenance = gather_provenance(comm, rank, size, options.provenance);
 
   int failure = kExitOk;
@@ -288,12 +538,18 @@ int run(MPI_Comm comm, int rank, int size, const EnsembleOptions& options, const
     summary.ok = records->done() - summary.failed;
     const std::vector<ensemble::ResponseAnswer> answers =
         table ? ensemble::answer_responses(spec, *table) : std::vector<ensemble::ResponseAnswer>{};
-    failure = write_results(*writer, *records, nominal, stats, answers, summary, provenance);
+    failure = write_results(*writer, *records, nominal, *stats, answers, summary, provenance);
     if (failure != kExitOk) {
-      writer.reset();  // removes the temporary file
+      writer.reset();  // removes the temporary file; the checkpoint stays for --resume
     } else {
+      ensemble::remove_checkpoint(checkpoint_dir);
+      // The processes of a run killed just before this one are gone by now.
+      const std::filesystem::path output(options.output_path);
+      for (const std::string& f :
+           ensemble::remove_stale_temporaries(output.parent_path(), output.filename().string()))
+        std::cerr << "note: removed " << f << ", a temporary file left by a process that no longer runs\n";
       if (!options.quiet) {
-        ensemble::print_digest(std::cout, digest(c, stats, summary));
+        ensemble::print_digest(std::cout, digest(c, *stats, summary));
         ensemble::print_response_summary(std::cout, spec, answers);
       }
       std::printf("wrote %s\n", options.output_path.c_str());

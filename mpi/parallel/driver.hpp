@@ -28,6 +28,8 @@ struct EnsembleOptions {
   std::string output_path;
   bool quiet = false;
   double progress_interval = 10.0;  // s between log lines when not on a terminal
+  double checkpoint_every = 300.0;  // s between a rank's checkpoints; 0: none
+  bool resume = false;              // continue from OUTPUT.checkpoint
 };
 
 // Returns the process exit code (app/exit_codes.hpp), the same on all ranks.

@@ -48,6 +48,8 @@ class RecordWriter final : public RecordSink {
   void add(ensemble::SampleRecord record) override;
   void flush() override;
   void close() override;
+  // Records of a resumed run's checkpoint, written as if they had arrived.
+  void restore(std::vector<ensemble::SampleRecord> records) { write(std::move(records)); }
   std::uint64_t done() const { return done_; }
   std::uint64_t failed() const { return failed_; }
   const std::string& io_error() const { return io_error_; }

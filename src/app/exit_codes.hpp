@@ -9,6 +9,7 @@ enum ExitCode : int {
   kExitBadInput = 2,     // job file or command line refused
   kExitIntegration = 3,  // the integrator failed (the message gives the time reached)
   kExitIo = 4,           // an output file could not be written
+  kExitInterrupted = 5,  // SIGTERM or SIGINT: stopped cleanly; resumable with --resume
 };
 
 }  // namespace treedyn

@@ -88,4 +88,9 @@ void write_provenance(hid_t root, const RunProvenance& run) {
   if (!run.rank_hosts.empty()) h5::write_attribute(root, "rank_hosts", run.rank_hosts);
 }
 
+std::string build_identity() {
+  return std::string("treedyn ") + TREEDYN_VERSION + ", commit " + TREEDYN_GIT_COMMIT + ", " + TREEDYN_BUILD_TYPE +
+         ", " + TREEDYN_COMPILER;
+}
+
 }  // namespace treedyn

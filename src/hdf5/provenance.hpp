@@ -25,6 +25,10 @@ RunProvenance start_provenance(int argc, const char* const* argv, const std::str
 
 std::string utc_now();
 
+// "treedyn VERSION, commit C, BUILD_TYPE, COMPILER": what a checkpoint must
+// match to be resumed.
+std::string build_identity();
+
 // Root attributes: start_utc, end_utc (now), host, command_line, job_path,
 // treedyn_version, git_commit, build_type, compiler, sundials_version,
 // hdf5_version, eigen_version, tomlplusplus_version, mpi_library, ranks and
