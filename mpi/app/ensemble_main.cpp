@@ -7,6 +7,7 @@
 
 #include "app/exit_codes.hpp"
 #include "app/model_summary.hpp"
+#include "app/merge_parts.hpp"
 #include "app/rerun_sample.hpp"
 #include "ensemble/sample_job.hpp"
 #include "ensemble/ensemble_spec.hpp"
@@ -33,17 +34,43 @@ int check(const std::string& job_path) {
 
 }  // namespace
 
+// `merge -o OUT.h5 PART...`: serial, on rank 0.
+int merge_command(int argc, char** argv, int rank) {
+  using namespace treedyn;
+  CLI::App app{"treedyn-ensemble merge: the part files of a split ensemble (--samples FIRST:END) into one "
+               "ensemble file, bitwise identical in /stats and /samples to one run over the union"};
+  std::vector<std::string> parts;
+  std::string output;
+  bool quiet = false;
+  app.add_option("PART", parts, "part files written by treedyn-ensemble --samples")->required();
+  app.add_option("-o,--output", output, "the merged ensemble file (HDF5), written atomically")->required();
+  app.add_flag("-q,--quiet", quiet, "no summary");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = rank == 0 ? app.exit(e) : (e.get_exit_code() == 0 ? 0 : 1);
+    return code == 0 ? kExitOk : kExitBadInput;
+  }
+  if (rank != 0) return kExitOk;
+  return merge_parts(parts, output, quiet, start_provenance(argc, argv, parts.front()));
+}
+
 int main(int argc, char** argv) {
   using namespace treedyn;
   parallel::Session session(&argc, &argv);
+  if (argc > 1 && std::string(argv[1]) == "merge") {
+    int code = merge_command(argc - 1, argv + 1, session.rank());
+    MPI_Bcast(&code, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    return code;
+  }
   CLI::App app{"treedyn-ensemble: perturbed runs of one treedyn job across MPI ranks, "
                "with statistics in HDF5"};
   app.set_version_flag("--version", std::string("treedyn-ensemble ") + TREEDYN_VERSION);
   app.footer(
       "Run under mpirun -np P (or alone for one rank). Exit codes: 0 ok, 1 internal error, "
-      "2 bad input, 3 the nominal run failed, 4 output (I/O) failure, 5 interrupted by SIGTERM or "
-      "SIGINT (resume with --resume). Failed samples do not fail the job: they are recorded in "
-      "/samples/status.");
+      "2 bad input, 3 the nominal run failed, 4 output (I/O) failure, 5 interrupted by SIGTERM, "
+      "SIGINT or SIGUSR1 (resume with --resume). Failed samples do not fail the job: they are recorded "
+      "in /samples/status. `treedyn-ensemble merge -o OUT.h5 PART ...` joins the parts of --samples runs.");
   parallel::EnsembleOptions options;
   app.add_option("JOB", options.job_path, "job file (TOML) with an [ensemble] section")->required();
   bool check_only = false;
@@ -74,6 +101,13 @@ int main(int argc, char** argv) {
   app.add_flag("--resume", options.resume,
                "continue from OUTPUT.checkpoint/ (any number of ranks); the result is bitwise that of an "
                "uninterrupted run. Without a checkpoint it starts from the beginning");
+  std::string sample_range;
+  auto* samples_option = app.add_option(
+      "--samples", sample_range,
+      "FIRST:END: run only the sample indices FIRST .. END-1 and write a part file to --output (not HDF5); "
+      "`treedyn-ensemble merge -o OUT.h5 PART ...` joins the parts (e.g. of a Slurm array job)");
+  samples_option->excludes(sample_option);
+  samples_option->excludes(write_job_option);
   app.add_option("--progress-interval", options.progress_interval,
                  "seconds between progress lines when stderr is not a terminal")
       ->check(CLI::PositiveNumber);
@@ -84,6 +118,23 @@ int main(int argc, char** argv) {
     return code == 0 ? kExitOk : kExitBadInput;
   }
   if (check_only) return session.rank() == 0 ? check(options.job_path) : kExitOk;
+  if (*samples_option) {
+    const std::size_t colon = sample_range.find(':');
+    char* rest = nullptr;
+    const std::string a = sample_range.substr(0, colon), b = colon == std::string::npos ? "" : sample_range.substr(colon + 1);
+    const unsigned long long first = std::strtoull(a.c_str(), &rest, 10);
+    const bool first_ok = !a.empty() && *rest == '\0' && a.find('-') == std::string::npos;
+    const unsigned long long end = std::strtoull(b.c_str(), &rest, 10);
+    const bool end_ok = !b.empty() && *rest == '\0' && b.find('-') == std::string::npos;
+    if (!first_ok || !end_ok || first >= end) {
+      if (session.rank() == 0)
+        std::cerr << "error: --samples " << sample_range
+                  << ": give FIRST:END, two sample indices with FIRST < END (END is not included)\n";
+      return kExitBadInput;
+    }
+    options.first_sample = first;
+    options.end_sample = end;
+  }
   options.provenance = start_provenance(argc, argv, options.job_path);
   if (options.output_path.empty()) {
     if (session.rank() == 0) std::cerr << "error: --output is required (or use --check)\n";

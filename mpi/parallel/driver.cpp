@@ -50,6 +50,10 @@ struct Context {
   std::unique_ptr<ensemble::RankCheckpoint> checkpoint{};
   double checkpoint_every = 0.0;
   std::chrono::steady_clock::time_point last_checkpoint = std::chrono::steady_clock::now();
+  // The samples this run owns: [first, end), the whole ensemble unless a part.
+  std::uint64_t first = 0, end = 0;
+  bool in_range(std::uint64_t k) const { return k >= first && k < end; }
+  std::uint64_t owned() const { return end - first; }
   // Samples a resumed run already has, [first, end) intervals, sorted.
   std::vector<std::pair<std::uint64_t, std::uint64_t>> finished{};
   std::size_t entries() const { return runner.times() * runner.layout().columns; }
@@ -189,8 +193,9 @@ int run_nominal(Context& c, const EnsembleOptions& options, std::unique_ptr<Ense
   int failure = kExitOk;
   if (c.rank == 0) {
     try {
-      writer = std::make_unique<EnsembleWriter>(options.output_path, c.job, c.spec, c.runner.layout(),
-                                                c.runner.final_state_size());
+      if (!options.part())
+        writer = std::make_unique<EnsembleWriter>(options.output_path, c.job, c.spec, c.runner.layout(),
+                                                  c.runner.final_state_size());
       catch_interruptions();  // over the writer's remove-on-signal guard: stop cleanly instead
       if (!restored) {
         const SampleRecord r = c.runner.run(0, true, nominal);
@@ -225,14 +230,16 @@ ensemble::EnsembleStatistics run_pilot(Context& c, const std::vector<double>& no
     if (interruption_signal() != 0) break;  // nothing is resumable before the calibration
     std::vector<double> trajectory;
     SampleRecord r = run_isolated(c, k, trajectory, sink);
+    // Every part runs every pilot sample (the calibration must be the same
+    // in all parts), but keeps and counts only those of its range.
     if (r.status == SampleStatus::ok) {
       for (std::size_t e = 0; e < entries; ++e) {
         low[e] = std::min(low[e], trajectory[e] - nominal[e]);
         high[e] = std::max(high[e], trajectory[e] - nominal[e]);
       }
-      pilot.push_back(std::move(trajectory));
+      if (c.in_range(k)) pilot.push_back(std::move(trajectory));
     }
-    keep(c, std::move(r), sink);
+    if (c.in_range(k)) keep(c, std::move(r), sink);
     // Records travel in batches of block_size, as in the sweep.
     if (++in_batch == c.spec.block_size) {
       sink.flush();
@@ -254,7 +261,7 @@ ensemble::EnsembleStatistics run_pilot(Context& c, const std::vector<double>& no
 // resumed run: every sample it does not have yet). A signal stops it after
 // the sample in flight, on every rank. Returns whether it was interrupted.
 bool run_sweep(Context& c, std::uint64_t first, ensemble::EnsembleStatistics& stats, RecordSink& sink) {
-  WorkQueue queue(c.comm, first, c.spec.samples, c.spec.block_size);
+  WorkQueue queue(c.comm, first, c.end, c.spec.block_size);
   std::uint64_t begin = 0, end = 0;
   std::vector<double> trajectory;
   bool stop = false;
@@ -437,11 +444,45 @@ int stop_interrupted(Context& c, ensemble::EnsembleStatistics& stats, std::uniqu
       std::cerr << "interrupted by " << what << "; a rank could not write its checkpoint (see above): --resume "
                 << "keeps what " << dir << " holds\n";
     } else {
-      std::cerr << "interrupted by " << what << " after " << kept << " of " << c.spec.samples
+      std::cerr << "interrupted by " << what << " after " << kept << " of " << c.owned()
                 << " samples; resume with --resume (checkpoint " << dir << ")\n";
     }
   }
   return kExitInterrupted;
+}
+
+// The end of a part (rank 0): its records, statistics and calibration into
+// the part file, atomically.
+int write_part(Context& c, const EnsembleOptions& options, const ensemble::CheckpointIdentity& job_id,
+               const std::vector<double>& nominal, ensemble::EnsembleStatistics& stats, const RecordWriter& records,
+               std::vector<SampleRecord> part_records) {
+  if (!records.io_error().empty()) {
+    std::cerr << "error: " << records.io_error() << "\n";
+    return kExitIo;
+  }
+  std::sort(part_records.begin(), part_records.end(),
+            [](const SampleRecord& a, const SampleRecord& b) { return a.index < b.index; });
+  ensemble::PartFile part;
+  part.id = job_id;
+  part.job_text = c.job.text;
+  part.job_path = options.job_path;
+  part.first = c.first;
+  part.end = c.end;
+  part.nominal = nominal;
+  part.calibration = stats.calibration();
+  part.records = std::move(part_records);
+  try {
+    ensemble::write_part_file(options.output_path, part, stats);
+  } catch (const ensemble::CheckpointError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return kExitIo;
+  }
+  if (!options.quiet)
+    std::cout << "part: samples " << c.first << " .. " << c.end - 1 << " of " << c.spec.samples << ", "
+              << records.failed() << " failed\n";
+  std::printf("wrote %s (merge the parts with: treedyn-ensemble merge -o OUT.h5 PART ...)\n",
+              options.output_path.c_str());
+  return kExitOk;
 }
 
 int run(MPI_Comm comm, int rank, int size, const EnsembleOptions& options, const Job& job,
@@ -450,7 +491,21 @@ int run(MPI_Comm comm, int rank, int size, const EnsembleOptions& options, const
   catch_interruptions();
   Context c{comm, rank, size, job, spec, ensemble::SampleRunner(job, spec)};
   c.checkpoint_every = options.checkpoint_every;
-  const ensemble::CheckpointIdentity id = ensemble::checkpoint_identity(job.text, build_identity());
+  c.first = options.part() ? options.first_sample : 0;
+  c.end = options.part() ? options.end_sample : spec.samples;
+  if (c.first >= c.end || c.end > spec.samples) {
+    if (rank == 0)
+      std::cerr << "error: --samples " << options.first_sample << ":" << options.end_sample
+                << " is not a range of this ensemble's sample indices: FIRST < END <= " << spec.samples << "\n";
+    return kExitBadInput;
+  }
+  // A part's checkpoint belongs to its range; the part file to the job.
+  const ensemble::CheckpointIdentity job_id = ensemble::checkpoint_identity(job.text, build_identity());
+  const ensemble::CheckpointIdentity id =
+      options.part() ? ensemble::checkpoint_identity(job.text + "\n# --samples " + std::to_string(c.first) + ":" +
+                                                         std::to_string(c.end),
+                                                     build_identity())
+                     : job_id;
   const auto checkpoint_dir = ensemble::checkpoint_directory(options.output_path);
 
   std::optional<ensemble::RestoredRun> restored;
@@ -463,15 +518,17 @@ int run(MPI_Comm comm, int rank, int size, const EnsembleOptions& options, const
   if (const int failure = run_nominal(c, options, writer, nominal, restored.has_value()); failure != kExitOk)
     return failure;
 
-  ensemble::Progress progress(spec.samples, options.progress_interval, rank == 0 && !options.quiet);
+  ensemble::Progress progress(c.owned(), options.progress_interval, rank == 0 && !options.quiet);
   std::unique_ptr<RecordSink> sink;
   RecordWriter* records = nullptr;  // rank 0's view of the sink
+  std::vector<SampleRecord> part_records;  // a part's records (rank 0)
   // Rank 0 keeps every sample's inputs and responses (only when there are responses).
   std::optional<ensemble::ResponseTable> table;
-  if (rank == 0 && !spec.responses.empty())
+  if (rank == 0 && !spec.responses.empty() && !options.part())
     table.emplace(spec.samples, spec.input_dimensions(), spec.responses.size());
   if (rank == 0) {
-    auto w = std::make_unique<RecordWriter>(comm, size, *writer, progress, table ? &*table : nullptr);
+    auto w = std::make_unique<RecordWriter>(comm, size, writer.get(), progress, table ? &*table : nullptr,
+                                            options.part() ? &part_records : nullptr);
     records = w.get();
     sink = std::move(w);
   } else {
@@ -496,7 +553,7 @@ int run(MPI_Comm comm, int rank, int size, const EnsembleOptions& options, const
         std::cerr << "error: " << e.what() << "\n";
         code = kExitIo;
       }
-      std::cerr << "resuming: " << restored_samples << " of " << spec.samples << " samples from "
+      std::cerr << "resuming: " << restored_samples << " of " << c.owned() << " samples from "
                 << checkpoint_dir.string() << "\n";
       records->restore(std::move(restored->records));
     }
@@ -523,7 +580,9 @@ int run(MPI_Comm comm, int rank, int size, const EnsembleOptions& options, const
       }
     }
   }
-  const bool interrupted = run_sweep(c, restored ? 0 : spec.pilot_samples, *stats, *sink);
+  const bool interrupted =
+      run_sweep(c, restored ? c.first : std::max(c.first, std::min<std::uint64_t>(spec.pilot_samples, c.end)), *stats,
+                *sink);
   if (any_rank(comm, interrupted))
     return stop_interrupted(c, *stats, writer, restored_samples, true, options.output_path);
 
@@ -532,7 +591,10 @@ int run(MPI_Comm comm, int rank, int size, const EnsembleOptions& options, const
   const RunProvenance provenance = gather_provenance(comm, rank, size, options.provenance);
 
   int failure = kExitOk;
-  if (rank == 0) {
+  if (rank == 0 && options.part()) {
+    failure = write_part(c, options, job_id, nominal, *stats, *records, std::move(part_records));
+    if (failure == kExitOk) ensemble::remove_checkpoint(checkpoint_dir);
+  } else if (rank == 0) {
     summary.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     summary.failed = records->failed();
     summary.ok = records->done() - summary.failed;

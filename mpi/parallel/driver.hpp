@@ -16,6 +16,7 @@
 
 #include <mpi.h>
 
+#include <cstdint>
 #include <string>
 
 #include "hdf5/provenance.hpp"
@@ -30,6 +31,10 @@ struct EnsembleOptions {
   double progress_interval = 10.0;  // s between log lines when not on a terminal
   double checkpoint_every = 300.0;  // s between a rank's checkpoints; 0: none
   bool resume = false;              // continue from OUTPUT.checkpoint
+  // --samples FIRST:END: only these sample indices, into a part file (the
+  // merge command joins parts); end 0: the whole ensemble into HDF5.
+  std::uint64_t first_sample = 0, end_sample = 0;
+  bool part() const { return end_sample > 0; }
 };
 
 // Returns the process exit code (app/exit_codes.hpp), the same on all ranks.

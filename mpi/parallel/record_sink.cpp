@@ -19,9 +19,9 @@ void RecordSink::poll() {
   make_progress();
 }
 
-RecordWriter::RecordWriter(MPI_Comm comm, int ranks, EnsembleWriter& writer,
-                           ensemble::Progress& progress, ensemble::ResponseTable* table)
-    : comm_(comm), ranks_(ranks), writer_(writer), progress_(progress), table_(table) {}
+RecordWriter::RecordWriter(MPI_Comm comm, int ranks, EnsembleWriter* writer, ensemble::Progress& progress,
+                           ensemble::ResponseTable* table, std::vector<ensemble::SampleRecord>* collected)
+    : comm_(comm), ranks_(ranks), writer_(writer), progress_(progress), table_(table), collected_(collected) {}
 
 void RecordWriter::add(ensemble::SampleRecord record) { local_.push_back(std::move(record)); }
 
@@ -45,7 +45,10 @@ void RecordWriter::write(std::vector<ensemble::SampleRecord> records) {
   }
   if (io_error_.empty()) {
     try {
-      writer_.write_records(std::move(records));
+      if (collected_)
+        for (auto& r : records) collected_->push_back(std::move(r));
+      else
+        writer_->write_records(std::move(records));
     } catch (const std::exception& e) {
       io_error_ = e.what();  // keep receiving: the other ranks must not block
     }

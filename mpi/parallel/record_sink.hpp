@@ -42,9 +42,10 @@ class RecordSink {
 class RecordWriter final : public RecordSink {
  public:
   // Every record also goes into `table` (status, inputs, responses), if
-  // given, for the answers computed at the end.
-  RecordWriter(MPI_Comm comm, int ranks, EnsembleWriter& writer, ensemble::Progress& progress,
-               ensemble::ResponseTable* table);
+  // given, for the answers computed at the end. A part of a split ensemble
+  // has no `writer` (null): its records are `collected` for the part file.
+  RecordWriter(MPI_Comm comm, int ranks, EnsembleWriter* writer, ensemble::Progress& progress,
+               ensemble::ResponseTable* table, std::vector<ensemble::SampleRecord>* collected = nullptr);
   void add(ensemble::SampleRecord record) override;
   void flush() override;
   void close() override;
@@ -61,9 +62,10 @@ class RecordWriter final : public RecordSink {
 
   MPI_Comm comm_;
   int ranks_;
-  EnsembleWriter& writer_;
+  EnsembleWriter* writer_;
   ensemble::Progress& progress_;
   ensemble::ResponseTable* table_;
+  std::vector<ensemble::SampleRecord>* collected_;
   std::vector<ensemble::SampleRecord> local_;
   int finished_ranks_ = 0;
   std::uint64_t done_ = 0, failed_ = 0;

@@ -89,6 +89,10 @@ void ensemble_summary(std::ostream& out, const h5::ReadFile& f, const std::strin
   }
   ensemble::print_digest(out, d);
   if (spec.responses.empty()) return;
+  if (!f.has("/responses")) {  // a merge of an incomplete set of parts: no answers
+    out << "responses: not computed, the file holds only some of the samples (attribute held_samples)\n";
+    return;
+  }
   std::vector<std::int32_t> status;
   for (long long s : f.integers("/samples/status")) status.push_back(static_cast<std::int32_t>(s));
   const std::size_t D = spec.input_dimensions();

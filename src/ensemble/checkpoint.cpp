@@ -19,7 +19,7 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr char kMagic[8] = {'T', 'D', 'C', 'K', 'P', 'T', '0', '1'};
-enum class Kind : std::uint32_t { common = 1, part = 2 };
+enum class Kind : std::uint32_t { common = 1, part = 2, part_file = 3 };
 
 std::uint64_t fnv1a(const char* data, std::size_t size, std::uint64_t h = 14695981039346656037ull) {
   for (std::size_t k = 0; k < size; ++k) {
@@ -158,8 +158,10 @@ std::vector<char> state_bytes(Kind kind, const CheckpointIdentity& id, Out& payl
   return b;
 }
 
-// Checks magic, checksum and identity; returns the payload reader position.
-In open_state(const std::vector<char>& bytes, Kind kind, const CheckpointIdentity& id, const fs::path& path) {
+// Checks magic, checksum and identity (when `id` is given; else stores what
+// the file says in `found`); returns the payload reader position.
+In open_state(const std::vector<char>& bytes, Kind kind, const CheckpointIdentity* id, const fs::path& path,
+              CheckpointIdentity* found = nullptr) {
   const std::string what = path.string();
   if (bytes.size() < sizeof kMagic + 12 || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
     throw CheckpointError("checkpoint " + what + " is not a treedyn checkpoint (or from another layout)");
@@ -171,13 +173,15 @@ In open_state(const std::vector<char>& bytes, Kind kind, const CheckpointIdentit
   if (in.get<std::uint32_t>() != static_cast<std::uint32_t>(kind)) in.fail("unexpected kind");
   const std::string job_hash = in.get_text();
   const std::string build = in.get_text();
-  if (job_hash != id.job_hash)
+  if (found) *found = {job_hash, build};
+  if (!id) return in;
+  if (job_hash != id->job_hash)
     throw CheckpointError("checkpoint " + what + " belongs to another job file (job text hash " + job_hash +
-                          ", this job's is " + id.job_hash +
+                          ", this job's is " + id->job_hash +
                           "): resume with the job file it was started with, or remove the checkpoint");
-  if (build != id.build)
+  if (build != id->build)
     throw CheckpointError("checkpoint " + what + " was written by another build (" + build + "; this is " +
-                          id.build + "): resume with that build, or remove the checkpoint");
+                          id->build + "): resume with that build, or remove the checkpoint");
   return in;
 }
 
@@ -292,7 +296,7 @@ struct PartState {
 
 PartState read_part(const fs::path& path, const CheckpointIdentity& id, std::size_t entries, int bins) {
   const std::vector<char> bytes = read_file(path);
-  In in = open_state(bytes, Kind::part, id, path);
+  In in = open_state(bytes, Kind::part, &id, path);
   PartState p;
   in.get<std::uint64_t>();  // generation (also in the name)
   p.records_bytes = in.get<std::uint64_t>();
@@ -391,7 +395,7 @@ std::optional<RestoredRun> load_checkpoint(const fs::path& dir, const Checkpoint
   {
     const fs::path path = state_path(dir, "common");
     const std::vector<char> bytes = read_file(path);
-    In in = open_state(bytes, Kind::common, id, path);
+    In in = open_state(bytes, Kind::common, &id, path);
     run.nominal = in.get_vector<double>();
     run.calibration.center = in.get_vector<double>();
     run.calibration.scale = in.get_vector<double>();
@@ -515,6 +519,58 @@ std::vector<std::string> remove_stale_temporaries(const fs::path& dir, const std
     if (fs::remove(entry.path(), remove_error)) removed.push_back(entry.path().string());
   }
   return removed;
+}
+
+void write_part_file(const fs::path& path, const PartFile& part, EnsembleStatistics& stats) {
+  Out payload;
+  payload.put_text(part.job_text);
+  payload.put_text(part.job_path);
+  payload.put(part.first);
+  payload.put(part.end);
+  payload.put_vector(part.nominal);
+  payload.put_vector(part.calibration.center);
+  payload.put_vector(part.calibration.scale);
+  payload.put_vector(part.calibration.low);
+  payload.put_vector(part.calibration.width);
+  put_statistics(payload, stats);
+  std::vector<char> records;
+  for (const SampleRecord& r : part.records) append_record(r, records);
+  payload.put_vector(records);
+  write_atomically(path, state_bytes(Kind::part_file, part.id, payload));
+}
+
+PartFile read_part_file(const fs::path& path) {
+  const std::vector<char> bytes = read_file(path);
+  PartFile part;
+  In in = open_state(bytes, Kind::part_file, nullptr, path, &part.id);
+  part.job_text = in.get_text();
+  part.job_path = in.get_text();
+  part.first = in.get<std::uint64_t>();
+  part.end = in.get<std::uint64_t>();
+  part.nominal = in.get_vector<double>();
+  part.calibration.center = in.get_vector<double>();
+  part.calibration.scale = in.get_vector<double>();
+  part.calibration.low = in.get_vector<double>();
+  part.calibration.width = in.get_vector<double>();
+  const std::size_t entries = part.nominal.size();
+  for (const auto* v : {&part.calibration.center, &part.calibration.scale, &part.calibration.low,
+                        &part.calibration.width})
+    if (v->size() != entries) in.fail("calibration of another shape than the nominal run");
+  // Bins from the counts' length: entries x (bins + 2).
+  In peek = in;
+  peek.get<std::uint64_t>();
+  for (int k = 0; k < 2; ++k) peek.get_vector<wide>();
+  for (int k = 0; k < 2; ++k) peek.get_vector<double>();
+  const auto counts = peek.get_vector<std::uint32_t>();
+  if (entries == 0 || counts.size() % entries != 0 || counts.size() / entries < 3) in.fail("histogram of another shape");
+  part.bins = static_cast<int>(counts.size() / entries) - 2;
+  part.statistics = take_statistics(in, entries, part.bins);
+  const std::vector<char> records = in.get_vector<char>();
+  part.records = read_records(records);
+  if (part.first > part.end) in.fail("sample range reversed");
+  for (const SampleRecord& r : part.records)
+    if (r.index < part.first || r.index >= part.end) in.fail("a sample outside the part's range");
+  return part;
 }
 
 }  // namespace treedyn::ensemble

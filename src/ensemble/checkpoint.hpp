@@ -106,6 +106,24 @@ std::uint64_t consolidate_checkpoint(const std::filesystem::path& dir, const Che
 // Removes the whole directory (after a complete run).
 void remove_checkpoint(const std::filesystem::path& dir);
 
+// A part of a split ensemble (--samples FIRST:END): everything the merge
+// needs, in one file written atomically, with the identity of the job and
+// build (the job text itself too, so that the merge needs no job file).
+struct PartFile {
+  CheckpointIdentity id;
+  std::string job_text, job_path;
+  std::uint64_t first = 0, end = 0;  // the sample indices it covers, [first, end)
+  std::vector<double> nominal;
+  Calibration calibration;
+  int bins = 0;                      // read_part_file only
+  std::vector<char> statistics;      // raw, read_part_file only (restore_statistics)
+  std::vector<SampleRecord> records; // every sample of the range
+};
+// Writes `part` with the statistics of `stats`. Throws CheckpointError.
+void write_part_file(const std::filesystem::path& path, const PartFile& part, EnsembleStatistics& stats);
+// Throws CheckpointError for a file that is not a part or is damaged.
+PartFile read_part_file(const std::filesystem::path& path);
+
 // Temporary files `<name>.tmp-PID` in `dir` whose process no longer runs
 // (kill -9, a node that died): removed, and their names returned. Only PIDs
 // of this host can be checked, so a file whose process lives is kept.

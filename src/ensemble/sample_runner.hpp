@@ -21,6 +21,7 @@ enum class SampleStatus : std::int32_t {
   ok = 0,
   integration_failed = 1,  // the integrator gave up: reason and time reached recorded
   invalid_model = 2,       // the perturbed inputs gave an invalid model (e.g. negative mass)
+  not_run = 3,             // a merge of an incomplete set of parts: no part held this sample
 };
 
 struct SampleRecord {

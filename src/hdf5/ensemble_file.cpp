@@ -71,7 +71,10 @@ EnsembleWriter::EnsembleWriter(const std::filesystem::path& path, const Job& job
     h5::write_attribute(inputs_.id(), "column_modes", mode);
   }
   status_ = h5::create_rows(g, "status", H5T_NATIVE_INT32, n, 0, chunk);
-  describe(status_.id(), "1", "0 ok, 1 integration failed, 2 invalid model (perturbed input refused)", {});
+  describe(status_.id(), "1",
+           "0 ok, 1 integration failed, 2 invalid model (perturbed input refused), 3 not run (a merge of an "
+           "incomplete set of parts: see the root attribute held_samples)",
+           {});
   reason_ = h5::create_string_rows(g, "reason", n, chunk);
   describe(reason_.id(), "1", "why the sample failed; empty when ok", {});
   time_reached_ = h5::create_rows(g, "time_reached", H5T_NATIVE_DOUBLE, n, 0, chunk);
@@ -419,6 +422,18 @@ void EnsembleWriter::write_answers(const std::vector<ensemble::ResponseAnswer>& 
       h5::write_attribute(sg.id(), "bootstrap_resamples", static_cast<long long>(spec_.bootstrap_resamples));
     }
   }
+}
+
+void EnsembleWriter::write_merge_origin(const std::vector<std::string>& parts,
+                                        const std::vector<std::pair<std::uint64_t, std::uint64_t>>& held) {
+  const hid_t root = file_.id();
+  h5::write_attribute(root, "merged_from", parts);
+  std::vector<long long> flat;
+  for (const auto& [first, end] : held) {
+    flat.push_back(static_cast<long long>(first));
+    flat.push_back(static_cast<long long>(end));
+  }
+  h5::write_attribute(root, "held_samples", std::span<const long long>(flat));
 }
 
 void EnsembleWriter::finish(const EnsembleSummary& summary, const RunProvenance& run) {

@@ -36,6 +36,11 @@ class EnsembleWriter {
   // /responses/<name> and /sensitivity/<name>, one per spec response.
   void write_answers(const std::vector<ensemble::ResponseAnswer>& answers);
   void finish(const EnsembleSummary& summary, const RunProvenance& run);
+  // A merged file: the part files it came from and the sample ranges they
+  // held, root attributes merged_from (strings) and held_samples ((K, 2),
+  // [first, end) rows). Call before finish().
+  void write_merge_origin(const std::vector<std::string>& parts,
+                          const std::vector<std::pair<std::uint64_t, std::uint64_t>>& held);
 
  private:
   void write_run(const std::vector<ensemble::SampleRecord>& run);

@@ -202,6 +202,9 @@ def response_figures(f, page):
         if "responses" in f and names[r] in f["responses"] and "exceedance" in f["responses"][names[r]]:
             ax.axvline(f["responses"][names[r]]["exceedance"].attrs["limit"], color="tab:red", ls="--", lw=1)
     page.figure(fig, "histograms of the responses (dashed: the limit)")
+    if "responses" not in f:  # a merge of an incomplete set of parts
+        page.paragraph("No /responses: the file holds only some of the samples (root attribute held_samples).")
+        return
     rows = []
     for r, name in enumerate(names):
         g = f["responses"][name]
