@@ -6,6 +6,7 @@
 #include <iostream>
 
 #include "app/exit_codes.hpp"
+#include "hdf5/hdf5.hpp"
 #include "app/model_summary.hpp"
 #include "app/merge_parts.hpp"
 #include "app/rerun_sample.hpp"
@@ -57,6 +58,7 @@ int merge_command(int argc, char** argv, int rank) {
 
 int main(int argc, char** argv) {
   using namespace treedyn;
+  h5::quiet_errors();  // first of all HDF5 calls: no exit handler, no error stack on stderr
   parallel::Session session(&argc, &argv);
   if (argc > 1 && std::string(argv[1]) == "merge") {
     int code = merge_command(argc - 1, argv + 1, session.rank());

@@ -6,6 +6,7 @@
 
 #include "app/command_errors.hpp"
 #include "app/exit_codes.hpp"
+#include "hdf5/hdf5.hpp"
 #include "app/model_summary.hpp"
 #include "app/report_command.hpp"
 #include "app/run_trajectory.hpp"
@@ -34,6 +35,7 @@ int run_command(const std::string& job_path, const std::string& output_path, boo
 
 int main(int argc, char** argv) {
   using namespace treedyn;
+  h5::quiet_errors();  // first of all HDF5 calls: no exit handler, no error stack on stderr
   CLI::App app{"treedyn: dynamics of trees of rigid bodies joined by spherical joints"};
   app.set_version_flag("--version", std::string("treedyn ") + TREEDYN_VERSION);
   app.require_subcommand(1);

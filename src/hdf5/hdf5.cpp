@@ -13,8 +13,10 @@ namespace {
 // would crash there, turning a clean exit code into a segfault.
 void silence_hdf5() {
   static const bool done = [] {
-    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+    // H5dont_atexit works only before the library initialises itself, which
+    // any other call (H5Eset_auto2 included) does: it must come first.
     H5dont_atexit();
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
     return true;
   }();
   (void)done;
@@ -99,6 +101,12 @@ void Handle::reset() {
   id_ = H5I_INVALID_HID;
 }
 
+herr_t Handle::close_now() {
+  const herr_t status = id_ >= 0 && close_ ? close_(id_) : 0;
+  id_ = H5I_INVALID_HID;
+  return status;
+}
+
 void check_output_path(const std::filesystem::path& path) {
   namespace fs = std::filesystem;
   if (path.empty()) throw IoError("output: no output file given");
@@ -145,12 +153,19 @@ File::~File() {
 }
 
 void File::commit() {
-  check(H5Fflush(handle_.id(), H5F_SCOPE_GLOBAL), "flushing " + temporary_path_.string());
+  if (H5Fflush(handle_.id(), H5F_SCOPE_GLOBAL) < 0)
+    throw IoError("output " + final_path_.string() + ": writing the file to disk failed (is the disk full?)");
   // Every object must be closed by now, or closing the file would be deferred
   // past the rename.
   if (H5Fget_obj_count(handle_.id(), H5F_OBJ_ALL) > 1)
     throw IoError("output " + final_path_.string() + ": internal error, objects still open at commit");
-  handle_.reset();
+  // A failed close (the last metadata not written: a full disk) must not be
+  // renamed as complete.
+  if (handle_.close_now() < 0) {
+    std::error_code ec;
+    std::filesystem::remove(temporary_path_, ec);
+    throw IoError("output " + final_path_.string() + ": closing the file failed (is the disk full?)");
+  }
   std::error_code ec;
   std::filesystem::rename(temporary_path_, final_path_, ec);
   if (ec) {

@@ -33,6 +33,8 @@ class Handle {
   Handle& operator=(const Handle&) = delete;
   hid_t id() const { return id_; }
   void reset();
+  // Closes now and returns the close call's status (reset() ignores it).
+  herr_t close_now();
 
  private:
   hid_t id_ = H5I_INVALID_HID;

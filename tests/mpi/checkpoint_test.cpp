@@ -171,7 +171,7 @@ class Checkpoint : public ::testing::Test {
     H5File a(reference_), b(out);
     ASSERT_TRUE(a.ok() && b.ok());
     EXPECT_EQ(read_integer_attribute(b.id(), "samples_ok") + read_integer_attribute(b.id(), "samples_failed"), 64);
-    expect_identical_datasets(a.id(), "uninterrupted", b.id(), what, {"/stats", "/samples", "/responses"});
+    expect_identical_datasets(a.id(), "uninterrupted", b.id(), what, {"/stats", "/samples", "/responses", "/sensitivity"});
   }
 
   fs::path fresh_output(const std::string& name) {
