@@ -4,12 +4,16 @@
 #include <numbers>
 
 #include "ensemble/ensemble_spec.hpp"
+#include "ensemble/statistics.hpp"
 #include "ensemble/targets.hpp"
 #include "job/toml_view.hpp"
 #include "output/quantities.hpp"
 
 namespace treedyn::ensemble {
 namespace {
+
+constexpr std::uint64_t kMaxRuns = EnsembleStatistics::kMaxSamples;
+
 
 using Kind = Perturbation::Kind;
 using Mode = Perturbation::Mode;
@@ -372,15 +376,20 @@ EnsembleSpec read_ensemble(const Job& job) {
       t.fail("design", "saltelli needs at least one [[ensemble.perturbation]] (the inputs to rank)");
     if (2 * d > 1000) t.fail("perturbation", "saltelli supports at most 500 input dimensions (2D Sobol dimensions)");
     // samples is the base size N: N (D + 2) runs.
-    if (s.base_samples > 0xffffffffULL / saltelli_block(d))
+    if (s.base_samples > kMaxRuns / saltelli_block(d))
       t.fail("samples", "saltelli makes samples x (D + 2) = " + std::to_string(s.base_samples) + " x " +
-                            std::to_string(saltelli_block(d)) +
-                            " runs; at most 4294967295 (sample indices are 32-bit): use at most " +
-                            std::to_string(0xffffffffULL / saltelli_block(d)));
+                            std::to_string(saltelli_block(d)) + " runs; at most " + std::to_string(kMaxRuns) +
+                            " (2^26, so that the exact 128-bit sums cannot overflow): use at most " +
+                            std::to_string(kMaxRuns / saltelli_block(d)));
     s.samples = s.base_samples * saltelli_block(d);
   }
-  // 32-bit Sobol points and 32-bit histogram counters.
-  if (s.samples > 0xffffffffULL) t.fail("samples", "at most 4294967295 samples");
+  // The exact sums hold 2^26 extreme samples (d / S at its 2^20 limit, squared
+  // with 60 fraction bits: 2^100 each, 2^126 in all); 32-bit Sobol points and
+  // histogram counters would allow more.
+  if (s.samples > kMaxRuns)
+    t.fail("samples", std::to_string(s.samples) + " samples: at most " + std::to_string(kMaxRuns) +
+                          " (2^26, so that the exact 128-bit sums cannot overflow); split larger studies into "
+                          "several ensembles with different seeds");
   s.pilot_samples = std::min(s.pilot_samples, s.samples);  // runs, also for saltelli
 
   if (t.has("per_sample")) s.per_sample = read_per_sample(t);

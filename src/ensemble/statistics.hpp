@@ -44,6 +44,9 @@ class EnsembleStatistics {
   static constexpr int kSumBits = 62;
   static constexpr int kSquareBits = 60;
   static constexpr double kMaxScaledDeviation = 1048576.0;  // 2^20
+  // So the sums cannot overflow, an ensemble has at most 2^26 samples
+  // (read_ensemble refuses more).
+  static constexpr std::uint64_t kMaxSamples = std::uint64_t{1} << 26;
 
   EnsembleStatistics(std::size_t times, std::size_t columns, int bins, Calibration calibration);
 

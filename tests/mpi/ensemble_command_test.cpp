@@ -202,7 +202,7 @@ TEST(EnsembleBadAnswers, SaltelliWithoutPerturbations) {
 }
 
 TEST(EnsembleBadAnswers, SaltelliBeyondTheSampleIndexLimit) {
-  // 5 inputs: 7 runs per base point; 2^32 - 1 runs at most.
+  // 5 inputs: 7 runs per base point; 2^26 runs at most.
   TempDir dir("ensemble_command_test");
   std::string text = read_text(std::string(TREEDYN_JOBS_DIR) + "/spherical_pendulum.toml");
   const std::size_t at = text.find("samples = 64");
@@ -216,7 +216,25 @@ TEST(EnsembleBadAnswers, SaltelliBeyondTheSampleIndexLimit) {
   const CommandResult r = run_command(TREEDYN_ENSEMBLE_BINARY, {"--check", job.string()}, dir.path() / "capture");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("ensemble.samples: saltelli makes samples x (D + 2) = 700000000 x 7 runs; at most "
-                       "4294967295 (sample indices are 32-bit): use at most 613566756"),
+                       "67108864 (2^26, so that the exact 128-bit sums cannot overflow): use at most 9586980"),
+            std::string::npos)
+      << r.err;
+}
+
+// The exact 128-bit sums hold 2^26 samples at the out-of-range bound: more
+// is refused before any work.
+TEST(EnsembleBadAnswers, MoreSamplesThanTheExactSumsHoldAreRefused) {
+  TempDir dir("ensemble_command_test");
+  std::string text = read_text(std::string(TREEDYN_JOBS_DIR) + "/spherical_pendulum.toml");
+  const std::size_t at = text.find("samples = 64");
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, 12, "samples = 67108865");
+  const fs::path job = dir.path() / "job.toml";
+  write_text(job, text);
+  fs::create_directory(dir.path() / "capture");
+  const CommandResult r = run_command(TREEDYN_ENSEMBLE_BINARY, {"--check", job.string()}, dir.path() / "capture");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find(":" + position_of(text, "67108865") + ": ensemble.samples: 67108865 samples: at most 67108864"),
             std::string::npos)
       << r.err;
 }
