@@ -15,6 +15,8 @@
 namespace treedyn {
 namespace {
 
+constexpr double kSmallestRelativeTolerance = 1e-15;
+
 void read_integrator(const TomlView& t, SimulationRequest& r) {
   t.check_keys({"method", "parameterisation", "solver", "rtol", "atol", "max_steps", "max_step",
                 "initial_step"});
@@ -33,6 +35,11 @@ void read_integrator(const TomlView& t, SimulationRequest& r) {
     }
   };
   positive("rtol", r.settings.relative_tolerance);
+  // Below ~5 machine epsilons no step can meet the error test: the
+  // integrator would stop at t = 0 with too_much_accuracy.
+  if (r.settings.relative_tolerance < kSmallestRelativeTolerance)
+    t.fail("rtol", format_number(r.settings.relative_tolerance) +
+                       " asks for more than double precision can give: at least 1e-15 (about 5 machine epsilons)");
   positive("atol", r.settings.absolute_tolerance);
   positive("max_step", r.settings.max_step);
   positive("initial_step", r.settings.initial_step);

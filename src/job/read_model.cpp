@@ -119,6 +119,9 @@ void read_body(const TomlView& t, ReadBodies& out) {
                 "length", "orientation", "angular_velocity", "spring"});
   BodySpec body;
   body.name = t.required_string("name");
+  if (body.name.empty()) t.fail("name", "must not be empty");
+  if (body.name == kBaseName)
+    t.fail("name", "the name \"base\" is reserved for the moving base point; choose another name");
   read_mass_and_inertia(t, body);
   JointSpec joint;
   joint.child = body.name;
@@ -256,11 +259,22 @@ BaseMotionSpec read_base(const TomlView& t) {
                      "\"harmonic\", \"tabulated\"");
 }
 
+// The body a [[force]] or [[moment]] acts on must be one of the model's.
+void require_body(const TomlView& t, const std::string& body, const ModelSpec& spec) {
+  std::vector<std::string_view> names;
+  for (const BodySpec& b : spec.bodies) {
+    if (b.name == body) return;
+    names.push_back(b.name);
+  }
+  t.fail("body", "'" + body + "' is not a body of the model" + did_you_mean(body, names));
+}
+
 void read_loads(const TomlView& root, ModelSpec& spec) {
   for (const TomlView& f : root.table_array("force")) {
     f.check_keys({"body", "point", "force"});
     PointForce pf;
     pf.body = f.required_string("body");
+    require_body(f, pf.body, spec);
     pf.point = f.vec3("point").value_or(Vec3::Zero());
     const auto force = f.vec3("force");
     if (!force) f.fail("force", "missing required field: [Fx, Fy, Fz] in N, inertial frame");
@@ -271,6 +285,7 @@ void read_loads(const TomlView& root, ModelSpec& spec) {
     m.check_keys({"body", "moment"});
     BodyMoment bm;
     bm.body = m.required_string("body");
+    require_body(m, bm.body, spec);
     const auto moment = m.vec3("moment");
     if (!moment) m.fail("moment", "missing required field: [Mx, My, Mz] in N m, inertial frame");
     bm.moment = *moment;

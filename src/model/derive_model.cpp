@@ -1,5 +1,7 @@
 // derive_model: a parameter vector into a Model, with the physical checks and
 // the body-frame constants of section 3 of the theory page.
+#include <cmath>
+#include <cstdio>
 #include <string>
 
 #include "common/error.hpp"
@@ -180,6 +182,12 @@ void derive_loads(const ModelDefinition& d, std::span<const double> p, Model& m)
   }
 }
 
+std::string format_value(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g", v);
+  return text;
+}
+
 // Subtree masses, barycentres, b- and d-vectors and augmented inertias, all in
 // the body's own frame.
 void compute_constants(Model& m) {
@@ -218,6 +226,16 @@ void compute_constants(Model& m) {
     }
     m.augmented_inertia[i] = 0.5 * (K + K.transpose());
   }
+  // Values each finite on their own can overflow in these sums (masses of
+  // 1e308): the equations would be non-finite from t = 0.
+  for (int i = 0; i < n; ++i)
+    if (!std::isfinite(m.subtree_mass[i]) || !m.augmented_inertia[i].allFinite() ||
+        !m.inertia_about_joint[i].allFinite() || !m.barycentre_to_inboard[i].allFinite())
+      throw ModelError("body '" + tree.body_name[i] +
+                           "': its mass, inertia or joint points overflow double precision in the mass matrix "
+                           "(mass of the subtree " + format_value(m.subtree_mass[i]) +
+                           " kg); give SI values of a physical size",
+                       tree.body_name[i]);
 }
 
 }  // namespace

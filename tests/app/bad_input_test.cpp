@@ -200,6 +200,46 @@ TEST(BadInput, TooDeepForTheSparseSolverPointsAtTheSolverField) {
   EXPECT_TRUE(fs::exists(recursive.output()));
 }
 
+// Refusals found by a hostile test, each now with its FILE:LINE:COLUMN: FIELD.
+TEST(BadInput, ABodyNamedBaseIsRefusedAtItsName) {
+  const std::string text = with(kGoodJob, "name = \"rod\"", "name = \"base\"");
+  Case c("body named base", text);
+  c.expect_refused(2, c.job() + ":" + value_position(text, "name = \"base\"") + ": body[1].name: ",
+                   {"reserved for the moving base point"});
+}
+
+TEST(BadInput, AForceOnAnUnknownBodySuggestsTheNearestBody) {
+  const std::string text = kGoodJob + "\n[[force]]\nbody = \"rdo\"\nforce = [1.0, 0.0, 0.0]\n";
+  Case c("force on an unknown body", text);
+  c.expect_refused(2, c.job() + ":" + value_position(text, "body = \"rdo\"") + ": force[1].body: ",
+                   {"'rdo' is not a body of the model", "did you mean 'rod'?"});
+}
+
+TEST(BadInput, AMomentOnAnUnknownBodyIsRefusedAtItsBody) {
+  const std::string text = kGoodJob + "\n[[moment]]\nbody = \"wheel\"\nmoment = [1.0, 0.0, 0.0]\n";
+  Case c("moment on an unknown body", text);
+  c.expect_refused(2, c.job() + ":" + value_position(text, "body = \"wheel\"") + ": moment[1].body: ",
+                   {"'wheel' is not a body of the model"});
+}
+
+// Each mass is finite, their sum is not: the equations would be infinite
+// from t = 0 (before, `check` said OK and the run failed at t = 0).
+TEST(BadInput, MassesThatOverflowTheMassMatrixAreRefusedBeforeAnyWork) {
+  const std::string text =
+      with(kGoodJob, "mass = 1.0", "mass = 1e308") +
+      "\n[[body]]\nname = \"tip\"\nmass = 1e308\nprincipal_moments = [0.1, 0.1, 0.1]\nparent = \"rod\"\n"
+      "joint_on_child = [0.0, 0.0, 0.1]\njoint_on_parent = [0.0, 0.0, -0.5]\n";
+  Case c("overflowing masses", text);
+  c.expect_refused(2, c.job() + ":", {"body 'rod'", "overflow double precision"});
+}
+
+TEST(BadInput, ARelativeToleranceBelowDoublePrecisionIsRefused) {
+  const std::string text = kGoodJob + "\n[integrator]\nrtol = 1e-300\natol = 1e-300\n";
+  Case c("rtol below double precision", text);
+  c.expect_refused(2, c.job() + ":" + value_position(text, "rtol = 1e-300") + ": integrator.rtol: ",
+                   {"1e-300", "at least 1e-15"});
+}
+
 TEST(BadInput, UpperEndNeedsACylinder) {
   const std::string text =
       "[[body]]\nname = \"ball\"\nshape = \"sphere\"\nradius = 0.1\nmass = 1.0\nparent = \"base\"\n"
