@@ -10,6 +10,7 @@
 #include "dynamics/mass_matrix.hpp"
 #include "job/job.hpp"
 #include "job/readers.hpp"
+#include "job/toml_guard.hpp"
 #include "output/quantities.hpp"
 
 namespace treedyn {
@@ -122,6 +123,8 @@ OutputSpec read_output(const TomlView& t, const ModelSpec& model, SimulationRequ
 }  // namespace
 
 Job parse_job(std::string_view text, const std::string& file) {
+  if (TomlGuardError guard; !guard_toml_text(text, guard))
+    throw JobError(file, guard.line, guard.column, "", "not valid TOML: " + guard.message);
   toml::table root_table;
   try {
     root_table = toml::parse(text, file);

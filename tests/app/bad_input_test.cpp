@@ -240,6 +240,27 @@ TEST(BadInput, ARelativeToleranceBelowDoublePrecisionIsRefused) {
                    {"1e-300", "at least 1e-15"});
 }
 
+// Debian's toml++ 3.3.0 reaches __builtin_unreachable on some non-ASCII
+// input outside strings (upstream #295): such bytes never reach it.
+TEST(BadInput, NonAsciiOutsideStringsAndInvalidUtf8AreRefusedBeforeTheParser) {
+  {
+    const std::string text = kGoodJob + "\xc6\xbb\x27\n";
+    Case c("bytes c6 bb 27", text);
+    c.expect_refused(2, c.job() + ":" + position_of(text, "\xc6\xbb") + ": not valid TOML: ",
+                     {"non-ASCII character outside a string or comment"});
+  }
+  {
+    const std::string text = with(kGoodJob, "title = \"bad input\"", "title = \"bad \xff input\"");
+    Case c("invalid UTF-8", text);
+    c.expect_refused(2, c.job() + ":" + position_of(text, "\xff") + ": not valid TOML: ",
+                     {"the byte 0xff is not valid UTF-8"});
+  }
+  // Non-ASCII inside strings and comments stays allowed.
+  Case ok("non-ASCII in a string and a comment",
+          with(kGoodJob, "title = \"bad input\"", "title = \"caf\xc3\xa9 \xc6\xbb'\" # \xc3\xa9t\xc3\xa9"));
+  EXPECT_EQ(ok.result().exit_code, 0) << ok.err();
+}
+
 TEST(BadInput, UpperEndNeedsACylinder) {
   const std::string text =
       "[[body]]\nname = \"ball\"\nshape = \"sphere\"\nradius = 0.1\nmass = 1.0\nparent = \"base\"\n"
