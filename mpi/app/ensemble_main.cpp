@@ -71,7 +71,7 @@ int main(int argc, char** argv) {
   app.footer(
       "Run under mpirun -np P (or alone for one rank). Exit codes: 0 ok, 1 internal error, "
       "2 bad input, 3 the nominal run failed, 4 output (I/O) failure, 5 interrupted by SIGTERM, "
-      "SIGINT or SIGUSR1 (resume with --resume). Failed samples do not fail the job: they are recorded "
+      "SIGINT or SIGUSR1 (resume with --resume), 6 not enough memory. Failed samples do not fail the job: they are recorded "
       "in /samples/status. `treedyn-ensemble merge -o OUT.h5 PART ...` joins the parts of --samples runs.");
   parallel::EnsembleOptions options;
   app.add_option("JOB", options.job_path, "job file (TOML) with an [ensemble] section")->required();
@@ -165,6 +165,13 @@ int main(int argc, char** argv) {
   }
   try {
     return parallel::run_ensemble(MPI_COMM_WORLD, options);
+  } catch (const std::bad_alloc&) {
+    // Another rank may be waiting in a collective: end them all, with this code.
+    std::cerr << "error: out of memory on rank " << session.rank()
+              << ": the job asks for more than this node (or its memory limit) gives; use fewer ranks per node, "
+                 "fewer histogram_bins, output times or quantities\n";
+    MPI_Abort(MPI_COMM_WORLD, kExitMemory);
+    return kExitMemory;
   } catch (const std::exception& e) {
     std::cerr << "internal error on rank " << session.rank() << ": " << e.what() << "\n";
     MPI_Abort(MPI_COMM_WORLD, kExitInternal);

@@ -26,6 +26,7 @@
 #include "hdf5/ensemble_file.hpp"
 #include "job/job_error.hpp"
 #include "ensemble/progress.hpp"
+#include "parallel/memory_check.hpp"
 #include "parallel/record_sink.hpp"
 #include "parallel/statistics_reduce.hpp"
 #include "parallel/work_queue.hpp"
@@ -507,6 +508,8 @@ int run(MPI_Comm comm, int rank, int size, const EnsembleOptions& options, const
                                                      build_identity())
                      : job_id;
   const auto checkpoint_dir = ensemble::checkpoint_directory(options.output_path);
+
+  if (!memory_fits(comm, ensemble::statistics_bytes(job, spec))) return kExitMemory;
 
   std::optional<ensemble::RestoredRun> restored;
   if (const int code = open_checkpoint(c, options, id, restored); code != kExitOk) return code;

@@ -1,6 +1,7 @@
 #include "app/command_errors.hpp"
 
 #include <iostream>
+#include <new>
 
 #include "app/exit_codes.hpp"
 #include "hdf5/hdf5.hpp"
@@ -17,6 +18,9 @@ int exit_code_of(const std::function<int()>& command) {
   } catch (const h5::IoError& e) {
     std::cerr << "error: " << e.what() << "\n";
     return kExitIo;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "error: out of memory: the job asks for more than this machine (or its memory limit) gives\n";
+    return kExitMemory;
   } catch (const std::exception& e) {
     std::cerr << "internal error: " << e.what() << "\n";
     return kExitInternal;

@@ -10,6 +10,7 @@ enum ExitCode : int {
   kExitIntegration = 3,  // the integrator failed (the message gives the time reached)
   kExitIo = 4,           // an output file could not be written
   kExitInterrupted = 5,  // SIGTERM or SIGINT: stopped cleanly; resumable with --resume
+  kExitMemory = 6,       // not enough memory for what the job asks
 };
 
 }  // namespace treedyn

@@ -2,12 +2,15 @@
 // --version, --help, and a missing --output.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
+
 #include <unistd.h>
 
 #include <filesystem>
 #include <utility>
 
 #include "support/command.hpp"
+#include "support/ensemble_run.hpp"
 
 namespace {
 
@@ -237,6 +240,25 @@ TEST(EnsembleBadAnswers, MoreSamplesThanTheExactSumsHoldAreRefused) {
   EXPECT_NE(r.err.find(":" + position_of(text, "67108865") + ": ensemble.samples: 67108865 samples: at most 67108864"),
             std::string::npos)
       << r.err;
+}
+
+// The statistics must fit in the node's memory before any work: exit 6, one
+// message with what is needed and what is there, nothing written. The
+// memory available is forced down with TREEDYN_MEMORY_AVAILABLE.
+TEST(EnsembleBadAnswers, StatisticsLargerThanTheAvailableMemoryAreRefusedBeforeAnyWork) {
+  TempDir dir("ensemble_command_test");
+  const fs::path out = dir.path() / "out" / "ensemble.h5";
+  fs::create_directories(out.parent_path());
+  setenv("TREEDYN_MEMORY_AVAILABLE", "1000000", 1);  // 1 MB
+  for (int ranks : {0, 2}) {
+    const CommandResult r = run_ensemble(ranks, fs::path(TREEDYN_JOBS_DIR) / "kapitza.toml", out, dir.path() / "capture");
+    std::printf("[memory, %s] exit %d: %s", describe(ranks).c_str(), r.exit_code, r.err.c_str());
+    EXPECT_EQ(r.exit_code, 6) << r.err;
+    EXPECT_NE(r.err.find("error: not enough memory on "), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("GiB per rank"), std::string::npos) << r.err;
+    EXPECT_TRUE(fs::is_empty(out.parent_path())) << "nothing may be written";
+  }
+  unsetenv("TREEDYN_MEMORY_AVAILABLE");
 }
 
 TEST(EnsembleBadAnswers, StoredTrajectoriesOverTheMemoryLimit) {
