@@ -2,6 +2,7 @@
 // --version, --help, and a missing --output.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdlib>
 
 #include <unistd.h>
@@ -10,6 +11,7 @@
 #include <utility>
 
 #include "support/command.hpp"
+#include "support/hdf5_reader.hpp"
 #include "support/ensemble_run.hpp"
 
 namespace {
@@ -259,6 +261,38 @@ TEST(EnsembleBadAnswers, StatisticsLargerThanTheAvailableMemoryAreRefusedBeforeA
     EXPECT_TRUE(fs::is_empty(out.parent_path())) << "nothing may be written";
   }
   unsetenv("TREEDYN_MEMORY_AVAILABLE");
+}
+
+// A job file over 64 KiB (a 3000-point tabulated base, as the README allows)
+// used to fail after the whole run ("creating attribute job_text failed"):
+// the job text is a variable-length string now, of any size, in both files.
+TEST(EnsembleLongJob, AJobFileOver64KiBIsStoredWholeByBothCommands) {
+  TempDir dir("ensemble_command_test");
+  std::string times = "times = [", positions = "positions = [";
+  for (int k = 0; k < 3000; ++k) {
+    const double t = 0.001 * k;
+    times += (k ? ", " : "") + std::to_string(t);
+    positions += std::string(k ? ", " : "") + "[" + std::to_string(0.01 * std::sin(20.0 * t)) + ", 0.0, 0.0]";
+  }
+  const std::string text =
+      "[[body]]\nname = \"rod\"\nmass = 1.0\nprincipal_moments = [0.1, 0.1, 0.01]\nparent = \"base\"\n"
+      "joint_on_child = [0.0, 0.0, 0.5]\n\n[base]\ntype = \"tabulated\"\n" +
+      times + "]\n" + positions + "]\n\n[output]\nend_time = 0.5\nstep = 0.1\n\n[ensemble]\nsamples = 4\n"
+      "[[ensemble.perturbation]]\ntarget = \"body.rod.mass\"\ndistribution = \"uniform\"\nlower = 0.9\nupper = 1.1\n";
+  ASSERT_GT(text.size(), 65536u);
+  const fs::path job = dir.path() / "long.toml";
+  write_text(job, text);
+  const fs::path ensemble = dir.path() / "ensemble.h5", trajectory = dir.path() / "run.h5";
+  const CommandResult e = run_ensemble(2, job, ensemble, dir.path() / "capture");
+  ASSERT_EQ(e.exit_code, 0) << e.err;
+  const CommandResult r = run_command(TREEDYN_BINARY, {"run", job.string(), "-o", trajectory.string()},
+                                      dir.path() / "capture");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const fs::path& f : {ensemble, trajectory}) {
+    H5File file(f);
+    ASSERT_TRUE(file.ok());
+    EXPECT_EQ(read_single_string_attribute(file.id(), "job_text"), text) << f;
+  }
 }
 
 TEST(EnsembleBadAnswers, StoredTrajectoriesOverTheMemoryLimit) {
