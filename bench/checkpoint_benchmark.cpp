@@ -1,0 +1,101 @@
+// What checkpoints cost, on every shipped example scaled to 10,000 samples.
+//
+// A rank's checkpoint (src/ensemble/checkpoint.hpp) appends the records
+// finished since the last one and rewrites its statistics, then fsyncs.
+// Measured here, per example, in one run: the time of one sample (median of
+// 3), the fixed cost of one checkpoint (the statistics written and flushed;
+// median of 5), and the cost of appending 10,000 real records of that
+// example. At the default --checkpoint-every 300 s on P ranks, a rank
+// integrates W = 10,000 t_sample / P seconds, writes floor(W / 300) + 1
+// checkpoints (the last on a signal) and appends 10,000 / P records, so the
+// overhead is (checkpoints x fixed + appends / P) / W.
+//
+//   checkpoint_benchmark [DIR] [RANKS]    (DIR: where to write, default /tmp)
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "ensemble/checkpoint.hpp"
+#include "ensemble/ensemble_spec.hpp"
+#include "ensemble/sample_job.hpp"
+#include "ensemble/sample_runner.hpp"
+#include "ensemble/statistics.hpp"
+
+namespace {
+
+using namespace treedyn;
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  namespace fs = std::filesystem;
+  const fs::path where = argc > 1 ? fs::path(argv[1]) : fs::temp_directory_path();
+  const int ranks = argc > 2 ? std::atoi(argv[2]) : 2;
+  constexpr int kSamples = 10000;
+  constexpr double kInterval = 300.0;
+  const char* jobs[] = {"spherical_pendulum", "double_pendulum", "chain10", "y_tree", "crane_payload", "kapitza"};
+  std::printf("| job | sample (ms) | statistics per checkpoint (MiB) | one checkpoint (ms) | 10,000 records "
+              "(MiB) | appending them (ms) | overhead at 300 s, %d ranks |\n|---|---:|---:|---:|---:|---:|---:|\n",
+              ranks);
+  for (const char* name : jobs) {
+    const Job job = ensemble::load_job(std::string(TREEDYN_JOBS_DIR) + "/" + name + ".toml");
+    ensemble::EnsembleSpec spec = ensemble::read_ensemble(job);
+    ensemble::SampleRunner runner(job, spec);
+    std::vector<double> nominal, trajectory;
+    runner.run(0, true, nominal);
+    std::vector<double> sample_times;
+    ensemble::SampleRecord record;
+    for (int k = 0; k < 3; ++k) {
+      const auto t0 = Clock::now();
+      record = runner.run(static_cast<std::uint64_t>(k), false, trajectory);
+      sample_times.push_back(seconds_since(t0));
+    }
+    const double t_sample = median(sample_times);
+    const std::size_t columns = runner.layout().columns, entries = nominal.size();
+    std::vector<double> scale(columns, 1.0), zero(entries, 0.0);
+    ensemble::EnsembleStatistics stats(runner.times(), columns, spec.histogram_bins,
+                                       ensemble::calibrate(nominal, zero, zero, scale, columns, spec.histogram_bins));
+    stats.add_sample(trajectory);
+
+    const fs::path dir = where / ("treedyn_checkpoint_benchmark_" + std::string(name));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    const ensemble::CheckpointIdentity id = ensemble::checkpoint_identity(job.text, "benchmark");
+    ensemble::RankCheckpoint checkpoint(dir, id, 0, "rank0");
+    std::vector<double> fixed;
+    for (int k = 0; k < 5; ++k) {
+      const auto t0 = Clock::now();
+      checkpoint.save(stats);
+      fixed.push_back(seconds_since(t0));
+    }
+    const double state_bytes = static_cast<double>(fs::file_size(dir / "part-0-rank0.state"));
+    const auto t0 = Clock::now();
+    for (int k = 0; k < kSamples; ++k) {
+      record.index = static_cast<std::uint64_t>(k);
+      checkpoint.add(record);
+    }
+    checkpoint.save(stats);
+    const double append = seconds_since(t0) - median(fixed);
+    const double record_bytes = static_cast<double>(fs::file_size(dir / "part-0-rank0.records"));
+    fs::remove_all(dir);
+
+    const double wall = kSamples * t_sample / ranks;
+    const double checkpoints = std::floor(wall / kInterval) + 1.0;
+    const double overhead = (checkpoints * median(fixed) + append / ranks) / wall;
+    std::printf("| %s | %.1f | %.1f | %.1f | %.1f | %.1f | %.3f %% |\n", name, 1e3 * t_sample,
+                state_bytes / 1048576.0, 1e3 * median(fixed), record_bytes / 1048576.0, 1e3 * append, 100.0 * overhead);
+    std::fflush(stdout);
+  }
+  return 0;
+}
