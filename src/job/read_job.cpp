@@ -11,6 +11,8 @@
 #include "job/job.hpp"
 #include "job/readers.hpp"
 #include "job/toml_guard.hpp"
+#include "dynamics/data.hpp"
+#include "dynamics/pipeline.hpp"
 #include "output/quantities.hpp"
 
 namespace treedyn {
@@ -120,6 +122,36 @@ OutputSpec read_output(const TomlView& t, const ModelSpec& model, SimulationRequ
   return out;
 }
 
+// The equations once at the start, as the integrator will see them: a model
+// whose values are each fine but overflow together, or an initial state that
+// does, is refused here, naming the first body whose w' is not finite,
+// instead of failing at t = 0 after all the set-up.
+template <class Where>
+void require_finite_start(const Job& job, const Where& where, const std::string& file) {
+  const Model& model = job.model;
+  if (static_cast<int>(job.initial.rotation.size()) != model.n ||
+      static_cast<int>(job.initial.angular_velocity.size()) != model.n)
+    return;  // the state reader reports that itself
+  Data data(model);
+  data.time = job.request.start_time;
+  for (int i = 0; i < model.n; ++i) {
+    data.rotation[i] = job.initial.rotation[model.tree().user_index[i]];
+    data.angular_velocity[i] = job.initial.angular_velocity[model.tree().user_index[i]];
+  }
+  if (forward_dynamics(model, data)) return;
+  for (int u = 0; u < model.n; ++u) {
+    const int i = model.tree().regular_index[u];
+    if (data.angular_acceleration.segment<3>(3 * i).allFinite() && u + 1 < model.n) continue;
+    const std::string name = model.tree().user_body_name(u);
+    const auto it = where.find(name);
+    throw JobError(file, it != where.end() ? line_of(*it->second) : 0, it != where.end() ? column_of(*it->second) : 0,
+                   "", "body '" + name + "': the equations of motion are not finite at t = " +
+                           format_number(job.request.start_time) +
+                           " s with the initial state (values that overflow double precision together); "
+                           "give SI values of a physical size");
+  }
+}
+
 }  // namespace
 
 Job parse_job(std::string_view text, const std::string& file) {
@@ -182,6 +214,7 @@ Job parse_job(std::string_view text, const std::string& file) {
       }
     }
   }
+  require_finite_start(job, bodies.where, file);
   const auto output = root.subtable("output");
   if (!output)
     throw JobError(file, 0, 0, "output",

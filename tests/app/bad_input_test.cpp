@@ -233,6 +233,17 @@ TEST(BadInput, MassesThatOverflowTheMassMatrixAreRefusedBeforeAnyWork) {
   c.expect_refused(2, c.job() + ":", {"body 'rod'", "overflow double precision"});
 }
 
+// The equations evaluated once at t = 0: an initial state whose terms
+// overflow (w x J w with |w| = 1e200) is refused before any work.
+TEST(BadInput, AnInitialStateWhoseEquationsOverflowIsRefusedBeforeAnyWork) {
+  const std::string text =
+      with(kGoodJob, "joint_on_child = [0.0, 0.0, 0.5]",
+           "joint_on_child = [0.0, 0.0, 0.5]\nangular_velocity = { value = [1e200, 1e200, 0.0], frame = \"inertial\" }");
+  Case c("overflowing initial state", text);
+  c.expect_refused(2, c.job() + ":" + position_of(text, "[[body]]") + ": ",
+                   {"body 'rod'", "not finite at t = 0 s"});
+}
+
 TEST(BadInput, ARelativeToleranceBelowDoublePrecisionIsRefused) {
   const std::string text = kGoodJob + "\n[integrator]\nrtol = 1e-300\natol = 1e-300\n";
   Case c("rtol below double precision", text);
