@@ -53,7 +53,15 @@ int merge_command(int argc, char** argv, int rank) {
     return code == 0 ? kExitOk : kExitBadInput;
   }
   if (rank != 0) return kExitOk;
-  return merge_parts(parts, output, quiet, start_provenance(argc, argv, parts.front()));
+  try {
+    return merge_parts(parts, output, quiet, start_provenance(argc, argv, parts.front()));
+  } catch (const std::bad_alloc&) {
+    std::cerr << "error: out of memory while merging\n";
+    return kExitMemory;
+  } catch (const std::exception& e) {
+    std::cerr << "internal error while merging: " << e.what() << "\n";
+    return kExitInternal;
+  }
 }
 
 int main(int argc, char** argv) {

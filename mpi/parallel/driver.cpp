@@ -344,6 +344,20 @@ int write_results(EnsembleWriter& writer, const RecordWriter& records,
   return kExitOk;
 }
 
+// What this run's records look like (a loaded checkpoint must match).
+ensemble::RecordShape record_shape(const Context& c) {
+  ensemble::RecordShape shape;
+  shape.first = c.first;
+  shape.end = c.end;
+  shape.inputs = c.spec.input_dimensions();
+  shape.reductions = c.spec.per_sample.size() * c.runner.layout().columns;
+  shape.responses = c.spec.responses.size();
+  shape.final_state = c.runner.final_state_size();
+  shape.trajectory = c.entries();
+  shape.stored = c.spec.store_trajectories;
+  return shape;
+}
+
 // Phase 0 (rank 0): stale temporary files of dead processes, then the
 // checkpoint: loaded with --resume; refused without it (a fresh run must not
 // mix with an earlier run's parts); a fresh run starts an empty directory.
@@ -363,14 +377,17 @@ int open_checkpoint(Context& c, const EnsembleOptions& options, const ensemble::
       std::cerr << "note: removed " << f << ", a temporary file left by a process that no longer runs\n";
     try {
       if (options.resume) {
-        restored = ensemble::load_checkpoint(dir, id, c.entries(), c.spec.histogram_bins);
+        restored = ensemble::load_checkpoint(dir, id, c.entries(), c.spec.histogram_bins, record_shape(c));
         if (!restored)
           std::cerr << "note: no checkpoint " << dir.string() << " to resume (or it was written before the pilot "
                     << "samples were done): starting from the beginning\n";
-      } else if (fs::exists(dir / "common.state", ec)) {
-        std::cerr << "error: " << dir.string() << " holds the checkpoint of an earlier run of this output: "
-                  << "resume it with --resume, or remove that directory to start afresh\n";
-        code = kExitBadInput;
+      } else if (fs::exists(dir / "common.state", ec) || ec) {
+        if (ec)
+          std::cerr << "error: cannot look into " << dir.string() << ": " << ec.message() << "\n";
+        else
+          std::cerr << "error: " << dir.string() << " holds the checkpoint of an earlier run of this output: "
+                    << "resume it with --resume, or remove that directory to start afresh\n";
+        code = ec ? kExitIo : kExitBadInput;
       }
     } catch (const ensemble::CheckpointError& e) {
       std::cerr << "error: " << e.what() << "\n";
@@ -440,7 +457,8 @@ int stop_interrupted(Context& c, ensemble::EnsembleStatistics& stats, std::uniqu
       std::cerr << "interrupted by " << what << " during the pilot samples: nothing to resume yet; run it again\n";
       ensemble::remove_checkpoint(dir);
     } else if (c.checkpoint_every <= 0.0) {
-      std::cerr << "interrupted by " << what << "; checkpoints are off (--checkpoint-every 0), so nothing is kept\n";
+      std::cerr << "interrupted by " << what << "; checkpoints are off (--checkpoint-every 0, or a checkpoint "
+                << "could not be written), so this run's samples are not kept\n";
     } else if (!all_saved) {
       std::cerr << "interrupted by " << what << "; a rank could not write its checkpoint (see above): --resume "
                 << "keeps what " << dir << " holds\n";
@@ -575,12 +593,20 @@ int run(MPI_Comm comm, int rank, int size, const EnsembleOptions& options, const
       sink->close();
       return stop_interrupted(c, *stats, writer, 0, false, options.output_path);
     }
+    int common_written = 1;
     if (rank == 0 && c.checkpoint) {
       try {
         ensemble::write_checkpoint_common(checkpoint_dir, id, nominal, stats->calibration());
       } catch (const ensemble::CheckpointError& e) {
         std::cerr << "warning: " << e.what() << "; the run goes on without checkpoints\n";
+        common_written = 0;
       }
+    }
+    // Parts without common.state could never be loaded: none, then.
+    MPI_Bcast(&common_written, 1, MPI_INT, 0, comm);
+    if (!common_written) {
+      c.checkpoint.reset();
+      c.checkpoint_every = 0.0;
     }
   }
   const bool interrupted =

@@ -85,12 +85,28 @@ int merge_parts(const std::vector<std::string>& names, const std::string& output
   }
   ensemble::SampleRunner runner(job, spec);
   const std::size_t entries = runner.times() * runner.layout().columns;
-  for (std::size_t k = 0; k < parts.size(); ++k)
+  for (std::size_t k = 0; k < parts.size(); ++k) {
     if (parts[k].nominal.size() != entries || parts[k].bins != spec.histogram_bins ||
         parts[k].end > spec.samples || parts[k].nominal != parts[0].nominal) {
       std::cerr << "error: " << names[k] << " does not fit the job it carries (nominal run, histogram or range)\n";
       return kExitBadInput;
     }
+    ensemble::RecordShape shape;
+    shape.first = parts[k].first;
+    shape.end = parts[k].end;
+    shape.inputs = spec.input_dimensions();
+    shape.reductions = spec.per_sample.size() * runner.layout().columns;
+    shape.responses = spec.responses.size();
+    shape.final_state = runner.final_state_size();
+    shape.trajectory = entries;
+    shape.stored = spec.store_trajectories;
+    try {
+      ensemble::check_records(parts[k].records, shape, "part file " + names[k]);
+    } catch (const ensemble::CheckpointError& e) {
+      std::cerr << "error: " << e.what() << "\n";
+      return kExitBadInput;
+    }
+  }
 
   // The held ranges (adjacent parts joined) and the gaps.
   std::vector<std::pair<std::uint64_t, std::uint64_t>> held;

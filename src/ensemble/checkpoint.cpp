@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -274,7 +275,12 @@ std::vector<SampleRecord> read_frames(const fs::path& path, std::uint64_t bytes)
     if (size > bytes - at - 16) in.fail("frame beyond the saved length");
     const char* data = all.data() + at + 16;
     if (fnv1a(data, size) != sum) in.fail("frame checksum mismatch");
-    std::vector<SampleRecord> records = read_records(std::vector<char>(data, data + size));
+    std::vector<SampleRecord> records;
+    try {
+      records = read_records(std::vector<char>(data, data + size));
+    } catch (const std::exception& e) {
+      in.fail(e.what());
+    }
     for (auto& r : records) out.push_back(std::move(r));
     at += 16 + size;
   }
@@ -323,7 +329,7 @@ long long generation_of(const std::string& stem, const std::string& prefix) {
   const std::string rest = stem.substr(prefix.size());
   const std::size_t dash = rest.find('-');
   const std::string digits = dash == std::string::npos ? rest : rest.substr(0, dash);
-  if (digits.empty() || digits.find_first_not_of("0123456789") != std::string::npos) return -1;
+  if (digits.empty() || digits.size() > 18 || digits.find_first_not_of("0123456789") != std::string::npos) return -1;
   return std::stoll(digits);
 }
 
@@ -387,10 +393,35 @@ void RankCheckpoint::save(EnsembleStatistics& stats) {
   write_atomically(state_path(dir_, stem), part_state_bytes(id_, generation_, saved_bytes_, saved_records_, raw.bytes()));
 }
 
+void check_records(const std::vector<SampleRecord>& records, const RecordShape& shape, const std::string& what) {
+  for (const SampleRecord& r : records) {
+    const bool ok = r.status == SampleStatus::ok;
+    const bool fits =
+        r.index >= shape.first && r.index < shape.end && (r.inputs.empty() || r.inputs.size() == shape.inputs) &&
+        r.reductions.size() == shape.reductions && r.responses.size() == shape.responses &&
+        r.final_state.size() == shape.final_state &&
+        (r.trajectory.empty() || (ok && r.index < shape.stored && r.trajectory.size() == shape.trajectory));
+    if (!fits)
+      throw CheckpointError(what + " is damaged or of another job (sample " + std::to_string(r.index) +
+                            " does not fit the job's shape); remove it to start afresh");
+  }
+}
+
+void check_calibration(const Calibration& c, std::size_t entries, const std::string& what) {
+  bool fine = c.center.size() == entries && c.scale.size() == entries && c.low.size() == entries &&
+              c.width.size() == entries;
+  for (std::size_t e = 0; fine && e < entries; ++e)
+    fine = std::isfinite(c.center[e]) && std::isfinite(c.low[e]) && c.scale[e] > 0.0 && std::isfinite(c.scale[e]) &&
+           c.width[e] > 0.0 && std::isfinite(c.width[e]);
+  if (!fine) throw CheckpointError(what + " is damaged (its calibration is not usable); remove it to start afresh");
+}
+
 std::optional<RestoredRun> load_checkpoint(const fs::path& dir, const CheckpointIdentity& id, std::size_t entries,
-                                           int bins) {
+                                           int bins, const RecordShape& shape) {
   std::error_code ec;
-  if (!fs::exists(state_path(dir, "common"), ec)) return std::nullopt;
+  const bool exists = fs::exists(state_path(dir, "common"), ec);
+  if (ec) throw CheckpointError("cannot look into " + dir.string() + ": " + ec.message());
+  if (!exists) return std::nullopt;
   RestoredRun run;
   {
     const fs::path path = state_path(dir, "common");
@@ -401,9 +432,8 @@ std::optional<RestoredRun> load_checkpoint(const fs::path& dir, const Checkpoint
     run.calibration.scale = in.get_vector<double>();
     run.calibration.low = in.get_vector<double>();
     run.calibration.width = in.get_vector<double>();
-    for (const auto* v : {&run.nominal, &run.calibration.center, &run.calibration.scale, &run.calibration.low,
-                          &run.calibration.width})
-      if (v->size() != entries) in.fail("nominal run or calibration of another shape");
+    if (run.nominal.size() != entries) in.fail("nominal run of another shape");
+    check_calibration(run.calibration, entries, "checkpoint " + path.string());
   }
   // The newest complete generation: 0, or one with its base.
   std::uint64_t generation = 0;
@@ -417,6 +447,7 @@ std::optional<RestoredRun> load_checkpoint(const fs::path& dir, const Checkpoint
   for (const std::string& stem : stems) {
     const PartState part = read_part(state_path(dir, stem), id, entries, bins);
     std::vector<SampleRecord> records = read_frames(records_path(dir, stem), part.records_bytes);
+    check_records(records, shape, "checkpoint " + state_path(dir, stem).string());
     if (records.size() != part.records_count)
       throw CheckpointError("checkpoint " + state_path(dir, stem).string() +
                             " is damaged (record count mismatch); remove it to start afresh");
@@ -499,7 +530,11 @@ std::uint64_t consolidate_checkpoint(const fs::path& dir, const CheckpointIdenti
 
 void remove_checkpoint(const fs::path& dir) {
   std::error_code ec;
-  fs::remove_all(dir, ec);
+  if (!fs::exists(dir, ec)) return;
+  fs::path doomed = dir;
+  doomed += ".removing-" + std::to_string(getpid());
+  fs::rename(dir, doomed, ec);
+  fs::remove_all(ec ? dir : doomed, ec);
 }
 
 std::vector<std::string> remove_stale_temporaries(const fs::path& dir, const std::string& name) {
@@ -566,10 +601,23 @@ PartFile read_part_file(const fs::path& path) {
   part.bins = static_cast<int>(counts.size() / entries) - 2;
   part.statistics = take_statistics(in, entries, part.bins);
   const std::vector<char> records = in.get_vector<char>();
-  part.records = read_records(records);
+  try {
+    part.records = read_records(records);
+  } catch (const std::exception& e) {
+    in.fail(e.what());
+  }
   if (part.first > part.end) in.fail("sample range reversed");
-  for (const SampleRecord& r : part.records)
-    if (r.index < part.first || r.index >= part.end) in.fail("a sample outside the part's range");
+  check_calibration(part.calibration, entries, "part file " + path.string());
+  // Exactly the samples of its range, once each, and statistics of its ok ones.
+  std::uint64_t ok = 0;
+  for (std::size_t k = 0; k < part.records.size(); ++k) {
+    if (part.records[k].index != part.first + k) in.fail("the samples of its range are not all there, once each");
+    if (part.records[k].status == SampleStatus::ok) ++ok;
+  }
+  if (part.records.size() != part.end - part.first) in.fail("the samples of its range are not all there");
+  std::uint64_t counted = 0;
+  std::memcpy(&counted, part.statistics.data(), sizeof counted);
+  if (counted != ok) in.fail("its statistics do not count its successful samples");
   return part;
 }
 

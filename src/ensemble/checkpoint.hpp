@@ -76,6 +76,19 @@ class RankCheckpoint {
   std::uint64_t pending_records_ = 0, saved_records_ = 0, saved_bytes_ = 0;
 };
 
+// What every record of a job must look like: loading refuses any other (a
+// damaged or forged file must not reach the writers).
+struct RecordShape {
+  std::uint64_t first = 0, end = 0;  // the sample indices
+  std::size_t inputs = 0, reductions = 0, responses = 0, final_state = 0;
+  std::size_t trajectory = 0;        // entries, for samples < stored
+  std::uint64_t stored = 0;          // store_trajectories
+};
+// Throws CheckpointError naming `what` for the first record that does not fit.
+void check_records(const std::vector<SampleRecord>& records, const RecordShape& shape, const std::string& what);
+// Finite values, positive scales and widths, of `entries` each.
+void check_calibration(const Calibration& c, std::size_t entries, const std::string& what);
+
 // What a checkpoint directory holds, summed over the ranks.
 struct RestoredRun {
   std::uint64_t generation = 0;  // the one loaded
@@ -91,7 +104,7 @@ struct RestoredRun {
 // killed before its pilot samples were done). Throws CheckpointError for
 // another job or build (the message says which) or a damaged file.
 std::optional<RestoredRun> load_checkpoint(const std::filesystem::path& dir, const CheckpointIdentity& id,
-                                           std::size_t entries, int bins);
+                                           std::size_t entries, int bins, const RecordShape& shape);
 
 // Adds restored raw statistics into `stats` (same shape and calibration).
 void restore_statistics(const std::vector<char>& raw, EnsembleStatistics& stats);
@@ -103,7 +116,8 @@ void restore_statistics(const std::vector<char>& raw, EnsembleStatistics& stats)
 std::uint64_t consolidate_checkpoint(const std::filesystem::path& dir, const CheckpointIdentity& id,
                                      const RestoredRun& restored, EnsembleStatistics& restored_stats);
 
-// Removes the whole directory (after a complete run).
+// Removes the whole directory (after a complete run): renamed away first, so
+// that a kill in the middle leaves no half-deleted checkpoint.
 void remove_checkpoint(const std::filesystem::path& dir);
 
 // A part of a split ensemble (--samples FIRST:END): everything the merge

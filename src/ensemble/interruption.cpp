@@ -9,12 +9,15 @@ namespace {
 volatile std::sig_atomic_t received = 0;
 
 extern "C" void record_interruption(int signal_number) {
-  if (received != 0) {  // the second one: the default action
+  // A second Ctrl-C means "now". A repeated SIGTERM or SIGUSR1 does not: a
+  // batch system and mpirun may both send one within milliseconds, and the
+  // stop must still write its checkpoint (SIGKILL ends it if it takes too long).
+  if (received != 0 && signal_number == SIGINT) {
     std::signal(signal_number, SIG_DFL);
     std::raise(signal_number);
     return;
   }
-  received = signal_number;
+  if (received == 0) received = signal_number;
 }
 
 }  // namespace

@@ -3,8 +3,8 @@
 // that its exit code stays 5; SIGTERM to mpirun itself makes mpirun exit 1):
 // the handler only records the signal; the ensemble driver looks at it
 // between samples, stops taking work, writes its checkpoint and exits 5.
-// A second signal of either kind while the first is handled ends the process
-// the default way (the checkpoint on disk is always loadable).
+// A second SIGINT ends the process the default way (the checkpoint on disk is
+// always loadable); repeated SIGTERM or SIGUSR1 are ignored.
 #pragma once
 
 namespace treedyn {

@@ -32,7 +32,7 @@ class Reader {
   }
   std::vector<double> doubles() {
     const auto n = get<std::uint64_t>();
-    need(n * sizeof(double));
+    if (n > (b_.size() - at_) / sizeof(double)) throw std::runtime_error("sample record buffer truncated");
     std::vector<double> v(n);
     if (n > 0) std::memcpy(v.data(), b_.data() + at_, n * sizeof(double));  // empty: data() may be null
     at_ += n * sizeof(double);
@@ -48,7 +48,7 @@ class Reader {
 
  private:
   void need(std::size_t n) const {
-    if (at_ + n > b_.size()) throw std::runtime_error("sample record buffer truncated");
+    if (n > b_.size() - at_) throw std::runtime_error("sample record buffer truncated");
   }
   const std::vector<char>& b_;
   std::size_t at_ = 0;
@@ -76,7 +76,10 @@ std::vector<ensemble::SampleRecord> read_records(const std::vector<char>& buffer
   while (!in.done()) {
     ensemble::SampleRecord r;
     r.index = in.get<std::uint64_t>();
-    r.status = static_cast<ensemble::SampleStatus>(in.get<std::int32_t>());
+    const auto status = in.get<std::int32_t>();
+    if (status < 0 || status > static_cast<std::int32_t>(ensemble::SampleStatus::not_run))
+      throw std::runtime_error("sample record with an unknown status");
+    r.status = static_cast<ensemble::SampleStatus>(status);
     r.time_reached = in.get<double>();
     for (const IntegratorStatField& f : kIntegratorStatFields) r.stats.*f.member = in.get<long>();
     r.reason = in.text();

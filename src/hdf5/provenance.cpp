@@ -4,8 +4,11 @@
 #include <unistd.h>
 
 #include <Eigen/Core>
+#include <cstdint>
+#include <cstdio>
 #include <ctime>
 #include <filesystem>
+#include <fstream>
 #include <toml++/toml.h>
 
 #include "hdf5/hdf5.hpp"
@@ -89,8 +92,24 @@ void write_provenance(hid_t root, const RunProvenance& run) {
 }
 
 std::string build_identity() {
-  return std::string("treedyn ") + TREEDYN_VERSION + ", commit " + TREEDYN_GIT_COMMIT + ", " + TREEDYN_BUILD_TYPE +
-         ", " + TREEDYN_COMPILER;
+  // The commit is fixed at configure time, so an edited and rebuilt tree
+  // keeps it: the executable's own bytes tell builds apart.
+  static const std::string identity = [] {
+    std::ifstream exe("/proc/self/exe", std::ios::binary);
+    std::uint64_t h = 14695981039346656037ull;
+    char buffer[1 << 16];
+    while (exe.read(buffer, sizeof buffer) || exe.gcount() > 0) {
+      for (std::streamsize k = 0; k < exe.gcount(); ++k) {
+        h ^= static_cast<unsigned char>(buffer[k]);
+        h *= 1099511628211ull;
+      }
+    }
+    char hex[17];
+    std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(h));
+    return std::string("treedyn ") + TREEDYN_VERSION + ", commit " + TREEDYN_GIT_COMMIT + ", " + TREEDYN_BUILD_TYPE +
+           ", " + TREEDYN_COMPILER + ", executable " + hex;
+  }();
+  return identity;
 }
 
 }  // namespace treedyn

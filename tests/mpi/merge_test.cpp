@@ -92,6 +92,21 @@ TEST_F(Merge, OverlapsOtherJobsAndBadRangesAreRefusedAndGapsAreReported) {
   r = merge({reference_.string()}, dir_.path() / "x.h5", capture());
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_NE(r.err.find("not a treedyn checkpoint"), std::string::npos) << r.err;
+  // Damaged: cut in half, or one byte changed.
+  {
+    std::string bytes = read_text(a);
+    const fs::path cut = dir_.path() / "cut.part", flipped = dir_.path() / "flipped.part";
+    write_text(cut, bytes.substr(0, bytes.size() / 2));
+    bytes[bytes.size() / 3] ^= 0x5a;
+    write_text(flipped, bytes);
+    for (const fs::path& bad : {cut, flipped}) {
+      r = merge({bad.string()}, dir_.path() / "x.h5", capture());
+      std::printf("[damaged part] exit %d: %s", r.exit_code, r.err.c_str());
+      EXPECT_EQ(r.exit_code, 2) << r.err;
+      EXPECT_NE(r.err.find("is damaged"), std::string::npos) << r.err;
+      EXPECT_FALSE(fs::exists(dir_.path() / "x.h5"));
+    }
+  }
   // Bad ranges.
   for (const char* range : {"30:20", "0:49", "a:b", "5"}) {
     const auto bad = run_ensemble(0, job_, dir_.path() / "bad.part", capture(), {"--samples", range});
