@@ -607,6 +607,8 @@ int run(MPI_Comm comm, int rank, int size, const EnsembleOptions& options, const
     if (!common_written) {
       c.checkpoint.reset();
       c.checkpoint_every = 0.0;
+    } else {
+      checkpoint_if_due(c, *stats);  // the pilot may have taken longer than the interval
     }
   }
   const bool interrupted =

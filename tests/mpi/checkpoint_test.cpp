@@ -230,7 +230,11 @@ TEST_F(Checkpoint, KillNineOfMpirunOrOfOneRankThenResumeOnOtherRankCountsIsBitwi
     std::printf("[%s] resume: exit %d, %s", c.what, r.exit_code, r.err.c_str());
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_NE(r.err.find("resuming: "), std::string::npos) << r.err;
-    EXPECT_EQ(r.err.find("resuming: 0 of"), std::string::npos) << "nothing was restored: " << r.err;
+    // Killed once parts held records, a resume must restore some; killed right
+    // after the pilot (common.state only), it may legitimately restore none.
+    if (c.parts > 0) {
+      EXPECT_EQ(r.err.find("resuming: 0 of"), std::string::npos) << "nothing was restored: " << r.err;
+    }
     expect_like_reference(out, c.what);
     // Done: the checkpoint and every temporary are gone.
     EXPECT_EQ(listing(out.parent_path()), std::vector<std::string>{"ensemble.h5"});
