@@ -20,7 +20,7 @@
 #include <string>
 #include <vector>
 
-#include "ensemble/ensemble_spec.hpp"
+#include "job/ensemble_spec.hpp"
 #include "ensemble/sample_runner.hpp"
 #include "job/job.hpp"
 

@@ -10,19 +10,19 @@
 #include "app/model_summary.hpp"
 #include "app/merge_parts.hpp"
 #include "app/rerun_sample.hpp"
-#include "ensemble/sample_job.hpp"
-#include "ensemble/ensemble_spec.hpp"
+#include "job/sample_job.hpp"
+#include "job/ensemble_spec.hpp"
 #include "job/job_error.hpp"
 #include "parallel/driver.hpp"
 #include "parallel/mpi_handles.hpp"
+#include "process/signals.hpp"
 
 namespace {
 
 // --check: validate the job and its [ensemble], print what would run, run nothing.
 int check(const std::string& job_path) {
   try {
-    const treedyn::Job job = treedyn::ensemble::load_job(job_path);
-    const auto spec = treedyn::ensemble::read_ensemble(job);
+    const auto [job, spec] = treedyn::ensemble::read_ensemble_job(treedyn::JobDocument::read(job_path));
     treedyn::print_model_summary(std::cout, job);
     treedyn::ensemble::print_ensemble_summary(std::cout, job, spec);
     std::cout << job_path << ": OK\n";
@@ -31,6 +31,13 @@ int check(const std::string& job_path) {
     std::cerr << "error: " << e.what() << "\n";
     return treedyn::kExitBadInput;
   }
+}
+
+// After an exception on one rank, the others may be waiting in a collective:
+// MPI_Abort ends them all with this code. Alone, there is no one to wait.
+int end_all(const treedyn::parallel::Session& session, int code) {
+  if (session.size() > 1) MPI_Abort(MPI_COMM_WORLD, code);
+  return code;
 }
 
 }  // namespace
@@ -66,6 +73,8 @@ int merge_command(int argc, char** argv, int rank) {
 
 int main(int argc, char** argv) {
   using namespace treedyn;
+  // Before MPI_Init: MPI's threads must inherit the blocked signals.
+  process::start_signal_owner();
   h5::quiet_errors();  // first of all HDF5 calls: no exit handler, no error stack on stderr
   parallel::Session session(&argc, &argv);
   if (argc > 1 && std::string(argv[1]) == "merge") {
@@ -174,15 +183,12 @@ int main(int argc, char** argv) {
   try {
     return parallel::run_ensemble(MPI_COMM_WORLD, options);
   } catch (const std::bad_alloc&) {
-    // Another rank may be waiting in a collective: end them all, with this code.
     std::cerr << "error: out of memory on rank " << session.rank()
               << ": the job asks for more than this node (or its memory limit) gives; use fewer ranks per node, "
                  "fewer histogram_bins, output times or quantities\n";
-    MPI_Abort(MPI_COMM_WORLD, kExitMemory);
-    return kExitMemory;
+    return end_all(session, kExitMemory);
   } catch (const std::exception& e) {
     std::cerr << "internal error on rank " << session.rank() << ": " << e.what() << "\n";
-    MPI_Abort(MPI_COMM_WORLD, kExitInternal);
-    return kExitInternal;
+    return end_all(session, kExitInternal);
   }
 }

@@ -1,25 +1,53 @@
-// The ensemble run: every rank, rank 0 included, integrates samples; rank 0
-// also writes the file.
+// The ensemble run. Every rank, rank 0 included, integrates samples; rank 0
+// also writes the file. run_ensemble() is one pipeline of phases, below in
+// the order they run; each returns an exit code (app/exit_codes.hpp) that is
+// the same on every rank, kExitOk to go on:
 //
-//   1. rank 0 reads the job file and broadcasts its text; every rank parses
-//      the same text, so a bad job fails identically everywhere before any
-//      work (rank 0 prints the message);
-//   2. rank 0 integrates the nominal run (the centre of the statistics) and
-//      broadcasts it;
-//   3. the pilot samples 0..K-1, round-robin over the ranks, fix each entry's
-//      fixed-point scale and histogram range (an all-reduce of their min and
-//      max deviations, so every rank gets the same calibration);
-//   4. the other samples come from a shared work queue in blocks; records go
-//      to rank 0 in bounded batches and are written by sample index;
-//   5. the statistics are summed onto rank 0 exactly (integers, min, max).
+//   read_job         rank 0 reads the job file once and sends its text; every
+//                    rank parses the same text, so a bad job fails identically
+//                    everywhere before any work (rank 0 prints the message)
+//   check_range      --samples FIRST:END within the ensemble
+//   check_memory     the statistics of every rank of a node fit its memory
+//   open_output      rank 0: the output path (exit 4 before any work), stale
+//                    temporaries of dead processes, the checkpoint: loaded
+//                    with --resume, refused without it, else created
+//   share_restored   a resumed run's calibration and finished samples
+//   run_nominal      rank 0 integrates the nominal run (the statistics'
+//                    centre) into the temporary output, and sends it
+//   start_records    where records go (rank 0's writer, the others' senders),
+//                    a resumed run's restored records, this rank's checkpoint
+//   run_waves        the design's waves (ensemble/wave_plan.hpp), the pilot
+//                    wave first: its deviations fix the calibration
+//   stop_interrupted (a signal stopped the waves) checkpoints saved, the
+//                    temporary output removed, the hint printed: exit 5
+//   finish_run       statistics summed onto rank 0, the file (or part file)
+//                    written and renamed, the checkpoint removed
+//
+// Signals (process/signals.hpp): the first SIGTERM, SIGINT, SIGHUP or
+// SIGUSR1 saves this rank's checkpoint at once, on the signal thread; the
+// main thread abandons the sample in flight at its next output time and
+// stops; the other ranks see the work queue's flag and stop too.
 #pragma once
 
 #include <mpi.h>
 
+#include <chrono>
 #include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <optional>
 #include <string>
+#include <vector>
 
+#include "analysis/answers.hpp"
+#include "ensemble/index_ranges.hpp"
+#include "ensemble/progress.hpp"
+#include "ensemble/rank_results.hpp"
+#include "ensemble/sample_runner.hpp"
+#include "ensemble/wave_plan.hpp"
+#include "hdf5/ensemble_file.hpp"
 #include "hdf5/provenance.hpp"
+#include "parallel/record_sink.hpp"
 
 namespace treedyn::parallel {
 
@@ -37,7 +65,55 @@ struct EnsembleOptions {
   bool part() const { return end_sample > 0; }
 };
 
-// Returns the process exit code (app/exit_codes.hpp), the same on all ranks.
+// Returns the process exit code, the same on all ranks.
 int run_ensemble(MPI_Comm comm, const EnsembleOptions& options);
+
+// Everything one rank knows of the run (the phases' shared data).
+struct EnsembleRun {
+  EnsembleRun(MPI_Comm comm, const EnsembleOptions& options, const Job& job, const ensemble::EnsembleSpec& spec);
+
+  MPI_Comm comm;
+  int rank = 0, size = 1;
+  const EnsembleOptions& options;
+  const Job& job;
+  const ensemble::EnsembleSpec& spec;
+  ensemble::SampleRunner runner;
+  std::unique_ptr<ensemble::WavePlan> plan;
+  std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
+  // The samples this run owns, [first, end): the whole ensemble unless a part.
+  std::uint64_t first = 0, end = 0;
+  bool owns(std::uint64_t k) const { return k >= first && k < end; }
+  // A part's checkpoint belongs to its range (id); the part file to the job (job_id).
+  ensemble::RunIdentity job_id, id;
+  std::filesystem::path checkpoint_dir;
+
+  std::optional<ensemble::RestoredRun> restored;  // rank 0's, whole; the others': calibration only
+  ensemble::IndexRanges finished;                 // samples a resumed run already has
+  std::uint64_t restored_samples = 0, generation = 0;
+  std::vector<double> nominal;
+
+  std::unique_ptr<EnsembleWriter> writer;  // rank 0, whole ensembles
+  std::unique_ptr<ensemble::Progress> progress;
+  std::optional<ensemble::ResponseTable> table;    // rank 0, with responses
+  std::vector<ensemble::SampleRecord> part_records;  // rank 0, parts
+  std::unique_ptr<RecordSink> sink;
+  RecordWriter* records = nullptr;  // rank 0's view of the sink
+  ensemble::RankResults results;
+  bool checkpoints = false;  // on, and common.state written (or restored)
+  std::optional<ensemble::EnsembleStatistics> restored_statistics;  // rank 0
+
+  double busy_seconds = 0.0;
+  std::uint64_t samples_run = 0;
+};
+
+int check_range(EnsembleRun& run);
+int check_memory(EnsembleRun& run);
+int open_output(EnsembleRun& run);
+int share_restored(EnsembleRun& run);
+int run_nominal(EnsembleRun& run);
+int start_records(EnsembleRun& run);
+int run_waves(EnsembleRun& run);
+int stop_interrupted(EnsembleRun& run, bool resumable);
+int finish_run(EnsembleRun& run);
 
 }  // namespace treedyn::parallel

@@ -1,6 +1,6 @@
 #include "parallel/record_sink.hpp"
 
-#include "ensemble/record_codec.hpp"
+#include "persistence/record_codec.hpp"
 
 namespace treedyn::parallel {
 namespace {
@@ -31,10 +31,10 @@ void RecordWriter::flush() {
   drain(false);
 }
 
-void RecordWriter::close() {
+void RecordWriter::end_wave() {
   flush();
   while (finished_ranks_ < ranks_ - 1) drain(true);
-  progress_.finish(done_, failed_);
+  finished_ranks_ = 0;
 }
 
 void RecordWriter::write(std::vector<ensemble::SampleRecord> records) {
@@ -77,7 +77,7 @@ void RecordWriter::drain(bool wait) {
     if (status.MPI_TAG == kTagDone)
       ++finished_ranks_;
     else
-      write(ensemble::read_records(buffer));
+      write(ensemble::read_records(buffer, "the records of rank " + std::to_string(status.MPI_SOURCE)));
   }
 }
 
@@ -95,7 +95,7 @@ void RecordSender::flush() {
   MPI_Isend(buffer.data(), static_cast<int>(buffer.size()), MPI_BYTE, 0, kTagRecords, comm_, &request);
 }
 
-void RecordSender::close() {
+void RecordSender::end_wave() {
   flush();
   for (auto& p : pending_) MPI_Wait(&p.first, MPI_STATUS_IGNORE);
   pending_.clear();

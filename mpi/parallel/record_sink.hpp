@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "ensemble/answers.hpp"
-#include "ensemble/sample_runner.hpp"
+#include "ensemble/response_table.hpp"
+#include "output/sample_record.hpp"
 #include "hdf5/ensemble_file.hpp"
 #include "ensemble/progress.hpp"
 
@@ -27,8 +27,9 @@ class RecordSink {
   virtual void flush() = 0;
   // Cheap, called often (every output time): lets MPI make progress.
   void poll();
-  // After the last block; rank 0 returns once every rank has finished.
-  virtual void close() = 0;
+  // After a wave's last block, on every rank: rank 0 returns once every
+  // rank has ended the wave, so it then holds every record of the wave.
+  virtual void end_wave() = 0;
 
  protected:
   virtual void make_progress() = 0;
@@ -48,7 +49,9 @@ class RecordWriter final : public RecordSink {
                ensemble::ResponseTable* table, std::vector<ensemble::SampleRecord>* collected = nullptr);
   void add(ensemble::SampleRecord record) override;
   void flush() override;
-  void close() override;
+  void end_wave() override;
+  // The progress line's last word (at the end of the run, or of a stop).
+  void finish_progress() { progress_.finish(done_, failed_); }
   // Records of a resumed run's checkpoint, written as if they had arrived.
   void restore(std::vector<ensemble::SampleRecord> records) { write(std::move(records)); }
   std::uint64_t done() const { return done_; }
@@ -78,7 +81,7 @@ class RecordSender final : public RecordSink {
   explicit RecordSender(MPI_Comm comm) : comm_(comm) {}
   void add(ensemble::SampleRecord record) override;
   void flush() override;
-  void close() override;
+  void end_wave() override;
 
  private:
   void make_progress() override;

@@ -4,7 +4,7 @@
 #include <new>
 
 #include "app/exit_codes.hpp"
-#include "hdf5/hdf5.hpp"
+#include "process/atomic_file.hpp"
 #include "job/job_error.hpp"
 
 namespace treedyn {
@@ -15,7 +15,7 @@ int exit_code_of(const std::function<int()>& command) {
   } catch (const JobError& e) {
     std::cerr << "error: " << e.what() << "\n";
     return kExitBadInput;
-  } catch (const h5::IoError& e) {
+  } catch (const process::FileError& e) {
     std::cerr << "error: " << e.what() << "\n";
     return kExitIo;
   } catch (const std::bad_alloc&) {

@@ -14,13 +14,15 @@
 #include <sstream>
 
 #include "app/exit_codes.hpp"
-#include "ensemble/answers.hpp"
-#include "ensemble/digest.hpp"
-#include "ensemble/ensemble_spec.hpp"
-#include "ensemble/sample_job.hpp"
+#include "analysis/answers.hpp"
+#include "analysis/digest.hpp"
+#include "job/ensemble_spec.hpp"
+#include "job/sample_job.hpp"
 #include "hdf5/read_file.hpp"
 #include "job/job_error.hpp"
 #include "output/final_state.hpp"
+#include "process/atomic_file.hpp"
+#include "process/signals.hpp"
 
 #ifndef TREEDYN_REPORT_SCRIPT
 #define TREEDYN_REPORT_SCRIPT "treedyn_report.py"
@@ -42,9 +44,8 @@ struct Refused {
 Job stored_job(const h5::ReadFile& f, const std::string& file) {
   if (!f.has_attribute("/", "job_text")) throw Refused{file + ": not a treedyn file (no job_text attribute)"};
   try {
-    Job job = parse_job(f.string_attribute("/", "job_text"), f.string_attribute("/", "job_file"));
-    ensemble::apply_sample_section(job);
-    return job;
+    return ensemble::read_sample_job(JobDocument::parse(f.string_attribute("/", "job_text"),
+                                                        f.string_attribute("/", "job_file")));
   } catch (const JobError& e) {
     throw Refused{file + ": its stored job no longer reads with this treedyn (" + std::string(e.what()) + ")"};
   }
@@ -157,7 +158,8 @@ int run_plotter(const std::string& file, const fs::path& out, const std::vector<
   for (auto& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
   pid_t pid = 0;
-  if (posix_spawnp(&pid, argv[0], nullptr, nullptr, argv.data(), environ) != 0) {
+  const process::SpawnAttributes attributes;  // the child gets no blocked signals
+  if (posix_spawnp(&pid, argv[0], nullptr, attributes.get(), argv.data(), environ) != 0) {
     std::cerr << "error: cannot start " << args[0] << " for the figures: install python3 (apt-get install "
                  "python3-h5py python3-matplotlib) or set TREEDYN_PYTHON\n";
     return kExitBadInput;
@@ -218,16 +220,11 @@ int report_command(const std::string& file, std::string out_dir, const std::vect
     std::cerr << "error: " << out_dir << ": cannot create the report directory (" << error.message() << ")\n";
     return kExitIo;
   }
-  {
-    const fs::path temporary = fs::path(out_dir) / ("summary.txt.tmp-" + std::to_string(::getpid()));
-    std::ofstream text(temporary);
-    text << summary.str();
-    text.close();
-    if (!text || (fs::rename(temporary, fs::path(out_dir) / "summary.txt", error), error)) {
-      fs::remove(temporary, error);
-      std::cerr << "error: " << out_dir << ": cannot write summary.txt\n";
-      return kExitIo;
-    }
+  try {
+    process::write_file_atomically(fs::path(out_dir) / "summary.txt", summary.str());
+  } catch (const process::FileError& e) {
+    std::cerr << "error: " << out_dir << ": cannot write summary.txt (" << e.what() << ")\n";
+    return kExitIo;
   }
   return run_plotter(file, out_dir, quantities);
 }

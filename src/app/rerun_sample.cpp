@@ -1,20 +1,15 @@
 #include "app/rerun_sample.hpp"
 
-#include <unistd.h>
-
-#include <cerrno>
-#include <cstring>
-#include <fstream>
 #include <iostream>
 
 #include "app/command_errors.hpp"
 #include "app/exit_codes.hpp"
 #include "app/run_trajectory.hpp"
 #include "common/error.hpp"
-#include "ensemble/ensemble_spec.hpp"
-#include "ensemble/sample_job.hpp"
+#include "job/ensemble_spec.hpp"
+#include "job/sample_job.hpp"
 #include "ensemble/sample_runner.hpp"
-#include "hdf5/hdf5.hpp"
+#include "process/atomic_file.hpp"
 #include "job/job_error.hpp"
 
 namespace treedyn {
@@ -30,33 +25,12 @@ void require_sample(const Job& job, const ensemble::EnsembleSpec& spec, std::uin
                        (spec.design == ensemble::Design::saltelli ? " (saltelli: samples x (D + 2) runs)" : ""));
 }
 
-// Writes `text` to `path` under a temporary name, renamed when complete.
-void write_text_atomically(const std::string& path, const std::string& text) {
-  h5::check_output_path(path);
-  const std::string temporary = path + ".tmp-" + std::to_string(::getpid());
-  {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    out << text;
-    out.flush();
-    if (!out) {
-      std::remove(temporary.c_str());
-      throw h5::IoError(temporary + ": cannot write (" + std::strerror(errno) + ")");
-    }
-  }
-  if (std::rename(temporary.c_str(), path.c_str()) != 0) {
-    const std::string why = std::strerror(errno);
-    std::remove(temporary.c_str());
-    throw h5::IoError(path + ": cannot rename the temporary file into place (" + why + ")");
-  }
-}
-
 }  // namespace
 
 int rerun_sample(const std::string& job_path, std::uint64_t k, const std::string& output_path,
                  bool quiet, const RunProvenance& run) {
   return exit_code_of([&]() -> int {
-    const Job job = ensemble::load_job(job_path);
-    const ensemble::EnsembleSpec spec = ensemble::read_ensemble(job);
+    const auto [job, spec] = ensemble::read_ensemble_job(JobDocument::read(job_path));
     require_sample(job, spec, k);
     ensemble::SampleRunner runner(job, spec);
     SampleOrigin origin;
@@ -76,13 +50,12 @@ int rerun_sample(const std::string& job_path, std::uint64_t k, const std::string
 
 int write_sample_job(const std::string& job_path, std::uint64_t k, const std::string& output_path) {
   return exit_code_of([&]() -> int {
-    const Job job = ensemble::load_job(job_path);
+    const auto [job, spec] = ensemble::read_ensemble_job(JobDocument::read(job_path));
     ensemble::require_not_a_sample_job(job);
-    const ensemble::EnsembleSpec spec = ensemble::read_ensemble(job);
     require_sample(job, spec, k);
     ensemble::SampleRunner runner(job, spec);
     const std::vector<double> inputs = runner.sample_inputs(k);
-    write_text_atomically(output_path, ensemble::sample_job_text(job, spec, k, inputs));
+    process::write_file_atomically(output_path, ensemble::sample_job_text(job, spec, k, inputs));
     std::cout << "wrote " << output_path << " (sample " << k << " of " << job_path
               << "; run it with treedyn run)\n";
     return kExitOk;

@@ -1,13 +1,14 @@
 #include "app/run_trajectory.hpp"
 
 #include <chrono>
+#include <optional>
 #include <string>
 #include <iostream>
 
 #include "app/exit_codes.hpp"
 #include "app/model_summary.hpp"
-#include "hdf5/hdf5.hpp"
-#include "job/toml_view.hpp"
+#include "process/atomic_file.hpp"
+#include "common/format.hpp"
 #include "output/recorder.hpp"
 
 namespace treedyn {
@@ -15,29 +16,13 @@ namespace treedyn {
 int run_trajectory(const Job& job, const Model& model, const InitialState& initial,
                    const std::string& output_path, bool quiet, const RunProvenance& run,
                    const SampleOrigin* sample) {
-  h5::check_output_path(output_path);  // refuse before integrating, not after
+  process::check_output_path(output_path);  // refuse before integrating, not after
   Recorder recorder(model, job.output);
   const auto start = std::chrono::steady_clock::now();
   const IntegrationOutcome outcome = simulate(
       model, initial, job.request, [&](const Model& m, const Data& d) { recorder.record(m, d); });
-  const double wall =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  if (!outcome.ok() && sample) {
-    // A failed ensemble sample is what the user came to see: its trajectory
-    // up to the failure, marked as such (status 1, reason, time reached).
-    SampleOrigin failed = *sample;
-    failed.status = 1;
-    // Worded as the ensemble's /samples/reason.
-    failed.reason = std::string(name(outcome.failure)) + " at t = " + format_number(outcome.time_reached) +
-                    " s" + (outcome.message.empty() ? "" : ": " + outcome.message);
-    failed.time_reached = outcome.time_reached;
-    write_trajectory(output_path, job, recorder, outcome, run, &failed);
-    std::cout << "sample " << sample->index << " fails as in the ensemble: " << failed.reason << "\nwrote "
-              << output_path << " (the " << recorder.times().size()
-              << " output times before the failure; /sample status 1)\n";
-    return kExitOk;
-  }
-  if (!outcome.ok()) {
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (!outcome.ok() && !sample) {
     std::cerr << job.file << ": integration failed (" << name(outcome.failure) << ") at t = "
               << outcome.time_reached << " s after " << outcome.stats.steps << " steps";
     if (!outcome.message.empty()) std::cerr << ": " << outcome.message;
@@ -45,7 +30,24 @@ int run_trajectory(const Job& job, const Model& model, const InitialState& initi
                  "check the model.\n";
     return kExitIntegration;
   }
-  write_trajectory(output_path, job, recorder, outcome, run, sample);
+  // A rerun ensemble sample is marked as the ensemble records it: how far it
+  // got and, when it failed (what the user came to see), status 1 and why.
+  std::optional<SampleOrigin> origin;
+  if (sample) {
+    origin = *sample;
+    origin->time_reached = outcome.time_reached;
+    if (!outcome.ok()) {
+      origin->status = 1;
+      origin->reason = failure_reason(outcome);
+    }
+  }
+  write_trajectory(output_path, job, recorder, outcome, run, origin ? &*origin : nullptr);
+  if (!outcome.ok()) {
+    std::cout << "sample " << sample->index << " fails as in the ensemble: " << origin->reason << "\nwrote "
+              << output_path << " (the " << recorder.times().size()
+              << " output times before the failure; /sample status 1)\n";
+    return kExitOk;
+  }
   if (!quiet) print_run_summary(std::cout, job, recorder, outcome, wall);
   std::cout << "wrote " << output_path << " (" << recorder.times().size() << " output times)\n";
   return kExitOk;

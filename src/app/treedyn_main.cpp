@@ -10,23 +10,30 @@
 #include "app/model_summary.hpp"
 #include "app/report_command.hpp"
 #include "app/run_trajectory.hpp"
-#include "ensemble/sample_job.hpp"
+#include "job/sample_job.hpp"
 #include "job/job.hpp"
+#include "process/signals.hpp"
 
 namespace treedyn {
 namespace {
 
+// The whole job is checked, [ensemble] included when there is one (its
+// summary is treedyn-ensemble --check's).
 int check_command(const std::string& job_path, bool all_parameters) {
-  const Job job = ensemble::load_job(job_path);
+  const JobDocument document = JobDocument::read(job_path);
+  const Job job = ensemble::read_sample_job(document);
+  const bool ensemble = document.has("ensemble");
+  if (ensemble) ensemble::read_ensemble(job);
   print_model_summary(std::cout, job);
   print_parameters(std::cout, job.definition.parameters, all_parameters ? SIZE_MAX : 40);
+  if (ensemble) std::cout << "[ensemble]: checked too (treedyn-ensemble --check prints what it samples)\n";
   std::cout << job_path << ": OK\n";
   return kExitOk;
 }
 
 int run_command(const std::string& job_path, const std::string& output_path, bool quiet,
                 const RunProvenance& run) {
-  const Job job = ensemble::load_job(job_path);
+  const Job job = ensemble::read_sample_job(JobDocument::read(job_path));
   return run_trajectory(job, job.model, job.initial, output_path, quiet, run);
 }
 
@@ -35,6 +42,7 @@ int run_command(const std::string& job_path, const std::string& output_path, boo
 
 int main(int argc, char** argv) {
   using namespace treedyn;
+  process::start_signal_owner();  // before any other thread: a signal removes temporary files, then ends us
   h5::quiet_errors();  // first of all HDF5 calls: no exit handler, no error stack on stderr
   CLI::App app{"treedyn: dynamics of trees of rigid bodies joined by spherical joints"};
   app.set_version_flag("--version", std::string("treedyn ") + TREEDYN_VERSION);

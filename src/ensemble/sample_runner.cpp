@@ -5,7 +5,7 @@
 
 #include "common/error.hpp"
 #include "integrate/simulate.hpp"
-#include "job/toml_view.hpp"
+#include "common/format.hpp"
 #include "model/definition.hpp"
 #include "output/final_state.hpp"
 
@@ -82,10 +82,7 @@ SampleRecord SampleRunner::run(std::uint64_t k, bool nominal, std::vector<double
       });
   if (!outcome.ok()) {
     // Nothing of a run that did not finish is kept: NaN maxima and final state.
-    SampleRecord failed = failed_record(
-        k, SampleStatus::integration_failed,
-        std::string(name(outcome.failure)) + " at t = " + format_number(outcome.time_reached) +
-            " s" + (outcome.message.empty() ? "" : ": " + outcome.message));
+    SampleRecord failed = failed_record(k, SampleStatus::integration_failed, failure_reason(outcome));
     failed.inputs = std::move(inputs);
     failed.stats = outcome.stats;
     failed.time_reached = outcome.time_reached;
@@ -106,6 +103,24 @@ SampleRecord SampleRunner::run(std::uint64_t k, bool nominal, std::vector<double
   record.final_state.resize(final_state_size());
   write_final_state(recorder_.last(), record.final_state);  // the state at the last output time
   return record;
+}
+
+RecordShape record_shape(const SampleRunner& runner, std::uint64_t first, std::uint64_t end) {
+  const EnsembleSpec& spec = runner.spec();
+  RecordShape shape;
+  shape.first = first;
+  shape.end = end;
+  shape.inputs = spec.input_dimensions();
+  shape.reductions = spec.per_sample.size() * runner.layout().columns;
+  shape.responses = spec.responses.size();
+  shape.final_state = runner.final_state_size();
+  shape.trajectory = runner.times() * runner.layout().columns;
+  shape.stored = spec.store_trajectories;
+  return shape;
+}
+
+StatisticsShape statistics_shape(const SampleRunner& runner) {
+  return {runner.times(), runner.layout().columns, runner.spec().histogram_bins};
 }
 
 }  // namespace treedyn::ensemble

@@ -8,47 +8,34 @@
 #include <string>
 #include <vector>
 
-#include "ensemble/ensemble_spec.hpp"
+#include "job/ensemble_spec.hpp"
 #include "integrate/settings.hpp"
 #include "job/job.hpp"
 #include "model/initial_state.hpp"
 #include "model/model.hpp"
+#include "output/sample_record.hpp"
 #include "output/recorder.hpp"
+#include "persistence/checkpoint.hpp"
 
 namespace treedyn::ensemble {
 
-enum class SampleStatus : std::int32_t {
-  ok = 0,
-  integration_failed = 1,  // the integrator gave up: reason and time reached recorded
-  invalid_model = 2,       // the perturbed inputs gave an invalid model (e.g. negative mass)
-  not_run = 3,             // a merge of an incomplete set of parts: no part held this sample
-};
-
-struct SampleRecord {
-  std::uint64_t index = 0;
-  SampleStatus status = SampleStatus::ok;
-  std::string reason;                // empty when ok
-  double time_reached = 0.0;
-  IntegratorStats stats;
-  std::vector<double> inputs;        // the sampled input values, SI
-  std::vector<double> reductions;    // per spec.per_sample reduction, one per column (NaN when failed)
-  std::vector<double> responses;     // per spec.responses (NaN when failed)
-  std::vector<double> final_state;   // output/final_state.hpp; NaN when failed
-  std::vector<double> trajectory;    // times x columns, only for samples < store_trajectories
-};
+// Thrown by a between_outputs callback to give up the sample in flight (a
+// stop signal): run() lets it through, and nothing of the sample is kept.
+struct SampleAbandoned {};
 
 class SampleRunner {
  public:
   SampleRunner(const Job& job, const EnsembleSpec& spec);
 
   const ColumnLayout& layout() const { return recorder_.layout(); }
+  const EnsembleSpec& spec() const { return spec_; }
   std::size_t times() const { return job_.request.output_times.size(); }
   std::size_t final_state_size() const;
 
   // Sample k, perturbed as the spec says; `nominal` skips the perturbations.
   // On success `trajectory` holds times x columns values (row-major).
   // `between_outputs`, if given, is called at every output time (the MPI
-  // driver keeps communication going with it).
+  // driver keeps communication going with it, and may throw SampleAbandoned).
   SampleRecord run(std::uint64_t k, bool nominal, std::vector<double>& trajectory,
                    const std::function<void()>& between_outputs = {});
 
@@ -80,5 +67,10 @@ class SampleRunner {
   Model model_;                     // derived from parameters_ (storage reused)
   Recorder recorder_;
 };
+
+// The shape every record and the statistics of this job have (what a
+// checkpoint or part file must match to be loaded).
+RecordShape record_shape(const SampleRunner& runner, std::uint64_t first, std::uint64_t end);
+StatisticsShape statistics_shape(const SampleRunner& runner);
 
 }  // namespace treedyn::ensemble

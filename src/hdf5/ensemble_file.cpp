@@ -6,7 +6,7 @@
 #include <optional>
 
 #include "hdf5/trajectory_file.hpp"
-#include "job/toml_view.hpp"
+#include "common/format.hpp"
 #include "output/final_state.hpp"
 #include "output/quantities.hpp"
 
@@ -30,45 +30,105 @@ std::vector<std::string> integrator_stat_columns() {
 
 }  // namespace
 
+namespace {
+
+// Each /samples/inputs column described, so no reader has to parse job_text.
+void describe_inputs(hid_t inputs, const ensemble::EnsembleSpec& spec) {
+  describe(inputs, "SI (per column: the 'column_units' attribute)",
+           "the sampled value of every perturbed input ([[ensemble.perturbation]] targets; "
+           "orientation perturbations are rotation vectors)",
+           spec.input_names());
+  h5::write_attribute(inputs, "column_units", spec.input_units());
+  std::vector<std::string> target, distribution, mode;
+  for (const ensemble::Perturbation& p : spec.perturbations)
+    for (int k = 0; k < p.dimensions(); ++k) {
+      target.push_back(p.target);
+      distribution.push_back(p.distribution.describe() +
+                             (p.unit != 1.0 ? " x " + format_number(p.unit) + " (to " + p.si_unit + ")" : ""));
+      mode.push_back(p.kind == ensemble::Perturbation::Kind::orientation ? "rotation vector, composed"
+                     : p.kind == ensemble::Perturbation::Kind::rotation  ? "rotation, composed"
+                     : p.mode == ensemble::Perturbation::Mode::scale     ? "scale"
+                     : p.mode == ensemble::Perturbation::Mode::add       ? "add"
+                                                                         : "set");
+    }
+  h5::write_attribute(inputs, "column_targets", target);
+  h5::write_attribute(inputs, "column_distributions", distribution);
+  h5::write_attribute(inputs, "column_modes", mode);
+}
+
+// The /samples/responses attributes: what each column is and its limit.
+void describe_responses(hid_t set, const std::vector<ensemble::Response>& responses) {
+  std::vector<std::string> names, units, quantity, column, reduce, fail_if;
+  std::vector<double> limit, parameter;
+  for (const ensemble::Response& r : responses) {
+    names.push_back(r.name);
+    units.push_back(r.units);
+    quantity.push_back(r.quantity);
+    column.push_back(r.column);
+    reduce.emplace_back(ensemble::name(r.reduce));
+    fail_if.push_back(r.fail_if == ensemble::Response::FailIf::above   ? "above"
+                      : r.fail_if == ensemble::Response::FailIf::below ? "below"
+                                                                       : "");
+    limit.push_back(r.has_limit() ? r.limit : std::numeric_limits<double>::quiet_NaN());
+    parameter.push_back(r.reduce == ensemble::Response::Reduce::at_time ? r.time
+                        : r.reduce == ensemble::Response::Reduce::first_time_above ||
+                                r.reduce == ensemble::Response::Reduce::first_time_below
+                            ? r.threshold
+                            : std::numeric_limits<double>::quiet_NaN());
+  }
+  describe(set, "per column: the 'column_units' attribute",
+           "each sample's named responses ([[ensemble.response]]): one column per response; "
+           "NaN when the sample failed, +inf for a level never crossed",
+           names);
+  h5::write_attribute(set, "column_units", units);
+  h5::write_attribute(set, "quantity", quantity);
+  h5::write_attribute(set, "column", column);
+  h5::write_attribute(set, "reduce", reduce);
+  h5::write_attribute(set, "time_or_threshold", std::span<const double>(parameter));
+  h5::write_attribute(set, "limit", std::span<const double>(limit));
+  h5::write_attribute(set, "fail_if", fail_if);
+}
+
+std::string reduction_about(ensemble::Reduction r) {
+  return r == ensemble::Reduction::final         ? "value at the last output time"
+         : r == ensemble::Reduction::min         ? "minimum over the output times"
+         : r == ensemble::Reduction::max         ? "maximum over the output times"
+         : r == ensemble::Reduction::argmin_time ? "first output time of the minimum"
+                                                 : "first output time of the maximum";
+}
+
+}  // namespace
+
 EnsembleWriter::EnsembleWriter(const std::filesystem::path& path, const Job& job,
                                const ensemble::EnsembleSpec& spec,
                                const ColumnLayout& layout, std::size_t final_state_size)
     : job_(job), spec_(spec), layout_(layout), final_size_(final_state_size), file_(path) {
-  const std::size_t n = spec.samples;
-  const std::size_t chunk = std::max<std::size_t>(spec.block_size * 16, 64);
   samples_ = h5::create_group(file_.id(), "samples");
-  const hid_t g = samples_.id();
-  h5::write_attribute(g, "description",
+  h5::write_attribute(samples_.id(), "description",
                       spec.design == ensemble::Design::saltelli
                           ? std::string("one row per run, by sample index 0 .. samples-1; saltelli: "
                                         "row j (D + 2) + r is A_j (r = 0), B_j (r = 1), AB_i,j (r = 2 + i: "
                                         "A_j with input i from B_j); base_samples N and saltelli_block "
                                         "D + 2 are root attributes")
                           : std::string("one row per sample, by sample index 0 .. samples-1"));
-  const std::size_t d = spec.input_dimensions();
+  create_sample_columns();
+  create_reductions();
+  if (!spec.responses.empty()) {
+    responses_ = h5::create_rows(samples_.id(), "responses", H5T_NATIVE_DOUBLE, spec.samples,
+                                 spec.responses.size(), chunk_rows());
+    describe_responses(responses_.id(), spec.responses);
+  }
+  if (spec.store_trajectories > 0) create_trajectories();
+}
+
+std::size_t EnsembleWriter::chunk_rows() const { return std::max<std::size_t>(spec_.block_size * 16, 64); }
+
+void EnsembleWriter::create_sample_columns() {
+  const hid_t g = samples_.id();
+  const std::size_t n = spec_.samples, chunk = chunk_rows(), d = spec_.input_dimensions();
   if (d > 0) {
     inputs_ = h5::create_rows(g, "inputs", H5T_NATIVE_DOUBLE, n, d, chunk);
-    describe(inputs_.id(), "SI (per column: the 'column_units' attribute)",
-             "the sampled value of every perturbed input ([[ensemble.perturbation]] targets; "
-             "orientation perturbations are rotation vectors)",
-             spec.input_names());
-    h5::write_attribute(inputs_.id(), "column_units", spec.input_units());
-    // Each column described, so no reader has to parse job_text.
-    std::vector<std::string> target, distribution, mode;
-    for (const ensemble::Perturbation& p : spec.perturbations)
-      for (int k = 0; k < p.dimensions(); ++k) {
-        target.push_back(p.target);
-        distribution.push_back(p.distribution.describe() +
-                               (p.unit != 1.0 ? " x " + format_number(p.unit) + " (to " + p.si_unit + ")" : ""));
-        mode.push_back(p.kind == ensemble::Perturbation::Kind::orientation ? "rotation vector, composed"
-                       : p.kind == ensemble::Perturbation::Kind::rotation  ? "rotation, composed"
-                       : p.mode == ensemble::Perturbation::Mode::scale     ? "scale"
-                       : p.mode == ensemble::Perturbation::Mode::add       ? "add"
-                                                                           : "set");
-      }
-    h5::write_attribute(inputs_.id(), "column_targets", target);
-    h5::write_attribute(inputs_.id(), "column_distributions", distribution);
-    h5::write_attribute(inputs_.id(), "column_modes", mode);
+    describe_inputs(inputs_.id(), spec_);
   }
   status_ = h5::create_rows(g, "status", H5T_NATIVE_INT32, n, 0, chunk);
   describe(status_.id(), "1",
@@ -79,82 +139,46 @@ EnsembleWriter::EnsembleWriter(const std::filesystem::path& path, const Job& job
   describe(reason_.id(), "1", "why the sample failed; empty when ok", {});
   time_reached_ = h5::create_rows(g, "time_reached", H5T_NATIVE_DOUBLE, n, 0, chunk);
   describe(time_reached_.id(), "s", "time the integration reached (the end time when ok)", {});
-  integrator_stats_ = h5::create_rows(g, "integrator_stats", H5T_NATIVE_INT64, n,
-                                      kIntegratorStatFields.size(), chunk);
+  integrator_stats_ = h5::create_rows(g, "integrator_stats", H5T_NATIVE_INT64, n, kIntegratorStatFields.size(), chunk);
   describe(integrator_stats_.id(), "1", "integrator statistics per sample", integrator_stat_columns());
-  final_state_ = h5::create_rows(g, "final_state", H5T_NATIVE_DOUBLE, n, final_state_size, chunk);
+  final_state_ = h5::create_rows(g, "final_state", H5T_NATIVE_DOUBLE, n, final_size_, chunk);
   describe(final_state_.id(), "1, rad/s",
            "state at the last output time: per body the orientation quaternion (q0 >= 0) and "
            "the inertial angular velocity; NaN for failed samples",
-           final_state_columns(job.model.tree()));
-  for (ensemble::Reduction r : spec.per_sample) {
-    const std::string what(ensemble::name(r));
-    reduction_groups_.push_back(h5::create_group(g, what));
+           final_state_columns(job_.model.tree()));
+}
+
+void EnsembleWriter::create_reductions() {
+  for (ensemble::Reduction r : spec_.per_sample) {
+    const std::string about = reduction_about(r);
     const bool time = r == ensemble::Reduction::argmin_time || r == ensemble::Reduction::argmax_time;
-    const std::string about =
-        r == ensemble::Reduction::final ? "value at the last output time"
-        : r == ensemble::Reduction::min ? "minimum over the output times"
-        : r == ensemble::Reduction::max ? "maximum over the output times"
-        : r == ensemble::Reduction::argmin_time ? "first output time of the minimum"
-                                                : "first output time of the maximum";
+    reduction_groups_.push_back(h5::create_group(samples_.id(), std::string(ensemble::name(r))));
     h5::write_attribute(reduction_groups_.back().id(), "description",
                         "per sample, the " + about +
                             " of every column of every recorded quantity; NaN when the sample failed");
     reductions_.emplace_back();
-    for (std::size_t q = 0; q < layout.quantity.size(); ++q) {
-      reductions_.back().push_back(h5::create_rows(reduction_groups_.back().id(), layout.quantity[q],
-                                                   H5T_NATIVE_DOUBLE, n, layout.names[q].size(), chunk));
-      describe(reductions_.back().back().id(), time ? "s" : std::string(layout.info[q]->units),
-               about + " of " + layout.quantity[q], layout.names[q]);
+    for (std::size_t q = 0; q < layout_.quantity.size(); ++q) {
+      reductions_.back().push_back(h5::create_rows(reduction_groups_.back().id(), layout_.quantity[q],
+                                                   H5T_NATIVE_DOUBLE, spec_.samples, layout_.names[q].size(),
+                                                   chunk_rows()));
+      describe(reductions_.back().back().id(), time ? "s" : std::string(layout_.info[q]->units),
+               about + " of " + layout_.quantity[q], layout_.names[q]);
     }
   }
-  if (!spec.responses.empty()) {
-    const std::size_t R = spec.responses.size();
-    responses_ = h5::create_rows(g, "responses", H5T_NATIVE_DOUBLE, n, R, chunk);
-    std::vector<std::string> names, units, quantity, column, reduce, fail_if;
-    std::vector<double> limit, parameter;
-    for (const ensemble::Response& r : spec.responses) {
-      names.push_back(r.name);
-      units.push_back(r.units);
-      quantity.push_back(r.quantity);
-      column.push_back(r.column);
-      reduce.emplace_back(ensemble::name(r.reduce));
-      fail_if.push_back(r.fail_if == ensemble::Response::FailIf::above   ? "above"
-                        : r.fail_if == ensemble::Response::FailIf::below ? "below"
-                                                                         : "");
-      limit.push_back(r.has_limit() ? r.limit : std::numeric_limits<double>::quiet_NaN());
-      parameter.push_back(r.reduce == ensemble::Response::Reduce::at_time ? r.time
-                          : r.reduce == ensemble::Response::Reduce::first_time_above ||
-                                  r.reduce == ensemble::Response::Reduce::first_time_below
-                              ? r.threshold
-                              : std::numeric_limits<double>::quiet_NaN());
-    }
-    describe(responses_.id(), "per column: the 'column_units' attribute",
-             "each sample's named responses ([[ensemble.response]]): one column per response; "
-             "NaN when the sample failed, +inf for a level never crossed",
-             names);
-    h5::write_attribute(responses_.id(), "column_units", units);
-    h5::write_attribute(responses_.id(), "quantity", quantity);
-    h5::write_attribute(responses_.id(), "column", column);
-    h5::write_attribute(responses_.id(), "reduce", reduce);
-    h5::write_attribute(responses_.id(), "time_or_threshold", std::span<const double>(parameter));
-    h5::write_attribute(responses_.id(), "limit", std::span<const double>(limit));
-    h5::write_attribute(responses_.id(), "fail_if", fail_if);
-  }
-  if (spec.store_trajectories > 0) {
-    trajectory_group_ = h5::create_group(file_.id(), "trajectories");
-    h5::write_attribute(trajectory_group_.id(), "description",
-                        "full trajectories of samples 0 .. M-1 (store_trajectories = M): sample x "
-                        "output time x column; NaN rows for samples that failed");
-    const hsize_t times = job.request.output_times.size();
-    for (std::size_t q = 0; q < layout.quantity.size(); ++q) {
-      const hsize_t shape[2] = {times, layout.names[q].size()};
-      trajectories_.push_back(h5::create_row_array(trajectory_group_.id(), layout.quantity[q],
-                                                   H5T_NATIVE_DOUBLE, spec.store_trajectories, shape, 1));
-      describe(trajectories_.back().id(), std::string(layout.info[q]->units),
-               std::string(layout.info[q]->description) + "; sample x time (/stats/time) x column",
-               layout.names[q]);
-    }
+}
+
+void EnsembleWriter::create_trajectories() {
+  trajectory_group_ = h5::create_group(file_.id(), "trajectories");
+  h5::write_attribute(trajectory_group_.id(), "description",
+                      "full trajectories of samples 0 .. M-1 (store_trajectories = M): sample x "
+                      "output time x column; NaN rows for samples that failed");
+  const hsize_t times = job_.request.output_times.size();
+  for (std::size_t q = 0; q < layout_.quantity.size(); ++q) {
+    const hsize_t shape[2] = {times, layout_.names[q].size()};
+    trajectories_.push_back(h5::create_row_array(trajectory_group_.id(), layout_.quantity[q], H5T_NATIVE_DOUBLE,
+                                                 spec_.store_trajectories, shape, 1));
+    describe(trajectories_.back().id(), std::string(layout_.info[q]->units),
+             std::string(layout_.info[q]->description) + "; sample x time (/stats/time) x column", layout_.names[q]);
   }
 }
 
@@ -252,79 +276,137 @@ void EnsembleWriter::write_statistics(const ensemble::EnsembleStatistics& s) {
   h5::write_attribute(group.id(), "quantities", layout_.quantity);  // in the job's order
   h5::Handle time = h5::write_vector(group.id(), "time", t);
   describe(time.id(), "s", "output times", {"time"});
-  const std::size_t T = t.size(), C = layout_.columns;
-  const int bins = s.bins();
   for (std::size_t q = 0; q < layout_.quantity.size(); ++q) {
-    const std::size_t cols = layout_.names[q].size(), offset = layout_.offset[q];
-    const std::string units(find_quantity(layout_.quantity[q])->units);
     h5::Handle qg = h5::create_group(group.id(), layout_.quantity[q]);
-    h5::write_attribute(qg.id(), "units", units);
-    std::vector<double> mean, sd, sem, mn, mx;
-    std::vector<std::uint64_t> count;
-    std::vector<double> quantiles(spec_.quantiles.size() * T * cols);
-    for (std::size_t k = 0; k < T; ++k)
-      for (std::size_t c = 0; c < cols; ++c) {
-        const std::size_t e = k * C + offset + c;
-        count.push_back(s.count(e));
-        mean.push_back(s.mean(e));
-        sd.push_back(s.std_dev(e));
-        sem.push_back(s.count(e) > 1 ? s.std_dev(e) / std::sqrt(static_cast<double>(s.count(e)))
-                                     : std::numeric_limits<double>::quiet_NaN());
-        mn.push_back(s.min(e));
-        mx.push_back(s.max(e));
-        for (std::size_t p = 0; p < spec_.quantiles.size(); ++p)
-          quantiles[(p * T + k) * cols + c] = s.quantile(e, spec_.quantiles[p]);
-      }
-    const hsize_t dims2[2] = {T, cols};
-    h5::Handle cs = h5::write_array(qg.id(), "count", H5T_NATIVE_UINT64, count.data(), dims2);
-    describe(cs.id(), "1", "number of samples in mean and std (successful samples)", layout_.names[q]);
-    auto matrix = [&](const char* name, const std::vector<double>& v, const std::string& what) {
-      h5::Handle set = h5::write_matrix(qg.id(), name, v, T, cols);
-      describe(set.id(), units, what + " over the successful samples; rows: /stats/time", layout_.names[q]);
-      write_column_units(set.id(), layout_, q);
-    };
-    matrix("mean", mean, "mean");
-    matrix("std", sd, "sample standard deviation (n - 1)");
-    matrix("sem", sem, "standard error of the mean, std / sqrt(count),");
-    matrix("min", mn, "minimum");
-    matrix("max", mx, "maximum");
-    const hsize_t dims3[3] = {spec_.quantiles.size(), T, cols};
-    h5::Handle qs = h5::write_array(qg.id(), "quantiles", H5T_NATIVE_DOUBLE, quantiles.data(), dims3);
-    describe(qs.id(), units,
-             "quantiles (probabilities in the 'probabilities' attribute) x time x column, from a "
-             "histogram per entry: within one bin width of the exact sample quantile inside the "
-             "histogram range",
-             layout_.names[q]);
-    h5::write_attribute(qs.id(), "probabilities", std::span<const double>(spec_.quantiles));
-
-    // Histograms of the final values.
-    h5::Handle hg = h5::create_group(qg.id(), "histogram");
-    h5::write_attribute(hg.id(), "description",
-                        std::string("histogram of the values at the last output time, per column"));
-    std::vector<std::uint32_t> counts;
-    std::vector<std::uint64_t> under, over;
-    std::vector<double> edges;
-    for (std::size_t c = 0; c < cols; ++c) {
-      const std::size_t e = (T - 1) * C + offset + c;
-      const auto h = s.histogram(e);
-      under.push_back(h[0]);
-      over.push_back(h[static_cast<std::size_t>(bins + 1)]);
-      counts.insert(counts.end(), h.begin() + 1, h.begin() + 1 + bins);
-      for (int b = 0; b <= bins; ++b) edges.push_back(s.bin_edge(e, b));
-    }
-    const hsize_t hdims[2] = {cols, static_cast<hsize_t>(bins)};
-    h5::Handle hc = h5::write_array(hg.id(), "counts", H5T_NATIVE_UINT32, counts.data(), hdims);
-    describe(hc.id(), "1", "samples per bin, column x bin", layout_.names[q]);
-    const hsize_t edims[2] = {cols, static_cast<hsize_t>(bins + 1)};
-    h5::Handle he = h5::write_array(hg.id(), "edges", H5T_NATIVE_DOUBLE, edges.data(), edims);
-    describe(he.id(), units, "bin edges, column x (bins + 1)", layout_.names[q]);
-    const hsize_t udims[1] = {cols};
-    h5::Handle hu = h5::write_array(hg.id(), "underflow", H5T_NATIVE_UINT64, under.data(), udims);
-    describe(hu.id(), "1", "samples below the first edge", layout_.names[q]);
-    h5::Handle ho = h5::write_array(hg.id(), "overflow", H5T_NATIVE_UINT64, over.data(), udims);
-    describe(ho.id(), "1", "samples above the last edge", layout_.names[q]);
+    h5::write_attribute(qg.id(), "units", std::string(find_quantity(layout_.quantity[q])->units));
+    write_quantity_statistics(qg.id(), q, s);
+    write_final_histograms(qg.id(), q, s);
   }
 }
+
+// /stats/<quantity>: count, mean, std, sem, min, max and quantiles, time x column.
+void EnsembleWriter::write_quantity_statistics(hid_t qg, std::size_t q, const ensemble::EnsembleStatistics& s) {
+  const std::size_t T = job_.request.output_times.size(), C = layout_.columns;
+  const std::size_t cols = layout_.names[q].size(), offset = layout_.offset[q];
+  const std::string units(find_quantity(layout_.quantity[q])->units);
+  std::vector<double> mean, sd, sem, mn, mx;
+  std::vector<std::uint64_t> count;
+  std::vector<double> quantiles(spec_.quantiles.size() * T * cols);
+  for (std::size_t k = 0; k < T; ++k)
+    for (std::size_t c = 0; c < cols; ++c) {
+      const std::size_t e = k * C + offset + c;
+      count.push_back(s.count(e));
+      mean.push_back(s.mean(e));
+      sd.push_back(s.std_dev(e));
+      sem.push_back(s.count(e) > 1 ? s.std_dev(e) / std::sqrt(static_cast<double>(s.count(e)))
+                                   : std::numeric_limits<double>::quiet_NaN());
+      mn.push_back(s.min(e));
+      mx.push_back(s.max(e));
+      for (std::size_t p = 0; p < spec_.quantiles.size(); ++p)
+        quantiles[(p * T + k) * cols + c] = s.quantile(e, spec_.quantiles[p]);
+    }
+  const hsize_t dims2[2] = {T, cols};
+  h5::Handle cs = h5::write_array(qg, "count", H5T_NATIVE_UINT64, count.data(), dims2);
+  describe(cs.id(), "1", "number of samples in mean and std (successful samples)", layout_.names[q]);
+  auto matrix = [&](const char* name, const std::vector<double>& v, const std::string& what) {
+    h5::Handle set = h5::write_matrix(qg, name, v, T, cols);
+    describe(set.id(), units, what + " over the successful samples; rows: /stats/time", layout_.names[q]);
+    write_column_units(set.id(), layout_, q);
+  };
+  matrix("mean", mean, "mean");
+  matrix("std", sd, "sample standard deviation (n - 1)");
+  matrix("sem", sem, "standard error of the mean, std / sqrt(count),");
+  matrix("min", mn, "minimum");
+  matrix("max", mx, "maximum");
+  const hsize_t dims3[3] = {spec_.quantiles.size(), T, cols};
+  h5::Handle qs = h5::write_array(qg, "quantiles", H5T_NATIVE_DOUBLE, quantiles.data(), dims3);
+  describe(qs.id(), units,
+           "quantiles (probabilities in the 'probabilities' attribute) x time x column, from a "
+           "histogram per entry: within one bin width of the exact sample quantile inside the "
+           "histogram range",
+           layout_.names[q]);
+  h5::write_attribute(qs.id(), "probabilities", std::span<const double>(spec_.quantiles));
+}
+
+// /stats/<quantity>/histogram: the values at the last output time, per column.
+void EnsembleWriter::write_final_histograms(hid_t qg, std::size_t q, const ensemble::EnsembleStatistics& s) {
+  const std::size_t T = job_.request.output_times.size(), C = layout_.columns;
+  const std::size_t cols = layout_.names[q].size(), offset = layout_.offset[q];
+  const std::string units(find_quantity(layout_.quantity[q])->units);
+  const int bins = s.bins();
+  h5::Handle hg = h5::create_group(qg, "histogram");
+  h5::write_attribute(hg.id(), "description", std::string("histogram of the values at the last output time, per column"));
+  std::vector<std::uint32_t> counts;
+  std::vector<std::uint64_t> under, over;
+  std::vector<double> edges;
+  for (std::size_t c = 0; c < cols; ++c) {
+    const std::size_t e = (T - 1) * C + offset + c;
+    const auto h = s.histogram(e);
+    under.push_back(h[0]);
+    over.push_back(h[static_cast<std::size_t>(bins + 1)]);
+    counts.insert(counts.end(), h.begin() + 1, h.begin() + 1 + bins);
+    for (int b = 0; b <= bins; ++b) edges.push_back(s.bin_edge(e, b));
+  }
+  const hsize_t hdims[2] = {cols, static_cast<hsize_t>(bins)};
+  h5::Handle hc = h5::write_array(hg.id(), "counts", H5T_NATIVE_UINT32, counts.data(), hdims);
+  describe(hc.id(), "1", "samples per bin, column x bin", layout_.names[q]);
+  const hsize_t edims[2] = {cols, static_cast<hsize_t>(bins + 1)};
+  h5::Handle he = h5::write_array(hg.id(), "edges", H5T_NATIVE_DOUBLE, edges.data(), edims);
+  describe(he.id(), units, "bin edges, column x (bins + 1)", layout_.names[q]);
+  const hsize_t udims[1] = {cols};
+  h5::Handle hu = h5::write_array(hg.id(), "underflow", H5T_NATIVE_UINT64, under.data(), udims);
+  describe(hu.id(), "1", "samples below the first edge", layout_.names[q]);
+  h5::Handle ho = h5::write_array(hg.id(), "overflow", H5T_NATIVE_UINT64, over.data(), udims);
+  describe(ho.id(), "1", "samples above the last edge", layout_.names[q]);
+}
+
+namespace {
+
+template <class T>
+void write_described_scalar(hid_t group, const char* name, T value, const std::string& units, const std::string& what) {
+  h5::Handle set = h5::write_scalar(group, name, value);
+  describe(set.id(), units, what, {});
+}
+
+std::string fail_if_name(const ensemble::Response& r) {
+  return r.fail_if == ensemble::Response::FailIf::above ? "above" : "below";
+}
+
+// /responses/<name>/exceedance: the limit state's probability and interval.
+void write_exceedance(hid_t g, const ensemble::Response& response, const ensemble::Exceedance& e) {
+  h5::Handle x = h5::create_group(g, "exceedance");
+  h5::write_attribute(x.id(), "description",
+                      "limit state: value " + fail_if_name(response) +
+                          " the limit, over the successful samples; failed samples are counted "
+                          "beside it (survivor bias)");
+  h5::write_attribute(x.id(), "limit", response.limit);
+  h5::write_attribute(x.id(), "fail_if", fail_if_name(response));
+  write_described_scalar(x.id(), "probability", e.probability, "1", "exceeded / successful");
+  write_described_scalar(x.id(), "count", e.exceeded, "1", "successful samples beyond the limit");
+  write_described_scalar(x.id(), "successful", e.successful, "1", "successful samples (the denominator)");
+  write_described_scalar(x.id(), "failed", e.failed, "1", "samples that failed and are not in the denominator");
+  const double interval[2] = {e.interval.low, e.interval.high};
+  const hsize_t two[1] = {2};
+  h5::Handle w = h5::write_array(x.id(), "interval", H5T_NATIVE_DOUBLE, interval, two);
+  describe(w.id(), "1", "95 % Wilson score interval of the probability: low, high", {"low", "high"});
+}
+
+// /responses/<name>/convergence: the answers of the prefixes.
+void write_convergence(hid_t g, const ensemble::Response& response, const ensemble::ResponseAnswer& a) {
+  std::vector<double> table;
+  for (const ensemble::ConvergencePoint& p : a.convergence)
+    table.insert(table.end(), {static_cast<double>(p.samples), static_cast<double>(p.used), p.mean, p.sem,
+                               p.probability, p.interval.low, p.interval.high});
+  h5::Handle c = h5::write_matrix(g, "convergence", table, a.convergence.size(), 7);
+  describe(c.id(), "per column: the 'column_units' attribute",
+           "answers from samples 0 .. m-1 for m = 1, 2, 4, ... and N, in sample-index order "
+           "(meaningful as convergence for nested designs: monte_carlo, sobol, saltelli)",
+           {"samples", "used", "mean", "sem", "exceedance_probability", "wilson_low", "wilson_high"});
+  h5::write_attribute(c.id(), "column_units",
+                      std::vector<std::string>{"1", "1", response.units, response.units, "1", "1", "1"});
+}
+
+}  // namespace
 
 void EnsembleWriter::write_answers(const std::vector<ensemble::ResponseAnswer>& answers) {
   if (answers.empty()) return;
@@ -333,95 +415,66 @@ void EnsembleWriter::write_answers(const std::vector<ensemble::ResponseAnswer>& 
                       std::string("per named response ([[ensemble.response]]): mean and standard "
                                   "error over the successful samples with finite values (saltelli: "
                                   "the A and B runs), the exceedance of its limit, and their convergence"));
-  const std::vector<std::string> inputs = spec_.input_names();
   std::optional<h5::Handle> sensitivity;
-  if (!inputs.empty()) {
+  if (spec_.input_dimensions() > 0) {
     sensitivity = h5::create_group(file_.id(), "sensitivity");
     h5::write_attribute(sensitivity->id(), "description",
                         std::string("per response, how much each sampled input (/samples/inputs "
                                     "columns) drives it"));
   }
   for (std::size_t r = 0; r < answers.size(); ++r) {
-    const ensemble::Response& response = spec_.responses[r];
-    const ensemble::ResponseAnswer& a = answers[r];
-    h5::Handle g = h5::create_group(responses.id(), response.name);
-    h5::write_attribute(g.id(), "units", response.units);
-    h5::write_attribute(g.id(), "quantity", response.quantity);
-    h5::write_attribute(g.id(), "column", response.column);
-    h5::write_attribute(g.id(), "reduce", std::string(ensemble::name(response.reduce)));
-    auto scalar = [&](hid_t group, const char* name, auto value, const std::string& units,
-                      const std::string& what) {
-      h5::Handle set = h5::write_scalar(group, name, value);
-      describe(set.id(), units, what, {});
-    };
-    scalar(g.id(), "mean", a.mean, response.units, "mean over the successful samples with finite values");
-    scalar(g.id(), "std", a.std, response.units, "sample standard deviation (n - 1)");
-    scalar(g.id(), "sem", a.sem, response.units, "standard error of the mean, std / sqrt(used)");
-    scalar(g.id(), "used", a.used, "1", "successful samples with a finite value");
-    scalar(g.id(), "not_finite", a.not_finite, "1", "successful samples with +-inf (a level never crossed)");
-    scalar(g.id(), "failed", a.failed, "1", "samples that failed (left out)");
-    if (a.exceedance) {
-      const ensemble::Exceedance& e = *a.exceedance;
-      h5::Handle x = h5::create_group(g.id(), "exceedance");
-      h5::write_attribute(x.id(), "description",
-                          "limit state: value " + std::string(response.fail_if == ensemble::Response::FailIf::above ? "above" : "below") +
-                              " the limit, over the successful samples; failed samples are counted "
-                              "beside it (survivor bias)");
-      h5::write_attribute(x.id(), "limit", response.limit);
-      h5::write_attribute(x.id(), "fail_if", std::string(response.fail_if == ensemble::Response::FailIf::above ? "above" : "below"));
-      scalar(x.id(), "probability", e.probability, "1", "exceeded / successful");
-      scalar(x.id(), "count", e.exceeded, "1", "successful samples beyond the limit");
-      scalar(x.id(), "successful", e.successful, "1", "successful samples (the denominator)");
-      scalar(x.id(), "failed", e.failed, "1", "samples that failed and are not in the denominator");
-      const double interval[2] = {e.interval.low, e.interval.high};
-      const hsize_t two[1] = {2};
-      h5::Handle w = h5::write_array(x.id(), "interval", H5T_NATIVE_DOUBLE, interval, two);
-      describe(w.id(), "1", "95 % Wilson score interval of the probability: low, high", {"low", "high"});
-    }
-    std::vector<double> table;
-    for (const ensemble::ConvergencePoint& p : a.convergence)
-      table.insert(table.end(), {static_cast<double>(p.samples), static_cast<double>(p.used), p.mean, p.sem,
-                                 p.probability, p.interval.low, p.interval.high});
-    h5::Handle c = h5::write_matrix(g.id(), "convergence", table, a.convergence.size(), 7);
-    describe(c.id(), "per column: the 'column_units' attribute",
-             "answers from samples 0 .. m-1 for m = 1, 2, 4, ... and N, in sample-index order "
-             "(meaningful as convergence for nested designs: monte_carlo, sobol, saltelli)",
-             {"samples", "used", "mean", "sem", "exceedance_probability", "wilson_low", "wilson_high"});
-    h5::write_attribute(c.id(), "column_units",
-                        std::vector<std::string>{"1", "1", response.units, response.units, "1", "1", "1"});
-
-    if (!sensitivity) continue;
-    h5::Handle sg = h5::create_group(sensitivity->id(), response.name);
-    h5::write_attribute(sg.id(), "description",
-                        std::string(spec_.design == ensemble::Design::saltelli
-                                        ? "rank measures over the A and B runs; Sobol' indices from all blocks"
-                                        : "rank measures over the successful samples"));
-    auto per_input = [&](const char* name, const std::vector<double>& v, const std::string& what) {
-      h5::Handle set = h5::write_vector(sg.id(), name, v);
-      describe(set.id(), "1", what, inputs);
-    };
-    per_input("spearman", a.ranks.spearman, "Spearman rank correlation of each input with the response");
-    per_input("srrc", a.ranks.srrc,
-              "standardised rank regression coefficient of each input (see the r_squared attribute)");
-    h5::write_attribute(sg.id(), "rank_r_squared", a.ranks.r_squared);
-    h5::write_attribute(sg.id(), "rank_samples", static_cast<long long>(a.ranks.samples));
-    if (a.sobol) {
-      const ensemble::SobolIndices& s = *a.sobol;
-      per_input("first_order", s.first, "first-order Sobol' index (Saltelli 2010) of each input");
-      per_input("total_order", s.total, "total Sobol' index (Jansen) of each input");
-      auto interval = [&](const char* name, const std::vector<double>& v, const std::string& what) {
-        h5::Handle set = h5::write_matrix(sg.id(), name, v, inputs.size(), 2);
-        describe(set.id(), "1", what + ": input x (low, high); rows follow the 'inputs' attribute",
-                 {"low", "high"});
-        h5::write_attribute(set.id(), "inputs", inputs);
-      };
-      interval("first_order_ci", s.first_ci, "95 % bootstrap interval of the first-order index");
-      interval("total_order_ci", s.total_ci, "95 % bootstrap interval of the total index");
-      h5::write_attribute(sg.id(), "sobol_variance", s.variance);
-      h5::write_attribute(sg.id(), "sobol_base_samples", static_cast<long long>(s.base_samples));
-      h5::write_attribute(sg.id(), "bootstrap_resamples", static_cast<long long>(spec_.bootstrap_resamples));
-    }
+    write_response_answer(responses.id(), spec_.responses[r], answers[r]);
+    if (sensitivity) write_sensitivity(sensitivity->id(), spec_.responses[r], answers[r]);
   }
+}
+
+void EnsembleWriter::write_response_answer(hid_t parent, const ensemble::Response& response,
+                                           const ensemble::ResponseAnswer& a) {
+  h5::Handle g = h5::create_group(parent, response.name);
+  h5::write_attribute(g.id(), "units", response.units);
+  h5::write_attribute(g.id(), "quantity", response.quantity);
+  h5::write_attribute(g.id(), "column", response.column);
+  h5::write_attribute(g.id(), "reduce", std::string(ensemble::name(response.reduce)));
+  write_described_scalar(g.id(), "mean", a.mean, response.units, "mean over the successful samples with finite values");
+  write_described_scalar(g.id(), "std", a.std, response.units, "sample standard deviation (n - 1)");
+  write_described_scalar(g.id(), "sem", a.sem, response.units, "standard error of the mean, std / sqrt(used)");
+  write_described_scalar(g.id(), "used", a.used, "1", "successful samples with a finite value");
+  write_described_scalar(g.id(), "not_finite", a.not_finite, "1", "successful samples with +-inf (a level never crossed)");
+  write_described_scalar(g.id(), "failed", a.failed, "1", "samples that failed (left out)");
+  if (a.exceedance) write_exceedance(g.id(), response, *a.exceedance);
+  write_convergence(g.id(), response, a);
+}
+
+void EnsembleWriter::write_sensitivity(hid_t parent, const ensemble::Response& response,
+                                       const ensemble::ResponseAnswer& a) {
+  const std::vector<std::string> inputs = spec_.input_names();
+  h5::Handle sg = h5::create_group(parent, response.name);
+  h5::write_attribute(sg.id(), "description",
+                      std::string(spec_.design == ensemble::Design::saltelli
+                                      ? "rank measures over the A and B runs; Sobol' indices from all blocks"
+                                      : "rank measures over the successful samples"));
+  auto per_input = [&](const char* name, const std::vector<double>& v, const std::string& what) {
+    h5::Handle set = h5::write_vector(sg.id(), name, v);
+    describe(set.id(), "1", what, inputs);
+  };
+  per_input("spearman", a.ranks.spearman, "Spearman rank correlation of each input with the response");
+  per_input("srrc", a.ranks.srrc, "standardised rank regression coefficient of each input (see the r_squared attribute)");
+  h5::write_attribute(sg.id(), "rank_r_squared", a.ranks.r_squared);
+  h5::write_attribute(sg.id(), "rank_samples", static_cast<long long>(a.ranks.samples));
+  if (!a.sobol) return;
+  const ensemble::SobolIndices& s = *a.sobol;
+  per_input("first_order", s.first, "first-order Sobol' index (Saltelli 2010) of each input");
+  per_input("total_order", s.total, "total Sobol' index (Jansen) of each input");
+  auto interval = [&](const char* name, const std::vector<double>& v, const std::string& what) {
+    h5::Handle set = h5::write_matrix(sg.id(), name, v, inputs.size(), 2);
+    describe(set.id(), "1", what + ": input x (low, high); rows follow the 'inputs' attribute", {"low", "high"});
+    h5::write_attribute(set.id(), "inputs", inputs);
+  };
+  interval("first_order_ci", s.first_ci, "95 % bootstrap interval of the first-order index");
+  interval("total_order_ci", s.total_ci, "95 % bootstrap interval of the total index");
+  h5::write_attribute(sg.id(), "sobol_variance", s.variance);
+  h5::write_attribute(sg.id(), "sobol_base_samples", static_cast<long long>(s.base_samples));
+  h5::write_attribute(sg.id(), "bootstrap_resamples", static_cast<long long>(spec_.bootstrap_resamples));
 }
 
 void EnsembleWriter::write_merge_origin(const std::vector<std::string>& parts,
@@ -434,6 +487,15 @@ void EnsembleWriter::write_merge_origin(const std::vector<std::string>& parts,
     flat.push_back(static_cast<long long>(end));
   }
   h5::write_attribute(root, "held_samples", std::span<const long long>(flat));
+}
+
+void EnsembleWriter::complete(const std::vector<double>& nominal, const ensemble::EnsembleStatistics& stats,
+                              const std::vector<ensemble::ResponseAnswer>& answers, const EnsembleSummary& summary,
+                              const RunProvenance& run) {
+  write_nominal(nominal);
+  write_statistics(stats);
+  write_answers(answers);
+  finish(summary, run);
 }
 
 void EnsembleWriter::finish(const EnsembleSummary& summary, const RunProvenance& run) {

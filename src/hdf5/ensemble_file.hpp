@@ -1,28 +1,21 @@
 // The ensemble's HDF5 file, written by one rank: per-sample records as they
 // arrive (by sample index, any order), then the nominal run and the
-// statistics. Temporary name until finish() renames it into place.
+// statistics. Temporary name until complete() renames it into place.
 #pragma once
 
 #include <filesystem>
 #include <vector>
 
-#include "ensemble/answers.hpp"
-#include "ensemble/ensemble_spec.hpp"
-#include "ensemble/sample_runner.hpp"
-#include "ensemble/statistics.hpp"
+#include "analysis/answers.hpp"
+#include "ensemble/run_summary.hpp"
+#include "output/quantities.hpp"
+#include "job/ensemble_spec.hpp"
+#include "output/sample_record.hpp"
+#include "statistics/ensemble_statistics.hpp"
 #include "hdf5/hdf5.hpp"
 #include "hdf5/provenance.hpp"
 
 namespace treedyn {
-
-struct EnsembleSummary {
-  std::uint64_t ok = 0, failed = 0;
-  int ranks = 1;
-  double wall_seconds = 0.0;
-  std::vector<double> peak_rss_mib;      // per rank (getrusage maximum resident set)
-  std::vector<long long> samples_per_rank;  // samples each rank integrated
-  std::vector<double> busy_seconds;      // time each rank spent integrating samples
-};
 
 class EnsembleWriter {
  public:
@@ -30,20 +23,35 @@ class EnsembleWriter {
                  const ensemble::EnsembleSpec& spec, const ColumnLayout& layout,
                  std::size_t final_state_size);
 
+  // Per-sample records, as they arrive (any order, any batches).
   void write_records(std::vector<ensemble::SampleRecord> records);
-  void write_nominal(const std::vector<double>& trajectory);
-  void write_statistics(const ensemble::EnsembleStatistics& stats);
-  // /responses/<name> and /sensitivity/<name>, one per spec response.
-  void write_answers(const std::vector<ensemble::ResponseAnswer>& answers);
-  void finish(const EnsembleSummary& summary, const RunProvenance& run);
   // A merged file: the part files it came from and the sample ranges they
   // held, root attributes merged_from (strings) and held_samples ((K, 2),
-  // [first, end) rows). Call before finish().
+  // [first, end) rows). Call before complete().
   void write_merge_origin(const std::vector<std::string>& parts,
                           const std::vector<std::pair<std::uint64_t, std::uint64_t>>& held);
+  // The end of every ensemble file, whoever wrote its records (a run, a
+  // merge): the nominal run, /stats, /responses and /sensitivity (one per
+  // response; none when `answers` is empty), the summary and provenance as
+  // root attributes; then the file is renamed into place.
+  void complete(const std::vector<double>& nominal, const ensemble::EnsembleStatistics& stats,
+                const std::vector<ensemble::ResponseAnswer>& answers, const EnsembleSummary& summary,
+                const RunProvenance& run);
 
  private:
+  std::size_t chunk_rows() const;
+  void create_sample_columns();
+  void create_reductions();
+  void create_trajectories();
   void write_run(const std::vector<ensemble::SampleRecord>& run);
+  void write_nominal(const std::vector<double>& trajectory);
+  void write_statistics(const ensemble::EnsembleStatistics& stats);
+  void write_quantity_statistics(hid_t group, std::size_t quantity, const ensemble::EnsembleStatistics& stats);
+  void write_final_histograms(hid_t group, std::size_t quantity, const ensemble::EnsembleStatistics& stats);
+  void write_answers(const std::vector<ensemble::ResponseAnswer>& answers);
+  void write_response_answer(hid_t parent, const ensemble::Response& response, const ensemble::ResponseAnswer& a);
+  void write_sensitivity(hid_t parent, const ensemble::Response& response, const ensemble::ResponseAnswer& a);
+  void finish(const EnsembleSummary& summary, const RunProvenance& run);
 
   const Job& job_;
   const ensemble::EnsembleSpec& spec_;

@@ -107,72 +107,41 @@ herr_t Handle::close_now() {
   return status;
 }
 
-void check_output_path(const std::filesystem::path& path) {
-  namespace fs = std::filesystem;
-  if (path.empty()) throw IoError("output: no output file given");
-  const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
-  std::error_code ec;
-  if (!fs::is_directory(dir, ec))
-    throw IoError("output " + path.string() + ": directory " + dir.string() +
-                  " does not exist; create it first or choose another path");
-  if (fs::is_directory(path, ec))
-    throw IoError("output " + path.string() + ": is a directory; give a file name such as " +
-                  (path / "result.h5").string());
-  if (access(dir.c_str(), W_OK) != 0)
-    throw IoError("output " + path.string() + ": directory " + dir.string() + " is not writable");
-}
-
-File::File(std::filesystem::path final_path) : final_path_(std::move(final_path)) {
+File::File(std::filesystem::path final_path)
+    : target_(std::move(final_path), process::AtomicFile::Create::by_caller) {
   silence_hdf5();
-  check_output_path(final_path_);
-  temporary_path_ = final_path_;
-  temporary_path_ += ".tmp-" + std::to_string(getpid());
-  guard_ = std::make_unique<RemoveOnSignal>(temporary_path_);
   // The 1.8 file format (object header v2) moves an attribute that does not
   // fit the 64 KiB object header into dense storage, so the per-column
   // attributes of a model with thousands of bodies fit; every HDF5 >= 1.8
   // (2008), h5py and MATLAB read it.
   Handle access(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "creating file access properties");
   if (H5Pset_libver_bounds(access.id(), H5F_LIBVER_V18, H5F_LIBVER_LATEST) < 0)
-    throw IoError("output " + final_path_.string() + ": HDF5 refused the 1.8 file format");
-  hid_t id = H5Fcreate(temporary_path_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access.id());
-  if (id < 0) {
-    std::error_code ec;
-    std::filesystem::remove(temporary_path_, ec);  // HDF5 may have left a stub
-    throw IoError("output " + final_path_.string() + ": cannot create the file (HDF5 refused " +
-                  temporary_path_.string() + ")");
-  }
-  handle_ = Handle(id, H5Fclose, "creating " + temporary_path_.string());
+    throw IoError("output " + target_.path().string() + ": HDF5 refused the 1.8 file format");
+  const hid_t id = H5Fcreate(target_.temporary().c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access.id());
+  if (id < 0)
+    throw IoError("output " + target_.path().string() + ": cannot create the file (HDF5 refused " +
+                  target_.temporary().string() + ")");
+  handle_ = Handle(id, H5Fclose, "creating " + target_.temporary().string());
 }
 
-File::~File() {
-  if (committed_) return;
-  handle_.reset();
-  std::error_code ec;
-  std::filesystem::remove(temporary_path_, ec);
-}
+File::~File() { handle_.reset(); }  // before target_ removes the temporary
 
 void File::commit() {
+  const std::string path = target_.path().string();
   if (H5Fflush(handle_.id(), H5F_SCOPE_GLOBAL) < 0)
-    throw IoError("output " + final_path_.string() + ": writing the file to disk failed (is the disk full?)");
+    throw IoError("output " + path + ": writing the file to disk failed (is the disk full?)");
   // Every object must be closed by now, or closing the file would be deferred
   // past the rename.
   if (H5Fget_obj_count(handle_.id(), H5F_OBJ_ALL) > 1)
-    throw IoError("output " + final_path_.string() + ": internal error, objects still open at commit");
+    throw IoError("output " + path + ": internal error, objects still open at commit");
   // A failed close (the last metadata not written: a full disk) must not be
   // renamed as complete.
-  if (handle_.close_now() < 0) {
-    std::error_code ec;
-    std::filesystem::remove(temporary_path_, ec);
-    throw IoError("output " + final_path_.string() + ": closing the file failed (is the disk full?)");
+  if (handle_.close_now() < 0) throw IoError("output " + path + ": closing the file failed (is the disk full?)");
+  try {
+    target_.commit();
+  } catch (const process::FileError& e) {
+    throw IoError("output " + std::string(e.what()));
   }
-  std::error_code ec;
-  std::filesystem::rename(temporary_path_, final_path_, ec);
-  if (ec) {
-    std::filesystem::remove(temporary_path_, ec);
-    throw IoError("output " + final_path_.string() + ": cannot rename the finished file into place");
-  }
-  committed_ = true;
 }
 
 Handle create_group(hid_t parent, const std::string& name) {

@@ -11,13 +11,14 @@
 #include <memory>
 #include <vector>
 
-#include "hdf5/remove_on_signal.hpp"
+#include "process/atomic_file.hpp"
 
 namespace treedyn::h5 {
 
-class IoError : public std::runtime_error {
+// An HDF5 call failed (its own words are in the message): a file error, exit 4.
+class IoError : public process::FileError {
  public:
-  using std::runtime_error::runtime_error;
+  using process::FileError::FileError;
 };
 
 // One owned hid_t, closed with the matching H5*close.
@@ -41,11 +42,12 @@ class Handle {
   Closer close_ = nullptr;
 };
 
-// Writes a new file (truncating) and, on commit(), closes it and renames it
-// from its temporary name to the final one. Destroyed without commit(), it
-// removes the temporary file, and a signal that ends the process removes it
-// too: a failed or killed run leaves nothing behind. Every dataset and group
-// handle must be closed before commit().
+// Writes a new file through process::AtomicFile: HDF5 creates it under the
+// temporary name; commit() closes it, flushes it to the disk and renames it
+// into place. Destroyed without commit(), it removes the temporary file, and
+// a signal that ends the process removes it too: a failed or killed run
+// leaves nothing behind. Every dataset and group handle must be closed
+// before commit().
 class File {
  public:
   explicit File(std::filesystem::path final_path);
@@ -56,16 +58,9 @@ class File {
   void commit();
 
  private:
-  std::filesystem::path final_path_;
-  std::filesystem::path temporary_path_;
-  std::unique_ptr<RemoveOnSignal> guard_;
+  process::AtomicFile target_;
   Handle handle_;
-  bool committed_ = false;
 };
-
-// Checks that `path` can become an output file (its directory exists, it is
-// not a directory); throws IoError saying what is wrong.
-void check_output_path(const std::filesystem::path& path);
 
 // HDF5 prints no error stack of its own (treedyn reports errors itself);
 // done by every Handle, needed before a call that does not make one.

@@ -1,5 +1,7 @@
 #include "hdf5/provenance.hpp"
 
+#include "common/hash.hpp"
+
 #include <sundials/sundials_config.h>
 #include <unistd.h>
 
@@ -96,18 +98,12 @@ std::string build_identity() {
   // keeps it: the executable's own bytes tell builds apart.
   static const std::string identity = [] {
     std::ifstream exe("/proc/self/exe", std::ios::binary);
-    std::uint64_t h = 14695981039346656037ull;
+    StreamingHash h;
     char buffer[1 << 16];
-    while (exe.read(buffer, sizeof buffer) || exe.gcount() > 0) {
-      for (std::streamsize k = 0; k < exe.gcount(); ++k) {
-        h ^= static_cast<unsigned char>(buffer[k]);
-        h *= 1099511628211ull;
-      }
-    }
-    char hex[17];
-    std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(h));
+    while (exe.read(buffer, sizeof buffer) || exe.gcount() > 0)
+      h.update({buffer, static_cast<std::size_t>(exe.gcount())});
     return std::string("treedyn ") + TREEDYN_VERSION + ", commit " + TREEDYN_GIT_COMMIT + ", " + TREEDYN_BUILD_TYPE +
-           ", " + TREEDYN_COMPILER + ", executable " + hex;
+           ", " + TREEDYN_COMPILER + ", executable " + hex64(h.digest());
   }();
   return identity;
 }

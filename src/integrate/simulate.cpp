@@ -1,5 +1,7 @@
 #include "integrate/simulate.hpp"
 
+#include "common/format.hpp"
+
 #include <cmath>
 #include <stdexcept>
 
@@ -45,6 +47,11 @@ void check_request(const Model& model, const InitialState& initial, const Simula
 }
 
 }  // namespace
+
+std::string failure_reason(const IntegrationOutcome& outcome) {
+  return std::string(name(outcome.failure)) + " at t = " + format_number(outcome.time_reached) + " s" +
+         (outcome.message.empty() ? "" : ": " + outcome.message);
+}
 
 IntegrationOutcome simulate(const Model& model, const InitialState& initial,
                             const SimulationRequest& request, const OutputObserver& observer) {

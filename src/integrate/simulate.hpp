@@ -30,6 +30,10 @@ struct SimulationRequest {
 // Never throws for integration trouble: a failure comes back in the outcome
 // with the time reached. Throws std::invalid_argument for a malformed request
 // (wrong sizes, decreasing output times, non-positive tolerances).
+// Why an integration failed, in one line: "too_much_work at t = 1.5 s: ...".
+// The ensemble's /samples/reason and a rerun sample's /sample reason.
+std::string failure_reason(const IntegrationOutcome& outcome);
+
 IntegrationOutcome simulate(const Model& model, const InitialState& initial,
                             const SimulationRequest& request, const OutputObserver& observer);
 

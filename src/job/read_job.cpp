@@ -10,7 +10,7 @@
 #include "dynamics/mass_matrix.hpp"
 #include "job/job.hpp"
 #include "job/readers.hpp"
-#include "job/toml_guard.hpp"
+#include "job/toml_document.hpp"
 #include "dynamics/data.hpp"
 #include "dynamics/pipeline.hpp"
 #include "output/quantities.hpp"
@@ -154,25 +154,17 @@ void require_finite_start(const Job& job, const Where& where, const std::string&
 
 }  // namespace
 
-Job parse_job(std::string_view text, const std::string& file) {
-  if (TomlGuardError guard; !guard_toml_text(text, guard))
-    throw JobError(file, guard.line, guard.column, "", "not valid TOML: " + guard.message);
-  toml::table root_table;
-  try {
-    root_table = toml::parse(text, file);
-  } catch (const toml::parse_error& e) {
-    throw JobError(file, static_cast<int>(e.source().begin.line),
-                   static_cast<int>(e.source().begin.column), "",
-                   "not valid TOML: " + std::string(e.description()));
-  }
-  const TomlView root(root_table, "", file);
+Job read_job(const JobDocument& document) {
+  const std::string& file = document.file();
+  const TomlView root(root_table(document), "", file);
   root.check_keys({"title", "environment", "base", "body", "chain", "force", "moment",
                    "integrator", "output", "ensemble", "sample"});
   // [ensemble] is read by treedyn-ensemble, [sample] by ensemble/sample_job.cpp.
 
   Job job;
   job.file = file;
-  job.text = std::string(text);
+  job.text = document.text();
+  job.document = document;
   job.title = root.string("title").value_or("");
 
   ModelSpec spec;
@@ -223,12 +215,10 @@ Job parse_job(std::string_view text, const std::string& file) {
   return job;
 }
 
-Job read_job(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw JobError(path.string(), 0, 0, "", "cannot open the job file for reading");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse_job(text.str(), path.string());
+Job read_job(const std::filesystem::path& path) { return read_job(JobDocument::read(path)); }
+
+Job parse_job(std::string_view text, const std::string& file) {
+  return read_job(JobDocument::parse(std::string(text), file));
 }
 
 }  // namespace treedyn

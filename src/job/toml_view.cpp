@@ -61,18 +61,6 @@ std::string type_name(const toml::node& n) {
 
 }  // namespace
 
-std::string format_number(double v) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.17g", v);
-  // Prefer the shortest form that reads back to the same double.
-  for (int precision = 1; precision <= 17; ++precision) {
-    char shorter[32];
-    std::snprintf(shorter, sizeof shorter, "%.*g", precision, v);
-    if (std::strtod(shorter, nullptr) == v) return shorter;
-  }
-  return buffer;
-}
-
 int line_of(const toml::node& node) { return static_cast<int>(node.source().begin.line); }
 int column_of(const toml::node& node) { return static_cast<int>(node.source().begin.column); }
 

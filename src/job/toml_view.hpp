@@ -12,6 +12,7 @@
 
 #include <toml++/toml.h>
 
+#include "common/format.hpp"
 #include "common/linalg.hpp"
 #include "job/job_error.hpp"
 
@@ -60,9 +61,6 @@ class TomlView {
 // "; did you mean 'X'?" for the allowed word nearest to `word` (edit
 // distance), or "" when none is near.
 std::string did_you_mean(std::string_view word, std::span<const std::string_view> allowed);
-
-// A number as a user wrote it (shortest round-trip form, e.g. 1e-07, -2.5).
-std::string format_number(double v);
 
 // Source position of a node, for errors raised after reading.
 int line_of(const toml::node& node);

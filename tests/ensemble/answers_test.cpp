@@ -7,9 +7,9 @@
 #include <limits>
 #include <vector>
 
-#include "ensemble/answers.hpp"
-#include "ensemble/design.hpp"
-#include "ensemble/response.hpp"
+#include "analysis/answers.hpp"
+#include "sampling/design.hpp"
+#include "output/response.hpp"
 
 namespace {
 

@@ -22,7 +22,7 @@
 #include <vector>
 
 #include "common/error.hpp"
-#include "ensemble/ensemble_spec.hpp"
+#include "job/ensemble_spec.hpp"
 #include "ensemble/sample_runner.hpp"
 #include "job/job.hpp"
 #include "job/job_error.hpp"

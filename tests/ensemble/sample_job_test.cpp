@@ -6,8 +6,8 @@
 #include <cstring>
 #include <string>
 
-#include "ensemble/ensemble_spec.hpp"
-#include "ensemble/sample_job.hpp"
+#include "job/ensemble_spec.hpp"
+#include "job/sample_job.hpp"
 #include "ensemble/sample_runner.hpp"
 #include "job/job.hpp"
 #include "job/job_error.hpp"

@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "ensemble/ensemble_spec.hpp"
+#include "job/ensemble_spec.hpp"
 #include "ensemble/sample_runner.hpp"
 #include "job/job.hpp"
 

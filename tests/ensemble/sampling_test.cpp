@@ -26,8 +26,8 @@
 #include <string>
 #include <vector>
 
-#include "ensemble/design.hpp"
-#include "ensemble/distribution.hpp"
+#include "sampling/design.hpp"
+#include "sampling/distribution.hpp"
 
 namespace {
 

@@ -21,8 +21,8 @@
 #include <string>
 #include <vector>
 
-#include "ensemble/design.hpp"
-#include "ensemble/sensitivity.hpp"
+#include "sampling/design.hpp"
+#include "analysis/sensitivity.hpp"
 
 namespace {
 

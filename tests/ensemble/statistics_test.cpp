@@ -25,9 +25,10 @@
 #include <variant>
 #include <vector>
 
-#include "ensemble/ensemble_spec.hpp"
+#include "job/ensemble_spec.hpp"
 #include "ensemble/sample_runner.hpp"
-#include "ensemble/statistics.hpp"
+#include "common/bytes.hpp"
+#include "statistics/ensemble_statistics.hpp"
 #include "job/job.hpp"
 #include "job/job_error.hpp"
 
@@ -175,15 +176,11 @@ bool same_bits(const std::vector<T>& a, const std::vector<T>& b) {
   return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
 }
 
-// Bitwise equality of every raw array of two accumulators.
-void expect_identical(EnsembleStatistics& a, EnsembleStatistics& b, const std::string& what) {
-  EXPECT_TRUE(same_bits(a.sums(), b.sums())) << what << ": sums";
-  EXPECT_TRUE(same_bits(a.square_sums(), b.square_sums())) << what << ": square sums";
-  EXPECT_TRUE(same_bits(a.minima(), b.minima())) << what << ": minima";
-  EXPECT_TRUE(same_bits(a.maxima(), b.maxima())) << what << ": maxima";
-  EXPECT_TRUE(same_bits(a.counts(), b.counts())) << what << ": histogram counts";
-  EXPECT_TRUE(same_bits(a.out_of_range_counts(), b.out_of_range_counts())) << what << ": out of range";
-  EXPECT_EQ(a.sample_count(), b.sample_count()) << what << ": samples";
+// Bitwise equality of two accumulators: their whole states (sums, squares,
+// minima, maxima, out-of-range counts, histograms, sample count) as bytes.
+void expect_identical(const EnsembleStatistics& a, const EnsembleStatistics& b, const std::string& what) {
+  EXPECT_EQ(a.samples(), b.samples()) << what << ": samples";
+  EXPECT_TRUE(same_bits(a.state(), b.state())) << what << ": states differ";
 }
 
 // The setup itself: all 60 samples ran, the spec is what the text says, and
@@ -404,6 +401,69 @@ TEST(Statistics, RealEnsembleOrderIndependent) {
   }
 }
 
+// The statistics travel as bytes (checkpoints, part files, the MPI
+// reduction): parts written with state() and added into an empty
+// accumulator give the reference bit for bit, whatever the order. 60
+// samples in 128 bins: sparse histogram pieces; a part filled into every bin:
+// dense ones. Both layouts are exercised.
+TEST(Statistics, RealEnsembleStatesAddUpExactly) {
+  const RealEnsemble& r = real_ensemble();
+  const std::size_t n = r.trajectories.size();
+  const EnsembleStatistics reference = accumulate(r, index_order(n));
+  std::vector<std::size_t> order = index_order(n);
+  std::mt19937_64 rng(777);
+  std::shuffle(order.begin(), order.end(), rng);
+  EnsembleStatistics total(r.times, r.columns, r.spec.histogram_bins, r.calibration);
+  for (const auto& [first, end] : {std::pair<std::size_t, std::size_t>{40, 60}, {0, 13}, {13, 40}}) {
+    const EnsembleStatistics part =
+        accumulate(r, std::vector<std::size_t>(order.begin() + static_cast<long>(first),
+                                               order.begin() + static_cast<long>(end)));
+    total.add_state(part.state(), "part");
+  }
+  expect_identical(reference, total, "added as bytes");
+  // One sample's state is sparse: shorter than its dense counts alone.
+  const std::size_t dense_counts = r.times * r.columns * (r.spec.histogram_bins + 2) * 4;
+  const EnsembleStatistics one = accumulate(r, {5});
+  EXPECT_LT(one.state().size(), dense_counts) << "sparse histograms expected";
+  EnsembleStatistics one_again(r.times, r.columns, r.spec.histogram_bins, r.calibration);
+  one_again.add_state(one.state(), "one");
+  expect_identical(one, one_again, "sparse state");
+
+  // Dense: every bin of every entry holds a sample.
+  EnsembleStatistics full(r.times, r.columns, r.spec.histogram_bins, r.calibration), copy = full;
+  std::vector<double> row(r.times * r.columns);
+  for (int b = 0; b < r.spec.histogram_bins; ++b) {
+    for (std::size_t e = 0; e < row.size(); ++e) row[e] = r.calibration.low[e] + (b + 0.5) * r.calibration.width[e];
+    full.add_sample(row);
+  }
+  EXPECT_GT(full.state().size(), dense_counts) << "dense histograms expected";
+  copy.add_state(full.state(), "full");
+  expect_identical(full, copy, "dense state");
+}
+
+// A state of another shape or calibration, or a damaged one, is refused
+// with DecodeError naming it, never added.
+TEST(Statistics, StatesOfAnotherShapeOrCalibrationOrDamagedAreRefused) {
+  const RealEnsemble& r = real_ensemble();
+  const EnsembleStatistics reference = accumulate(r, index_order(r.trajectories.size()));
+  const std::vector<char> state = reference.state();
+  auto refused = [&](EnsembleStatistics into, std::span<const char> bytes, const std::string& why) {
+    try {
+      into.add_state(bytes, "state X");
+      ADD_FAILURE() << why << ": accepted";
+    } catch (const DecodeError& e) {
+      EXPECT_NE(std::string(e.what()).find("state X is damaged"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(why), std::string::npos) << e.what();
+    }
+  };
+  refused(EnsembleStatistics(r.times, r.columns, r.spec.histogram_bins + 1, r.calibration), state, "another shape");
+  Calibration other = r.calibration;
+  other.scale[3] *= 2.0;
+  refused(EnsembleStatistics(r.times, r.columns, r.spec.histogram_bins, other), state, "another calibration");
+  refused(EnsembleStatistics(r.times, r.columns, r.spec.histogram_bins, r.calibration),
+          std::span<const char>(state).first(state.size() - 5), "truncated");
+}
+
 // ---------------------------------------------------------------------------
 // Synthetic edge cases
 
@@ -553,10 +613,9 @@ TEST(Statistics, EdgeSignedZeroMinMaxOrderIndependent) {
   a.add_sample(std::vector<double>{-0.0});
   b.add_sample(std::vector<double>{-0.0});
   b.add_sample(std::vector<double>{0.0});
-  EXPECT_TRUE(same_bits(a.minima(), b.minima()))
-      << "min: " << std::signbit(a.min(0)) << " vs " << std::signbit(b.min(0)) << " (sign bits)";
-  EXPECT_TRUE(same_bits(a.maxima(), b.maxima()))
-      << "max: " << std::signbit(a.max(0)) << " vs " << std::signbit(b.max(0)) << " (sign bits)";
+  EXPECT_EQ(std::signbit(a.min(0)), std::signbit(b.min(0))) << "min: sign bits differ";
+  EXPECT_EQ(std::signbit(a.max(0)), std::signbit(b.max(0))) << "max: sign bits differ";
+  EXPECT_TRUE(same_bits(a.state(), b.state()));
 }
 
 }  // namespace

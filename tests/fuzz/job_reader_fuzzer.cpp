@@ -14,8 +14,8 @@
 #include <string>
 #include <string_view>
 
-#include "ensemble/ensemble_spec.hpp"
-#include "ensemble/sample_job.hpp"
+#include "job/ensemble_spec.hpp"
+#include "job/sample_job.hpp"
 #include "job/job.hpp"
 #include "job/job_error.hpp"
 

@@ -21,8 +21,8 @@
 #include <string>
 #include <vector>
 
-#include "ensemble/answers.hpp"
-#include "ensemble/ensemble_spec.hpp"
+#include "analysis/answers.hpp"
+#include "job/ensemble_spec.hpp"
 #include "job/job.hpp"
 #include "output/quantities.hpp"
 #include "support/branched_tree.hpp"

@@ -39,7 +39,7 @@
 #include <string>
 #include <vector>
 
-#include "ensemble/ensemble_spec.hpp"
+#include "job/ensemble_spec.hpp"
 #include "job/job.hpp"
 #include "output/quantities.hpp"
 #include "support/command.hpp"

@@ -1,0 +1,141 @@
+// The last phase: statistics summed onto rank 0, every rank's load and host
+// gathered there, then the ensemble file (or a part's file), the summary and
+// the checkpoint's removal.
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+
+#include "analysis/digest.hpp"
+#include "app/exit_codes.hpp"
+#include "parallel/collectives.hpp"
+#include "parallel/driver.hpp"
+#include "parallel/statistics_reduce.hpp"
+#include "persistence/part_file.hpp"
+
+namespace treedyn::parallel {
+namespace {
+
+// Every rank's peak memory, samples and busy time, on rank 0.
+EnsembleSummary gather_loads(const EnsembleRun& run) {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  const double mine[3] = {static_cast<double>(usage.ru_maxrss) / 1024.0, static_cast<double>(run.samples_run),
+                          run.busy_seconds};
+  std::vector<double> all(3 * static_cast<std::size_t>(run.size));
+  MPI_Gather(mine, 3, MPI_DOUBLE, all.data(), 3, MPI_DOUBLE, 0, run.comm);
+  EnsembleSummary summary;
+  summary.ranks = run.size;
+  for (int r = 0; r < run.size && run.rank == 0; ++r) {
+    summary.peak_rss_mib.push_back(all[3 * r]);
+    summary.samples_per_rank.push_back(static_cast<long long>(all[3 * r + 1]));
+    summary.busy_seconds.push_back(all[3 * r + 2]);
+  }
+  return summary;
+}
+
+// Every rank's host name and the MPI library, for the file's provenance.
+RunProvenance gather_provenance(const EnsembleRun& run) {
+  RunProvenance provenance = run.options.provenance;
+  char name[MPI_MAX_PROCESSOR_NAME] = {};
+  int length = 0;
+  MPI_Get_processor_name(name, &length);
+  std::vector<char> all(static_cast<std::size_t>(run.size) * MPI_MAX_PROCESSOR_NAME, '\0');
+  MPI_Gather(name, MPI_MAX_PROCESSOR_NAME, MPI_CHAR, all.data(), MPI_MAX_PROCESSOR_NAME, MPI_CHAR, 0, run.comm);
+  provenance.ranks = run.size;
+  for (int r = 0; r < run.size && run.rank == 0; ++r)
+    provenance.rank_hosts.emplace_back(all.data() + static_cast<std::size_t>(r) * MPI_MAX_PROCESSOR_NAME);
+  char library[MPI_MAX_LIBRARY_VERSION_STRING] = {};
+  MPI_Get_library_version(library, &length);
+  provenance.mpi_library = std::string(library, static_cast<std::size_t>(length));
+  while (!provenance.mpi_library.empty() &&
+         (provenance.mpi_library.back() == '\n' || provenance.mpi_library.back() == '\0'))
+    provenance.mpi_library.pop_back();
+  return provenance;
+}
+
+void note_stale_outputs(const EnsembleRun& run) {
+  const std::filesystem::path output(run.options.output_path);
+  for (const std::string& f : process::remove_stale_temporaries(output.parent_path(), output.filename().string()))
+    std::cerr << "note: removed " << f << ", a temporary file left by a process that no longer runs\n";
+}
+
+// Rank 0, a part of a split ensemble: its records, statistics and
+// calibration into the part file, atomically.
+int write_part(EnsembleRun& run, const ensemble::EnsembleStatistics& stats) {
+  if (!run.records->io_error().empty()) {
+    std::cerr << "error: " << run.records->io_error() << "\n";
+    return kExitIo;
+  }
+  ensemble::PartFile part;
+  part.id = run.job_id;
+  part.job_text = run.job.text;
+  part.job_path = run.options.job_path;
+  part.first = run.first;
+  part.end = run.end;
+  part.nominal = run.nominal;
+  part.calibration = stats.calibration();
+  part.records = std::move(run.part_records);
+  std::sort(part.records.begin(), part.records.end(), [](const auto& a, const auto& b) { return a.index < b.index; });
+  try {
+    ensemble::write_part_file(run.options.output_path, part, stats);
+  } catch (const process::FileError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return kExitIo;
+  }
+  if (!run.options.quiet)
+    std::cout << "part: samples " << run.first << " .. " << run.end - 1 << " of " << run.spec.samples << ", "
+              << run.records->failed() << " failed\n";
+  std::printf("wrote %s (merge the parts with: treedyn-ensemble merge -o OUT.h5 PART ...)\n",
+              run.options.output_path.c_str());
+  return kExitOk;
+}
+
+// Rank 0, a whole ensemble: the records are in the file already; the rest
+// goes the same way as a merge's (EnsembleWriter::complete).
+int write_ensemble(EnsembleRun& run, const ensemble::EnsembleStatistics& stats, EnsembleSummary summary,
+                   const RunProvenance& provenance) {
+  summary.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - run.start).count();
+  summary.failed = run.records->failed();
+  summary.ok = run.records->done() - summary.failed;
+  const std::vector<ensemble::ResponseAnswer> answers =
+      run.table ? ensemble::answer_responses(run.spec, *run.table) : std::vector<ensemble::ResponseAnswer>{};
+  try {
+    if (!run.records->io_error().empty()) throw process::FileError(run.records->io_error());
+    run.writer->complete(run.nominal, stats, answers, summary, provenance);
+  } catch (const process::FileError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return kExitIo;
+  }
+  if (!run.options.quiet) {
+    ensemble::print_digest(std::cout, ensemble::digest_of(run.job, run.spec, stats, summary));
+    ensemble::print_response_summary(std::cout, run.spec, answers);
+  }
+  std::printf("wrote %s\n", run.options.output_path.c_str());
+  return kExitOk;
+}
+
+}  // namespace
+
+int finish_run(EnsembleRun& run) {
+  ensemble::EnsembleStatistics& stats = run.results.statistics();
+  if (run.restored_statistics) stats.merge(*run.restored_statistics);
+  reduce_statistics(run.comm, stats);
+  const EnsembleSummary summary = gather_loads(run);
+  const RunProvenance provenance = gather_provenance(run);
+  int code = kExitOk;
+  if (run.rank == 0) {
+    run.records->finish_progress();
+    code = run.options.part() ? write_part(run, stats) : write_ensemble(run, stats, summary, provenance);
+    if (code == kExitOk) {
+      ensemble::remove_checkpoint(run.checkpoint_dir);
+      note_stale_outputs(run);  // the processes of a run killed just before this one are gone by now
+    }
+  }
+  return broadcast(run.comm, code);
+}
+
+}  // namespace treedyn::parallel

@@ -1,0 +1,141 @@
+// The phases that set up where results go: the output path and the
+// checkpoint (open_output, share_restored), the record transport and this
+// rank's checkpoint (start_records).
+#include <filesystem>
+#include <iostream>
+
+#include "app/exit_codes.hpp"
+#include "parallel/collectives.hpp"
+#include "parallel/driver.hpp"
+#include "process/atomic_file.hpp"
+
+namespace treedyn::parallel {
+namespace fs = std::filesystem;
+namespace {
+
+void note_stale(const std::vector<std::string>& removed) {
+  for (const std::string& f : removed)
+    std::cerr << "note: removed " << f << ", a temporary file left by a process that no longer runs\n";
+}
+
+// Rank 0: load the checkpoint (--resume), or refuse to start over one, or
+// create an empty directory for this run's. Returns an exit code.
+int open_checkpoint(EnsembleRun& run) {
+  const fs::path& dir = run.checkpoint_dir;
+  if (run.options.resume) {
+    run.restored = ensemble::load_checkpoint(dir, run.id, ensemble::statistics_shape(run.runner),
+                                             ensemble::record_shape(run.runner, run.first, run.end));
+    if (!run.restored)
+      std::cerr << "note: no checkpoint " << dir.string() << " to resume (or it was written before the pilot "
+                << "samples were done): starting from the beginning\n";
+  } else if (ensemble::checkpoint_exists(dir)) {
+    std::cerr << "error: " << dir.string() << " holds the checkpoint of an earlier run of this output: "
+              << "resume it with --resume, or remove that directory to start afresh\n";
+    return kExitBadInput;
+  }
+  if (run.restored || run.options.checkpoint_every <= 0.0) return kExitOk;
+  ensemble::remove_checkpoint(dir);
+  std::error_code ec;
+  fs::create_directory(dir, ec);
+  if (!ec) return kExitOk;
+  std::cerr << "error: cannot create the checkpoint directory " << dir.string() << ": " << ec.message()
+            << " (or turn checkpoints off with --checkpoint-every 0)\n";
+  return kExitIo;
+}
+
+}  // namespace
+
+int open_output(EnsembleRun& run) {
+  int code = kExitOk;
+  if (run.rank == 0) {
+    try {
+      process::check_output_path(run.options.output_path);
+      const fs::path output(run.options.output_path);
+      note_stale(process::remove_stale_temporaries(output.parent_path(), output.filename().string()));
+      if (fs::is_directory(run.checkpoint_dir)) note_stale(process::remove_stale_temporaries(run.checkpoint_dir, ""));
+      code = open_checkpoint(run);
+    } catch (const process::FileError& e) {
+      std::cerr << "error: " << e.what() << "\n";
+      code = kExitIo;
+    } catch (const ensemble::CheckpointError& e) {
+      std::cerr << "error: " << e.what() << "\n";
+      code = kExitBadInput;
+    }
+  }
+  return broadcast(run.comm, code);
+}
+
+int share_restored(EnsembleRun& run) {
+  if (broadcast(run.comm, run.rank == 0 && run.restored ? 1 : 0) == 0) return kExitOk;
+  if (run.rank != 0) run.restored.emplace();
+  std::vector<char> calibration;
+  ByteWriter out(calibration);
+  std::vector<std::uint64_t> finished;
+  if (run.rank == 0) {
+    run.restored->calibration.write(out);
+    for (const auto& [first, end] : run.restored->finished) run.finished.append(first, end);
+    for (const auto& [first, end] : run.finished.ranges()) finished.insert(finished.end(), {first, end});
+  }
+  broadcast(run.comm, calibration);
+  broadcast(run.comm, finished);
+  if (run.rank != 0) {
+    ByteReader in(calibration, "the restored calibration");
+    run.restored->calibration = ensemble::Calibration::read(in, run.runner.times() * run.runner.layout().columns);
+    for (std::size_t k = 0; k + 1 < finished.size(); k += 2) run.finished.append(finished[k], finished[k + 1]);
+  }
+  return kExitOk;
+}
+
+namespace {
+
+// Rank 0, resuming: the restored statistics stay apart until the end (so
+// this run's checkpoints hold only this run's samples), the records go to
+// the writer, and everything restored becomes the base of a new generation.
+int restore_on_rank_zero(EnsembleRun& run) {
+  run.restored_samples = run.restored->records.size();
+  int code = kExitOk;
+  try {
+    run.generation = ensemble::consolidate_checkpoint(run.checkpoint_dir, run.id, *run.restored);
+  } catch (const process::FileError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    code = kExitIo;
+  }
+  run.restored_statistics = std::move(run.restored->statistics);
+  run.restored->statistics.reset();
+  std::cerr << "resuming: " << run.restored_samples << " of " << run.end - run.first << " samples from "
+            << run.checkpoint_dir.string() << "\n";
+  run.records->restore(std::move(run.restored->records));
+  return code;
+}
+
+}  // namespace
+
+int start_records(EnsembleRun& run) {
+  run.progress = std::make_unique<ensemble::Progress>(run.end - run.first, run.options.progress_interval,
+                                                       run.rank == 0 && !run.options.quiet);
+  if (run.rank == 0 && !run.spec.responses.empty() && !run.options.part())
+    run.table.emplace(run.spec.samples, run.spec.input_dimensions(), run.spec.responses.size());
+  if (run.rank == 0) {
+    auto writer = std::make_unique<RecordWriter>(run.comm, run.size, run.writer.get(), *run.progress,
+                                                 run.table ? &*run.table : nullptr,
+                                                 run.options.part() ? &run.part_records : nullptr);
+    run.records = writer.get();
+    run.sink = std::move(writer);
+  } else {
+    run.sink = std::make_unique<RecordSender>(run.comm);
+  }
+  if (run.restored) {
+    const int code = broadcast(run.comm, run.rank == 0 ? restore_on_rank_zero(run) : kExitOk);
+    if (code != kExitOk) return code;
+    run.generation = broadcast(run.comm, run.generation);
+    run.restored_samples = sum_over_ranks(run.comm, run.restored_samples);
+  }
+  run.checkpoints = run.options.checkpoint_every > 0.0;
+  if (run.checkpoints)
+    run.results.use_checkpoint(std::make_unique<ensemble::RankCheckpoint>(run.checkpoint_dir, run.id, run.generation,
+                                                                          "rank" + std::to_string(run.rank)),
+                               run.options.checkpoint_every);
+  return kExitOk;
+}
+
+}  // namespace treedyn::parallel

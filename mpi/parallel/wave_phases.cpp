@@ -1,0 +1,229 @@
+// The phases that run samples: the nominal run, the waves of the design
+// (the pilot wave first), and the stop when a signal cuts them short.
+#include <algorithm>
+#include <chrono>
+#include <iostream>
+#include <limits>
+
+#include "app/exit_codes.hpp"
+#include "parallel/collectives.hpp"
+#include "parallel/driver.hpp"
+#include "parallel/work_queue.hpp"
+#include "process/signals.hpp"
+
+namespace treedyn::parallel {
+namespace {
+
+using ensemble::SampleRecord;
+using ensemble::SampleStatus;
+using Sync = process::AtomicFile::Sync;
+
+// One sample. Any exception becomes a failed record: a sample never takes
+// the job down. At every output time the record transport progresses, and
+// a stop signal abandons the sample (nullopt: a resumed run runs it again).
+std::optional<SampleRecord> run_sample(EnsembleRun& run, std::uint64_t k, std::vector<double>& trajectory) {
+  const auto start = std::chrono::steady_clock::now();
+  std::optional<SampleRecord> r;
+  try {
+    r = run.runner.run(k, false, trajectory, [&run] {
+      run.sink->poll();
+      if (process::stop_signal() != 0) throw ensemble::SampleAbandoned{};
+    });
+  } catch (const ensemble::SampleAbandoned&) {
+  } catch (const std::exception& e) {
+    r = run.runner.failed_record(k, SampleStatus::integration_failed, std::string("internal error: ") + e.what());
+  }
+  run.busy_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (r) ++run.samples_run;
+  return r;
+}
+
+// Into this rank's results and checkpoint, and on to rank 0.
+void keep(EnsembleRun& run, SampleRecord record, std::span<const double> trajectory) {
+  if (run.results.keep(record, trajectory)) run.sink->add(std::move(record));
+}
+
+// The next sample of a block, or false when this rank must stop (a signal
+// here, or another rank's flag in the queue).
+bool may_go_on(WorkQueue& queue) {
+  if (process::stop_signal() != 0) queue.interrupt();
+  return !queue.interrupted();
+}
+
+// The pilot wave, samples 0 .. pilot_end-1 (every part runs them all, so
+// that every part calibrates alike, but keeps only those of its range): the
+// all-reduced minima and maxima of their deviations from the nominal run fix
+// the calibration; then their trajectories count. False when interrupted.
+bool run_pilot_wave(EnsembleRun& run, std::uint64_t pilot_end) {
+  const std::size_t entries = run.nominal.size();
+  std::vector<double> low(entries, std::numeric_limits<double>::infinity());
+  std::vector<double> high(entries, -std::numeric_limits<double>::infinity());
+  std::vector<std::vector<double>> kept;
+  {
+    WorkQueue queue(run.comm, 0, pilot_end, run.spec.block_size);
+    std::uint64_t begin = 0, end = 0;
+    std::vector<double> trajectory;
+    while (queue.next(begin, end)) {
+      for (std::uint64_t k = begin; k < end && may_go_on(queue); ++k) {
+        std::optional<SampleRecord> r = run_sample(run, k, trajectory);
+        if (!r) break;
+        const bool ok = r->status == SampleStatus::ok;
+        for (std::size_t e = 0; ok && e < entries; ++e) {
+          low[e] = std::min(low[e], trajectory[e] - run.nominal[e]);
+          high[e] = std::max(high[e], trajectory[e] - run.nominal[e]);
+        }
+        if (!run.owns(k)) continue;
+        keep(run, std::move(*r), {});
+        if (ok) kept.push_back(std::move(trajectory));
+      }
+      run.sink->flush();
+    }
+    run.sink->end_wave();
+    if (any_rank(run.comm, !may_go_on(queue))) return false;
+  }
+  all_reduce(run.comm, low, MPI_MIN);
+  all_reduce(run.comm, high, MPI_MAX);
+  const std::size_t columns = run.runner.layout().columns;
+  ensemble::EnsembleStatistics stats(run.runner.times(), columns, run.spec.histogram_bins,
+                                     ensemble::calibrate(run.nominal, low, high,
+                                                         ensemble::column_scales(run.nominal, columns), columns,
+                                                         run.spec.histogram_bins));
+  for (const auto& trajectory : kept) stats.add_sample(trajectory);
+  run.results.start_statistics(std::move(stats));
+  return true;
+}
+
+// Rank 0 writes common.state once the calibration is known; without it no
+// part could ever be loaded, so a failure turns checkpoints off everywhere.
+void save_common(EnsembleRun& run) {
+  int written = 1;
+  if (run.rank == 0 && run.results.checkpointing()) {
+    try {
+      ensemble::write_checkpoint_common(run.checkpoint_dir, run.id, run.nominal,
+                                        run.results.statistics().calibration());
+    } catch (const process::FileError& e) {
+      std::cerr << "warning: " << e.what() << "; the run goes on without checkpoints\n";
+      written = 0;
+    }
+  }
+  if (broadcast(run.comm, written) == 0) {
+    run.results.drop_checkpoint();
+    run.checkpoints = false;
+  }
+  run.results.save_if_due();  // the pilot may have taken longer than the interval
+}
+
+// Samples [from, to) of a wave, from the shared queue in blocks, skipping
+// those a resumed run has. Returns whether a stop cut it short.
+bool run_wave(EnsembleRun& run, std::uint64_t from, std::uint64_t to) {
+  WorkQueue queue(run.comm, from, to, run.spec.block_size);
+  std::uint64_t begin = 0, end = 0;
+  std::vector<double> trajectory;
+  bool stopped = false;
+  while (!stopped && queue.next(begin, end)) {
+    for (std::uint64_t k = begin; k < end && !stopped; ++k) {
+      stopped = !may_go_on(queue);
+      if (stopped || run.finished.contains(k)) continue;
+      std::optional<SampleRecord> r = run_sample(run, k, trajectory);
+      if (r)
+        keep(run, std::move(*r), trajectory);
+      else
+        stopped = true;
+    }
+    run.sink->flush();
+    if (!stopped) run.results.save_if_due();
+  }
+  const bool interrupted = !may_go_on(queue);
+  run.sink->end_wave();
+  return interrupted;
+}
+
+// Rank 0 decides the next wave from every record so far; everyone gets it.
+std::optional<ensemble::Wave> next_wave(EnsembleRun& run, const ensemble::Wave& done) {
+  std::optional<ensemble::Wave> next;
+  if (run.rank == 0) next = run.plan->next_wave(done, run.table ? &*run.table : nullptr);
+  if (broadcast(run.comm, next ? 1 : 0) == 0) return std::nullopt;
+  if (run.rank != 0) next.emplace();
+  next->first = broadcast(run.comm, next->first);
+  next->end = broadcast(run.comm, next->end);
+  std::vector<char> name(next->name.begin(), next->name.end());
+  broadcast(run.comm, name);
+  next->name.assign(name.begin(), name.end());
+  return next;
+}
+
+}  // namespace
+
+int run_nominal(EnsembleRun& run) {
+  int code = kExitOk;
+  if (run.rank == 0) {
+    try {
+      if (!run.options.part())
+        run.writer = std::make_unique<EnsembleWriter>(run.options.output_path, run.job, run.spec,
+                                                      run.runner.layout(), run.runner.final_state_size());
+      if (run.restored) {
+        run.nominal = run.restored->nominal;
+      } else if (const SampleRecord r = run.runner.run(0, true, run.nominal); r.status != SampleStatus::ok) {
+        std::cerr << run.job.file << ": the nominal run failed: " << r.reason << "\n";
+        code = kExitIntegration;
+      }
+    } catch (const process::FileError& e) {
+      std::cerr << "error: " << e.what() << "\n";
+      code = kExitIo;
+    }
+  }
+  if ((code = broadcast(run.comm, code)) != kExitOk) return code;
+  broadcast(run.comm, run.nominal);
+  return kExitOk;
+}
+
+int run_waves(EnsembleRun& run) {
+  ensemble::Wave wave = run.plan->first_wave();
+  std::uint64_t from = wave.first;
+  if (run.restored) {
+    run.results.start_statistics(ensemble::EnsembleStatistics(run.runner.times(), run.runner.layout().columns,
+                                                              run.spec.histogram_bins, run.restored->calibration));
+  } else {
+    const std::uint64_t pilot_end = std::min(run.spec.pilot_samples, wave.end);
+    if (!run_pilot_wave(run, pilot_end)) return stop_interrupted(run, false);
+    save_common(run);
+    from = pilot_end;
+  }
+  for (;;) {
+    const std::uint64_t first = std::max({wave.first, from, run.first});
+    if (any_rank(run.comm, run_wave(run, first, std::max(first, std::min(wave.end, run.end)))))
+      return stop_interrupted(run, true);
+    const std::optional<ensemble::Wave> next = next_wave(run, wave);
+    if (!next) return kExitOk;
+    wave = *next;
+    from = wave.first;
+  }
+}
+
+int stop_interrupted(EnsembleRun& run, bool resumable) {
+  const bool saved = resumable && run.results.save(Sync::no);  // the signal thread's save, or a cheap repeat
+  const bool all_saved = !any_rank(run.comm, resumable && !saved);
+  const std::uint64_t kept = sum_over_ranks(run.comm, saved ? run.results.saved_records() : 0) + run.restored_samples;
+  const int signal_number = max_over_ranks(run.comm, process::stop_signal());
+  if (run.rank != 0) return kExitInterrupted;
+  run.records->finish_progress();
+  run.writer.reset();  // removes the temporary output
+  const std::string what = signal_number != 0 ? process::signal_name(signal_number) : "a signal";
+  const std::string dir = run.checkpoint_dir.string();
+  if (!resumable) {
+    std::cerr << "interrupted by " << what << " during the pilot samples: nothing to resume yet; run it again\n";
+    ensemble::remove_checkpoint(dir);
+  } else if (!run.checkpoints) {
+    std::cerr << "interrupted by " << what << "; checkpoints are off (--checkpoint-every 0, or a checkpoint "
+              << "could not be written), so this run's samples are not kept\n";
+  } else if (!all_saved) {
+    std::cerr << "interrupted by " << what << "; a rank could not write its checkpoint (see above): --resume "
+              << "keeps what " << dir << " holds\n";
+  } else {
+    std::cerr << "interrupted by " << what << " after " << kept << " of " << run.end - run.first
+              << " samples; resume with --resume (checkpoint " << dir << ")\n";
+  }
+  return kExitInterrupted;
+}
+
+}  // namespace treedyn::parallel

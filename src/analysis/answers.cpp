@@ -1,0 +1,141 @@
+#include "analysis/answers.hpp"
+
+#include <cmath>
+#include <stdexcept>
+#include <limits>
+
+namespace treedyn::ensemble {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// Welford's running mean and sum of squared deviations, in sample order.
+struct Running {
+  std::uint64_t n = 0;
+  double mean = 0.0, m2 = 0.0;
+  void add(double x) {
+    ++n;
+    const double delta = x - mean;
+    mean += delta / static_cast<double>(n);
+    m2 += delta * (x - mean);
+  }
+  double std_dev() const { return n > 1 ? std::sqrt(m2 / static_cast<double>(n - 1)) : kNaN; }
+  double sem() const { return n > 1 ? std_dev() / std::sqrt(static_cast<double>(n)) : kNaN; }
+};
+
+double ratio(std::uint64_t k, std::uint64_t n) {
+  return n > 0 ? static_cast<double>(k) / static_cast<double>(n) : kNaN;
+}
+
+// Whether sample k is an independent draw of the inputs. Saltelli's AB_i
+// rows repeat all of A_j's inputs but one: each is distributed like the
+// inputs, but not independently of A_j, so the mean, the standard error,
+// the exceedance probability (and their intervals) and the rank measures
+// use the A and B runs only.
+bool independent_draw(const EnsembleSpec& spec, const ResponseTable& table, std::uint64_t k) {
+  return spec.design != Design::saltelli ||
+         saltelli_place(k, static_cast<unsigned>(table.input_count())).role != SaltelliRole::ab;
+}
+
+RankSensitivity ranks_of(const EnsembleSpec& spec, const ResponseTable& table, std::size_t r) {
+  const std::size_t d = table.input_count();
+  std::vector<double> x, y;
+  x.reserve(table.samples() * d);
+  y.reserve(table.samples());
+  for (std::uint64_t k = 0; k < table.samples(); ++k) {
+    if (!table.ok(k) || std::isnan(table.response(k, r)) || !independent_draw(spec, table, k)) continue;
+    for (std::size_t i = 0; i < d; ++i) x.push_back(table.input(k, i));
+    y.push_back(table.response(k, r));
+  }
+  return rank_sensitivity(x, d, y);
+}
+
+SobolIndices sobol_of(const EnsembleSpec& spec, const ResponseTable& table, std::size_t r) {
+  const std::size_t d = table.input_count(), block = saltelli_block(static_cast<unsigned>(d));
+  std::vector<double> f_a, f_b, f_ab;
+  for (std::uint64_t j = 0; j < table.samples() / block; ++j) {
+    // A block counts only when all its D + 2 runs succeeded with finite values.
+    bool complete = true;
+    for (std::size_t m = 0; m < block; ++m) {
+      const std::uint64_t k = j * block + m;
+      complete = complete && table.ok(k) && std::isfinite(table.response(k, r));
+    }
+    if (!complete) continue;
+    f_a.push_back(table.response(j * block, r));
+    f_b.push_back(table.response(j * block + 1, r));
+    for (std::size_t i = 0; i < d; ++i) f_ab.push_back(table.response(j * block + 2 + i, r));
+  }
+  return saltelli_indices(f_a, f_b, f_ab, d, spec.bootstrap_resamples, spec.seed);
+}
+
+}  // namespace
+
+Interval wilson_interval(std::uint64_t k, std::uint64_t n, double z) {
+  if (n == 0) return {kNaN, kNaN};
+  const double nn = static_cast<double>(n), p = static_cast<double>(k) / nn, z2 = z * z;
+  const double denominator = 1.0 + z2 / nn;
+  const double centre = (p + z2 / (2.0 * nn)) / denominator;
+  const double half = z / denominator * std::sqrt(p * (1.0 - p) / nn + z2 / (4.0 * nn * nn));
+  // Exactly 0 for k = 0 and 1 for k = n (rounding would leave them a hair inside).
+  return {k == 0 ? 0.0 : std::max(0.0, centre - half), k == n ? 1.0 : std::min(1.0, centre + half)};
+}
+
+std::vector<ResponseAnswer> answer_responses(const EnsembleSpec& spec, const ResponseTable& table) {
+  std::vector<ResponseAnswer> answers;
+  for (std::size_t r = 0; r < spec.responses.size(); ++r) {
+    const Response& response = spec.responses[r];
+    ResponseAnswer a;
+    Running running;
+    // Convergence at 1, 2, 4, ... samples; for saltelli at 1, 2, 4, ...
+    // whole blocks (2 independent draws each).
+    const std::uint64_t unit =
+        spec.design == Design::saltelli ? saltelli_block(static_cast<unsigned>(table.input_count())) : 1;
+    std::uint64_t successful = 0, exceeded = 0, next_report = unit;
+    for (std::uint64_t k = 0; k < table.samples(); ++k) {
+      if (!independent_draw(spec, table, k)) {
+        // Saltelli's AB_i rows: left out here (see independent_draw).
+      } else if (!table.ok(k)) {
+        ++a.failed;
+      } else {
+        ++successful;
+        const double v = table.response(k, r);
+        if (std::isfinite(v))
+          running.add(v);
+        else
+          ++a.not_finite;
+        if (response.exceeds(v)) ++exceeded;
+      }
+      const std::uint64_t m = k + 1;
+      if (m == next_report || m == table.samples()) {
+        ConvergencePoint p;
+        p.samples = m;
+        p.used = running.n;
+        p.mean = running.n > 0 ? running.mean : kNaN;
+        p.sem = running.sem();
+        p.probability = response.has_limit() ? ratio(exceeded, successful) : kNaN;
+        p.interval = response.has_limit() ? wilson_interval(exceeded, successful) : Interval{kNaN, kNaN};
+        a.convergence.push_back(p);
+        while (next_report <= m) next_report *= 2;
+      }
+    }
+    a.used = running.n;
+    a.mean = running.n > 0 ? running.mean : kNaN;
+    a.std = running.std_dev();
+    a.sem = running.sem();
+    if (response.has_limit()) {
+      Exceedance e;
+      e.exceeded = exceeded;
+      e.successful = successful;
+      e.failed = a.failed;
+      e.probability = ratio(exceeded, successful);
+      e.interval = wilson_interval(exceeded, successful);
+      a.exceedance = e;
+    }
+    if (table.input_count() > 0) a.ranks = ranks_of(spec, table, r);
+    if (spec.design == Design::saltelli) a.sobol = sobol_of(spec, table, r);
+    answers.push_back(std::move(a));
+  }
+  return answers;
+}
+
+}  // namespace treedyn::ensemble

@@ -1,0 +1,68 @@
+// The answers an analyst asks of an ensemble, computed on one rank from the
+// per-sample records in sample-index order (so they do not depend on the
+// number of ranks): each response's mean and standard error, the
+// probability that it exceeds its limit, how both converge with the number
+// of samples, and which inputs drive it.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <ostream>
+#include <vector>
+
+#include "job/ensemble_spec.hpp"
+#include "ensemble/response_table.hpp"
+#include "analysis/sensitivity.hpp"
+
+namespace treedyn::ensemble {
+
+// Wilson's score interval for k successes in n trials at normal quantile z:
+// centre (p + z^2 / 2n) / (1 + z^2 / n), half width
+// z / (1 + z^2 / n) sqrt(p (1 - p) / n + z^2 / 4n^2), p = k / n.
+struct Interval {
+  double low = 0.0, high = 0.0;
+};
+inline constexpr double kZ95 = 1.959963984540054;  // the 97.5 % standard normal quantile
+Interval wilson_interval(std::uint64_t k, std::uint64_t n, double z = kZ95);
+
+struct Exceedance {
+  std::uint64_t exceeded = 0;    // successful samples beyond the limit
+  std::uint64_t successful = 0;  // the denominator
+  std::uint64_t failed = 0;      // samples left out (integration failed, invalid model)
+  double probability = 0.0;      // exceeded / successful (NaN when none succeeded)
+  Interval interval;             // 95 % Wilson
+};
+
+// One row per sample count m = 1, 2, 4, ..., and N (saltelli: m = (D + 2)
+// times 1, 2, 4, ... blocks, and N): the answers from samples 0 .. m-1.
+struct ConvergencePoint {
+  std::uint64_t samples = 0;  // m
+  std::uint64_t used = 0;     // successful with a finite value
+  double mean = 0.0, sem = 0.0;
+  double probability = 0.0;   // of exceeding the limit (NaN without a limit)
+  Interval interval;
+};
+
+// For design = "saltelli" the counts, mean, standard error and exceedance
+// use the A and B runs only (the AB_i rows are not independent draws); the
+// Sobol' indices use every run.
+struct ResponseAnswer {
+  std::uint64_t used = 0;        // successful samples with a finite value (in mean, std, sem)
+  std::uint64_t not_finite = 0;  // successful samples with +-inf (e.g. a level never crossed)
+  std::uint64_t failed = 0;
+  double mean = 0.0, std = 0.0, sem = 0.0;  // std: n - 1; sem = std / sqrt(used)
+  std::optional<Exceedance> exceedance;
+  std::vector<ConvergencePoint> convergence;
+  RankSensitivity ranks;          // needs inputs (empty without perturbations)
+  std::optional<SobolIndices> sobol;  // design = "saltelli" only
+};
+
+// The answers for every response of `spec`, from `table`.
+std::vector<ResponseAnswer> answer_responses(const EnsembleSpec& spec, const ResponseTable& table);
+
+// The end-of-run lines: each response's mean +- standard error, and each
+// exceedance probability with its interval (answer_summary.cpp).
+void print_response_summary(std::ostream& out, const EnsembleSpec& spec,
+                            const std::vector<ResponseAnswer>& answers);
+
+}  // namespace treedyn::ensemble

@@ -1,0 +1,11 @@
+// Numbers as text for people and for job files.
+#pragma once
+
+#include <string>
+
+namespace treedyn {
+
+// The shortest form that reads back to the same double (e.g. 1e-07, -2.5).
+std::string format_number(double v);
+
+}  // namespace treedyn

@@ -1,0 +1,67 @@
+#include "ensemble/rank_results.hpp"
+
+#include <iostream>
+
+namespace treedyn::ensemble {
+
+void RankResults::use_checkpoint(std::unique_ptr<RankCheckpoint> checkpoint, double every_seconds) {
+  std::lock_guard<std::mutex> guard(lock_);
+  checkpoint_ = std::move(checkpoint);
+  every_ = every_seconds;
+}
+
+void RankResults::start_statistics(EnsembleStatistics stats) {
+  std::lock_guard<std::mutex> guard(lock_);
+  stats_.emplace(std::move(stats));
+}
+
+bool RankResults::keep(const SampleRecord& record, std::span<const double> trajectory) {
+  std::lock_guard<std::mutex> guard(lock_);
+  if (stopped_) return false;
+  if (stats_ && record.status == SampleStatus::ok) stats_->add_sample(trajectory);
+  if (checkpoint_) checkpoint_->add(record);
+  return true;
+}
+
+void RankResults::save_if_due() {
+  std::lock_guard<std::mutex> guard(lock_);
+  const double since = std::chrono::duration<double>(std::chrono::steady_clock::now() - last_save_).count();
+  if (checkpoint_ && since >= every_) save_locked(process::AtomicFile::Sync::yes);
+}
+
+bool RankResults::save(process::AtomicFile::Sync sync) {
+  std::lock_guard<std::mutex> guard(lock_);
+  return save_locked(sync);
+}
+
+void RankResults::stop() {
+  std::lock_guard<std::mutex> guard(lock_);
+  stopped_ = true;
+  save_locked(process::AtomicFile::Sync::no);
+}
+
+// A failure is reported once and turns checkpoints off on this rank.
+bool RankResults::save_locked(process::AtomicFile::Sync sync) {
+  if (!checkpoint_ || !stats_) return false;
+  try {
+    checkpoint_->save(*stats_, sync);
+    last_save_ = std::chrono::steady_clock::now();
+    return true;
+  } catch (const process::FileError& e) {
+    std::cerr << "warning: " << e.what() << "; checkpoints are off for this rank\n";
+    checkpoint_.reset();
+    return false;
+  }
+}
+
+std::uint64_t RankResults::saved_records() const {
+  std::lock_guard<std::mutex> guard(lock_);
+  return checkpoint_ ? checkpoint_->saved_records() : 0;
+}
+
+void RankResults::drop_checkpoint() {
+  std::lock_guard<std::mutex> guard(lock_);
+  checkpoint_.reset();
+}
+
+}  // namespace treedyn::ensemble

@@ -1,0 +1,61 @@
+// What this rank has finished, and its checkpoint. Two threads change them:
+// the main thread keeps each finished sample and saves now and then; the
+// signal thread (process/signals.hpp) saves at once when a stop signal
+// comes, so that whatever is finished is on disk before a launcher's
+// SIGKILL, even while the main thread is blocked in MPI waiting for a rank
+// that died. One lock guards both.
+#pragma once
+
+#include <chrono>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <span>
+
+#include "output/sample_record.hpp"
+#include "persistence/checkpoint.hpp"
+#include "statistics/ensemble_statistics.hpp"
+
+namespace treedyn::ensemble {
+
+class RankResults {
+ public:
+  // Checkpoints into `checkpoint` every `every` seconds (none: no checkpoints).
+  void use_checkpoint(std::unique_ptr<RankCheckpoint> checkpoint, double every_seconds);
+  // The statistics, from the end of the pilot wave on (the pilot's own
+  // samples already added), or restored.
+  void start_statistics(EnsembleStatistics stats);
+  bool has_statistics() const { return stats_.has_value(); }
+
+  // A finished sample: its record into the checkpoint and, when it succeeded
+  // and the statistics exist, its trajectory into them. False once stopped:
+  // the sample is not kept (a resumed run runs it again).
+  bool keep(const SampleRecord& record, std::span<const double> trajectory);
+
+  // Main thread: saves when the interval has passed (flushed to the disk).
+  void save_if_due();
+  // Saves now. False when there is nothing to save to, or the save failed.
+  bool save(process::AtomicFile::Sync sync = process::AtomicFile::Sync::yes);
+  // Signal thread (the stop's action): no sample is kept after this; what
+  // is kept is saved at once (not flushed: the deadline is SIGKILL's).
+  void stop();
+
+  bool checkpointing() const { return checkpoint_ != nullptr; }
+  std::uint64_t saved_records() const;
+  // Checkpoints off from now on (a failed write, or common.state missing).
+  void drop_checkpoint();
+  // The statistics, at the end of the run.
+  EnsembleStatistics& statistics() { return *stats_; }
+
+ private:
+  bool save_locked(process::AtomicFile::Sync sync);
+
+  mutable std::mutex lock_;
+  std::optional<EnsembleStatistics> stats_;
+  std::unique_ptr<RankCheckpoint> checkpoint_;
+  double every_ = 0.0;
+  std::chrono::steady_clock::time_point last_save_ = std::chrono::steady_clock::now();
+  bool stopped_ = false;
+};
+
+}  // namespace treedyn::ensemble

@@ -1,0 +1,20 @@
+// What an ensemble run did, for the file's root attributes and the
+// end-of-run summary: samples ok and failed, ranks, wall time, and each
+// rank's peak memory, samples and busy time.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+namespace treedyn {
+
+struct EnsembleSummary {
+  std::uint64_t ok = 0, failed = 0;
+  int ranks = 1;
+  double wall_seconds = 0.0;
+  std::vector<double> peak_rss_mib;         // per rank (getrusage maximum resident set)
+  std::vector<long long> samples_per_rank;  // samples each rank integrated
+  std::vector<double> busy_seconds;         // time each rank spent integrating samples
+};
+
+}  // namespace treedyn

@@ -1,0 +1,61 @@
+// The samples of an ensemble as a sequence of waves.
+//
+// A wave is a range of sample indices whose inputs are all known when it
+// starts. Which wave comes next may depend on the results of the earlier
+// ones: rank 0 decides it from every record so far (its ResponseTable, in
+// sample-index order, so the decision does not depend on the rank count)
+// and the engine sends the decision to every rank. A resumed run replays the
+// decisions from its restored records, so a plan keeps no state of its own.
+//
+// The engine (mpi/parallel/driver.cpp) runs every wave the same way: its
+// blocks go out through the work queue, finished samples are skipped, each
+// sample's record and statistics are kept, and checkpoints cover whatever
+// is finished. Before the first wave's other samples it runs that wave's
+// first `pilot_samples` as the pilot wave, whose deviations fix the
+// statistics' calibration.
+//
+// What a new design provides: a WavePlan (first_wave, next_wave) and, where
+// its samples' inputs depend on earlier waves, a way for SampleRunner to get
+// them (today every input is a pure function of the seed and the index).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "ensemble/response_table.hpp"
+#include "job/ensemble_spec.hpp"
+
+namespace treedyn::ensemble {
+
+struct Wave {
+  std::uint64_t first = 0, end = 0;  // sample indices [first, end)
+  std::string name;                  // for progress lines and messages
+};
+
+class WavePlan {
+ public:
+  virtual ~WavePlan() = default;
+  virtual Wave first_wave() const = 0;
+  // After wave `done`, with `so_far` holding every record up to its end:
+  // the next wave, or nullopt when the ensemble is complete. A function of
+  // its arguments only.
+  virtual std::optional<Wave> next_wave(const Wave& done, const ResponseTable* so_far) const = 0;
+};
+
+// Monte Carlo, Latin hypercube, Sobol and Saltelli: every sample's inputs
+// are a pure function of (seed, k), so all of them are one wave.
+class FixedDesignPlan final : public WavePlan {
+ public:
+  explicit FixedDesignPlan(std::uint64_t samples) : samples_(samples) {}
+  Wave first_wave() const override { return {0, samples_, "samples"}; }
+  std::optional<Wave> next_wave(const Wave&, const ResponseTable*) const override { return std::nullopt; }
+
+ private:
+  std::uint64_t samples_;
+};
+
+std::unique_ptr<WavePlan> make_wave_plan(const EnsembleSpec& spec);
+
+}  // namespace treedyn::ensemble

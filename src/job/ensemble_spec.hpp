@@ -1,0 +1,56 @@
+// The [ensemble] section of a job file.
+#pragma once
+
+#include <cstdint>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "sampling/design.hpp"
+#include "sampling/perturbation.hpp"
+#include "output/response.hpp"
+#include "job/job.hpp"
+
+namespace treedyn::ensemble {
+
+struct EnsembleSpec {
+  std::uint64_t samples = 100;       // runs; for saltelli base_samples * (D + 2)
+  std::uint64_t base_samples = 100;  // `samples` as the job gives it (saltelli: the base size N)
+  std::uint64_t seed = 1;
+  Design design = Design::monte_carlo;
+  std::vector<double> quantiles{0.05, 0.5, 0.95};
+  int histogram_bins = 128;        // per output time and component (quantiles and histograms)
+  std::uint64_t pilot_samples = 32;  // samples 0..pilot-1 fix the histogram ranges
+  std::uint64_t block_size = 4;    // samples handed out per work-queue request
+  std::vector<Perturbation> perturbations;
+  std::vector<Reduction> per_sample{Reduction::final, Reduction::min, Reduction::max,
+                                    Reduction::argmin_time, Reduction::argmax_time};
+  std::vector<Response> responses;
+  std::uint64_t store_trajectories = 0;  // full trajectories of samples 0 .. M-1
+  int bootstrap_resamples = 1000;        // for the Sobol' index intervals
+
+  unsigned input_dimensions() const;
+  std::vector<std::string> input_names() const;
+  // SI unit of every input column ("1" for a scale factor).
+  std::vector<std::string> input_units() const;
+};
+
+// Memory the statistics need on every rank: bin counters, sums, minima and
+// maxima for every output time and column.
+double statistics_bytes(const Job& job, const EnsembleSpec& spec);
+
+// Bytes in the output file of the per-sample reductions and of the stored
+// trajectories.
+double per_sample_bytes(const Job& job, const EnsembleSpec& spec);
+double stored_trajectory_bytes(const Job& job, const EnsembleSpec& spec);
+// Peak memory of the responses' analysis on rank 0.
+double answers_bytes(const EnsembleSpec& spec);
+
+// A readable account of the ensemble: design, inputs, statistics settings.
+void print_ensemble_summary(std::ostream& out, const Job& job, const EnsembleSpec& spec);
+
+// Reads [ensemble] from the job's text; throws JobError like the job reader.
+// A job without [ensemble] is refused (the ensemble needs its sample count).
+EnsembleSpec read_ensemble(const Job& job);
+
+}  // namespace treedyn::ensemble

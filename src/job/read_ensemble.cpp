@@ -1,0 +1,431 @@
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+
+#include "job/ensemble_spec.hpp"
+#include "statistics/ensemble_statistics.hpp"
+#include "sampling/targets.hpp"
+#include "job/toml_document.hpp"
+#include "job/toml_view.hpp"
+#include "output/quantities.hpp"
+
+namespace treedyn::ensemble {
+namespace {
+
+constexpr std::uint64_t kMaxRuns = EnsembleStatistics::kMaxSamples;
+
+
+using Kind = Perturbation::Kind;
+using Mode = Perturbation::Mode;
+
+// Unit of the sampled values: angles need "deg" or "rad"; angular velocity
+// "rad/s" (default) or "deg/s"; everything else is in its SI unit. A scale
+// factor is dimensionless: no unit.
+double read_unit(const TomlView& t, const Perturbation& p) {
+  const auto unit = t.string("unit");
+  if (p.mode == Mode::scale) {
+    if (unit) t.fail("unit", "mode = \"scale\" samples a dimensionless factor; remove 'unit'");
+    return 1.0;
+  }
+  if (p.si_unit == "rad") {
+    if (unit == "deg") return std::numbers::pi / 180.0;
+    if (unit == "rad") return 1.0;
+    t.fail("unit", "an angle needs unit = \"deg\" or \"rad\"");
+  }
+  if (p.si_unit == "rad/s") {
+    if (!unit || *unit == "rad/s") return 1.0;
+    if (*unit == "deg/s") return std::numbers::pi / 180.0;
+    t.fail("unit", "angular velocity: unit must be \"rad/s\" or \"deg/s\"");
+  }
+  if (unit) t.fail("unit", "this target is in SI units (" + p.si_unit + "); remove 'unit'");
+  return 1.0;
+}
+
+
+
+Distribution read_distribution(const TomlView& t) {
+  Distribution d;
+  const std::string kind = t.required_string("distribution");
+  if (!parse_distribution(kind, d.kind))
+    t.fail("distribution", "\"" + kind +
+                               "\" is not allowed; use " + choices(kDistributionNames));
+  auto positive = [&](std::string_view key) {
+    const double v = t.required_number(key);
+    if (!(v > 0.0)) t.fail(key, "must be > 0");
+    return v;
+  };
+  switch (d.kind) {
+    case Distribution::Kind::normal:
+      d.mean = t.number("mean", 0.0);
+      d.std = positive("std");
+      break;
+    case Distribution::Kind::truncated_normal: {
+      d.mean = t.number("mean", 0.0);
+      d.std = positive("std");
+      d.lower = t.required_number("lower");
+      d.upper = t.required_number("upper");
+      if (!(d.lower < d.upper)) t.fail("upper", "must be greater than 'lower'");
+      Distribution untruncated = d;
+      untruncated.kind = Distribution::Kind::normal;
+      if (!(untruncated.cdf(d.upper) - untruncated.cdf(d.lower) > 1e-12))
+        t.fail("lower", "the interval [lower, upper] holds no probability of the normal");
+      break;
+    }
+    case Distribution::Kind::uniform:
+      d.lower = t.required_number("lower");
+      d.upper = t.required_number("upper");
+      if (!(d.lower < d.upper)) t.fail("upper", "must be greater than 'lower'");
+      break;
+    case Distribution::Kind::lognormal:
+      d.mu = t.number("mu", 0.0);
+      d.sigma = positive("sigma");
+      break;
+  }
+  return d;
+}
+
+// [ensemble] per_sample = ["final", "max", ...]: which reductions to store.
+std::vector<Reduction> read_per_sample(const TomlView& t) {
+  const toml::node* node = t.table().get("per_sample");
+  const toml::array* list = node ? node->as_array() : nullptr;
+  if (!list) t.fail("per_sample", "expected an array of reductions: " + choices(kReductionNames));
+  std::vector<Reduction> out;
+  for (const toml::node& e : *list) {
+    Reduction r{};
+    const auto text = e.value<std::string>();
+    if (!text || !parse_in(kReductionNames, *text, r))
+      t.fail_at(&e, "per_sample", "not a reduction; allowed: " + choices(kReductionNames));
+    if (std::find(out.begin(), out.end(), r) != out.end())
+      t.fail_at(&e, "per_sample", "\"" + *text + "\" is listed twice");
+    out.push_back(r);
+  }
+  // Stored in the catalogue's order, whatever the order given.
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// One [[ensemble.response]]: a named scalar of one recorded column.
+Response read_response(const TomlView& t, const Job& job, const ColumnLayout& layout) {
+  t.check_keys({"name", "quantity", "column", "reduce", "time", "threshold", "limit", "fail_if"});
+  Response r;
+  r.name = t.required_string("name");
+  const bool control = std::any_of(r.name.begin(), r.name.end(), [](char c) {
+    return static_cast<unsigned char>(c) < 0x20 || c == 0x7f;
+  });
+  if (r.name.empty() || control || r.name.find('/') != std::string::npos || r.name == "." || r.name == "..")
+    t.fail("name", "must be a non-empty name without '/' or control characters (it names an HDF5 group)");
+  r.quantity = t.required_string("quantity");
+  const auto q = std::find(layout.quantity.begin(), layout.quantity.end(), r.quantity);
+  if (q == layout.quantity.end()) {
+    std::string recorded;
+    for (const auto& name : layout.quantity) recorded += " " + name;
+    const std::vector<std::string_view> names(layout.quantity.begin(), layout.quantity.end());
+    t.fail("quantity", "\"" + r.quantity + "\" is not recorded" + did_you_mean(r.quantity, names) +
+                           " Add it to [output] quantities or use one of:" + recorded);
+  }
+  const auto qi = static_cast<std::size_t>(q - layout.quantity.begin());
+  r.column = t.required_string("column");
+  const auto& names = layout.names[qi];
+  const auto c = std::find(names.begin(), names.end(), r.column);
+  if (c == names.end()) {
+    std::vector<std::string_view> allowed(names.begin(), names.end());
+    std::string listed;
+    for (std::size_t k = 0; k < std::min<std::size_t>(names.size(), 12); ++k) listed += " " + names[k];
+    if (names.size() > 12) listed += " ...";
+    t.fail("column", "\"" + r.column + "\" is not a column of " + r.quantity +
+                         did_you_mean(r.column, allowed) + " Columns:" + listed);
+  }
+  const auto ci = static_cast<std::size_t>(c - names.begin());
+  r.column_index = layout.offset[qi] + ci;
+  const std::string reduce = t.required_string("reduce");
+  if (!parse_in(kResponseReduceNames, reduce, r.reduce))
+    t.fail("reduce", "\"" + reduce + "\" is not allowed; use " + choices(kResponseReduceNames));
+  using Reduce = Response::Reduce;
+  const bool crossing = r.reduce == Reduce::first_time_above || r.reduce == Reduce::first_time_below;
+  r.units = crossing ? "s" : column_unit(layout, qi, ci);
+  const std::vector<double>& times = job.request.output_times;
+  if (r.reduce == Reduce::at_time) {
+    r.time = t.required_number("time");
+    if (!(r.time >= times.front() && r.time <= times.back()))
+      t.fail("time", format_number(r.time) + " s is outside the output times [" +
+                         format_number(times.front()) + ", " + format_number(times.back()) + "] s");
+  } else if (t.has("time")) {
+    t.fail("time", "only used with reduce = \"at_time\"");
+  }
+  if (crossing)
+    r.threshold = t.required_number("threshold");
+  else if (t.has("threshold"))
+    t.fail("threshold", "only used with reduce = \"first_time_above\" or \"first_time_below\"");
+  const auto fail_if = t.string("fail_if");
+  if (t.has("limit") && !fail_if)
+    t.fail("limit", "a limit needs fail_if = \"above\" or \"below\" (which side is failure)");
+  if (fail_if) {
+    if (*fail_if == "above")
+      r.fail_if = Response::FailIf::above;
+    else if (*fail_if == "below")
+      r.fail_if = Response::FailIf::below;
+    else
+      t.fail("fail_if", "\"" + *fail_if + "\" is not allowed; use \"above\" or \"below\"");
+    if (!t.has("limit")) t.fail("fail_if", "needs a limit = value (in " + r.units + ")");
+    r.limit = t.required_number("limit");
+  }
+  return r;
+}
+
+}  // namespace
+
+double per_sample_bytes(const Job& job, const EnsembleSpec& spec) {
+  const std::size_t columns = column_layout(job.model, job.output).columns;
+  return 8.0 * static_cast<double>(spec.samples) * static_cast<double>(columns) *
+         static_cast<double>(spec.per_sample.size());
+}
+
+double answers_bytes(const EnsembleSpec& spec) {
+  if (spec.responses.empty()) return 0.0;
+  // The table (inputs, responses, status) and, while one response is
+  // analysed, its rows, their ranks, the standardised rank matrix and its QR
+  // copy: about 4 D more doubles per sample.
+  const double d = spec.input_dimensions();
+  return 8.0 * static_cast<double>(spec.samples) *
+         (d + static_cast<double>(spec.responses.size()) + 1.0 + 4.0 * d + 2.0);
+}
+
+double stored_trajectory_bytes(const Job& job, const EnsembleSpec& spec) {
+  const std::size_t columns = column_layout(job.model, job.output).columns;
+  return 8.0 * static_cast<double>(spec.store_trajectories) *
+         static_cast<double>(job.request.output_times.size()) * static_cast<double>(columns);
+}
+
+double statistics_bytes(const Job& job, const EnsembleSpec& spec) {
+  const std::size_t columns = column_layout(job.model, job.output).columns;
+  const double entries =
+      static_cast<double>(job.request.output_times.size()) * static_cast<double>(columns);
+  // The accumulator, the nominal and pilot range (3 doubles), one sample's
+  // trajectory and, at worst (one rank), every pilot trajectory.
+  return EnsembleStatistics::memory_bytes(entries, spec.histogram_bins) +
+         entries * (3 * 8.0 + 8.0 * (1.0 + static_cast<double>(spec.pilot_samples)));
+}
+
+namespace {
+
+std::string bytes_text(double bytes) {
+  const char* unit = "KiB";
+  double value = bytes / 1024.0;
+  if (value >= 1024.0) value /= 1024.0, unit = "MiB";
+  if (value >= 1024.0) value /= 1024.0, unit = "GiB";
+  char buffer[48];
+  std::snprintf(buffer, sizeof buffer, "%.1f %s", value, unit);
+  return buffer;
+}
+
+}  // namespace
+
+void print_ensemble_summary(std::ostream& out, const Job& job, const EnsembleSpec& s) {
+  out << "ensemble: " << s.samples << " samples, seed " << s.seed << ", design " << name(s.design)
+      << ", " << s.perturbations.size() << " perturbation" << (s.perturbations.size() == 1 ? "" : "s")
+      << " (" << s.input_dimensions() << " sampled inputs)\n";
+  if (s.design == Design::saltelli)
+    out << "  saltelli: base size N = " << s.base_samples << ", N (D + 2) = " << s.base_samples << " x "
+        << saltelli_block(s.input_dimensions()) << " = " << s.samples
+        << " runs; sample j (D + 2) + r is A_j (r = 0), B_j (r = 1), AB_i,j (r = 2 + i)\n";
+  if (!nested_prefixes(s.design))
+    out << "  latin_hypercube: sample k depends on N too, so prefixes are not nested samples "
+           "(convergence by prefix is not meaningful)\n";
+  const auto nominal = job.definition.parameters.nominal();
+  for (const Perturbation& p : s.perturbations) {
+    out << "  " << p.target << ": " << p.distribution.describe();
+    if (p.unit != 1.0) out << " x " << format_number(p.unit) << " (to " << p.si_unit << ")";
+    if (p.kind == Kind::orientation)
+      out << " per rotation-vector component, rad";
+    else if (p.kind == Kind::rotation)
+      out << ", rad, composed with the nominal orientation";
+    else if (p.entries > 1)
+      out << (p.mode == Mode::scale ? " multiplies the matrix"
+              : p.mode == Mode::add ? " x E is added to the matrix"
+                                    : " x E replaces the matrix");
+    else
+      out << (p.mode == Mode::scale ? " multiplies" : p.mode == Mode::add ? " is added to" : " replaces")
+          << " the nominal "
+          << (p.kind == Kind::parameter ? nominal[p.first] / p.factor
+                                        : job.initial.angular_velocity[p.first][p.axis])
+          << " " << p.si_unit;
+    out << "\n      " << p.enters << "\n";
+  }
+  out << "statistics: quantiles";
+  for (double q : s.quantiles) out << " " << format_number(q);
+  out << "; " << s.histogram_bins << " histogram bins; pilot samples 0-" << s.pilot_samples - 1
+      << "; blocks of " << s.block_size << "; about "
+      << format_number(std::round(statistics_bytes(job, s) / (1024.0 * 1024.0))) << " MiB per rank\n";
+  out << "per sample: ";
+  for (std::size_t k = 0; k < s.per_sample.size(); ++k) out << (k ? ", " : "") << name(s.per_sample[k]);
+  if (s.per_sample.empty()) out << "no reductions";
+  out << " of every column: " << bytes_text(per_sample_bytes(job, s)) << " in the file\n";
+  if (s.store_trajectories > 0)
+    out << "stored trajectories: samples 0-" << s.store_trajectories - 1 << ", "
+        << bytes_text(stored_trajectory_bytes(job, s)) << " in the file\n";
+  if (!s.responses.empty())
+    out << "answers: about " << bytes_text(answers_bytes(s)) << " on rank 0 for the responses' analysis\n";
+  for (const Response& r : s.responses) {
+    out << "response " << r.name << ": " << name(r.reduce) << " of " << r.quantity << " " << r.column;
+    if (r.reduce == Response::Reduce::at_time) out << " at t = " << format_number(r.time) << " s";
+    if (r.reduce == Response::Reduce::first_time_above || r.reduce == Response::Reduce::first_time_below)
+      out << ", threshold " << format_number(r.threshold);
+    out << " (" << r.units << ")";
+    if (r.has_limit())
+      out << "; fails " << (r.fail_if == Response::FailIf::above ? "above " : "below ") << format_number(r.limit)
+          << " " << r.units;
+    out << "\n";
+  }
+}
+
+unsigned EnsembleSpec::input_dimensions() const {
+  unsigned d = 0;
+  for (const Perturbation& p : perturbations) d += static_cast<unsigned>(p.dimensions());
+  return d;
+}
+
+std::vector<std::string> EnsembleSpec::input_names() const {
+  std::vector<std::string> names;
+  for (const Perturbation& p : perturbations)
+    for (auto& n : p.input_names()) names.push_back(n);
+  return names;
+}
+
+std::vector<std::string> EnsembleSpec::input_units() const {
+  std::vector<std::string> units;
+  for (const Perturbation& p : perturbations)
+    for (int k = 0; k < p.dimensions(); ++k)
+      units.push_back(p.mode == Mode::scale && p.kind != Kind::orientation && p.kind != Kind::rotation ? "1" : p.si_unit);
+  return units;
+}
+
+EnsembleSpec read_ensemble(const Job& job) {
+  const TomlView root(root_table(job.document), "", job.file);
+  const auto section = root.subtable("ensemble");
+  if (!section)
+    throw JobError(job.file, 0, 0, "ensemble",
+                   "missing [ensemble] section: give at least samples = N (and seed, perturbations)");
+  const TomlView& t = *section;
+  t.check_keys({"samples", "seed", "design", "quantiles", "histogram_bins", "pilot_samples",
+                "block_size", "perturbation", "per_sample", "response", "store_trajectories",
+                "bootstrap_resamples"});
+  EnsembleSpec s;
+  const auto samples = t.integer("samples");
+  if (!samples) t.fail("samples", "missing required field: the number of samples (integer >= 1)");
+  if (*samples < 1) t.fail("samples", "must be at least 1");
+  s.samples = static_cast<std::uint64_t>(*samples);
+  if (auto seed = t.integer("seed")) {
+    if (*seed < 0) t.fail("seed", "must be a non-negative integer");
+    s.seed = static_cast<std::uint64_t>(*seed);
+  }
+  if (auto design = t.string("design"); design && !parse_design(*design, s.design))
+    t.fail("design", "\"" + *design +
+                         "\" is not allowed; use " + choices(kDesignNames));
+  if (auto q = t.numbers("quantiles")) {
+    if (q->empty()) t.fail("quantiles", "list at least one probability in (0, 1)");
+    for (double v : *q)
+      if (!(v > 0.0 && v < 1.0)) t.fail("quantiles", "every quantile must be in (0, 1)");
+    s.quantiles = *q;
+  }
+  if (auto bins = t.integer("histogram_bins")) {
+    if (*bins < 2 || *bins > 100000) t.fail("histogram_bins", "must be from 2 to 100000");
+    s.histogram_bins = static_cast<int>(*bins);
+  }
+  if (auto pilot = t.integer("pilot_samples")) {
+    if (*pilot < 1) t.fail("pilot_samples", "must be at least 1");
+    s.pilot_samples = static_cast<std::uint64_t>(*pilot);
+  }
+  if (auto block = t.integer("block_size")) {
+    if (*block < 1) t.fail("block_size", "must be at least 1");
+    s.block_size = static_cast<std::uint64_t>(*block);
+  }
+  for (const TomlView& p : t.table_array("perturbation")) {
+    p.check_keys({"target", "distribution", "mean", "std", "lower", "upper", "mu", "sigma",
+                  "mode", "unit"});
+    Perturbation pert;
+    pert.target = p.required_string("target");
+    try {
+      aim(pert, job.definition);
+    } catch (const TargetError& e) {
+      p.fail("target", e.what());
+    }
+    const std::string mode = p.string("mode").value_or("set");
+    if (!parse_in(kModeNames, mode, pert.mode))
+      p.fail("mode", "\"" + mode + "\" is not allowed; use " + choices(kModeNames));
+    if ((pert.kind == Kind::orientation || pert.kind == Kind::rotation) && p.has("mode"))
+      p.fail("mode", "not used for this target (a rotation is always composed with the nominal orientation)");
+    pert.unit = read_unit(p, pert);
+    pert.distribution = read_distribution(p);
+    s.perturbations.push_back(pert);
+  }
+  if (s.design == Design::sobol && s.input_dimensions() > 1000)
+    t.fail("perturbation", "sobol supports at most 1000 input dimensions");
+  s.base_samples = s.samples;
+  if (s.design == Design::saltelli) {
+    const unsigned d = s.input_dimensions();
+    if (d == 0)
+      t.fail("design", "saltelli needs at least one [[ensemble.perturbation]] (the inputs to rank)");
+    if (2 * d > 1000) t.fail("perturbation", "saltelli supports at most 500 input dimensions (2D Sobol dimensions)");
+    // samples is the base size N: N (D + 2) runs.
+    if (s.base_samples > kMaxRuns / saltelli_block(d))
+      t.fail("samples", "saltelli makes samples x (D + 2) = " + std::to_string(s.base_samples) + " x " +
+                            std::to_string(saltelli_block(d)) + " runs; at most " + std::to_string(kMaxRuns) +
+                            " (2^26, so that the exact 128-bit sums cannot overflow): use at most " +
+                            std::to_string(kMaxRuns / saltelli_block(d)));
+    s.samples = s.base_samples * saltelli_block(d);
+  }
+  // The exact sums hold 2^26 extreme samples (d / S at its 2^20 limit, squared
+  // with 60 fraction bits: 2^100 each, 2^126 in all); 32-bit Sobol points and
+  // histogram counters would allow more.
+  if (s.samples > kMaxRuns)
+    t.fail("samples", std::to_string(s.samples) + " samples: at most " + std::to_string(kMaxRuns) +
+                          " (2^26, so that the exact 128-bit sums cannot overflow); split larger studies into "
+                          "several ensembles with different seeds");
+  s.pilot_samples = std::min(s.pilot_samples, s.samples);  // runs, also for saltelli
+
+  if (t.has("per_sample")) s.per_sample = read_per_sample(t);
+  const ColumnLayout layout = column_layout(job.model, job.output);
+  for (const TomlView& r : t.table_array("response")) {
+    s.responses.push_back(read_response(r, job, layout));
+    for (std::size_t k = 0; k + 1 < s.responses.size(); ++k)
+      if (s.responses[k].name == s.responses.back().name)
+        r.fail("name", "response \"" + s.responses.back().name + "\" is defined twice; names must be unique");
+  }
+  if (auto b = t.integer("bootstrap_resamples")) {
+    if (*b < 0 || *b > 100000) t.fail("bootstrap_resamples", "must be from 0 to 100000");
+    s.bootstrap_resamples = static_cast<int>(*b);
+  }
+  if (auto m = t.integer("store_trajectories")) {
+    if (*m < 0) t.fail("store_trajectories", "must be >= 0 (samples 0 .. M-1 are stored)");
+    s.store_trajectories = static_cast<std::uint64_t>(*m);
+    if (s.store_trajectories > s.samples)
+      t.fail("store_trajectories", "is more than the " + std::to_string(s.samples) + " samples");
+    // Each stored trajectory travels to rank 0 with its record, a block of
+    // them at a time: that block must fit in memory.
+    const double one = stored_trajectory_bytes(job, s) / static_cast<double>(std::max<std::uint64_t>(s.store_trajectories, 1));
+    const double batch_gib = one * static_cast<double>(s.block_size) / (1024.0 * 1024.0 * 1024.0);
+    if (s.store_trajectories > 0 && batch_gib > 1.0)
+      t.fail("store_trajectories", "one trajectory is " + format_number(std::round(one / (1024.0 * 1024.0))) +
+                                       " MiB and a block of " + std::to_string(s.block_size) +
+                                       " would need " + format_number(std::round(batch_gib)) +
+                                       " GiB in memory; at most 1 GiB: use fewer output times or "
+                                       "quantities, or block_size = 1");
+  }
+  // Rank 0 keeps every sample's inputs and responses for the analysis.
+  if (!s.responses.empty()) {
+    const double gib = answers_bytes(s) / (1024.0 * 1024.0 * 1024.0);
+    if (gib > 8.0)
+      t.fail("response", "the responses and inputs of " + std::to_string(s.samples) +
+                             " samples would need " + format_number(std::round(gib)) +
+                             " GiB on rank 0; at most 8: use fewer samples");
+  }
+  const double gib = statistics_bytes(job, s) / (1024.0 * 1024.0 * 1024.0);
+  if (gib > 8.0)
+    t.fail("histogram_bins", "the statistics would need " + format_number(std::round(gib)) +
+                                 " GiB per rank (output times x columns x bins); at most 8: use "
+                                 "fewer bins, output times or quantities");
+  return s;
+}
+
+}  // namespace treedyn::ensemble

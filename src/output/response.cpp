@@ -1,0 +1,88 @@
+#include "output/response.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace treedyn::ensemble {
+
+void reduce_columns(std::span<const double> trajectory, std::span<const double> times,
+                    std::size_t columns, std::span<const Reduction> which, std::vector<double>& out) {
+  const std::size_t T = times.size();
+  for (Reduction r : which) {
+    for (std::size_t c = 0; c < columns; ++c) {
+      if (r == Reduction::final) {
+        out.push_back(trajectory[(T - 1) * columns + c]);
+        continue;
+      }
+      const bool minimum = r == Reduction::min || r == Reduction::argmin_time;
+      std::size_t best = 0;
+      for (std::size_t k = 1; k < T; ++k) {
+        const double v = trajectory[k * columns + c], b = trajectory[best * columns + c];
+        if (minimum ? v < b : v > b) best = k;
+      }
+      const bool value = r == Reduction::min || r == Reduction::max;
+      out.push_back(value ? trajectory[best * columns + c] : times[best]);
+    }
+  }
+}
+
+namespace {
+
+double first_time_beyond(std::span<const double> x, std::span<const double> times, double threshold,
+                         bool above) {
+  auto beyond = [&](double v) { return above ? v > threshold : v < threshold; };
+  if (beyond(x[0])) return times[0];
+  for (std::size_t k = 1; k < x.size(); ++k) {
+    if (!beyond(x[k])) continue;
+    // x[k-1] is not beyond and x[k] is: the crossing lies in (t[k-1], t[k]].
+    const double fraction = (threshold - x[k - 1]) / (x[k] - x[k - 1]);
+    return times[k - 1] + std::clamp(fraction, 0.0, 1.0) * (times[k] - times[k - 1]);
+  }
+  return std::numeric_limits<double>::infinity();
+}
+
+double at_time(std::span<const double> x, std::span<const double> times, double t) {
+  const auto upper = std::lower_bound(times.begin(), times.end(), t);
+  if (upper == times.end()) return x.back();  // only within rounding of the end (checked on reading)
+  const auto k = static_cast<std::size_t>(upper - times.begin());
+  if (*upper == t || k == 0) return x[k];
+  const double fraction = (t - times[k - 1]) / (times[k] - times[k - 1]);
+  return x[k - 1] + fraction * (x[k] - x[k - 1]);
+}
+
+}  // namespace
+
+double evaluate(const Response& r, std::span<const double> trajectory, std::span<const double> times,
+                std::size_t columns) {
+  std::vector<double> x(times.size());
+  for (std::size_t k = 0; k < times.size(); ++k) x[k] = trajectory[k * columns + r.column_index];
+  using Reduce = Response::Reduce;
+  switch (r.reduce) {
+    case Reduce::final:
+      return x.back();
+    case Reduce::min:
+      return *std::min_element(x.begin(), x.end());
+    case Reduce::max:
+      return *std::max_element(x.begin(), x.end());
+    case Reduce::mean: {
+      double sum = 0.0;
+      for (double v : x) sum += v;
+      return sum / static_cast<double>(x.size());
+    }
+    case Reduce::rms: {
+      double sum = 0.0;
+      for (double v : x) sum += v * v;
+      return std::sqrt(sum / static_cast<double>(x.size()));
+    }
+    case Reduce::at_time:
+      return at_time(x, times, r.time);
+    case Reduce::first_time_above:
+      return first_time_beyond(x, times, r.threshold, true);
+    case Reduce::first_time_below:
+      return first_time_beyond(x, times, r.threshold, false);
+  }
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
+}  // namespace treedyn::ensemble

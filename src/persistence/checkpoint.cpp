@@ -1,0 +1,261 @@
+#include "persistence/checkpoint.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+
+#include "common/hash.hpp"
+#include "persistence/record_codec.hpp"
+
+namespace treedyn::ensemble {
+namespace fs = std::filesystem;
+using process::AtomicFile;
+namespace {
+
+fs::path state_path(const fs::path& dir, const std::string& stem) { return dir / (stem + ".state"); }
+fs::path records_path(const fs::path& dir, const std::string& stem) { return dir / (stem + ".records"); }
+std::string part_stem(std::uint64_t generation, const std::string& name) {
+  return "part-" + std::to_string(generation) + "-" + name;
+}
+std::string base_stem(std::uint64_t generation) { return "base-" + std::to_string(generation); }
+
+// --- Records files: frames of [bytes u64][hash u64][records] ---------------
+
+std::vector<char> frame(const std::vector<char>& records) {
+  std::vector<char> bytes;
+  ByteWriter out(bytes);
+  out.put(static_cast<std::uint64_t>(records.size()));
+  out.put(hash64(records));
+  out.put_bytes(records);
+  return bytes;
+}
+
+// The records in the first `bytes` bytes of a records file.
+std::vector<SampleRecord> read_frames(const fs::path& path, std::uint64_t bytes) {
+  if (bytes == 0) return {};
+  const std::vector<char> all = process::read_file(path);
+  std::vector<SampleRecord> out;
+  try {
+    if (all.size() < bytes) throw DecodeError(path.string() + " is damaged (truncated)");
+    ByteReader in(std::span<const char>(all.data(), bytes), path.string());
+    while (!in.done()) {
+      const auto size = in.get<std::uint64_t>();
+      const auto sum = in.get<std::uint64_t>();
+      const std::span<const char> records = in.get_bytes(size);
+      if (hash64(records) != sum) in.fail("a frame's hash does not match");
+      for (auto& r : read_records(records, path.string())) out.push_back(std::move(r));
+    }
+  } catch (const DecodeError& e) {
+    refuse_damaged(e);
+  }
+  return out;
+}
+
+// --- State files ----------------------------------------------------------
+
+// A part's (or a base's) state: generation, records bytes and count, statistics.
+void write_part_state(const fs::path& path, const RunIdentity& id, std::uint64_t generation,
+                      std::uint64_t records_bytes, std::uint64_t records_count, const EnsembleStatistics& stats,
+                      AtomicFile::Sync sync) {
+  StateFileWriter file(path, StateKind::part, id);
+  file.out().put(generation);
+  file.out().put(records_bytes);
+  file.out().put(records_count);
+  for (std::size_t piece = 0; piece < stats.state_pieces(); ++piece) {
+    stats.write_state_piece(piece, file.out());
+    file.flush_if_large();
+  }
+  file.commit(sync);
+}
+
+// Adds a part's statistics into `total`; returns its records.
+std::vector<SampleRecord> load_part(const fs::path& dir, const std::string& stem, const RunIdentity& id,
+                                    const RecordShape& shape, EnsembleStatistics& total) {
+  const fs::path path = state_path(dir, stem);
+  const std::vector<char> bytes = process::read_file(path);
+  ByteReader in = open_state_file(bytes, StateKind::part, path, &id);
+  EnsembleStatistics part(total.times(), total.columns(), total.bins(), total.calibration());
+  std::uint64_t records_bytes = 0, records_count = 0;
+  try {
+    in.get<std::uint64_t>();  // generation (also in the name)
+    records_bytes = in.get<std::uint64_t>();
+    records_count = in.get<std::uint64_t>();
+    for (std::size_t piece = 0; piece < part.state_pieces(); ++piece) part.add_state_piece(piece, in);
+    if (!in.done()) in.fail("bytes after its statistics");
+  } catch (const DecodeError& e) {
+    refuse_damaged(e);
+  }
+  std::vector<SampleRecord> records = read_frames(records_path(dir, stem), records_bytes);
+  check_records(records, shape, "checkpoint " + path.string());
+  const auto ok = std::count_if(records.begin(), records.end(), [](const auto& r) { return r.status == SampleStatus::ok; });
+  if (records.size() != records_count || static_cast<std::uint64_t>(ok) != part.samples())
+    throw CheckpointError("checkpoint " + path.string() +
+                          " is damaged (its records and statistics do not agree); remove it to start afresh");
+  total.merge(part);
+  return records;
+}
+
+// "part-3-rank7" -> 3; -1 when `stem` is not of that form.
+long long generation_of(const std::string& stem, const std::string& prefix) {
+  if (stem.rfind(prefix, 0) != 0) return -1;
+  const std::string rest = stem.substr(prefix.size());
+  const std::string digits = rest.substr(0, rest.find('-'));
+  if (digits.empty() || digits.size() > 18 || digits.find_first_not_of("0123456789") != std::string::npos) return -1;
+  return std::stoll(digits);
+}
+
+std::vector<std::string> state_stems(const fs::path& dir) {
+  std::vector<std::string> stems;
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(dir, ec))
+    if (entry.path().extension() == ".state") stems.push_back(entry.path().stem().string());
+  std::sort(stems.begin(), stems.end());
+  return stems;
+}
+
+// The stems of the newest complete generation: its base (G >= 1) and parts.
+std::pair<std::uint64_t, std::vector<std::string>> newest_generation(const fs::path& dir) {
+  std::uint64_t generation = 0;
+  const std::vector<std::string> all = state_stems(dir);
+  for (const std::string& stem : all)
+    generation = std::max<std::uint64_t>(generation, static_cast<std::uint64_t>(std::max(0LL, generation_of(stem, "base-"))));
+  std::vector<std::string> stems;
+  if (generation > 0) stems.push_back(base_stem(generation));
+  for (const std::string& stem : all)
+    if (generation_of(stem, "part-") == static_cast<long long>(generation)) stems.push_back(stem);
+  return {generation, stems};
+}
+
+// Sorts the records and lists the [first, end) intervals they cover.
+void index_records(RestoredRun& run, const fs::path& dir) {
+  std::sort(run.records.begin(), run.records.end(), [](const auto& a, const auto& b) { return a.index < b.index; });
+  for (std::size_t k = 0; k < run.records.size(); ++k) {
+    const std::uint64_t i = run.records[k].index;
+    if (k > 0 && run.records[k - 1].index == i)
+      throw CheckpointError("checkpoint " + dir.string() + " is damaged (sample " + std::to_string(i) +
+                            " twice); remove it to start afresh");
+    if (!run.finished.empty() && run.finished.back().second == i)
+      ++run.finished.back().second;
+    else
+      run.finished.emplace_back(i, i + 1);
+  }
+}
+
+}  // namespace
+
+fs::path checkpoint_directory(const fs::path& output) {
+  fs::path dir = output;
+  dir += ".checkpoint";
+  return dir;
+}
+
+void write_checkpoint_common(const fs::path& dir, const RunIdentity& id, const std::vector<double>& nominal,
+                             const Calibration& calibration) {
+  StateFileWriter file(state_path(dir, "common"), StateKind::common, id);
+  file.out().put_vector(nominal);
+  calibration.write(file.out());
+  file.commit(AtomicFile::Sync::yes);
+}
+
+RankCheckpoint::RankCheckpoint(fs::path dir, RunIdentity id, std::uint64_t generation, const std::string& name)
+    : dir_(std::move(dir)), id_(std::move(id)), generation_(generation), name_(name) {}
+
+void RankCheckpoint::add(const SampleRecord& record) {
+  append_record(record, pending_);
+  ++pending_records_;
+}
+
+void RankCheckpoint::save(const EnsembleStatistics& stats, AtomicFile::Sync sync) {
+  if (saved_once_ && pending_records_ == 0) return;  // the state on disk is this one
+  const std::string stem = part_stem(generation_, name_);
+  if (!pending_.empty()) {
+    const std::vector<char> bytes = frame(pending_);
+    process::append_to_file(records_path(dir_, stem), bytes, sync);
+    saved_bytes_ += bytes.size();
+    saved_records_ += pending_records_;
+    pending_.clear();
+    pending_records_ = 0;
+  }
+  write_part_state(state_path(dir_, stem), id_, generation_, saved_bytes_, saved_records_, stats, sync);
+  saved_once_ = true;
+}
+
+void check_records(const std::vector<SampleRecord>& records, const RecordShape& shape, const std::string& what) {
+  for (const SampleRecord& r : records) {
+    const bool ok = r.status == SampleStatus::ok;
+    const bool fits =
+        r.index >= shape.first && r.index < shape.end && (r.inputs.empty() || r.inputs.size() == shape.inputs) &&
+        r.reductions.size() == shape.reductions && r.responses.size() == shape.responses &&
+        r.final_state.size() == shape.final_state &&
+        (r.trajectory.empty() || (ok && r.index < shape.stored && r.trajectory.size() == shape.trajectory));
+    if (!fits)
+      throw CheckpointError(what + " is damaged or of another job (sample " + std::to_string(r.index) +
+                            " does not fit the job's shape); remove it to start afresh");
+  }
+}
+
+std::optional<RestoredRun> load_checkpoint(const fs::path& dir, const RunIdentity& id, const StatisticsShape& shape,
+                                           const RecordShape& record_shape) {
+  if (!checkpoint_exists(dir)) return std::nullopt;
+  RestoredRun run;
+  const fs::path common = state_path(dir, "common");
+  const std::vector<char> bytes = process::read_file(common);
+  ByteReader in = open_state_file(bytes, StateKind::common, common, &id);
+  try {
+    run.nominal = in.get_vector<double>();
+    if (run.nominal.size() != shape.times * shape.columns) in.fail("a nominal run of another shape");
+    run.calibration = Calibration::read(in, run.nominal.size());
+  } catch (const DecodeError& e) {
+    refuse_damaged(e);
+  }
+  run.statistics.emplace(shape.times, shape.columns, shape.bins, run.calibration);
+  const auto [generation, stems] = newest_generation(dir);
+  run.generation = generation;
+  for (const std::string& stem : stems)
+    for (auto& r : load_part(dir, stem, id, record_shape, *run.statistics)) run.records.push_back(std::move(r));
+  index_records(run, dir);
+  return run;
+}
+
+std::uint64_t consolidate_checkpoint(const fs::path& dir, const RunIdentity& id, const RestoredRun& restored) {
+  const std::uint64_t next = restored.generation + 1;
+  const std::string stem = base_stem(next);
+  std::vector<char> records;
+  for (const SampleRecord& r : restored.records) append_record(r, records);
+  // Records first, then the state that refers to them; each atomically.
+  std::uint64_t bytes = 0;
+  if (!records.empty()) {
+    const std::vector<char> framed = frame(records);
+    process::write_file_atomically(records_path(dir, stem), framed);
+    bytes = framed.size();
+  }
+  write_part_state(state_path(dir, stem), id, next, bytes, restored.records.size(), *restored.statistics,
+                   AtomicFile::Sync::yes);
+  // Older generations are now contained in base-(G+1).
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(dir, ec)) {
+    const std::string file = entry.path().filename().string();
+    const std::string stem_of = file.substr(0, file.find('.'));
+    const long long g = std::max(generation_of(stem_of, "part-"), generation_of(stem_of, "base-"));
+    if (g >= 0 && static_cast<std::uint64_t>(g) < next) fs::remove(entry.path(), ec);
+  }
+  return next;
+}
+
+bool checkpoint_exists(const fs::path& dir) {
+  std::error_code ec;
+  const bool exists = fs::exists(state_path(dir, "common"), ec);
+  if (ec) throw process::FileError("cannot look into " + dir.string() + ": " + ec.message());
+  return exists;
+}
+
+void remove_checkpoint(const fs::path& dir) {
+  std::error_code ec;
+  if (!fs::exists(dir, ec)) return;
+  fs::path doomed = dir;
+  doomed += ".removing-" + std::to_string(::getpid());
+  fs::rename(dir, doomed, ec);
+  fs::remove_all(ec ? dir : doomed, ec);
+}
+
+}  // namespace treedyn::ensemble

@@ -1,0 +1,115 @@
+// Checkpoints of an ensemble run, so that a killed run resumes where it was
+// and the result is bitwise that of an uninterrupted run.
+//
+// The statistics are exact integer sums (order-independent), so every rank
+// checkpoints on its own, with no collective: the union of the ranks'
+// checkpoints is consistent whatever moment each was written at and
+// whichever rank died. In the directory OUT.h5.checkpoint/:
+//
+//   common.state           the nominal run and the calibration (rank 0, once
+//                          the pilot wave is done)
+//   part-G-R.records       rank R's finished records, appended in frames
+//   part-G-R.state         rank R's statistics and how many bytes of its
+//                          records file they cover (written atomically)
+//   base-G.state/.records  everything restored by the resume that started
+//                          generation G (G >= 1)
+//
+// A generation G is complete when G = 0 or base-G.state exists; loading takes
+// the newest complete generation, its base and all of its parts. State files
+// are written atomically (process/atomic_file.hpp) in the envelope of
+// persistence/state_file.hpp; a records file is append-only and its tail
+// beyond what a state covers is ignored, so kill -9 at any moment leaves a
+// loadable directory. Which waves are done is not stored: the design's plan
+// replays its decisions from the restored records.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "output/sample_record.hpp"
+#include "persistence/state_file.hpp"
+#include "statistics/ensemble_statistics.hpp"
+
+namespace treedyn::ensemble {
+
+std::filesystem::path checkpoint_directory(const std::filesystem::path& output);
+
+// Rank 0, once the calibration is known. Throws process::FileError.
+void write_checkpoint_common(const std::filesystem::path& dir, const RunIdentity& id,
+                             const std::vector<double>& nominal, const Calibration& calibration);
+
+// One rank's checkpoint in generation `generation`: records are added as
+// they finish; save() appends them to the records file and rewrites the
+// state with the rank's statistics (which must count exactly the ok records
+// added so far). Not thread-safe: its owner serialises add() and save().
+class RankCheckpoint {
+ public:
+  RankCheckpoint(std::filesystem::path dir, RunIdentity id, std::uint64_t generation, const std::string& name);
+  void add(const SampleRecord& record);
+  // Throws process::FileError (the run goes on without checkpoints).
+  void save(const EnsembleStatistics& stats, process::AtomicFile::Sync sync = process::AtomicFile::Sync::yes);
+  std::uint64_t saved_records() const { return saved_records_; }
+  bool has_unsaved() const { return pending_records_ > 0; }
+
+ private:
+  std::filesystem::path dir_;
+  RunIdentity id_;
+  std::uint64_t generation_;
+  std::string name_;
+  std::vector<char> pending_;  // encoded records not yet in the records file
+  std::uint64_t pending_records_ = 0, saved_records_ = 0, saved_bytes_ = 0;
+  bool saved_once_ = false;
+};
+
+// What every record of a job must look like: loading refuses any other (a
+// damaged or forged file must not reach the writers).
+struct RecordShape {
+  std::uint64_t first = 0, end = 0;  // the sample indices
+  std::size_t inputs = 0, reductions = 0, responses = 0, final_state = 0;
+  std::size_t trajectory = 0;        // entries, for samples < stored
+  std::uint64_t stored = 0;          // store_trajectories
+};
+// Throws CheckpointError naming `what` for the first record that does not fit.
+void check_records(const std::vector<SampleRecord>& records, const RecordShape& shape, const std::string& what);
+
+// The statistics' shape: times x columns entries, bins.
+struct StatisticsShape {
+  std::size_t times = 0, columns = 0;
+  int bins = 0;
+};
+
+// What a checkpoint directory holds, summed over the ranks.
+struct RestoredRun {
+  std::uint64_t generation = 0;  // the one loaded
+  std::vector<double> nominal;
+  Calibration calibration;
+  std::vector<SampleRecord> records;                              // sorted by sample index
+  std::vector<std::pair<std::uint64_t, std::uint64_t>> finished;  // [first, end) intervals
+  std::optional<EnsembleStatistics> statistics;                   // counts exactly the ok records
+};
+
+// nullopt when there is no checkpoint (or no common.state yet: the run was
+// killed before its pilot wave was done). Throws CheckpointError for another
+// job or build (the message says which) or a damaged file.
+std::optional<RestoredRun> load_checkpoint(const std::filesystem::path& dir, const RunIdentity& id,
+                                           const StatisticsShape& stats, const RecordShape& records);
+
+// Rank 0 at the start of a resumed run: everything restored becomes
+// base-(G+1), written atomically; then the older generations are deleted.
+// Returns G + 1, the generation the resumed run's parts belong to. Throws
+// process::FileError.
+std::uint64_t consolidate_checkpoint(const std::filesystem::path& dir, const RunIdentity& id,
+                                     const RestoredRun& restored);
+
+// Whether the directory holds anything a resume could use (common.state).
+bool checkpoint_exists(const std::filesystem::path& dir);
+
+// Removes the whole directory: renamed away first, so that a kill in the
+// middle leaves no half-deleted checkpoint.
+void remove_checkpoint(const std::filesystem::path& dir);
+
+}  // namespace treedyn::ensemble

@@ -1,0 +1,39 @@
+#include "persistence/record_codec.hpp"
+
+namespace treedyn::ensemble {
+
+void write_record(const SampleRecord& r, ByteWriter& out) {
+  out.put(r.index);
+  out.put(r.status);
+  out.put(r.time_reached);
+  for (const IntegratorStatField& f : kIntegratorStatFields) out.put(r.stats.*f.member);
+  out.put_text(r.reason);
+  for (const auto* v : {&r.inputs, &r.reductions, &r.responses, &r.final_state, &r.trajectory}) out.put_vector(*v);
+}
+
+SampleRecord read_record(ByteReader& in) {
+  SampleRecord r;
+  r.index = in.get<std::uint64_t>();
+  r.status = in.get<SampleStatus>();
+  if (static_cast<std::int32_t>(r.status) < 0 || r.status > SampleStatus::not_run)
+    in.fail("a sample record with an unknown status");
+  r.time_reached = in.get<double>();
+  for (const IntegratorStatField& f : kIntegratorStatFields) r.stats.*f.member = in.get<long>();
+  r.reason = in.get_text();
+  for (auto* v : {&r.inputs, &r.reductions, &r.responses, &r.final_state, &r.trajectory}) *v = in.get_vector<double>();
+  return r;
+}
+
+void append_record(const SampleRecord& record, std::vector<char>& buffer) {
+  ByteWriter out(buffer);
+  write_record(record, out);
+}
+
+std::vector<SampleRecord> read_records(std::span<const char> buffer, const std::string& what) {
+  std::vector<SampleRecord> records;
+  ByteReader in(buffer, what);
+  while (!in.done()) records.push_back(read_record(in));
+  return records;
+}
+
+}  // namespace treedyn::ensemble

@@ -1,0 +1,22 @@
+// Per-sample records as bytes (common/bytes.hpp): the trip to the writer
+// rank, the checkpoint's records files and the part files.
+#pragma once
+
+#include <span>
+#include <string>
+#include <vector>
+
+#include "common/bytes.hpp"
+#include "output/sample_record.hpp"
+
+namespace treedyn::ensemble {
+
+void write_record(const SampleRecord& record, ByteWriter& out);
+SampleRecord read_record(ByteReader& in);
+
+// A buffer of records one after the other.
+void append_record(const SampleRecord& record, std::vector<char>& buffer);
+// Every record of such a buffer; throws DecodeError naming `what`.
+std::vector<SampleRecord> read_records(std::span<const char> buffer, const std::string& what);
+
+}  // namespace treedyn::ensemble
