@@ -104,6 +104,17 @@ struct EnsembleRun {
 
   double busy_seconds = 0.0;
   std::uint64_t samples_run = 0;
+
+  // Fault injection for the tests of kills and signals (never set by users):
+  // TREEDYN_TEST_HOLD_AFTER=N makes every rank hold after keeping N samples
+  // of the waves after the pilot: it saves its checkpoint (unless
+  // TREEDYN_TEST_HOLD_UNSAVED=1: then only a stop signal's save puts them on
+  // disk), writes OUT.h5.checkpoint/held-rankR ("pid P kept K": its process
+  // and every sample it has kept) and waits for a stop signal (or SIGKILL).
+  // A test kills or signals the run in a known state.
+  std::optional<std::uint64_t> hold_after;
+  bool hold_unsaved = false;
+  std::uint64_t kept_after_pilot = 0, kept = 0;
 };
 
 int check_range(EnsembleRun& run);

@@ -1,14 +1,18 @@
 // The phases that run samples: the nominal run, the waves of the design
 // (the pilot wave first), and the stop when a signal cuts them short.
+#include <unistd.h>
+
 #include <algorithm>
 #include <chrono>
 #include <iostream>
 #include <limits>
+#include <thread>
 
 #include "app/exit_codes.hpp"
 #include "parallel/collectives.hpp"
 #include "parallel/driver.hpp"
 #include "parallel/work_queue.hpp"
+#include "process/atomic_file.hpp"
 #include "process/signals.hpp"
 
 namespace treedyn::parallel {
@@ -40,7 +44,19 @@ std::optional<SampleRecord> run_sample(EnsembleRun& run, std::uint64_t k, std::v
 
 // Into this rank's results and checkpoint, and on to rank 0.
 void keep(EnsembleRun& run, SampleRecord record, std::span<const double> trajectory) {
-  if (run.results.keep(record, trajectory)) run.sink->add(std::move(record));
+  if (!run.results.keep(record, trajectory)) return;
+  run.sink->add(std::move(record));
+  ++run.kept;
+}
+
+// TREEDYN_TEST_HOLD_AFTER (driver.hpp): once this rank has kept that many
+// samples after the pilot, it says so in a file and waits for a stop signal.
+void hold_if_asked(EnsembleRun& run) {
+  if (!run.hold_after || run.kept_after_pilot != *run.hold_after) return;
+  if (!run.hold_unsaved) run.results.save();
+  process::write_file_atomically(run.checkpoint_dir / ("held-rank" + std::to_string(run.rank)),
+                                 "pid " + std::to_string(::getpid()) + " kept " + std::to_string(run.kept) + "\n");
+  while (process::stop_signal() == 0) std::this_thread::sleep_for(std::chrono::milliseconds(10));
 }
 
 // The next sample of a block, or false when this rank must stop (a signal
@@ -125,10 +141,13 @@ bool run_wave(EnsembleRun& run, std::uint64_t from, std::uint64_t to) {
       stopped = !may_go_on(queue);
       if (stopped || run.finished.contains(k)) continue;
       std::optional<SampleRecord> r = run_sample(run, k, trajectory);
-      if (r)
+      if (r) {
         keep(run, std::move(*r), trajectory);
-      else
+        ++run.kept_after_pilot;
+        hold_if_asked(run);
+      } else {
         stopped = true;
+      }
     }
     run.sink->flush();
     if (!stopped) run.results.save_if_due();
@@ -187,6 +206,7 @@ int run_waves(EnsembleRun& run) {
     const std::uint64_t pilot_end = std::min(run.spec.pilot_samples, wave.end);
     if (!run_pilot_wave(run, pilot_end)) return stop_interrupted(run, false);
     save_common(run);
+    hold_if_asked(run);
     from = pilot_end;
   }
   for (;;) {
