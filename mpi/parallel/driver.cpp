@@ -63,6 +63,10 @@ int read_job(MPI_Comm comm, int rank, const std::string& path, Job& job, ensembl
   return kExitOk;
 }
 
+constexpr const char* memory_advice =
+    "the job asks for more than this node (or its memory limit) gives; use fewer ranks per node, fewer "
+    "histogram_bins, output times or quantities";
+
 // A failed run leaves nothing half-written: the temporary output goes with
 // the writer, and a checkpoint directory that holds nothing resumable goes too.
 int abandon(EnsembleRun& run, int code) {
@@ -109,7 +113,20 @@ int run_ensemble(MPI_Comm comm, const EnsembleOptions& options) {
   // The first signal saves this rank's checkpoint at once (on the signal
   // thread); the main thread stops at its next output time.
   const process::StopOnSignals stop([&run](int) { run.results.stop(); });
-  return run_phases(run);
+  try {
+    return run_phases(run);
+  } catch (const OutOfMemoryEverywhere&) {
+    if (run.rank == 0) std::cerr << "error: out of memory for the statistics: " << memory_advice << "\n";
+    return abandon(run, kExitMemory);
+  } catch (const std::bad_alloc&) {
+    // Where every rank allocates alike (the statistics) the ranks agree and
+    // all exit 6; this is an allocation on one rank alone. Alone, exit 6;
+    // with others possibly waiting in a collective, MPI_Abort ends them all.
+    std::cerr << "error: out of memory on rank " << run.rank << ": " << memory_advice << "\n";
+    abandon(run, kExitMemory);
+    if (run.size > 1) MPI_Abort(run.comm, kExitMemory);
+    return kExitMemory;
+  }
 }
 
 }  // namespace treedyn::parallel

@@ -117,6 +117,9 @@ struct EnsembleRun {
   std::uint64_t kept_after_pilot = 0, kept = 0;
 };
 
+// Every rank failed to allocate alike (the statistics): all exit 6.
+struct OutOfMemoryEverywhere {};
+
 int check_range(EnsembleRun& run);
 int check_memory(EnsembleRun& run);
 int open_output(EnsembleRun& run);

@@ -66,6 +66,25 @@ bool may_go_on(WorkQueue& queue) {
   return !queue.interrupted();
 }
 
+// The statistics, allocated on every rank at once: when one rank cannot, all
+// agree and stop (exit 6) instead of leaving the others in a collective.
+// `kept`: the pilot's own trajectories of this rank. Throws
+// OutOfMemoryEverywhere (caught in run_ensemble) on every rank when any failed.
+bool start_statistics(EnsembleRun& run, ensemble::Calibration calibration,
+                      const std::vector<std::vector<double>>& kept = {}) {
+  bool failed = false;
+  try {
+    ensemble::EnsembleStatistics stats(run.runner.times(), run.runner.layout().columns, run.spec.histogram_bins,
+                                       std::move(calibration));
+    for (const auto& trajectory : kept) stats.add_sample(trajectory);
+    run.results.start_statistics(std::move(stats));
+  } catch (const std::bad_alloc&) {
+    failed = true;
+  }
+  if (any_rank(run.comm, failed)) throw OutOfMemoryEverywhere{};
+  return true;
+}
+
 // The pilot wave, samples 0 .. pilot_end-1 (every part runs them all, so
 // that every part calibrates alike, but keeps only those of its range): the
 // all-reduced minima and maxima of their deviations from the nominal run fix
@@ -100,13 +119,9 @@ bool run_pilot_wave(EnsembleRun& run, std::uint64_t pilot_end) {
   all_reduce(run.comm, low, MPI_MIN);
   all_reduce(run.comm, high, MPI_MAX);
   const std::size_t columns = run.runner.layout().columns;
-  ensemble::EnsembleStatistics stats(run.runner.times(), columns, run.spec.histogram_bins,
-                                     ensemble::calibrate(run.nominal, low, high,
-                                                         ensemble::column_scales(run.nominal, columns), columns,
-                                                         run.spec.histogram_bins));
-  for (const auto& trajectory : kept) stats.add_sample(trajectory);
-  run.results.start_statistics(std::move(stats));
-  return true;
+  return start_statistics(run, ensemble::calibrate(run.nominal, low, high, ensemble::column_scales(run.nominal, columns),
+                                                   columns, run.spec.histogram_bins),
+                          kept);
 }
 
 // Rank 0 writes common.state once the calibration is known; without it no
@@ -200,8 +215,7 @@ int run_waves(EnsembleRun& run) {
   ensemble::Wave wave = run.plan->first_wave();
   std::uint64_t from = wave.first;
   if (run.restored) {
-    run.results.start_statistics(ensemble::EnsembleStatistics(run.runner.times(), run.runner.layout().columns,
-                                                              run.spec.histogram_bins, run.restored->calibration));
+    start_statistics(run, run.restored->calibration);
   } else {
     const std::uint64_t pilot_end = std::min(run.spec.pilot_samples, wave.end);
     if (!run_pilot_wave(run, pilot_end)) return stop_interrupted(run, false);

@@ -5,6 +5,7 @@
 
 #include "job/ensemble_spec.hpp"
 #include "statistics/ensemble_statistics.hpp"
+#include "sampling/invalid_mass.hpp"
 #include "sampling/targets.hpp"
 #include "job/toml_document.hpp"
 #include "job/toml_view.hpp"
@@ -221,6 +222,19 @@ std::string bytes_text(double bytes) {
 
 }  // namespace
 
+// The share of samples the model would refuse, and a warning above 0.1 %.
+void print_invalid_mass(std::ostream& out, const Perturbation& p, const ModelDefinition& d) {
+  const std::optional<InvalidMass> m = invalid_mass(p, d);
+  if (!m) return;
+  char percent[32];
+  std::snprintf(percent, sizeof percent, "%.3g %%", 100.0 * m->probability);
+  out << "      outside the model's range (" << m->valid << "): " << percent
+      << " of the samples, from the distribution's CDF\n";
+  if (m->probability > kInvalidMassWarning)
+    out << "      warning: " << percent << " of the samples will fail as invalid models (status 2); narrow the "
+        << "distribution, or use truncated_normal (lower bound) or lognormal for a positive quantity\n";
+}
+
 void print_ensemble_summary(std::ostream& out, const Job& job, const EnsembleSpec& s) {
   out << "ensemble: " << s.samples << " samples, seed " << s.seed << ", design " << name(s.design)
       << ", " << s.perturbations.size() << " perturbation" << (s.perturbations.size() == 1 ? "" : "s")
@@ -251,6 +265,7 @@ void print_ensemble_summary(std::ostream& out, const Job& job, const EnsembleSpe
                                         : job.initial.angular_velocity[p.first][p.axis])
           << " " << p.si_unit;
     out << "\n      " << p.enters << "\n";
+    print_invalid_mass(out, p, job.definition);
   }
   out << "statistics: quantiles";
   for (double q : s.quantiles) out << " " << format_number(q);

@@ -23,9 +23,9 @@ std::array<double, 1> entries(double x) { return {x}; }
 
 template <class T>
 int add(ParameterTable& table, std::string name, std::string unit, Shape shape, std::string enters,
-        const T& nominal) {
+        const T& nominal, ValidRange valid = ValidRange::any()) {
   const auto values = entries(nominal);
-  return table.add(std::move(name), std::move(unit), shape, std::move(enters), values);
+  return table.add(std::move(name), std::move(unit), shape, std::move(enters), values, valid);
 }
 
 std::string quoted(const std::string& s) { return "'" + s + "'"; }
@@ -44,37 +44,39 @@ void add_body_parameters(ParameterTable& table, const BodySpec& b, bool ends_fol
   if (b.solid == Solid::none) {
     form.mass = add(table, prefix + "mass", "kg", Shape::scalar,
                     "mass of " + who + " only: its inertia is given explicitly and stays as written",
-                    b.mass);
+                    b.mass, ValidRange::positive());
     form.inertia = add(table, prefix + "inertia", "kg m^2", Shape::matrix3,
                        "central inertia tensor of " + who + ", body frame (symmetrised when used)",
-                       b.inertia);
+                       b.inertia, ValidRange::positive());
   } else {
     const std::string solid(name_in(kSolidNames, b.solid));
     if (b.density)
       form.density = add(table, prefix + "density", "kg/m^3", Shape::scalar,
                          "density of the homogeneous " + solid + " " + who +
                              ": its mass (density x volume) and inertia follow",
-                         *b.density);
+                         *b.density, ValidRange::positive());
     else
       form.mass = add(table, prefix + "mass", "kg", Shape::scalar,
                       "mass of the homogeneous " + solid + " " + who +
                           ": its inertia follows (dimensions stay)",
-                      b.mass);
+                      b.mass, ValidRange::positive());
     if (b.solid == Solid::box)
       form.size = add(table, prefix + "size", "m", Shape::vector3,
                       "edges of the box " + who + " along its body x, y, z (" + solid_note(b) + ")",
-                      b.size);
+                      b.size, ValidRange::positive());
     else
       form.radius = add(table, prefix + "radius", "m", Shape::scalar,
-                        "radius of the " + solid + " " + who + " (" + solid_note(b) + ")", b.radius);
+                        "radius of the " + solid + " " + who + " (" + solid_note(b) + ")", b.radius,
+                        ValidRange::positive());
     if (b.solid == Solid::cylinder)
       form.length = add(table, prefix + "length", "m", Shape::scalar,
                         "length of the cylinder " + who + " along its body z (" + solid_note(b) + ")" +
                             (ends_follow ? "; the joints at its ends (0, 0, +-L/2) move with it" : ""),
-                        b.length);
+                        b.length, ValidRange::positive());
   }
   form.inertia_scale = add(table, prefix + "inertia_scale", "1", Shape::scalar,
-                           "multiplies the inertia tensor of " + who + " (1: as given)", 1.0);
+                           "multiplies the inertia tensor of " + who + " (1: as given)", 1.0,
+                           ValidRange::positive());
 }
 
 void add_joint_parameters(ParameterTable& table, const std::string& child_name,
@@ -95,9 +97,9 @@ void add_joint_parameters(ParameterTable& table, const std::string& child_name,
   const std::string joint = "joint " + quoted(joint_name) + " (" + std::string(name(j.spring.law)) +
                             " law), child frame";
   form.stiffness = add(table, "joint." + child_name + ".stiffness", "N m/rad", Shape::matrix3,
-                       "spring stiffness of " + joint, j.spring.stiffness);
+                       "spring stiffness of " + joint, j.spring.stiffness, ValidRange::non_negative());
   form.damping = add(table, "joint." + child_name + ".damping", "N m s/rad", Shape::matrix3,
-                     "damping of " + joint, j.spring.damping);
+                     "damping of " + joint, j.spring.damping, ValidRange::non_negative());
   form.law = j.spring.law;
 }
 
@@ -125,7 +127,8 @@ void add_base_parameters(ParameterTable& table, const BaseMotionSpec& spec, Base
                                   axis_name[axis] + " (amplitude sin(2 pi frequency t + phase))";
         HarmonicForm offsets;
         offsets.amplitude = add(table, name + "amplitude", "m", Shape::scalar, "amplitude " + which, term.amplitude);
-        offsets.frequency = add(table, name + "frequency", "Hz", Shape::scalar, "frequency " + which, term.frequency);
+        offsets.frequency = add(table, name + "frequency", "Hz", Shape::scalar, "frequency " + which, term.frequency,
+                                ValidRange::non_negative());
         offsets.phase = add(table, name + "phase", "rad", Shape::scalar, "phase " + which, term.phase);
         form.terms[axis].push_back(offsets);
       }

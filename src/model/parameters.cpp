@@ -1,5 +1,7 @@
 #include "model/parameters.hpp"
 
+#include <sstream>
+
 #include <algorithm>
 #include <array>
 #include <stdexcept>
@@ -33,10 +35,17 @@ std::string_view component_name(ParameterShape shape, int component) {
   return "";
 }
 
+std::string ValidRange::describe(const std::string& unit) const {
+  if (!bounded()) return "any value";
+  std::ostringstream s;
+  s << (low_open ? "> " : ">= ") << low << (unit == "1" ? "" : " " + unit);
+  return s.str();
+}
+
 int ParameterTable::add(std::string name, std::string unit, ParameterShape shape,
-                        std::string enters, std::span<const double> nominal) {
+                        std::string enters, std::span<const double> nominal, ValidRange valid) {
   Parameter p{std::move(name), std::move(unit), std::move(enters), shape,
-              static_cast<int>(nominal_.size())};
+              static_cast<int>(nominal_.size()), valid};
   if (static_cast<int>(nominal.size()) != p.size())
     throw std::logic_error("parameter " + p.name + ": wrong number of nominal entries");
   if (!by_name_.emplace(p.name, parameters_.size()).second)

@@ -6,6 +6,7 @@
 // vector indices once, by name, and a sample is just another vector.
 #pragma once
 
+#include <limits>
 #include <span>
 #include <string>
 #include <string_view>
@@ -20,12 +21,25 @@ enum class ParameterShape {
   matrix3,  // 9 entries, row-major: target NAME (the whole matrix)
 };
 
+// The values the model accepts (derive_model refuses the others): for each
+// entry of a scalar or a vector, or for each eigenvalue of a matrix.
+struct ValidRange {
+  double low = -std::numeric_limits<double>::infinity();
+  bool low_open = false;  // low itself is refused (a mass of 0)
+  static ValidRange any() { return {}; }
+  static ValidRange positive() { return {0.0, true}; }
+  static ValidRange non_negative() { return {0.0, false}; }
+  bool bounded() const { return low > -std::numeric_limits<double>::infinity(); }
+  std::string describe(const std::string& unit) const;  // "> 0 kg", ">= 0 Hz"
+};
+
 struct Parameter {
   std::string name;     // e.g. "body.rod.mass"
   std::string unit;     // SI: "kg", "m", "rad", "N m/rad", "1", ...
   std::string enters;   // where it enters the model, for people
   ParameterShape shape = ParameterShape::scalar;
   int offset = 0;       // first entry in the vector
+  ValidRange valid;     // of each entry (matrices: of each eigenvalue)
   int size() const;
 };
 
@@ -34,7 +48,7 @@ class ParameterTable {
   // Appends a parameter with its nominal entries (1, 3 or 9, as the shape
   // says); returns its offset. Names must be unique.
   int add(std::string name, std::string unit, ParameterShape shape, std::string enters,
-          std::span<const double> nominal);
+          std::span<const double> nominal, ValidRange valid = ValidRange::any());
 
   const std::vector<Parameter>& parameters() const { return parameters_; }
   const Parameter* find(std::string_view name) const;

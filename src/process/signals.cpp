@@ -88,6 +88,9 @@ void start_signal_owner() {
       if (current.sa_handler != SIG_IGN) sigaddset(&o.watched, s);  // nohup's SIGHUP stays ignored
     }
     pthread_sigmask(SIG_BLOCK, &o.watched, nullptr);
+    // A closed stdout (a pipe into `head -1`) makes a write fail instead of
+    // ending the process: the files are written all the same.
+    std::signal(SIGPIPE, SIG_IGN);
     std::thread(watch).detach();
   });
 }
@@ -144,6 +147,7 @@ SpawnAttributes::SpawnAttributes() {
     sigaction(s, nullptr, &current);
     if (current.sa_handler != SIG_IGN) sigaddset(&defaults, s);  // an ignored one stays ignored
   }
+  sigaddset(&defaults, SIGPIPE);  // ignored here (start_signal_owner), not in a child
   posix_spawnattr_setsigmask(&attributes_, &none);
   posix_spawnattr_setsigdefault(&attributes_, &defaults);
   posix_spawnattr_setflags(&attributes_, POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF);

@@ -18,6 +18,8 @@
 //    abandons the sample in flight and stops cleanly. Later signals change
 //    nothing: the stop takes well under a second.
 // A signal the process ignored when the owner started (nohup) stays ignored.
+// SIGPIPE is ignored: a write to a closed pipe fails instead of ending the
+// process (`treedyn report F | head -1` still writes the report).
 #pragma once
 
 #include <spawn.h>

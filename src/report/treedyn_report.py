@@ -24,6 +24,15 @@ def fail(message, code=2):
     sys.exit(code)
 
 
+def say(line):
+    """One line on stdout, which may be a pipe closed early (`treedyn report
+    F | head -1`): the report is written all the same, without a traceback."""
+    try:
+        print(line, flush=True)
+    except BrokenPipeError:
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+
+
 try:
     import numpy as np
     import h5py
@@ -415,7 +424,7 @@ def main():
             page.write()
         except OSError as e:
             fail(f"{a.out}: cannot write the report ({e})", 4)
-    print(f"wrote {os.path.join(a.out, 'index.html')} ({page.figures} figures)")
+    say(f"wrote {os.path.join(a.out, 'index.html')} ({page.figures} figures)")
 
 
 if __name__ == "__main__":

@@ -149,23 +149,58 @@ std::string parameters_of_body(const ModelDefinition& d, int u) {
          "angular_velocity.AXIS";
 }
 
+// This job's parameters whose names start with `prefix`, vectors as .AXIS.
+std::string parameters_named(const ModelDefinition& d, const std::string& prefix) {
+  std::string out;
+  for (const Parameter& p : d.parameters.parameters())
+    if (p.name.rfind(prefix, 0) == 0)
+      out += (out.empty() ? "" : ", ") + p.name + (p.shape == ParameterShape::vector3 ? ".AXIS" : "");
+  return out;
+}
+
+std::string base_type(const ModelDefinition& d) {
+  if (std::holds_alternative<FixedBase>(d.base.kind)) return "fixed";
+  if (std::holds_alternative<ConstantAccelerationBase>(d.base.kind)) return "constant_acceleration";
+  if (std::holds_alternative<HarmonicBase>(d.base.kind)) return "harmonic";
+  return "tabulated";
+}
+
+// base.* that this job's base does not have: which base it is, and what it has.
 std::string why_not_base(const ModelDefinition& d, const std::string& target) {
-  const bool term = target.size() > 6 && target.rfind("base.", 0) == 0 && target[6] == '[';
-  if (term) {
-    const auto* h = std::get_if<HarmonicBase>(&d.base.kind);
-    if (!h) return quoted(target) + " needs [base] type = \"harmonic\"";
-    if (const auto axis = axis_of(target.substr(5, 1))) {
-      const std::size_t terms = d.base.terms[*axis].size();
-      return quoted(target) + ": the base has " + std::to_string(terms) + " term" +
-             (terms == 1 ? "" : "s") + " on that axis (K counts from 1) and each has amplitude, "
-             "frequency and phase";
-    }
-  }
-  for (const char* field : {"base.velocity", "base.acceleration"})
-    if (target.rfind(field, 0) == 0 && !std::holds_alternative<ConstantAccelerationBase>(d.base.kind))
-      return quoted(target) + " needs [base] type = \"constant_acceleration\"";
-  if (target.rfind("base.", 0) == 0 && std::holds_alternative<TabulatedBase>(d.base.kind))
-    return "a tabulated base has no parameters: its table is data, not perturbable";
+  const std::string type = base_type(d);
+  if (type == "tabulated")
+    return quoted(target) + " is not a target of this job: its [base] is tabulated, and a table is data, not "
+           "parameters; use type = \"harmonic\" or \"constant_acceleration\" to perturb the base motion";
+  const std::string has = parameters_named(d, "base.");
+  std::string hint;
+  if (target.rfind("base.position", 0) == 0 && type == "harmonic")
+    hint = " (a harmonic base's mean position is base.offset.AXIS)";
+  else if (target.rfind("base.offset", 0) == 0)
+    hint = " (base.offset is a harmonic base's mean position; this base's point is base.position.AXIS)";
+  else if (target.size() > 6 && target[6] == '[' && type != "harmonic")
+    hint = " (terms AXIS[K] belong to a harmonic base)";
+  else if (target.size() > 6 && target[6] == '[')
+    hint = " (K counts from 1 up to the number of terms on that axis)";
+  return quoted(target) + " is not a target of this job, whose [base] is " + type + hint + "; its base targets: " +
+         (has.empty() ? std::string("none") : has);
+}
+
+// force[K].* or moment[K].* beyond the job's [[force]] or [[moment]] tables.
+std::string why_not_load(const ModelDefinition& d, const std::string& target, const std::string& table,
+                         std::size_t count) {
+  if (count == 0)
+    return quoted(target) + " is not a target of this job: it has no [[" + table + "]]; add one to perturb it";
+  return quoted(target) + " is not a target of this job, which has " + std::to_string(count) + " [[" + table +
+         "]] table" + (count == 1 ? "" : "s") + " (K counts from 1); its " + table + " targets: " +
+         parameters_named(d, table + "[");
+}
+
+// A target of a kind other jobs have but this one does not: why, and what
+// it has instead; "" when the target is of no known kind.
+std::string why_not_in_this_job(const ModelDefinition& d, const std::string& target) {
+  if (target.rfind("base.", 0) == 0) return why_not_base(d, target);
+  if (target.rfind("force[", 0) == 0) return why_not_load(d, target, "force", d.forces.size());
+  if (target.rfind("moment[", 0) == 0) return why_not_load(d, target, "moment", d.moments.size());
   return "";
 }
 
@@ -209,7 +244,7 @@ Target resolve_target(const ModelDefinition& d, const std::string& target) {
     throw TargetError(quoted(target) + " is not a target; allowed targets for body " +
                       quoted(part.name) + ": " + parameters_of_body(d, part.user));
   }
-  if (const std::string why = why_not_base(d, target); !why.empty()) throw TargetError(why);
+  if (const std::string why = why_not_in_this_job(d, target); !why.empty()) throw TargetError(why);
   throw TargetError(quoted(target) + " is not a target; " + kPatterns);
 }
 

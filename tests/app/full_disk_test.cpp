@@ -25,13 +25,14 @@ class FullDisk : public ::testing::Test {
   void SetUp() override {
     if (geteuid() != 0) GTEST_SKIP() << "needs root to mount a small tmpfs";
     fs::create_directory(disk_);
-    if (mount("tmpfs", disk_.c_str(), "tmpfs", 0, "size=256k") != 0)
+    if (mount("tmpfs", disk_.c_str(), "tmpfs", 0, ("size=" + size()).c_str()) != 0)
       GTEST_SKIP() << "cannot mount a tmpfs here (" << std::strerror(errno) << ")";
     mounted_ = true;
   }
   void TearDown() override {
     if (mounted_) umount(disk_.c_str());
   }
+  virtual std::string size() const { return "256k"; }
   void expect_clean_failure(const CommandResult& r, const std::string& what) {
     std::printf("[%s] exit %d: %s", what.c_str(), r.exit_code, r.err.c_str());
     EXPECT_EQ(r.exit_code, 4) << r.err;
@@ -61,8 +62,23 @@ TEST_F(FullDisk, AnEnsembleExitsFourAloneAndUnderMpirunAndLeavesNothing) {
   }
 }
 
+// As a user runs it (checkpoints every 300 s, the default) on a 1 MiB disk:
+// exit 4, and no empty checkpoint directory left behind.
+class FullDiskOneMiB : public FullDisk {
+  std::string size() const override { return "1m"; }
+};
+
+TEST_F(FullDiskOneMiB, AnEnsembleWithDefaultCheckpointsLeavesNothing) {
+  for (int ranks : {0, 2}) {
+    const auto r = run_ensemble(ranks, fs::path(TREEDYN_JOBS_DIR) / "kapitza.toml", disk_ / "kapitza.h5",
+                                dir_.path() / "capture");
+    expect_clean_failure(r, describe(ranks) + ", default checkpoints");
+  }
+}
+
 // The checkpoint directory on a full disk: a warning, the run goes on without
-// checkpoints where it can, and the output's own failure is exit 4.
+// checkpoints where it can, and the output's own failure is exit 4. What
+// stays is a checkpoint --resume can load (common.state), or nothing.
 TEST_F(FullDisk, CheckpointsOnAFullDiskWarnAndTheRunStillEndsCleanly) {
   const auto r = run_ensemble(2, fs::path(TREEDYN_JOBS_DIR) / "kapitza.toml", disk_ / "kapitza.h5",
                               dir_.path() / "capture", {"--checkpoint-every", "0.1"});
@@ -71,6 +87,9 @@ TEST_F(FullDisk, CheckpointsOnAFullDiskWarnAndTheRunStillEndsCleanly) {
   EXPECT_EQ(r.err.find("Segmentation"), std::string::npos) << r.err;
   for (const auto& e : fs::recursive_directory_iterator(disk_))
     EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos) << e.path();
+  const fs::path checkpoint = disk_ / "kapitza.h5.checkpoint";
+  EXPECT_TRUE(fs::is_empty(disk_) || fs::exists(checkpoint / "common.state"))
+      << "a checkpoint directory that nothing could resume from was left";
 }
 
 }  // namespace

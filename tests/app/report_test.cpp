@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <hdf5.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -119,6 +120,26 @@ TEST_P(Report, TrajectoryOfTheExample) {
 
 INSTANTIATE_TEST_SUITE_P(Examples, Report, ::testing::ValuesIn(kExamples),
                          [](const ::testing::TestParamInfo<std::string>& i) { return i.param; });
+
+// `treedyn report FILE | head -1`: the reader stops after one line. The
+// report is written all the same, with no traceback and exit 0 (the writes
+// to the closed pipe fail quietly, in treedyn and in the plotting script).
+TEST(Report, IntoAPipeClosedAfterOneLine) {
+  TempDir dir("report_test");
+  fs::create_directory(dir.path() / "capture");
+  const fs::path out = dir.path() / "t.h5";
+  ASSERT_EQ(treedyn({"run", std::string(TREEDYN_JOBS_DIR) + "/double_pendulum.toml", "-o", out.string(), "-q"},
+                    dir.path() / "capture")
+                .exit_code,
+            0);
+  const std::string line = quote(TREEDYN_BINARY) + " report " + quote(out.string()) + " | head -1; exit ${PIPESTATUS[0]}";
+  const CommandResult r = run_command("bash", {"-c", line}, dir.path() / "capture");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
+  EXPECT_EQ(r.out.rfind("trajectory: ", 0), 0u) << r.out;
+  EXPECT_EQ(r.err, "") << "no traceback, no error";
+  EXPECT_TRUE(fs::exists(dir.path() / "t_report" / "index.html"));
+}
 
 // Every provenance attribute, non-empty, in both kinds of file.
 TEST(Provenance, EveryAttributeIsThereAndNotEmpty) {

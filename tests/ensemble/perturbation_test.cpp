@@ -558,8 +558,13 @@ std = 0.01
       {"body.crate.inertia", {"homogeneous box", "inertia_scale"}},
       {"gravity", {"is a vector", "gravity.x"}},
       {"gravity.w", {"axis 'w'", "x, y or z"}},
-      {"base.acceleration.z", {"constant_acceleration"}},
-      {"base.z[2].amplitude", {"1 term on that axis"}},
+      // Targets of kinds other jobs have: which base this one has and what
+      // it offers instead, or that it has no [[force]].
+      {"base.acceleration.z", {"whose [base] is harmonic", "; its base targets: base.offset.AXIS, base.z[1]."}},
+      {"base.position.x", {"whose [base] is harmonic", "mean position is base.offset.AXIS", "; its base targets"}},
+      {"base.z[2].amplitude", {"K counts from 1", "base.z[1].amplitude"}},
+      {"force[1].force.x", {"it has no [[force]]; add one"}},
+      {"moment[2].moment.z", {"it has no [[moment]]"}},
       {"joint.hand.stiffness", {"'hand' is not a body", "named by its child"}},
       {"body.arm.colour", {"is not a target", "allowed targets for body 'arm'", "body.arm.mass"}},
       {"spring.arm", {"is not a target", "treedyn check --parameters"}},

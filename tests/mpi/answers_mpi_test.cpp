@@ -399,6 +399,7 @@ TEST_F(Answers, SampleRerunAloneIsBitwiseTheEnsembleSample) {
   const std::size_t T = j.request.output_times.size(), n = 3;
   const std::vector<double> finals = read_doubles(ensemble.id(), "/samples/final_state");
   const std::vector<double> inputs = read_doubles(ensemble.id(), "/samples/inputs");
+  const std::vector<double> reached = read_doubles(ensemble.id(), "/samples/time_reached");
   for (std::size_t k : {std::size_t{3}, std::size_t{5}, kRuns - 1}) {
     SCOPED_TRACE("sample " + std::to_string(k));
     const fs::path out = dir_->path() / ("sample_" + std::to_string(k) + ".h5");
@@ -415,6 +416,16 @@ TEST_F(Answers, SampleRerunAloneIsBitwiseTheEnsembleSample) {
     const std::vector<double> mine = read_doubles(sample.id(), "/sample/inputs");
     ASSERT_EQ(mine.size(), kInputs);
     for (std::size_t i = 0; i < kInputs; ++i) EXPECT_TRUE(same_bits(mine[i], inputs[k * kInputs + i]));
+    // The /sample attributes say what /samples says of it (time_reached was
+    // once 0 for every successful rerun).
+    const Hid group(H5Gopen2(sample.id(), "/sample", H5P_DEFAULT), H5Gclose);
+    ASSERT_TRUE(group.ok());
+    EXPECT_EQ(read_integer_attribute(group.get(), "index"), static_cast<long long>(k));
+    EXPECT_EQ(read_integer_attribute(group.get(), "status"), 0);
+    const std::vector<double> time_reached = read_double_attribute(group.get(), "time_reached");
+    ASSERT_EQ(time_reached.size(), 1u);
+    EXPECT_TRUE(same_bits(time_reached[0], reached[k])) << time_reached[0] << " vs " << reached[k];
+    EXPECT_EQ(time_reached[0], j.request.output_times.back());
     if (k >= kStored) continue;
     for (std::size_t q = 0; q < layout.quantity.size(); ++q) {
       const std::vector<double> stored = read_doubles(ensemble.id(), "/trajectories/" + layout.quantity[q]);

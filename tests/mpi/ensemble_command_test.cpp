@@ -57,6 +57,37 @@ TEST(EnsembleCommand, CheckRefusesABadEnsembleWithTheFieldAndExit2) {
       << r.err;
 }
 
+// A distribution that draws values the model refuses (a normal on a mass):
+// --check says how often, from the CDF (Phi(-0.5 / 0.3) = 4.78 %), and
+// warns. `treedyn check` checks [ensemble] too: a misspelled key is refused.
+TEST(EnsembleCommand, CheckWarnsOfSamplesTheModelWillRefuseAndTreedynCheckReadsTheEnsemble) {
+  TempDir dir("ensemble_command_test");
+  const fs::path job = dir.path() / "job.toml";
+  const std::string base = read_text(std::string(TREEDYN_JOBS_DIR) + "/spherical_pendulum.toml");
+  write_text(job, base + "\n[[ensemble.perturbation]]\ntarget = \"body.rod.mass\"\ndistribution = \"normal\"\n"
+                         "mean = 0.5\nstd = 0.3\n");
+  fs::create_directory(dir.path() / "capture");
+  CommandResult r = run_command(TREEDYN_ENSEMBLE_BINARY, {"--check", job.string()}, dir.path() / "capture");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("outside the model's range (body.rod.mass > 0 kg): 4.78 % of the samples"), std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("warning: 4.78 % of the samples will fail as invalid models"), std::string::npos) << r.out;
+  // The pivot's truncated normal stays in range: no warning for it.
+  EXPECT_EQ(r.out.find("warning", r.out.find("body.rod.joint_on_child.z")), r.out.find("warning: 4.78"));
+
+  std::string misspelled = base;
+  misspelled.replace(misspelled.find("seed = 2026"), 11, "seed = 2026\nstore_trajectory = 4");
+  write_text(job, misspelled);
+  r = run_command(TREEDYN_BINARY, {"check", job.string()}, dir.path() / "capture");
+  EXPECT_EQ(r.exit_code, 2) << r.out;
+  EXPECT_NE(r.err.find("ensemble.store_trajectory: unknown key"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("did you mean 'store_trajectories'"), std::string::npos) << r.err;
+  r = run_command(TREEDYN_BINARY, {"check", (std::string(TREEDYN_JOBS_DIR) + "/spherical_pendulum.toml")},
+                  dir.path() / "capture");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("[ensemble]: checked too"), std::string::npos) << r.out;
+}
+
 TEST(EnsembleCommand, RunWithoutOutputIsBadInput) {
   TempDir dir("ensemble_command_test");
   const CommandResult r =
@@ -105,6 +136,24 @@ TEST(EnsembleCommand, SampleOutputsThatCannotBeWrittenAreIoErrors) {
     EXPECT_TRUE(fs::is_empty(locked));
   }
   fs::permissions(locked, fs::perms::owner_all);
+}
+
+// The ensemble itself (and a part of one) into a directory that does not
+// exist: exit 4 before any work, as `treedyn run` does, and the directory is
+// not created (a checkpoint directory once made its parent).
+TEST(EnsembleCommand, AnEnsembleIntoAMissingDirectoryIsAnIoErrorAndCreatesNothing) {
+  TempDir dir("ensemble_command_test");
+  const std::string job = std::string(TREEDYN_JOBS_DIR) + "/kapitza.toml";
+  for (int ranks : {0, 2})
+    for (const std::vector<std::string>& extra : {std::vector<std::string>{}, {"--samples", "0:16"}}) {
+      SCOPED_TRACE(describe(ranks) + (extra.empty() ? "" : ", a part"));
+      const fs::path out = dir.path() / "nodir" / "x.h5";
+      const CommandResult r = run_ensemble(ranks, job, out, dir.path() / "capture", extra);
+      EXPECT_EQ(r.exit_code, 4) << r.err;
+      EXPECT_NE(r.err.find("directory " + (dir.path() / "nodir").string() + " does not exist"), std::string::npos)
+          << r.err;
+      EXPECT_FALSE(fs::exists(dir.path() / "nodir"));
+    }
 }
 
 // Slurm asked for 4 tasks, MPI sees one rank: refused before any work.
@@ -259,6 +308,38 @@ TEST(EnsembleBadAnswers, StatisticsLargerThanTheAvailableMemoryAreRefusedBeforeA
     EXPECT_NE(r.err.find("error: not enough memory on "), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("GiB per rank"), std::string::npos) << r.err;
     EXPECT_TRUE(fs::is_empty(out.parent_path())) << "nothing may be written";
+  }
+  unsetenv("TREEDYN_MEMORY_AVAILABLE");
+}
+
+// An allocation that fails although the memory check passed (a limit the
+// check cannot see: ulimit -v here) ends with exit 6 and a message on every
+// rank count, no MPI_ABORT banner, and nothing on disk (no temporary output,
+// no empty checkpoint directory). The statistics (2501 times x 24 columns x
+// 12,000 bins, 2.9 GB) do not fit in 2.5 GB of address space. AddressSanitizer
+// reserves terabytes of address space, so the test cannot run under it.
+TEST(EnsembleBadAnswers, AnAllocationThatFailsExitsSixAndLeavesNothing) {
+#if defined(__SANITIZE_ADDRESS__)
+  GTEST_SKIP() << "ulimit -v cannot be combined with AddressSanitizer's shadow memory";
+#endif
+  TempDir dir("ensemble_command_test");
+  std::string text = read_text(std::string(TREEDYN_JOBS_DIR) + "/kapitza.toml");
+  text.replace(text.find("samples = 128"), 13, "samples = 16\nhistogram_bins = 12000");
+  const fs::path job = dir.path() / "big.toml";
+  write_text(job, text);
+  const fs::path out = dir.path() / "out" / "ensemble.h5";
+  fs::create_directories(out.parent_path());
+  setenv("TREEDYN_MEMORY_AVAILABLE", "100000000000", 1);  // the check passes: the limit is ulimit's
+  for (int ranks : {0, 2}) {
+    std::vector<std::string> prefix = {"sh", "-c", "ulimit -v 2500000 && exec \"$@\"", "sh", "timeout", "120"};
+    if (ranks > 0) prefix.insert(prefix.end(), {TREEDYN_MPIEXEC, "--oversubscribe", "-np", std::to_string(ranks)});
+    const CommandResult r = run_command(TREEDYN_ENSEMBLE_BINARY, {job.string(), "-o", out.string(), "-q"},
+                                        dir.path() / "capture", prefix);
+    std::printf("[allocation, %s] exit %d: %s", describe(ranks).c_str(), r.exit_code, r.err.c_str());
+    EXPECT_EQ(r.exit_code, 6) << r.err;
+    EXPECT_NE(r.err.find("error: out of memory"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("MPI_ABORT"), std::string::npos) << r.err;
+    EXPECT_TRUE(fs::is_empty(out.parent_path())) << "nothing may be left";
   }
   unsetenv("TREEDYN_MEMORY_AVAILABLE");
 }
