@@ -9,6 +9,8 @@
 // Models and states: benchmark_models.hpp. Times are per evaluation.
 #include <benchmark/benchmark.h>
 
+#include <malloc.h>
+
 #include <cstdint>
 #include <random>
 #include <string>
@@ -89,6 +91,26 @@ void shapes_and_sizes(benchmark::internal::Benchmark* b) {
 }
 
 BENCHMARK(BM_Rhs)->Apply(shapes_and_sizes)->Unit(benchmark::kNanosecond);
+
+// The largest models (job/model_limits.hpp): a right-hand side's time and
+// the heap the model and its ODE hold (counter MiB), for chains of 1,000,
+// 10,000 and 100,000 bodies with the recursive solver.
+void BM_RhsLarge(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  const std::size_t before = mallinfo2().uordblks;
+  const Model model = make_model(n, kChain);
+  TreeOde ode(model, Parameterisation::quaternion, AccelerationSolver::recursive);
+  std::vector<double> y(static_cast<std::size_t>(ode.size())), y_dot(y.size());
+  state.counters["MiB"] = static_cast<double>(mallinfo2().uordblks - before) / 1048576.0;
+  ode.pack(make_state(n), y);
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(y.data());
+    const bool ok = ode.rhs(0.0, y, y_dot);
+    benchmark::DoNotOptimize(ok);
+    benchmark::ClobberMemory();
+  }
+}
+BENCHMARK(BM_RhsLarge)->Arg(1000)->Arg(10000)->Arg(100000)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_ForwardDynamics)->Apply(shapes_and_sizes)->Unit(benchmark::kNanosecond);
 
 }  // namespace

@@ -122,8 +122,8 @@ Response read_response(const TomlView& t, const Job& job, const ColumnLayout& la
     std::string recorded;
     for (const auto& name : layout.quantity) recorded += " " + name;
     const std::vector<std::string_view> names(layout.quantity.begin(), layout.quantity.end());
-    t.fail("quantity", "\"" + r.quantity + "\" is not recorded" + did_you_mean(r.quantity, names) +
-                           " Add it to [output] quantities or use one of:" + recorded);
+    t.fail("quantity", "\"" + r.quantity + "\" is not recorded; use one of:" + recorded +
+                           " (or add it to [output] quantities)" + did_you_mean(r.quantity, names));
   }
   const auto qi = static_cast<std::size_t>(q - layout.quantity.begin());
   r.column = t.required_string("column");
@@ -134,8 +134,8 @@ Response read_response(const TomlView& t, const Job& job, const ColumnLayout& la
     std::string listed;
     for (std::size_t k = 0; k < std::min<std::size_t>(names.size(), 12); ++k) listed += " " + names[k];
     if (names.size() > 12) listed += " ...";
-    t.fail("column", "\"" + r.column + "\" is not a column of " + r.quantity +
-                         did_you_mean(r.column, allowed) + " Columns:" + listed);
+    t.fail("column", "\"" + r.column + "\" is not a column of " + r.quantity + "; its columns:" + listed +
+                         did_you_mean(r.column, allowed));
   }
   const auto ci = static_cast<std::size_t>(c - names.begin());
   r.column_index = layout.offset[qi] + ci;

@@ -195,15 +195,37 @@ std::vector<Harmonic> read_harmonics(const TomlView& base, std::string_view axis
 
 }  // namespace
 
+namespace {
+
+// A [[body]] or a [[chain]] table, where it stands in the file.
+struct BodyEntry {
+  int line, column;
+  bool chain;
+  const TomlView* view;
+};
+
+// The model's size, counted before any body is built: a tiny file of long
+// chains must not make the reader build hundreds of thousands of bodies.
+void require_supported_size(const std::vector<BodyEntry>& entries) {
+  long long total = 0;
+  for (const BodyEntry& e : entries) {
+    const long long here = e.chain ? std::max<long long>(1, e.view->integer("links").value_or(1)) : 1;
+    total += here;
+    if (total <= kMaxBodies) continue;
+    e.view->fail(e.chain ? "links" : "name",
+                 "with this table the model has " + std::to_string(total) + " bodies; treedyn supports at most " +
+                     std::to_string(kMaxBodies) +
+                     " (at that size one right-hand side takes about 1.5 ms and the model 18 MiB, BENCHMARKS.md)");
+  }
+}
+
+}  // namespace
+
 ReadBodies read_bodies(const TomlView& root) {
   ReadBodies out;
   // Bodies in the job file's order, a [[chain]]'s links where its table
   // stands: that order is the user order of every output column.
-  struct Entry {
-    int line, column;
-    bool chain;
-    const TomlView* view;
-  };
+  using Entry = BodyEntry;
   const std::vector<TomlView> bodies = root.table_array("body"), chains = root.table_array("chain");
   std::vector<Entry> entries;
   for (const TomlView& b : bodies) entries.push_back({line_of(b.table()), column_of(b.table()), false, &b});
@@ -211,6 +233,7 @@ ReadBodies read_bodies(const TomlView& root) {
   std::stable_sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
     return a.line != b.line ? a.line < b.line : a.column < b.column;
   });
+  require_supported_size(entries);
   for (const Entry& e : entries) (e.chain ? read_chain : read_body)(*e.view, out);
   if (out.bodies.empty())
     throw JobError(root.file(), 0, 0, "body",

@@ -11,6 +11,10 @@
 
 namespace treedyn {
 
+// The largest model treedyn supports (README, "[[body]]"); larger ones are
+// refused before anything is built.
+inline constexpr long long kMaxBodies = 10000;
+
 // An orientation table {type = "quaternion" | "axis_angle" | "euler313" |
 // "bryant123", ...}; angles need unit = "deg" or "rad".
 Mat3 read_orientation(const TomlView& table);

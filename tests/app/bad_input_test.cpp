@@ -443,6 +443,40 @@ TEST(BadInput, ARefusedJobLeavesAnExistingOutputFileUntouched) {
     EXPECT_NE(entry.path().filename().string().rfind("x.h5.tmp-", 0), 0u);
 }
 
+// The largest supported model is 10,000 bodies, counted before anything is
+// built: a 1 KB job of 100 chains of 3000 links is refused at the fourth
+// chain's `links` at once (it used to build 300,000 bodies first), and a job
+// of 10,001 [[body]] tables at the last one's name. 10,000 are accepted.
+TEST(BadInput, ModelsOverTenThousandBodiesAreRefusedBeforeAnythingIsBuilt) {
+  std::string chains = "[output]\nend_time = 0.01\nstep = 0.01\n";
+  for (int k = 0; k < 100; ++k)
+    chains += "\n[[chain]]\nname = \"c" + std::to_string(k) + "\"\nlinks = 3000\nlink_length = 0.1\nmass = 0.1\n" +
+              (k ? "parent = \"c" + std::to_string(k - 1) + "3000\"\n" : "");
+  Case c("100 chains of 3000 links", chains);
+  c.expect_refused(2, c.job() + ":" + value_position(chains, "links = 3000\nlink_length = 0.1\nmass = 0.1\nparent = \"c23000") +
+                          ": chain[4].links: ",
+                   {"with this table the model has 12000 bodies; treedyn supports at most 10000",
+                    "one right-hand side takes about"});
+  EXPECT_LT(c.result().seconds, 10.0) << "refused before building anything";
+
+  std::string bodies = "[output]\nend_time = 0.01\nstep = 0.01\n";
+  for (int k = 0; k <= 10000; ++k)
+    bodies += "\n[[body]]\nname = \"b" + std::to_string(k) + "\"\nmass = 1.0\ninertia = 0.01\nparent = \"" +
+              (k ? "b" + std::to_string(k - 1) : std::string("base")) + "\"\n";
+  Case d("10,001 bodies", bodies);
+  d.expect_refused(2, d.job() + ":" + value_position(bodies, "name = \"b10000\"") + ": body[10001].name: ",
+                   {"with this table the model has 10001 bodies"});
+
+  const std::string at_limit = with(chains, "links = 3000\nlink_length = 0.1\nmass = 0.1\nparent = \"c23000\"",
+                                    "links = 1000\nlink_length = 0.1\nmass = 0.1\nparent = \"c23000\"");
+  const std::string four = at_limit.substr(0, at_limit.find("\n[[chain]]\nname = \"c4\""));
+  TempDir dir("bad_input_test");
+  write_text(dir.path() / "four.toml", four);
+  const CommandResult r = run_command(TREEDYN_BINARY, {"check", (dir.path() / "four.toml").string()}, dir.path() / "capture");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("10000 bodies"), std::string::npos) << r.out.substr(0, 200);
+}
+
 // ---------------------------------------------------------------------------
 // Output errors: exit 4
 

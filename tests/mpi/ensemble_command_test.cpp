@@ -213,14 +213,14 @@ const std::string kResponse = "\n[[ensemble.response]]\nname = \"tip_low\"\n";  
 
 TEST(EnsembleBadAnswers, ResponseOnAQuantityThatIsNotRecorded) {
   expect_refused(kResponse + "quantity = \"joint_reaction\"\ncolumn = \"rod.z\"\nreduce = \"max\"\n",
-                 {"ensemble.response[3].quantity", "\"joint_reaction\" is not recorded",
-                  "Add it to [output] quantities", "joint_angle"});
+                 {"ensemble.response[3].quantity", "\"joint_reaction\" is not recorded; use one of: ",
+                  "(or add it to [output] quantities)", "joint_angle"});
 }
 
 TEST(EnsembleBadAnswers, UnknownColumnSuggestsTheNearest) {
   expect_refused(kResponse + "quantity = \"com_position\"\ncolumn = \"rod.zz\"\nreduce = \"min\"\n",
-                 {"ensemble.response[3].column", "\"rod.zz\" is not a column of com_position",
-                  "did you mean 'rod.z'?", "Columns: rod.x rod.y rod.z"});
+                 {"ensemble.response[3].column",
+                  "\"rod.zz\" is not a column of com_position; its columns: rod.x rod.y rod.z; did you mean 'rod.z'?"});
 }
 
 TEST(EnsembleBadAnswers, LimitWithoutFailIf) {
