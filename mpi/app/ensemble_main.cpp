@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <iostream>
 
+#include "app/command_errors.hpp"
 #include "app/exit_codes.hpp"
 #include "hdf5/hdf5.hpp"
 #include "app/model_summary.hpp"
@@ -60,16 +61,122 @@ int merge_command(int argc, char** argv, int rank) {
     return code == 0 ? kExitOk : kExitBadInput;
   }
   if (rank != 0) return kExitOk;
+  return exit_code_of([&] { return merge_parts(parts, output, quiet, start_provenance(argc, argv, parts.front())); });
+}
+
+namespace {
+
+// What the command line asks for.
+struct CommandLine {
+  treedyn::parallel::EnsembleOptions options;
+  bool check_only = false;
+  long long sample = 0, job_sample = 0;
+  std::string sample_range;
+  CLI::Option *sample_option = nullptr, *write_job_option = nullptr, *samples_option = nullptr;
+};
+
+void define_options(CLI::App& app, CommandLine& c) {
+  app.set_version_flag("--version", std::string("treedyn-ensemble ") + TREEDYN_VERSION);
+  app.footer(
+      "Run under mpirun -np P (or alone for one rank). Exit codes: 0 ok, 1 internal error, "
+      "2 bad input, 3 the nominal run failed, 4 output (I/O) failure, 5 interrupted by SIGTERM, "
+      "SIGINT, SIGHUP or SIGUSR1 (resume with --resume), 6 not enough memory. Failed samples do not fail the job: "
+      "they are recorded in /samples/status. `treedyn-ensemble merge -o OUT.h5 PART ...` joins the parts of "
+      "--samples runs.");
+  app.add_option("JOB", c.options.job_path, "job file (TOML) with an [ensemble] section")->required();
+  auto* output = app.add_option("-o,--output", c.options.output_path,
+                                "output file (HDF5), written atomically (required unless --check)");
+  app.add_flag("--check", c.check_only, "validate the job and its [ensemble], print the model and the ensemble, run nothing")
+      ->excludes(output);
+  app.add_flag("-q,--quiet", c.options.quiet, "no progress and no summary");
+  c.sample_option = app.add_option(
+      "--sample", c.sample,
+      "integrate sample K alone and write its full trajectory (treedyn run layout, with "
+      "/sample/inputs) to --output; its final state is bitwise the ensemble's /samples/final_state[K]");
+  c.write_job_option = app.add_option(
+      "--write-job", c.job_sample,
+      "write sample K as a standalone job file to --output (the job without [ensemble], plus a "
+      "[sample] section with its inputs); treedyn run of it reproduces the sample");
+  for (auto* o : {c.sample_option, c.write_job_option}) o->check(CLI::NonNegativeNumber)->excludes("--check");
+  c.sample_option->excludes(c.write_job_option);
+  app.add_option("--checkpoint-every", c.options.checkpoint_every,
+                 "seconds between each rank's checkpoint in OUTPUT.checkpoint/ (0: no checkpoints); "
+                 "a stop signal writes one and exits 5")
+      ->check(CLI::NonNegativeNumber);
+  app.add_flag("--resume", c.options.resume,
+               "continue from OUTPUT.checkpoint/ (any number of ranks); the result is bitwise that of an "
+               "uninterrupted run. Without a checkpoint it starts from the beginning");
+  c.samples_option = app.add_option(
+      "--samples", c.sample_range,
+      "FIRST:END: run only the sample indices FIRST .. END-1 and write a part file to --output (not HDF5); "
+      "`treedyn-ensemble merge -o OUT.h5 PART ...` joins the parts (e.g. of a Slurm array job)");
+  c.samples_option->excludes(c.sample_option)->excludes(c.write_job_option);
+  app.add_option("--progress-interval", c.options.progress_interval,
+                 "seconds between progress lines when stderr is not a terminal")
+      ->check(CLI::PositiveNumber);
+}
+
+// --samples FIRST:END into the options; false (and a message on rank 0) when malformed.
+bool read_sample_range(const std::string& range, treedyn::parallel::EnsembleOptions& options, int rank) {
+  const std::size_t colon = range.find(':');
+  const std::string a = range.substr(0, colon), b = colon == std::string::npos ? "" : range.substr(colon + 1);
+  char* rest = nullptr;
+  const unsigned long long first = std::strtoull(a.c_str(), &rest, 10);
+  const bool first_ok = !a.empty() && *rest == '\0' && a.find('-') == std::string::npos;
+  const unsigned long long end = std::strtoull(b.c_str(), &rest, 10);
+  const bool end_ok = !b.empty() && *rest == '\0' && b.find('-') == std::string::npos;
+  if (!first_ok || !end_ok || first >= end) {
+    if (rank == 0)
+      std::cerr << "error: --samples " << range
+                << ": give FIRST:END, two sample indices with FIRST < END (END is not included)\n";
+    return false;
+  }
+  options.first_sample = first;
+  options.end_sample = end;
+  return true;
+}
+
+// One sample on its own is serial: rank 0 does it, every rank returns its code.
+int one_sample(const CommandLine& c, int rank) {
+  using namespace treedyn;
+  int code = kExitOk;
+  if (rank == 0)
+    code = *c.sample_option ? rerun_sample(c.options.job_path, static_cast<std::uint64_t>(c.sample),
+                                           c.options.output_path, c.options.quiet, c.options.provenance)
+                            : write_sample_job(c.options.job_path, static_cast<std::uint64_t>(c.job_sample),
+                                               c.options.output_path);
+  MPI_Bcast(&code, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  return code;
+}
+
+// Slurm asked for several tasks but MPI sees one rank (a plain `srun` of a
+// binary started without PMI, say): each task would run the whole ensemble
+// and race to rename the same output. Refused before any work.
+bool started_without_pmi(const treedyn::parallel::Session& session, const std::string& output) {
+  const char* tasks = std::getenv("SLURM_NTASKS");
+  if (!tasks || session.size() != 1 || std::atol(tasks) <= 1) return false;
+  std::cerr << "error: SLURM_NTASKS=" << tasks << " but MPI sees 1 rank: every task would run the whole ensemble and "
+            << "race to write " << output
+            << ". Start it with `srun --mpi=pmix` or `mpirun` inside the allocation (jobs/slurm_ensemble.sh)\n";
+  return true;
+}
+
+int run(const CommandLine& c, const treedyn::parallel::Session& session) {
+  using namespace treedyn;
   try {
-    return merge_parts(parts, output, quiet, start_provenance(argc, argv, parts.front()));
+    return parallel::run_ensemble(MPI_COMM_WORLD, c.options);
   } catch (const std::bad_alloc&) {
-    std::cerr << "error: out of memory while merging\n";
-    return kExitMemory;
+    std::cerr << "error: out of memory on rank " << session.rank()
+              << ": the job asks for more than this node (or its memory limit) gives; use fewer ranks per node, "
+                 "fewer histogram_bins, output times or quantities\n";
+    return end_all(session, kExitMemory);
   } catch (const std::exception& e) {
-    std::cerr << "internal error while merging: " << e.what() << "\n";
-    return kExitInternal;
+    std::cerr << "internal error on rank " << session.rank() << ": " << e.what() << "\n";
+    return end_all(session, kExitInternal);
   }
 }
+
+}  // namespace
 
 int main(int argc, char** argv) {
   using namespace treedyn;
@@ -82,113 +189,23 @@ int main(int argc, char** argv) {
     MPI_Bcast(&code, 1, MPI_INT, 0, MPI_COMM_WORLD);
     return code;
   }
-  CLI::App app{"treedyn-ensemble: perturbed runs of one treedyn job across MPI ranks, "
-               "with statistics in HDF5"};
-  app.set_version_flag("--version", std::string("treedyn-ensemble ") + TREEDYN_VERSION);
-  app.footer(
-      "Run under mpirun -np P (or alone for one rank). Exit codes: 0 ok, 1 internal error, "
-      "2 bad input, 3 the nominal run failed, 4 output (I/O) failure, 5 interrupted by SIGTERM, "
-      "SIGINT or SIGUSR1 (resume with --resume), 6 not enough memory. Failed samples do not fail the job: they are recorded "
-      "in /samples/status. `treedyn-ensemble merge -o OUT.h5 PART ...` joins the parts of --samples runs.");
-  parallel::EnsembleOptions options;
-  app.add_option("JOB", options.job_path, "job file (TOML) with an [ensemble] section")->required();
-  bool check_only = false;
-  auto* output = app.add_option("-o,--output", options.output_path,
-                                "output file (HDF5), written atomically (required unless --check)");
-  app.add_flag("--check", check_only,
-               "validate the job and its [ensemble], print the model and the ensemble, run nothing")
-      ->excludes(output);
-  app.add_flag("-q,--quiet", options.quiet, "no progress and no summary");
-  long long sample = 0, job_sample = 0;
-  auto* sample_option = app.add_option(
-      "--sample", sample,
-      "integrate sample K alone and write its full trajectory (treedyn run layout, with "
-      "/sample/inputs) to --output; its final state is bitwise the ensemble's /samples/final_state[K]");
-  auto* write_job_option = app.add_option(
-      "--write-job", job_sample,
-      "write sample K as a standalone job file to --output (the job without [ensemble], plus a "
-      "[sample] section with its inputs); treedyn run of it reproduces the sample");
-  sample_option->check(CLI::NonNegativeNumber);
-  write_job_option->check(CLI::NonNegativeNumber);
-  sample_option->excludes(write_job_option);
-  sample_option->excludes("--check");
-  write_job_option->excludes("--check");
-  app.add_option("--checkpoint-every", options.checkpoint_every,
-                 "seconds between each rank's checkpoint in OUTPUT.checkpoint/ (0: no checkpoints); "
-                 "SIGTERM or SIGINT writes one and exits 5")
-      ->check(CLI::NonNegativeNumber);
-  app.add_flag("--resume", options.resume,
-               "continue from OUTPUT.checkpoint/ (any number of ranks); the result is bitwise that of an "
-               "uninterrupted run. Without a checkpoint it starts from the beginning");
-  std::string sample_range;
-  auto* samples_option = app.add_option(
-      "--samples", sample_range,
-      "FIRST:END: run only the sample indices FIRST .. END-1 and write a part file to --output (not HDF5); "
-      "`treedyn-ensemble merge -o OUT.h5 PART ...` joins the parts (e.g. of a Slurm array job)");
-  samples_option->excludes(sample_option);
-  samples_option->excludes(write_job_option);
-  app.add_option("--progress-interval", options.progress_interval,
-                 "seconds between progress lines when stderr is not a terminal")
-      ->check(CLI::PositiveNumber);
+  CLI::App app{"treedyn-ensemble: perturbed runs of one treedyn job across MPI ranks, with statistics in HDF5"};
+  CommandLine c;
+  define_options(app, c);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     const int code = session.rank() == 0 ? app.exit(e) : (e.get_exit_code() == 0 ? 0 : 1);
     return code == 0 ? kExitOk : kExitBadInput;
   }
-  if (check_only) return session.rank() == 0 ? check(options.job_path) : kExitOk;
-  if (*samples_option) {
-    const std::size_t colon = sample_range.find(':');
-    char* rest = nullptr;
-    const std::string a = sample_range.substr(0, colon), b = colon == std::string::npos ? "" : sample_range.substr(colon + 1);
-    const unsigned long long first = std::strtoull(a.c_str(), &rest, 10);
-    const bool first_ok = !a.empty() && *rest == '\0' && a.find('-') == std::string::npos;
-    const unsigned long long end = std::strtoull(b.c_str(), &rest, 10);
-    const bool end_ok = !b.empty() && *rest == '\0' && b.find('-') == std::string::npos;
-    if (!first_ok || !end_ok || first >= end) {
-      if (session.rank() == 0)
-        std::cerr << "error: --samples " << sample_range
-                  << ": give FIRST:END, two sample indices with FIRST < END (END is not included)\n";
-      return kExitBadInput;
-    }
-    options.first_sample = first;
-    options.end_sample = end;
-  }
-  options.provenance = start_provenance(argc, argv, options.job_path);
-  if (options.output_path.empty()) {
+  if (c.check_only) return session.rank() == 0 ? check(c.options.job_path) : kExitOk;
+  if (*c.samples_option && !read_sample_range(c.sample_range, c.options, session.rank())) return kExitBadInput;
+  c.options.provenance = start_provenance(argc, argv, c.options.job_path);
+  if (c.options.output_path.empty()) {
     if (session.rank() == 0) std::cerr << "error: --output is required (or use --check)\n";
     return kExitBadInput;
   }
-  // One sample on its own is serial: rank 0 does it, every rank returns its code.
-  if (*sample_option || *write_job_option) {
-    int code = kExitOk;
-    if (session.rank() == 0)
-      code = *sample_option
-                 ? rerun_sample(options.job_path, static_cast<std::uint64_t>(sample), options.output_path,
-                                options.quiet, options.provenance)
-                 : write_sample_job(options.job_path, static_cast<std::uint64_t>(job_sample), options.output_path);
-    MPI_Bcast(&code, 1, MPI_INT, 0, MPI_COMM_WORLD);
-    return code;
-  }
-  // Slurm asked for several tasks but MPI sees one rank (a plain `srun` of a
-  // binary started without PMI, say): each task would run the whole ensemble
-  // and race to rename the same output. Refuse before any work.
-  if (const char* tasks = std::getenv("SLURM_NTASKS"); tasks && session.size() == 1 && std::atol(tasks) > 1) {
-    std::cerr << "error: SLURM_NTASKS=" << tasks
-              << " but MPI sees 1 rank: every task would run the whole ensemble and race to write "
-              << options.output_path
-              << ". Start it with `srun --mpi=pmix` or `mpirun` inside the allocation (jobs/slurm_ensemble.sh)\n";
-    return kExitBadInput;
-  }
-  try {
-    return parallel::run_ensemble(MPI_COMM_WORLD, options);
-  } catch (const std::bad_alloc&) {
-    std::cerr << "error: out of memory on rank " << session.rank()
-              << ": the job asks for more than this node (or its memory limit) gives; use fewer ranks per node, "
-                 "fewer histogram_bins, output times or quantities\n";
-    return end_all(session, kExitMemory);
-  } catch (const std::exception& e) {
-    std::cerr << "internal error on rank " << session.rank() << ": " << e.what() << "\n";
-    return end_all(session, kExitInternal);
-  }
+  if (*c.sample_option || *c.write_job_option) return one_sample(c, session.rank());
+  if (started_without_pmi(session, c.options.output_path)) return kExitBadInput;
+  return run(c, session);
 }

@@ -91,6 +91,22 @@ int run_phases(EnsembleRun& run) {
 
 }  // namespace
 
+int on_rank_zero(EnsembleRun& run, const std::function<int()>& work) {
+  int code = kExitOk;
+  if (run.rank == 0) {
+    try {
+      code = work();
+    } catch (const process::FileError& e) {
+      std::cerr << "error: " << e.what() << "\n";
+      code = kExitIo;
+    } catch (const ensemble::CheckpointError& e) {
+      std::cerr << "error: " << e.what() << "\n";
+      code = kExitBadInput;
+    }
+  }
+  return broadcast(run.comm, code);
+}
+
 int check_range(EnsembleRun& run) {
   if (run.first < run.end && run.end <= run.spec.samples) return kExitOk;
   if (run.rank == 0)

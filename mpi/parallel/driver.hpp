@@ -34,6 +34,7 @@
 #include <chrono>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -116,6 +117,10 @@ struct EnsembleRun {
   bool hold_unsaved = false;
   std::uint64_t kept_after_pilot = 0, kept = 0;
 };
+
+// Runs `work` on rank 0 alone and gives every rank its exit code. A file
+// error becomes exit 4, an unusable checkpoint exit 2, each with its message.
+int on_rank_zero(EnsembleRun& run, const std::function<int()>& work);
 
 // Every rank failed to allocate alike (the statistics): all exit 6.
 struct OutOfMemoryEverywhere {};

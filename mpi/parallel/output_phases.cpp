@@ -46,23 +46,13 @@ int open_checkpoint(EnsembleRun& run) {
 }  // namespace
 
 int open_output(EnsembleRun& run) {
-  int code = kExitOk;
-  if (run.rank == 0) {
-    try {
-      process::check_output_path(run.options.output_path);
-      const fs::path output(run.options.output_path);
-      note_stale(process::remove_stale_temporaries(output.parent_path(), output.filename().string()));
-      if (fs::is_directory(run.checkpoint_dir)) note_stale(process::remove_stale_temporaries(run.checkpoint_dir, ""));
-      code = open_checkpoint(run);
-    } catch (const process::FileError& e) {
-      std::cerr << "error: " << e.what() << "\n";
-      code = kExitIo;
-    } catch (const ensemble::CheckpointError& e) {
-      std::cerr << "error: " << e.what() << "\n";
-      code = kExitBadInput;
-    }
-  }
-  return broadcast(run.comm, code);
+  return on_rank_zero(run, [&run] {
+    process::check_output_path(run.options.output_path);
+    const fs::path output(run.options.output_path);
+    note_stale(process::remove_stale_temporaries(output.parent_path(), output.filename().string()));
+    if (fs::is_directory(run.checkpoint_dir)) note_stale(process::remove_stale_temporaries(run.checkpoint_dir, ""));
+    return open_checkpoint(run);
+  });
 }
 
 int share_restored(EnsembleRun& run) {
@@ -93,19 +83,13 @@ namespace {
 // the writer, and everything restored becomes the base of a new generation.
 int restore_on_rank_zero(EnsembleRun& run) {
   run.restored_samples = run.restored->records.size();
-  int code = kExitOk;
-  try {
-    run.generation = ensemble::consolidate_checkpoint(run.checkpoint_dir, run.id, *run.restored);
-  } catch (const process::FileError& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    code = kExitIo;
-  }
+  run.generation = ensemble::consolidate_checkpoint(run.checkpoint_dir, run.id, *run.restored);
   run.restored_statistics = std::move(run.restored->statistics);
   run.restored->statistics.reset();
   std::cerr << "resuming: " << run.restored_samples << " of " << run.end - run.first << " samples from "
             << run.checkpoint_dir.string() << "\n";
   run.records->restore(std::move(run.restored->records));
-  return code;
+  return kExitOk;
 }
 
 }  // namespace
@@ -125,8 +109,7 @@ int start_records(EnsembleRun& run) {
     run.sink = std::make_unique<RecordSender>(run.comm);
   }
   if (run.restored) {
-    const int code = broadcast(run.comm, run.rank == 0 ? restore_on_rank_zero(run) : kExitOk);
-    if (code != kExitOk) return code;
+    if (const int code = on_rank_zero(run, [&run] { return restore_on_rank_zero(run); }); code != kExitOk) return code;
     run.generation = broadcast(run.comm, run.generation);
     run.restored_samples = sum_over_ranks(run.comm, run.restored_samples);
   }

@@ -189,24 +189,20 @@ std::optional<ensemble::Wave> next_wave(EnsembleRun& run, const ensemble::Wave& 
 }  // namespace
 
 int run_nominal(EnsembleRun& run) {
-  int code = kExitOk;
-  if (run.rank == 0) {
-    try {
-      if (!run.options.part())
-        run.writer = std::make_unique<EnsembleWriter>(run.options.output_path, run.job, run.spec,
-                                                      run.runner.layout(), run.runner.final_state_size());
-      if (run.restored) {
-        run.nominal = run.restored->nominal;
-      } else if (const SampleRecord r = run.runner.run(0, true, run.nominal); r.status != SampleStatus::ok) {
-        std::cerr << run.job.file << ": the nominal run failed: " << r.reason << "\n";
-        code = kExitIntegration;
-      }
-    } catch (const process::FileError& e) {
-      std::cerr << "error: " << e.what() << "\n";
-      code = kExitIo;
+  const int code = on_rank_zero(run, [&run] {
+    if (!run.options.part())
+      run.writer = std::make_unique<EnsembleWriter>(run.options.output_path, run.job, run.spec, run.runner.layout(),
+                                                    run.runner.final_state_size());
+    if (run.restored) {
+      run.nominal = run.restored->nominal;
+      return kExitOk;
     }
-  }
-  if ((code = broadcast(run.comm, code)) != kExitOk) return code;
+    const SampleRecord r = run.runner.run(0, true, run.nominal);
+    if (r.status == SampleStatus::ok) return kExitOk;
+    std::cerr << run.job.file << ": the nominal run failed: " << r.reason << "\n";
+    return kExitIntegration;
+  });
+  if (code != kExitOk) return code;
   broadcast(run.comm, run.nominal);
   return kExitOk;
 }

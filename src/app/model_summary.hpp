@@ -4,6 +4,7 @@
 #include <ostream>
 
 #include "integrate/settings.hpp"
+#include "job/ensemble_spec.hpp"
 #include "job/job.hpp"
 #include "model/parameters.hpp"
 #include "output/recorder.hpp"
@@ -23,3 +24,12 @@ void print_run_summary(std::ostream& out, const Job& job, const Recorder& record
                        const IntegrationOutcome& outcome, double wall_seconds);
 
 }  // namespace treedyn
+
+namespace treedyn::ensemble {
+
+// A readable account of the ensemble: design, inputs (and how often each
+// falls outside its parameter's valid range), statistics settings
+// (app/ensemble_summary.cpp).
+void print_ensemble_summary(std::ostream& out, const Job& job, const EnsembleSpec& spec);
+
+}  // namespace treedyn::ensemble

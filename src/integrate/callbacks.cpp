@@ -23,14 +23,47 @@ int tree_rhs(double t, N_Vector y, N_Vector y_dot, void* ode) {
   }
 }
 
-void record_sundials_error(int, const char* module, const char* function, char* msg,
-                           void* stepper) {
+// Losing the text is better than letting an exception into C.
+#if SUNDIALS_VERSION_MAJOR >= 7
+void Stepper::record_error(int, const char* function, const char*, const char* message, SUNErrCode, void* stepper,
+                           SUNContext) {
   try {
-    auto* s = static_cast<Stepper*>(stepper);
-    s->message_ = std::string(module) + "/" + function + ": " + msg;
+    static_cast<Stepper*>(stepper)->message_ = std::string(function) + ": " + message;
   } catch (...) {
-    // Losing the text is better than letting an exception into C.
   }
+}
+#else
+void Stepper::record_error(int, const char* module, const char* function, char* message, void* stepper) {
+  try {
+    static_cast<Stepper*>(stepper)->message_ = std::string(module) + "/" + function + ": " + message;
+  } catch (...) {
+  }
+}
+#endif
+
+void apply_settings(const PackageCalls& c, void* m, TreeOde& ode, const IntegratorSettings& s) {
+  const std::string p = c.package;
+  sundials::check(c.set_tolerances(m, s.relative_tolerance, s.absolute_tolerance), (p + " tolerances").c_str());
+  sundials::check(c.set_user_data(m, &ode), (p + " user data").c_str());
+  sundials::check(c.set_max_num_steps(m, s.max_steps), (p + " max_steps").c_str());
+  if (s.max_step > 0.0) sundials::check(c.set_max_step(m, s.max_step), (p + " max_step").c_str());
+  if (s.initial_step > 0.0) sundials::check(c.set_init_step(m, s.initial_step), (p + " initial_step").c_str());
+}
+
+void interpolate_with(const PackageCalls& c, void* m, double t, N_Vector y) {
+  sundials::check(c.get_dky(m, t, 0, y), (std::string(c.package) + " dense output").c_str());
+}
+
+double current_time_of(const PackageCalls& c, void* m) {
+  sunrealtype t = 0.0;
+  c.get_current_time(m, &t);
+  return t;
+}
+
+FailureKind classify(const PackageCalls& c, int flag) {
+  for (const auto& [code, kind] : c.failures)
+    if (code == flag) return kind;
+  return FailureKind::other;
 }
 
 }  // namespace treedyn

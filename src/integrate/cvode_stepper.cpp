@@ -15,28 +15,17 @@ namespace {
 using sundials::check;
 using sundials::check_created;
 
-FailureKind classify(int flag) {
-  switch (flag) {
-    case CV_TOO_MUCH_WORK:
-      return FailureKind::too_much_work;
-    case CV_TOO_MUCH_ACC:
-      return FailureKind::too_much_accuracy;
-    case CV_ERR_FAILURE:
-      return FailureKind::error_test_failures;
-    case CV_CONV_FAILURE:
-    case CV_LSETUP_FAIL:
-    case CV_LSOLVE_FAIL:
-    case CV_NLS_FAIL:
-      return FailureKind::convergence_failures;
-    case CV_RHSFUNC_FAIL:
-    case CV_REPTD_RHSFUNC_ERR:
-    case CV_UNREC_RHSFUNC_ERR:
-    case CV_FIRST_RHSFUNC_ERR:
-      return FailureKind::nonfinite_state;
-    default:
-      return FailureKind::other;
-  }
-}
+constexpr std::pair<int, FailureKind> kFailures[] = {
+    {CV_TOO_MUCH_WORK, FailureKind::too_much_work},       {CV_TOO_MUCH_ACC, FailureKind::too_much_accuracy},
+    {CV_ERR_FAILURE, FailureKind::error_test_failures},  {CV_CONV_FAILURE, FailureKind::convergence_failures},
+    {CV_LSETUP_FAIL, FailureKind::convergence_failures}, {CV_LSOLVE_FAIL, FailureKind::convergence_failures},
+    {CV_NLS_FAIL, FailureKind::convergence_failures},    {CV_RHSFUNC_FAIL, FailureKind::nonfinite_state},
+    {CV_REPTD_RHSFUNC_ERR, FailureKind::nonfinite_state}, {CV_UNREC_RHSFUNC_ERR, FailureKind::nonfinite_state},
+    {CV_FIRST_RHSFUNC_ERR, FailureKind::nonfinite_state}};
+
+const PackageCalls kCvode{CVodeSStolerances, CVodeSetUserData, CVodeSetMaxNumSteps, CVodeSetMaxStep,
+                          CVodeSetInitStep,  CVodeGetDky,      CVodeGetCurrentTime, kFailures,
+                          "CVODE"};
 
 class CvodeStepper final : public Stepper {
  public:
@@ -45,14 +34,13 @@ class CvodeStepper final : public Stepper {
     const bool bdf = s.method == Method::cvode_bdf;
     mem_.reset(check_created(CVodeCreate(bdf ? CV_BDF : CV_ADAMS, ctx), "CVodeCreate"));
     void* m = mem_.get();
-    check(CVodeSetErrHandlerFn(m, record_sundials_error, static_cast<Stepper*>(this)),
-          "CVodeSetErrHandlerFn");
+#if SUNDIALS_VERSION_MAJOR >= 7
+    capture_errors(ctx, m, nullptr, "");
+#else
+    capture_errors(ctx, m, CVodeSetErrHandlerFn, "CVodeSetErrHandlerFn");
+#endif
     check(CVodeInit(m, tree_rhs, t0, y0), "CVodeInit");
-    check(CVodeSStolerances(m, s.relative_tolerance, s.absolute_tolerance), "CVodeSStolerances");
-    check(CVodeSetUserData(m, &ode_), "CVodeSetUserData");
-    check(CVodeSetMaxNumSteps(m, s.max_steps), "CVodeSetMaxNumSteps");
-    if (s.max_step > 0.0) check(CVodeSetMaxStep(m, s.max_step), "CVodeSetMaxStep");
-    if (s.initial_step > 0.0) check(CVodeSetInitStep(m, s.initial_step), "CVodeSetInitStep");
+    apply_settings(kCvode, m, ode_, s);
     if (bdf) {
       const auto n = N_VGetLength(y0);
       matrix_.reset(check_created(SUNDenseMatrix(n, n, ctx), "SUNDenseMatrix"));
@@ -68,11 +56,11 @@ class CvodeStepper final : public Stepper {
   AdvanceResult step(double tout, N_Vector y, double& t) override {
     const int flag = CVode(mem_.get(), tout, y, &t, CV_ONE_STEP);
     if (flag >= 0) return AdvanceResult::stepped;
-    failure_ = classify(flag);
+    failure_ = classify(kCvode, flag);
     return AdvanceResult::failed;
   }
 
-  void interpolate(double t, N_Vector y) override { check(CVodeGetDky(mem_.get(), t, 0, y), "CVodeGetDky"); }
+  void interpolate(double t, N_Vector y) override { interpolate_with(kCvode, mem_.get(), t, y); }
 
   void restart(double t, N_Vector y) override { check(CVodeReInit(mem_.get(), t, y), "CVodeReInit"); }
 
@@ -93,11 +81,7 @@ class CvodeStepper final : public Stepper {
     return s;
   }
 
-  double current_time() override {
-    double t = 0.0;
-    CVodeGetCurrentTime(mem_.get(), &t);
-    return t;
-  }
+  double current_time() override { return current_time_of(kCvode, mem_.get()); }
 
  private:
   TreeOde& ode_;

@@ -13,23 +13,15 @@ namespace {
 using sundials::check;
 using sundials::check_created;
 
-FailureKind classify(int flag) {
-  switch (flag) {
-    case ARK_TOO_MUCH_WORK:
-      return FailureKind::too_much_work;
-    case ARK_TOO_MUCH_ACC:
-      return FailureKind::too_much_accuracy;
-    case ARK_ERR_FAILURE:
-      return FailureKind::error_test_failures;
-    case ARK_RHSFUNC_FAIL:
-    case ARK_REPTD_RHSFUNC_ERR:
-    case ARK_UNREC_RHSFUNC_ERR:
-    case ARK_FIRST_RHSFUNC_ERR:
-      return FailureKind::nonfinite_state;
-    default:
-      return FailureKind::other;
-  }
-}
+constexpr std::pair<int, FailureKind> kFailures[] = {
+    {ARK_TOO_MUCH_WORK, FailureKind::too_much_work},        {ARK_TOO_MUCH_ACC, FailureKind::too_much_accuracy},
+    {ARK_ERR_FAILURE, FailureKind::error_test_failures},    {ARK_RHSFUNC_FAIL, FailureKind::nonfinite_state},
+    {ARK_REPTD_RHSFUNC_ERR, FailureKind::nonfinite_state},  {ARK_UNREC_RHSFUNC_ERR, FailureKind::nonfinite_state},
+    {ARK_FIRST_RHSFUNC_ERR, FailureKind::nonfinite_state}};
+
+const PackageCalls kErkStep{ERKStepSStolerances, ERKStepSetUserData, ERKStepSetMaxNumSteps, ERKStepSetMaxStep,
+                            ERKStepSetInitStep,  ERKStepGetDky,      ERKStepGetCurrentTime, kFailures,
+                            "ARKODE ERKStep"};
 
 struct TableDeleter {
   void operator()(ARKodeButcherTable t) const { ARKodeButcherTable_Free(t); }
@@ -67,28 +59,26 @@ class ErkStepper final : public Stepper {
       : ode_(ode) {
     mem_.reset(check_created(ERKStepCreate(tree_rhs, t0, y0, ctx), "ERKStepCreate"));
     void* m = mem_.get();
-    check(ERKStepSetErrHandlerFn(m, record_sundials_error, static_cast<Stepper*>(this)),
-          "ERKStepSetErrHandlerFn");
-    check(ERKStepSStolerances(m, s.relative_tolerance, s.absolute_tolerance),
-          "ERKStepSStolerances");
-    check(ERKStepSetUserData(m, &ode_), "ERKStepSetUserData");
+#if SUNDIALS_VERSION_MAJOR >= 7
+    capture_errors(ctx, m, nullptr, "");
+#else
+    capture_errors(ctx, m, ERKStepSetErrHandlerFn, "ERKStepSetErrHandlerFn");
+#endif
+    apply_settings(kErkStep, m, ode_, s);
     if (s.method == Method::erk_verner)
       check(ERKStepSetTable(m, fsal_verner_table().get()), "ERKStepSetTable");  // copies it
     else
       check(ERKStepSetTableNum(m, ARKODE_DORMAND_PRINCE_7_4_5), "ERKStepSetTableNum");
-    check(ERKStepSetMaxNumSteps(m, s.max_steps), "ERKStepSetMaxNumSteps");
-    if (s.max_step > 0.0) check(ERKStepSetMaxStep(m, s.max_step), "ERKStepSetMaxStep");
-    if (s.initial_step > 0.0) check(ERKStepSetInitStep(m, s.initial_step), "ERKStepSetInitStep");
   }
 
   AdvanceResult step(double tout, N_Vector y, double& t) override {
     const int flag = ERKStepEvolve(mem_.get(), tout, y, &t, ARK_ONE_STEP);
     if (flag >= 0) return AdvanceResult::stepped;
-    failure_ = classify(flag);
+    failure_ = classify(kErkStep, flag);
     return AdvanceResult::failed;
   }
 
-  void interpolate(double t, N_Vector y) override { check(ERKStepGetDky(mem_.get(), t, 0, y), "ERKStepGetDky"); }
+  void interpolate(double t, N_Vector y) override { interpolate_with(kErkStep, mem_.get(), t, y); }
 
   void restart(double t, N_Vector y) override {
     check(ERKStepReInit(mem_.get(), tree_rhs, t, y), "ERKStepReInit");
@@ -103,11 +93,7 @@ class ErkStepper final : public Stepper {
     return s;
   }
 
-  double current_time() override {
-    double t = 0.0;
-    ERKStepGetCurrentTime(mem_.get(), &t);
-    return t;
-  }
+  double current_time() override { return current_time_of(kErkStep, mem_.get()); }
 
  private:
   TreeOde& ode_;

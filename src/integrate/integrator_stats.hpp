@@ -14,7 +14,7 @@ struct IntegratorStats {
   long nonlinear_convergence_failures = 0;  // CVODE only
   long chart_changes = 0;                   // body orientations re-expressed in a fresh chart
   long restarts = 0;                        // integrator re-initialisations for them
-  long root_evaluations = 0;                // chart-margin evaluations (one per step)
+  long chart_checks = 0;                    // chart-margin evaluations (one per step)
 };
 
 struct IntegratorStatField {
@@ -34,8 +34,7 @@ inline constexpr std::array<IntegratorStatField, 7> kIntegratorStatFields{{
     {"chart_changes", &IntegratorStats::chart_changes,
      "body orientations re-expressed in a fresh chart"},
     {"restarts", &IntegratorStats::restarts, "integrator restarts after chart changes"},
-    {"root_evaluations", &IntegratorStats::root_evaluations,
-     "chart-margin evaluations (one per step; the name is kept for old readers)"},
+    {"chart_checks", &IntegratorStats::chart_checks, "chart-margin evaluations (one per step)"},
 }};
 
 inline void add(IntegratorStats& total, const IntegratorStats& part) {

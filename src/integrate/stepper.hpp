@@ -5,7 +5,11 @@
 #pragma once
 
 #include <memory>
+#include <span>
 #include <string>
+#include <utility>
+
+#include <sundials/sundials_config.h>
 
 #include "integrate/settings.hpp"
 #include "integrate/sundials_handles.hpp"
@@ -35,18 +39,54 @@ class Stepper {
   const std::string& message() const { return message_; }
 
  protected:
+  // SUNDIALS' error messages come to message() instead of stderr: through
+  // the context's handler stack (SUNDIALS 7), or the integrator's own
+  // setter (SUNDIALS 6: CVodeSetErrHandlerFn, ERKStepSetErrHandlerFn).
+  template <class LegacySetter>
+  void capture_errors([[maybe_unused]] SUNContext context, [[maybe_unused]] void* memory,
+                      [[maybe_unused]] LegacySetter legacy_setter, [[maybe_unused]] const char* setter_name) {
+#if SUNDIALS_VERSION_MAJOR >= 7
+    sundials::check(SUNContext_ClearErrHandlers(context), "SUNContext_ClearErrHandlers");
+    sundials::check(SUNContext_PushErrHandler(context, record_error, this), "SUNContext_PushErrHandler");
+#else
+    sundials::check(legacy_setter(memory, record_error, this), setter_name);
+#endif
+  }
+
   FailureKind failure_ = FailureKind::none;
   std::string message_;  // written by the SUNDIALS error handler
-  friend void record_sundials_error(int, const char*, const char*, char*, void*);
-};
 
-// SUNDIALS error handler: keeps the message for IntegrationOutcome instead of
-// printing it.
-void record_sundials_error(int code, const char* module, const char* function, char* msg,
-                           void* stepper);
+ private:
+#if SUNDIALS_VERSION_MAJOR >= 7
+  static void record_error(int line, const char* function, const char* file, const char* message,
+                           SUNErrCode code, void* stepper, SUNContext context);
+#else
+  static void record_error(int code, const char* module, const char* function, char* message, void* stepper);
+#endif
+};
 
 // C callbacks shared by both steppers; user_data is the TreeOde.
 int tree_rhs(double t, N_Vector y, N_Vector y_dot, void* ode);
+
+// What both packages do alike, each through its own calls: the settings,
+// the dense output, the time reached, and what a failure flag means.
+struct PackageCalls {
+  int (*set_tolerances)(void*, sunrealtype, sunrealtype);
+  int (*set_user_data)(void*, void*);
+  int (*set_max_num_steps)(void*, long);
+  int (*set_max_step)(void*, sunrealtype);
+  int (*set_init_step)(void*, sunrealtype);
+  int (*get_dky)(void*, sunrealtype, int, N_Vector);
+  int (*get_current_time)(void*, sunrealtype*);
+  std::span<const std::pair<int, FailureKind>> failures;  // flag -> kind; others: FailureKind::other
+  const char* package;  // named in set-up errors
+};
+
+// Tolerances, user data (the TreeOde), max_steps, max_step, initial_step.
+void apply_settings(const PackageCalls& calls, void* memory, TreeOde& ode, const IntegratorSettings& settings);
+void interpolate_with(const PackageCalls& calls, void* memory, double t, N_Vector y);
+double current_time_of(const PackageCalls& calls, void* memory);
+FailureKind classify(const PackageCalls& calls, int flag);
 
 std::unique_ptr<Stepper> make_stepper(TreeOde& ode, const IntegratorSettings& settings,
                                       double t0, N_Vector y0, SUNContext context);

@@ -5,6 +5,7 @@
 #include <arkode/arkode_erkstep.h>
 #include <cvode/cvode.h>
 #include <nvector/nvector_serial.h>
+#include <sundials/sundials_config.h>
 #include <sundials/sundials_context.h>
 #include <sundials/sundials_linearsolver.h>
 #include <sundials/sundials_matrix.h>
@@ -35,7 +36,13 @@ T* check_created(T* p, const char* call) {
 
 class Context {
  public:
+  // No communicator: SUNDIALS 7 (built with MPI in Debian 13) takes
+  // SUN_COMM_NULL, where 6 took a null pointer.
+#if SUNDIALS_VERSION_MAJOR >= 7
+  Context() { check(SUNContext_Create(SUN_COMM_NULL, &ctx_), "SUNContext_Create"); }
+#else
   Context() { check(SUNContext_Create(nullptr, &ctx_), "SUNContext_Create"); }
+#endif
   ~Context() { SUNContext_Free(&ctx_); }
   Context(const Context&) = delete;
   Context& operator=(const Context&) = delete;

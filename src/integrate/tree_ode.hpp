@@ -23,7 +23,7 @@ class TreeOde {
           AccelerationSolver solver = AccelerationSolver::automatic);
 
   int size() const { return static_cast<int>(coordinate_offset_ + 3 * model_.n); }
-  int root_count() const { return model_.n; }
+  int charts() const { return model_.n; }  // one per body
   Parameterisation parameterisation() const { return parameterisation_; }
   const Model& model() const { return model_; }
   Data& data() { return data_; }
@@ -34,10 +34,11 @@ class TreeOde {
   void unpack(double t, std::span<const double> y);
   // y' = f(t, y). False on a numerical failure (non-finite state or result).
   bool rhs(double t, std::span<const double> y, std::span<double> y_dot);
-  // g_i = chart_margin of body i (the integrator stops where one crosses zero).
+  // g_i = chart_margin of body i: negative once its chart nears its singular
+  // orientation (or has drifted), and must be changed.
   void chart_margins(std::span<const double> y, std::span<double> g) const;
   // Re-expresses in a fresh chart the orientation of every body i with
-  // which[i] != 0 (SUNDIALS' root flags). Returns how many bodies changed chart.
+  // which[i] != 0. Returns how many bodies changed chart.
   int recentre_charts(std::span<double> y, std::span<const int> which);
 
  private:

@@ -46,9 +46,6 @@ double stored_trajectory_bytes(const Job& job, const EnsembleSpec& spec);
 // Peak memory of the responses' analysis on rank 0.
 double answers_bytes(const EnsembleSpec& spec);
 
-// A readable account of the ensemble: design, inputs, statistics settings.
-void print_ensemble_summary(std::ostream& out, const Job& job, const EnsembleSpec& spec);
-
 // Reads [ensemble] from the job's text; throws JobError like the job reader.
 // A job without [ensemble] is refused (the ensemble needs its sample count).
 EnsembleSpec read_ensemble(const Job& job);

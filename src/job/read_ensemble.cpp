@@ -5,9 +5,9 @@
 
 #include "job/ensemble_spec.hpp"
 #include "statistics/ensemble_statistics.hpp"
-#include "sampling/invalid_mass.hpp"
 #include "sampling/targets.hpp"
 #include "job/toml_document.hpp"
+#include "job/readers.hpp"
 #include "job/toml_view.hpp"
 #include "output/quantities.hpp"
 
@@ -208,92 +208,6 @@ double statistics_bytes(const Job& job, const EnsembleSpec& spec) {
          entries * (3 * 8.0 + 8.0 * (1.0 + static_cast<double>(spec.pilot_samples)));
 }
 
-namespace {
-
-std::string bytes_text(double bytes) {
-  const char* unit = "KiB";
-  double value = bytes / 1024.0;
-  if (value >= 1024.0) value /= 1024.0, unit = "MiB";
-  if (value >= 1024.0) value /= 1024.0, unit = "GiB";
-  char buffer[48];
-  std::snprintf(buffer, sizeof buffer, "%.1f %s", value, unit);
-  return buffer;
-}
-
-}  // namespace
-
-// The share of samples the model would refuse, and a warning above 0.1 %.
-void print_invalid_mass(std::ostream& out, const Perturbation& p, const ModelDefinition& d) {
-  const std::optional<InvalidMass> m = invalid_mass(p, d);
-  if (!m) return;
-  char percent[32];
-  std::snprintf(percent, sizeof percent, "%.3g %%", 100.0 * m->probability);
-  out << "      outside the model's range (" << m->valid << "): " << percent
-      << " of the samples, from the distribution's CDF\n";
-  if (m->probability > kInvalidMassWarning)
-    out << "      warning: " << percent << " of the samples will fail as invalid models (status 2); narrow the "
-        << "distribution, or use truncated_normal (lower bound) or lognormal for a positive quantity\n";
-}
-
-void print_ensemble_summary(std::ostream& out, const Job& job, const EnsembleSpec& s) {
-  out << "ensemble: " << s.samples << " samples, seed " << s.seed << ", design " << name(s.design)
-      << ", " << s.perturbations.size() << " perturbation" << (s.perturbations.size() == 1 ? "" : "s")
-      << " (" << s.input_dimensions() << " sampled inputs)\n";
-  if (s.design == Design::saltelli)
-    out << "  saltelli: base size N = " << s.base_samples << ", N (D + 2) = " << s.base_samples << " x "
-        << saltelli_block(s.input_dimensions()) << " = " << s.samples
-        << " runs; sample j (D + 2) + r is A_j (r = 0), B_j (r = 1), AB_i,j (r = 2 + i)\n";
-  if (!nested_prefixes(s.design))
-    out << "  latin_hypercube: sample k depends on N too, so prefixes are not nested samples "
-           "(convergence by prefix is not meaningful)\n";
-  const auto nominal = job.definition.parameters.nominal();
-  for (const Perturbation& p : s.perturbations) {
-    out << "  " << p.target << ": " << p.distribution.describe();
-    if (p.unit != 1.0) out << " x " << format_number(p.unit) << " (to " << p.si_unit << ")";
-    if (p.kind == Kind::orientation)
-      out << " per rotation-vector component, rad";
-    else if (p.kind == Kind::rotation)
-      out << ", rad, composed with the nominal orientation";
-    else if (p.entries > 1)
-      out << (p.mode == Mode::scale ? " multiplies the matrix"
-              : p.mode == Mode::add ? " x E is added to the matrix"
-                                    : " x E replaces the matrix");
-    else
-      out << (p.mode == Mode::scale ? " multiplies" : p.mode == Mode::add ? " is added to" : " replaces")
-          << " the nominal "
-          << (p.kind == Kind::parameter ? nominal[p.first] / p.factor
-                                        : job.initial.angular_velocity[p.first][p.axis])
-          << " " << p.si_unit;
-    out << "\n      " << p.enters << "\n";
-    print_invalid_mass(out, p, job.definition);
-  }
-  out << "statistics: quantiles";
-  for (double q : s.quantiles) out << " " << format_number(q);
-  out << "; " << s.histogram_bins << " histogram bins; pilot samples 0-" << s.pilot_samples - 1
-      << "; blocks of " << s.block_size << "; about "
-      << format_number(std::round(statistics_bytes(job, s) / (1024.0 * 1024.0))) << " MiB per rank\n";
-  out << "per sample: ";
-  for (std::size_t k = 0; k < s.per_sample.size(); ++k) out << (k ? ", " : "") << name(s.per_sample[k]);
-  if (s.per_sample.empty()) out << "no reductions";
-  out << " of every column: " << bytes_text(per_sample_bytes(job, s)) << " in the file\n";
-  if (s.store_trajectories > 0)
-    out << "stored trajectories: samples 0-" << s.store_trajectories - 1 << ", "
-        << bytes_text(stored_trajectory_bytes(job, s)) << " in the file\n";
-  if (!s.responses.empty())
-    out << "answers: about " << bytes_text(answers_bytes(s)) << " on rank 0 for the responses' analysis\n";
-  for (const Response& r : s.responses) {
-    out << "response " << r.name << ": " << name(r.reduce) << " of " << r.quantity << " " << r.column;
-    if (r.reduce == Response::Reduce::at_time) out << " at t = " << format_number(r.time) << " s";
-    if (r.reduce == Response::Reduce::first_time_above || r.reduce == Response::Reduce::first_time_below)
-      out << ", threshold " << format_number(r.threshold);
-    out << " (" << r.units << ")";
-    if (r.has_limit())
-      out << "; fails " << (r.fail_if == Response::FailIf::above ? "above " : "below ") << format_number(r.limit)
-          << " " << r.units;
-    out << "\n";
-  }
-}
-
 unsigned EnsembleSpec::input_dimensions() const {
   unsigned d = 0;
   for (const Perturbation& p : perturbations) d += static_cast<unsigned>(p.dimensions());
@@ -315,17 +229,23 @@ std::vector<std::string> EnsembleSpec::input_units() const {
   return units;
 }
 
-EnsembleSpec read_ensemble(const Job& job) {
-  const TomlView root(root_table(job.document), "", job.file);
-  const auto section = root.subtable("ensemble");
-  if (!section)
-    throw JobError(job.file, 0, 0, "ensemble",
-                   "missing [ensemble] section: give at least samples = N (and seed, perturbations)");
-  const TomlView& t = *section;
-  t.check_keys({"samples", "seed", "design", "quantiles", "histogram_bins", "pilot_samples",
-                "block_size", "perturbation", "per_sample", "response", "store_trajectories",
-                "bootstrap_resamples"});
-  EnsembleSpec s;
+Perturbation read_target(const TomlView& t, const ModelDefinition& model) {
+  Perturbation p;
+  p.target = t.required_string("target");
+  try {
+    aim(p, model);
+  } catch (const TargetError& e) {
+    t.fail("target", e.what());
+  }
+  const std::string mode = t.string("mode").value_or("set");
+  if (!parse_in(kModeNames, mode, p.mode)) t.fail("mode", "\"" + mode + "\" is not allowed; use " + choices(kModeNames));
+  return p;
+}
+
+namespace {
+
+// samples, seed, design and the statistics' settings.
+void read_settings(const TomlView& t, EnsembleSpec& s) {
   const auto samples = t.integer("samples");
   if (!samples) t.fail("samples", "missing required field: the number of samples (integer >= 1)");
   if (*samples < 1) t.fail("samples", "must be at least 1");
@@ -335,8 +255,7 @@ EnsembleSpec read_ensemble(const Job& job) {
     s.seed = static_cast<std::uint64_t>(*seed);
   }
   if (auto design = t.string("design"); design && !parse_design(*design, s.design))
-    t.fail("design", "\"" + *design +
-                         "\" is not allowed; use " + choices(kDesignNames));
+    t.fail("design", "\"" + *design + "\" is not allowed; use " + choices(kDesignNames));
   if (auto q = t.numbers("quantiles")) {
     if (q->empty()) t.fail("quantiles", "list at least one probability in (0, 1)");
     for (double v : *q)
@@ -355,34 +274,28 @@ EnsembleSpec read_ensemble(const Job& job) {
     if (*block < 1) t.fail("block_size", "must be at least 1");
     s.block_size = static_cast<std::uint64_t>(*block);
   }
-  for (const TomlView& p : t.table_array("perturbation")) {
-    p.check_keys({"target", "distribution", "mean", "std", "lower", "upper", "mu", "sigma",
-                  "mode", "unit"});
-    Perturbation pert;
-    pert.target = p.required_string("target");
-    try {
-      aim(pert, job.definition);
-    } catch (const TargetError& e) {
-      p.fail("target", e.what());
-    }
-    const std::string mode = p.string("mode").value_or("set");
-    if (!parse_in(kModeNames, mode, pert.mode))
-      p.fail("mode", "\"" + mode + "\" is not allowed; use " + choices(kModeNames));
-    if ((pert.kind == Kind::orientation || pert.kind == Kind::rotation) && p.has("mode"))
-      p.fail("mode", "not used for this target (a rotation is always composed with the nominal orientation)");
-    pert.unit = read_unit(p, pert);
-    pert.distribution = read_distribution(p);
-    s.perturbations.push_back(pert);
-  }
+}
+
+Perturbation read_perturbation(const TomlView& p, const Job& job) {
+  p.check_keys({"target", "distribution", "mean", "std", "lower", "upper", "mu", "sigma", "mode", "unit"});
+  Perturbation pert = read_target(p, job.definition);
+  if ((pert.kind == Kind::orientation || pert.kind == Kind::rotation) && p.has("mode"))
+    p.fail("mode", "not used for this target (a rotation is always composed with the nominal orientation)");
+  pert.unit = read_unit(p, pert);
+  pert.distribution = read_distribution(p);
+  return pert;
+}
+
+// The number of runs the design makes (saltelli: N (D + 2)), within what the
+// exact sums hold.
+void count_runs(const TomlView& t, EnsembleSpec& s) {
   if (s.design == Design::sobol && s.input_dimensions() > 1000)
     t.fail("perturbation", "sobol supports at most 1000 input dimensions");
   s.base_samples = s.samples;
   if (s.design == Design::saltelli) {
     const unsigned d = s.input_dimensions();
-    if (d == 0)
-      t.fail("design", "saltelli needs at least one [[ensemble.perturbation]] (the inputs to rank)");
+    if (d == 0) t.fail("design", "saltelli needs at least one [[ensemble.perturbation]] (the inputs to rank)");
     if (2 * d > 1000) t.fail("perturbation", "saltelli supports at most 500 input dimensions (2D Sobol dimensions)");
-    // samples is the base size N: N (D + 2) runs.
     if (s.base_samples > kMaxRuns / saltelli_block(d))
       t.fail("samples", "saltelli makes samples x (D + 2) = " + std::to_string(s.base_samples) + " x " +
                             std::to_string(saltelli_block(d)) + " runs; at most " + std::to_string(kMaxRuns) +
@@ -398,7 +311,10 @@ EnsembleSpec read_ensemble(const Job& job) {
                           " (2^26, so that the exact 128-bit sums cannot overflow); split larger studies into "
                           "several ensembles with different seeds");
   s.pilot_samples = std::min(s.pilot_samples, s.samples);  // runs, also for saltelli
+}
 
+// Per-sample reductions, the named responses, the bootstrap.
+void read_answers(const TomlView& t, const Job& job, EnsembleSpec& s) {
   if (t.has("per_sample")) s.per_sample = read_per_sample(t);
   const ColumnLayout layout = column_layout(job.model, job.output);
   for (const TomlView& r : t.table_array("response")) {
@@ -411,35 +327,60 @@ EnsembleSpec read_ensemble(const Job& job) {
     if (*b < 0 || *b > 100000) t.fail("bootstrap_resamples", "must be from 0 to 100000");
     s.bootstrap_resamples = static_cast<int>(*b);
   }
-  if (auto m = t.integer("store_trajectories")) {
-    if (*m < 0) t.fail("store_trajectories", "must be >= 0 (samples 0 .. M-1 are stored)");
-    s.store_trajectories = static_cast<std::uint64_t>(*m);
-    if (s.store_trajectories > s.samples)
-      t.fail("store_trajectories", "is more than the " + std::to_string(s.samples) + " samples");
-    // Each stored trajectory travels to rank 0 with its record, a block of
-    // them at a time: that block must fit in memory.
-    const double one = stored_trajectory_bytes(job, s) / static_cast<double>(std::max<std::uint64_t>(s.store_trajectories, 1));
-    const double batch_gib = one * static_cast<double>(s.block_size) / (1024.0 * 1024.0 * 1024.0);
-    if (s.store_trajectories > 0 && batch_gib > 1.0)
-      t.fail("store_trajectories", "one trajectory is " + format_number(std::round(one / (1024.0 * 1024.0))) +
-                                       " MiB and a block of " + std::to_string(s.block_size) +
-                                       " would need " + format_number(std::round(batch_gib)) +
-                                       " GiB in memory; at most 1 GiB: use fewer output times or "
-                                       "quantities, or block_size = 1");
-  }
-  // Rank 0 keeps every sample's inputs and responses for the analysis.
+}
+
+void read_stored_trajectories(const TomlView& t, const Job& job, EnsembleSpec& s) {
+  const auto m = t.integer("store_trajectories");
+  if (!m) return;
+  if (*m < 0) t.fail("store_trajectories", "must be >= 0 (samples 0 .. M-1 are stored)");
+  s.store_trajectories = static_cast<std::uint64_t>(*m);
+  if (s.store_trajectories > s.samples)
+    t.fail("store_trajectories", "is more than the " + std::to_string(s.samples) + " samples");
+  // Each stored trajectory travels to rank 0 with its record, a block of
+  // them at a time: that block must fit in memory.
+  const double one = stored_trajectory_bytes(job, s) / static_cast<double>(std::max<std::uint64_t>(s.store_trajectories, 1));
+  const double batch_gib = one * static_cast<double>(s.block_size) / (1024.0 * 1024.0 * 1024.0);
+  if (s.store_trajectories > 0 && batch_gib > 1.0)
+    t.fail("store_trajectories", "one trajectory is " + format_number(std::round(one / (1024.0 * 1024.0))) +
+                                     " MiB and a block of " + std::to_string(s.block_size) + " would need " +
+                                     format_number(std::round(batch_gib)) +
+                                     " GiB in memory; at most 1 GiB: use fewer output times or "
+                                     "quantities, or block_size = 1");
+}
+
+// What rank 0 and every rank must hold, within 8 GiB each.
+void check_memory(const TomlView& t, const Job& job, const EnsembleSpec& s) {
   if (!s.responses.empty()) {
     const double gib = answers_bytes(s) / (1024.0 * 1024.0 * 1024.0);
     if (gib > 8.0)
-      t.fail("response", "the responses and inputs of " + std::to_string(s.samples) +
-                             " samples would need " + format_number(std::round(gib)) +
-                             " GiB on rank 0; at most 8: use fewer samples");
+      t.fail("response", "the responses and inputs of " + std::to_string(s.samples) + " samples would need " +
+                             format_number(std::round(gib)) + " GiB on rank 0; at most 8: use fewer samples");
   }
   const double gib = statistics_bytes(job, s) / (1024.0 * 1024.0 * 1024.0);
   if (gib > 8.0)
     t.fail("histogram_bins", "the statistics would need " + format_number(std::round(gib)) +
                                  " GiB per rank (output times x columns x bins); at most 8: use "
                                  "fewer bins, output times or quantities");
+}
+
+}  // namespace
+
+EnsembleSpec read_ensemble(const Job& job) {
+  const TomlView root(root_table(job.document), "", job.file);
+  const auto section = root.subtable("ensemble");
+  if (!section)
+    throw JobError(job.file, 0, 0, "ensemble",
+                   "missing [ensemble] section: give at least samples = N (and seed, perturbations)");
+  const TomlView& t = *section;
+  t.check_keys({"samples", "seed", "design", "quantiles", "histogram_bins", "pilot_samples", "block_size",
+                "perturbation", "per_sample", "response", "store_trajectories", "bootstrap_resamples"});
+  EnsembleSpec s;
+  read_settings(t, s);
+  for (const TomlView& p : t.table_array("perturbation")) s.perturbations.push_back(read_perturbation(p, job));
+  count_runs(t, s);
+  read_answers(t, job, s);
+  read_stored_trajectories(t, job, s);
+  check_memory(t, job, s);
   return s;
 }
 

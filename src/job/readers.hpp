@@ -7,7 +7,9 @@
 
 #include "model/initial_state.hpp"
 #include "job/toml_view.hpp"
+#include "model/definition.hpp"
 #include "model/model_spec.hpp"
+#include "sampling/perturbation.hpp"
 
 namespace treedyn {
 
@@ -37,6 +39,16 @@ struct ReadBodies {
 ReadBodies read_bodies(const TomlView& root);
 
 BaseMotionSpec read_base(const TomlView& base);
+
+
 void read_loads(const TomlView& root, ModelSpec& spec);
 
 }  // namespace treedyn
+
+namespace treedyn::ensemble {
+
+// `target` and `mode` of a [[ensemble.perturbation]] or [[sample.input]]
+// table, resolved against the model (sampling/targets.hpp).
+Perturbation read_target(const TomlView& table, const ModelDefinition& model);
+
+}  // namespace treedyn::ensemble

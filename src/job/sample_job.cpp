@@ -9,6 +9,7 @@
 #include "common/error.hpp"
 #include "sampling/targets.hpp"
 #include "job/toml_document.hpp"
+#include "job/readers.hpp"
 #include "job/toml_view.hpp"
 #include "model/definition.hpp"
 
@@ -103,16 +104,7 @@ void apply_sample_section(Job& job) {
   std::vector<double> values;
   for (const TomlView& e : t.table_array("input")) {
     e.check_keys({"target", "mode", "value"});
-    Perturbation p;
-    p.target = e.required_string("target");
-    try {
-      aim(p, job.definition);
-    } catch (const TargetError& error) {
-      e.fail("target", error.what());
-    }
-    const std::string mode = e.string("mode").value_or("set");
-    if (!parse_in(kModeNames, mode, p.mode))
-      e.fail("mode", "\"" + mode + "\" is not allowed; use " + choices(kModeNames));
+    Perturbation p = read_target(e, job.definition);
     if (p.kind == Kind::orientation) {
       const auto v = e.vec3("value");
       if (!v) e.fail("value", "missing required field: a rotation vector [x, y, z] in rad");

@@ -16,14 +16,10 @@ std::string joint_label(const JointSpec& j, std::size_t index) {
          quoted(j.child) + ")";
 }
 
-}  // namespace
-
-Topology make_topology(const ModelSpec& spec) {
-  const int n = static_cast<int>(spec.bodies.size());
-  if (n == 0) throw ModelError("model: no bodies; a tree needs at least one body");
-
+// Body names to their user index; names must be unique and not "base".
+std::unordered_map<std::string, int> index_names(const ModelSpec& spec) {
   std::unordered_map<std::string, int> by_name;
-  for (int b = 0; b < n; ++b) {
+  for (int b = 0; b < static_cast<int>(spec.bodies.size()); ++b) {
     const std::string& name = spec.bodies[b].name;
     if (name.empty()) throw ModelError("body " + std::to_string(b + 1) + ": name is empty");
     if (name == kBaseName)
@@ -32,11 +28,18 @@ Topology make_topology(const ModelSpec& spec) {
     if (!by_name.emplace(name, b).second)
       throw ModelError("body " + quoted(name) + ": name used by more than one body", name);
   }
+  return by_name;
+}
 
-  // Each body needs exactly one joint that has it as the child.
-  std::vector<int> joint_of(n, -1);
-  std::vector<int> parent_user(n, kBase);
-  std::vector<int> on_base;
+// Who hangs from whom, in user indices: each body's joint and parent, and
+// the bodies on the base.
+struct Links {
+  std::vector<int> joint_of, parent_user, on_base;
+};
+
+Links link_bodies(const ModelSpec& spec, const std::unordered_map<std::string, int>& by_name) {
+  const int n = static_cast<int>(spec.bodies.size());
+  Links l{std::vector<int>(n, -1), std::vector<int>(n, kBase), {}};
   for (std::size_t j = 0; j < spec.joints.size(); ++j) {
     const JointSpec& joint = spec.joints[j];
     const std::string who = joint_label(joint, j);
@@ -51,65 +54,69 @@ Topology make_topology(const ModelSpec& spec) {
     if (joint.parent != kBaseName) {
       const auto p = by_name.find(joint.parent);
       if (p == by_name.end())
-        throw ModelError(who + ": parent " + quoted(joint.parent) + " is neither a body nor " +
-                         quoted(kBaseName),
+        throw ModelError(who + ": parent " + quoted(joint.parent) + " is neither a body nor " + quoted(kBaseName),
                          joint.child);
       parent = p->second;
     }
     const int c = child->second;
-    if (joint_of[c] >= 0)
+    if (l.joint_of[c] >= 0)
       throw ModelError("body " + quoted(joint.child) + ": has two joints to a parent (" +
-                       joint_label(spec.joints[joint_of[c]], joint_of[c]) + " and " + who +
-                       "); in a tree every body has exactly one",
+                           joint_label(spec.joints[l.joint_of[c]], l.joint_of[c]) + " and " + who +
+                           "); in a tree every body has exactly one",
                        joint.child);
-    joint_of[c] = static_cast<int>(j);
-    parent_user[c] = parent;
-    if (parent == kBase) on_base.push_back(c);
+    l.joint_of[c] = static_cast<int>(j);
+    l.parent_user[c] = parent;
+    if (parent == kBase) l.on_base.push_back(c);
   }
-  for (int b = 0; b < n; ++b)
-    if (joint_of[b] < 0)
-      throw ModelError("body " + quoted(spec.bodies[b].name) +
-                       ": unreachable, no joint has it as its child; every body needs a joint "
-                       "to its parent",
-                       spec.bodies[b].name);
-  if (on_base.empty())
-    throw ModelError("body " + quoted(spec.bodies[0].name) + ": no body is attached to " +
-                         quoted(kBaseName) + ", so the chain of parents from " +
-                         quoted(spec.bodies[0].name) +
-                         " never reaches it (a cycle); exactly one joint must have parent " +
-                         quoted(kBaseName),
-                     spec.bodies[0].name);
-  if (on_base.size() > 1)
-    throw ModelError("body " + quoted(spec.bodies[on_base[1]].name) + ": a second body on " +
-                     quoted(kBaseName) + " (the first is " + quoted(spec.bodies[on_base[0]].name) +
-                     "); exactly one body may be attached to the base",
-                     spec.bodies[on_base[1]].name);
+  return l;
+}
 
-  // Depth-first preorder from the base; children in the user's order.
+// Every body has a joint, and exactly one hangs from the base.
+void require_one_root(const ModelSpec& spec, const Links& l) {
+  for (std::size_t b = 0; b < spec.bodies.size(); ++b)
+    if (l.joint_of[b] < 0)
+      throw ModelError("body " + quoted(spec.bodies[b].name) +
+                           ": unreachable, no joint has it as its child; every body needs a joint to its parent",
+                       spec.bodies[b].name);
+  if (l.on_base.empty())
+    throw ModelError("body " + quoted(spec.bodies[0].name) + ": no body is attached to " + quoted(kBaseName) +
+                         ", so the chain of parents from " + quoted(spec.bodies[0].name) +
+                         " never reaches it (a cycle); exactly one joint must have parent " + quoted(kBaseName),
+                     spec.bodies[0].name);
+  if (l.on_base.size() > 1)
+    throw ModelError("body " + quoted(spec.bodies[l.on_base[1]].name) + ": a second body on " + quoted(kBaseName) +
+                         " (the first is " + quoted(spec.bodies[l.on_base[0]].name) +
+                         "); exactly one body may be attached to the base",
+                     spec.bodies[l.on_base[1]].name);
+}
+
+// The regular order: depth-first preorder from the base, children in the
+// user's order. Bodies never reached hang in a loop of parents.
+void order_preorder(const ModelSpec& spec, const Links& l, Topology& topo) {
+  const int n = static_cast<int>(spec.bodies.size());
   std::vector<std::vector<int>> user_children(n);
   for (int b = 0; b < n; ++b)
-    if (parent_user[b] != kBase) user_children[parent_user[b]].push_back(b);
-
-  Topology topo;
+    if (l.parent_user[b] != kBase) user_children[l.parent_user[b]].push_back(b);
   topo.regular_index.assign(n, -1);
-  topo.joint_of_user_body = joint_of;
-  std::vector<int> stack{on_base[0]};
+  std::vector<int> stack{l.on_base[0]};
   while (!stack.empty()) {
     const int b = stack.back();
     stack.pop_back();
     topo.regular_index[b] = static_cast<int>(topo.user_index.size());
     topo.user_index.push_back(b);
-    for (auto it = user_children[b].rbegin(); it != user_children[b].rend(); ++it)
-      stack.push_back(*it);
+    for (auto it = user_children[b].rbegin(); it != user_children[b].rend(); ++it) stack.push_back(*it);
   }
-  // Bodies never reached hang in a loop of parents that never reaches the base.
   for (int b = 0; b < n; ++b)
     if (topo.regular_index[b] < 0)
       throw ModelError("body " + quoted(spec.bodies[b].name) +
-                       ": not connected to the base, its chain of parents forms a cycle; the "
-                       "joints must form a tree",
+                           ": not connected to the base, its chain of parents forms a cycle; the "
+                           "joints must form a tree",
                        spec.bodies[b].name);
+}
 
+// Parents, children, depths and names in the regular order.
+void fill_regular(const ModelSpec& spec, const Links& l, Topology& topo) {
+  const int n = static_cast<int>(spec.bodies.size());
   topo.n = n;
   topo.parent.resize(n);
   topo.children.assign(n, {});
@@ -118,14 +125,26 @@ Topology make_topology(const ModelSpec& spec) {
   topo.joint_name.resize(n);
   for (int i = 0; i < n; ++i) {
     const int u = topo.user_index[i];
-    const int pu = parent_user[u];
+    const int pu = l.parent_user[u];
     topo.parent[i] = pu == kBase ? kBase : topo.regular_index[pu];
     topo.depth[i] = pu == kBase ? 1 : topo.depth[topo.parent[i]] + 1;
     if (topo.parent[i] != kBase) topo.children[topo.parent[i]].push_back(i);
-    const JointSpec& joint = spec.joints[joint_of[u]];
+    const JointSpec& joint = spec.joints[l.joint_of[u]];
     topo.body_name[i] = spec.bodies[u].name;
     topo.joint_name[i] = joint.name.empty() ? joint.parent + "-" + joint.child : joint.name;
   }
+}
+
+}  // namespace
+
+Topology make_topology(const ModelSpec& spec) {
+  if (spec.bodies.empty()) throw ModelError("model: no bodies; a tree needs at least one body");
+  const Links links = link_bodies(spec, index_names(spec));
+  require_one_root(spec, links);
+  Topology topo;
+  topo.joint_of_user_body = links.joint_of;
+  order_preorder(spec, links, topo);
+  fill_regular(spec, links, topo);
   return topo;
 }
 

@@ -89,6 +89,14 @@ std::string position_of(const std::string& text, const std::string& needle, std:
   return std::to_string(line) + ":" + std::to_string(column);
 }
 
+std::vector<std::string> lines_starting_with(const std::string& text, const std::string& prefix) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);)
+    if (line.rfind(prefix, 0) == 0) out.push_back(line);
+  return out;
+}
+
 std::string value_position(const std::string& text, const std::string& key_and_value) {
   return position_of(text, key_and_value, key_and_value.find("= ") + 2);
 }

@@ -46,6 +46,10 @@ CommandResult run_command(const std::string& binary, const std::vector<std::stri
                           const std::filesystem::path& capture,
                           const std::vector<std::string>& prefix = {});
 
+// The lines of `text` that start with `prefix` (without their newline): a
+// command's own messages among a launcher's.
+std::vector<std::string> lines_starting_with(const std::string& text, const std::string& prefix);
+
 // "LINE:COL" (1-based) of the first occurrence of `needle` in `text`, plus
 // `skip` characters (to point inside it). Throws std::invalid_argument when
 // `needle` is not in `text`.

@@ -1,0 +1,103 @@
+// What `treedyn-ensemble --check` prints of an [ensemble]: the design, each
+// perturbation and what it does, the share of samples outside a
+// parameter's valid range, the statistics' and the answers' sizes.
+#include <cmath>
+#include <cstdio>
+#include <optional>
+
+#include "app/model_summary.hpp"
+#include "common/format.hpp"
+#include "sampling/invalid_mass.hpp"
+
+namespace treedyn::ensemble {
+
+using Kind = Perturbation::Kind;
+using Mode = Perturbation::Mode;
+
+namespace {
+
+std::string bytes_text(double bytes) {
+  const char* unit = "KiB";
+  double value = bytes / 1024.0;
+  if (value >= 1024.0) value /= 1024.0, unit = "MiB";
+  if (value >= 1024.0) value /= 1024.0, unit = "GiB";
+  char buffer[48];
+  std::snprintf(buffer, sizeof buffer, "%.1f %s", value, unit);
+  return buffer;
+}
+
+// The share of samples the model would refuse, and a warning above 0.1 %.
+void print_invalid_mass(std::ostream& out, const Perturbation& p, const ModelDefinition& d) {
+  const std::optional<InvalidMass> m = invalid_mass(p, d);
+  if (!m) return;
+  char percent[32];
+  std::snprintf(percent, sizeof percent, "%.3g %%", 100.0 * m->probability);
+  out << "      outside the model's range (" << m->valid << "): " << percent
+      << " of the samples, from the distribution's CDF\n";
+  if (m->probability > kInvalidMassWarning)
+    out << "      warning: " << percent << " of the samples will fail as invalid models (status 2); narrow the "
+        << "distribution, or use truncated_normal (lower bound) or lognormal for a positive quantity\n";
+}
+
+}  // namespace
+
+void print_ensemble_summary(std::ostream& out, const Job& job, const EnsembleSpec& s) {
+  out << "ensemble: " << s.samples << " samples, seed " << s.seed << ", design " << name(s.design)
+      << ", " << s.perturbations.size() << " perturbation" << (s.perturbations.size() == 1 ? "" : "s")
+      << " (" << s.input_dimensions() << " sampled inputs)\n";
+  if (s.design == Design::saltelli)
+    out << "  saltelli: base size N = " << s.base_samples << ", N (D + 2) = " << s.base_samples << " x "
+        << saltelli_block(s.input_dimensions()) << " = " << s.samples
+        << " runs; sample j (D + 2) + r is A_j (r = 0), B_j (r = 1), AB_i,j (r = 2 + i)\n";
+  if (!nested_prefixes(s.design))
+    out << "  latin_hypercube: sample k depends on N too, so prefixes are not nested samples "
+           "(convergence by prefix is not meaningful)\n";
+  const auto nominal = job.definition.parameters.nominal();
+  for (const Perturbation& p : s.perturbations) {
+    out << "  " << p.target << ": " << p.distribution.describe();
+    if (p.unit != 1.0) out << " x " << format_number(p.unit) << " (to " << p.si_unit << ")";
+    if (p.kind == Kind::orientation)
+      out << " per rotation-vector component, rad";
+    else if (p.kind == Kind::rotation)
+      out << ", rad, composed with the nominal orientation";
+    else if (p.entries > 1)
+      out << (p.mode == Mode::scale ? " multiplies the matrix"
+              : p.mode == Mode::add ? " x E is added to the matrix"
+                                    : " x E replaces the matrix");
+    else
+      out << (p.mode == Mode::scale ? " multiplies" : p.mode == Mode::add ? " is added to" : " replaces")
+          << " the nominal "
+          << (p.kind == Kind::parameter ? nominal[p.first] / p.factor
+                                        : job.initial.angular_velocity[p.first][p.axis])
+          << " " << p.si_unit;
+    out << "\n      " << p.enters << "\n";
+    print_invalid_mass(out, p, job.definition);
+  }
+  out << "statistics: quantiles";
+  for (double q : s.quantiles) out << " " << format_number(q);
+  out << "; " << s.histogram_bins << " histogram bins; pilot samples 0-" << s.pilot_samples - 1
+      << "; blocks of " << s.block_size << "; about "
+      << format_number(std::round(statistics_bytes(job, s) / (1024.0 * 1024.0))) << " MiB per rank\n";
+  out << "per sample: ";
+  for (std::size_t k = 0; k < s.per_sample.size(); ++k) out << (k ? ", " : "") << name(s.per_sample[k]);
+  if (s.per_sample.empty()) out << "no reductions";
+  out << " of every column: " << bytes_text(per_sample_bytes(job, s)) << " in the file\n";
+  if (s.store_trajectories > 0)
+    out << "stored trajectories: samples 0-" << s.store_trajectories - 1 << ", "
+        << bytes_text(stored_trajectory_bytes(job, s)) << " in the file\n";
+  if (!s.responses.empty())
+    out << "answers: about " << bytes_text(answers_bytes(s)) << " on rank 0 for the responses' analysis\n";
+  for (const Response& r : s.responses) {
+    out << "response " << r.name << ": " << name(r.reduce) << " of " << r.quantity << " " << r.column;
+    if (r.reduce == Response::Reduce::at_time) out << " at t = " << format_number(r.time) << " s";
+    if (r.reduce == Response::Reduce::first_time_above || r.reduce == Response::Reduce::first_time_below)
+      out << ", threshold " << format_number(r.threshold);
+    out << " (" << r.units << ")";
+    if (r.has_limit())
+      out << "; fails " << (r.fail_if == Response::FailIf::above ? "above " : "below ") << format_number(r.limit)
+          << " " << r.units;
+    out << "\n";
+  }
+}
+
+}  // namespace treedyn::ensemble
