@@ -54,7 +54,7 @@ void BM_Rhs(benchmark::State& state) {
   }
   for (auto _ : state) {
     benchmark::DoNotOptimize(y.data());
-    const bool ok = ode.rhs(0.0, y, y_dot);
+    bool ok = ode.rhs(0.0, y, y_dot);
     benchmark::DoNotOptimize(ok);
     benchmark::ClobberMemory();
   }
@@ -76,7 +76,7 @@ void BM_ForwardDynamics(benchmark::State& state) {
   }
   for (auto _ : state) {
     benchmark::DoNotOptimize(data.rotation.data());
-    const bool ok = forward_dynamics(model, data);
+    bool ok = forward_dynamics(model, data);
     benchmark::DoNotOptimize(ok);
     benchmark::ClobberMemory();
   }
@@ -105,7 +105,7 @@ void BM_RhsLarge(benchmark::State& state) {
   ode.pack(make_state(n), y);
   for (auto _ : state) {
     benchmark::DoNotOptimize(y.data());
-    const bool ok = ode.rhs(0.0, y, y_dot);
+    bool ok = ode.rhs(0.0, y, y_dot);
     benchmark::DoNotOptimize(ok);
     benchmark::ClobberMemory();
   }

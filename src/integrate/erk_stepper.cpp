@@ -19,9 +19,23 @@ constexpr std::pair<int, FailureKind> kFailures[] = {
     {ARK_REPTD_RHSFUNC_ERR, FailureKind::nonfinite_state},  {ARK_UNREC_RHSFUNC_ERR, FailureKind::nonfinite_state},
     {ARK_FIRST_RHSFUNC_ERR, FailureKind::nonfinite_state}};
 
+// SUNDIALS 7.1 calls these ARKODE's own, for every stepper; 6.4 names them
+// per stepper.
+#if SUNDIALS_VERSION_MAJOR >= 7
+const PackageCalls kErkStep{ARKodeSStolerances, ARKodeSetUserData, ARKodeSetMaxNumSteps, ARKodeSetMaxStep,
+                            ARKodeSetInitStep,  ARKodeGetDky,      ARKodeGetCurrentTime, kFailures,
+                            "ARKODE ERKStep"};
+constexpr auto kEvolve = ARKodeEvolve;
+constexpr auto kNumSteps = ARKodeGetNumSteps;
+constexpr auto kNumErrTestFails = ARKodeGetNumErrTestFails;
+#else
 const PackageCalls kErkStep{ERKStepSStolerances, ERKStepSetUserData, ERKStepSetMaxNumSteps, ERKStepSetMaxStep,
                             ERKStepSetInitStep,  ERKStepGetDky,      ERKStepGetCurrentTime, kFailures,
                             "ARKODE ERKStep"};
+constexpr auto kEvolve = ERKStepEvolve;
+constexpr auto kNumSteps = ERKStepGetNumSteps;
+constexpr auto kNumErrTestFails = ERKStepGetNumErrTestFails;
+#endif
 
 struct TableDeleter {
   void operator()(ARKodeButcherTable t) const { ARKodeButcherTable_Free(t); }
@@ -72,7 +86,7 @@ class ErkStepper final : public Stepper {
   }
 
   AdvanceResult step(double tout, N_Vector y, double& t) override {
-    const int flag = ERKStepEvolve(mem_.get(), tout, y, &t, ARK_ONE_STEP);
+    const int flag = kEvolve(mem_.get(), tout, y, &t, ARK_ONE_STEP);
     if (flag >= 0) return AdvanceResult::stepped;
     failure_ = classify(kErkStep, flag);
     return AdvanceResult::failed;
@@ -87,9 +101,9 @@ class ErkStepper final : public Stepper {
   IntegratorStats counters() override {
     IntegratorStats s;
     void* m = mem_.get();
-    ERKStepGetNumSteps(m, &s.steps);
+    kNumSteps(m, &s.steps);
     ERKStepGetNumRhsEvals(m, &s.rhs_evaluations);
-    ERKStepGetNumErrTestFails(m, &s.error_test_failures);
+    kNumErrTestFails(m, &s.error_test_failures);
     return s;
   }
 

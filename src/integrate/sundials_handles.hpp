@@ -68,7 +68,11 @@ struct CvodeDeleter {
   void operator()(void* mem) const { CVodeFree(&mem); }
 };
 struct ErkDeleter {
+#if SUNDIALS_VERSION_MAJOR >= 7
+  void operator()(void* mem) const { ARKodeFree(&mem); }
+#else
   void operator()(void* mem) const { ERKStepFree(&mem); }
+#endif
 };
 
 using Vector = std::unique_ptr<std::remove_pointer_t<N_Vector>, VectorDeleter>;
