@@ -54,7 +54,8 @@ void BM_SampleSetup(benchmark::State& state, const std::string& name) {
   for (auto _ : state) {
     std::vector<double> inputs = runner.prepare(k++ % l.spec.samples, false);
     benchmark::DoNotOptimize(inputs.data());
-    benchmark::DoNotOptimize(runner.model().total_mass);
+    double mass = runner.model().total_mass;
+    benchmark::DoNotOptimize(mass);
   }
 }
 

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <iostream>
 #include <limits>
 #include <thread>
@@ -56,7 +57,13 @@ void hold_if_asked(EnsembleRun& run) {
   if (!run.hold_unsaved) run.results.save();
   process::write_file_atomically(run.checkpoint_dir / ("held-rank" + std::to_string(run.rank)),
                                  "pid " + std::to_string(::getpid()) + " kept " + std::to_string(run.kept) + "\n");
-  while (process::stop_signal() == 0) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  // Released by a stop signal; a rank whose launcher died (reparented) ends
+  // as an unheld one would at its next MPI call.
+  const pid_t launcher = ::getppid();
+  while (process::stop_signal() == 0) {
+    if (::getppid() != launcher) std::_Exit(kExitInternal);
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
 }
 
 // The next sample of a block, or false when this rank must stop (a signal

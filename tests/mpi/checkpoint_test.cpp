@@ -268,7 +268,7 @@ TEST_F(Checkpoint, KillNineOfMpirunOrOfOneRankThenResumeOnOtherRankCountsIsBitwi
     const fs::path ckpt = out.string() + ".checkpoint";
     long expected = held_total(c.ranks, c.hold);
     {
-      Background run(job_, out, held_run(c.ranks, kEvery, c.hold, c.unsaved), dir_.path() / "capture_bg");
+      Background run(job_, out, held_run(c.ranks, c.unsaved ? kRarely : kEvery, c.hold, c.unsaved), dir_.path() / "capture_bg");
       await_held(ckpt, c.ranks, run);
       const std::vector<Held> held = held_ranks(ckpt);
       if (c.one_rank) {
@@ -327,7 +327,21 @@ struct SignalCase {
   enum class To { ranks, launcher, timeout, terminal } to;
   int exit_code;  // what the first process returns (mpirun, timeout, script or the binary); -1: mpirun's own, not 0
   std::vector<std::string> timeout_words = {};
+  bool launcher_ends_job = false;  // mpirun itself takes SIGINT or SIGTERM and ends the job
 };
+
+// Once Open MPI 5's mpirun (prterun) ends a job on SIGINT or SIGTERM, it no
+// longer forwards what the ranks print: the ranks stop and save all the same
+// (the restored count says so), but the hint line never reaches the
+// terminal. Open MPI 4.1's mpirun prints it.
+bool launcher_forwards_last_words() {
+  static const bool forwards = [] {
+    TempDir dir("mpirun_version");
+    const CommandResult r = run_command(TREEDYN_MPIEXEC, {"--version"}, dir.path());
+    return r.out.find("(Open MPI) 4.") != std::string::npos;
+  }();
+  return forwards;
+}
 
 void Checkpoint::expect_clean_stop(const SignalCase& c, int index) {
   SCOPED_TRACE(c.what);
@@ -348,9 +362,11 @@ void Checkpoint::expect_clean_stop(const SignalCase& c, int index) {
   const std::string err = run.err();
   std::printf("[%s] exit %d: %s\n", c.what, code, err.c_str());
   const long kept = held_total(std::max(c.ranks, 1), 4);
-  EXPECT_NE(err.find("interrupted by "), std::string::npos) << err;
-  EXPECT_NE(err.find(" after " + std::to_string(kept) + " of 64 samples; resume with --resume"), std::string::npos)
-      << err;
+  if (!c.launcher_ends_job || launcher_forwards_last_words()) {
+    EXPECT_NE(err.find("interrupted by "), std::string::npos) << err;
+    EXPECT_NE(err.find(" after " + std::to_string(kept) + " of 64 samples; resume with --resume"), std::string::npos)
+        << err;
+  }
   if (c.exit_code >= 0)
     EXPECT_EQ(code, c.exit_code) << err;
   else
@@ -380,12 +396,12 @@ TEST_F(Checkpoint, SigtermAndSigintGiveExitFiveAMessageAndACheckpointAndNoTempor
 // --foreground, the two tested here (SIGALRM is how its time comes up).
 TEST_F(Checkpoint, CtrlCInATerminalAndSigtermToMpirunOrTimeoutStopCleanly) {
   const SignalCase cases[] = {
-      {"Ctrl-C typed at mpirun's terminal", 2, SIGINT, SignalCase::To::terminal, -1},
-      {"SIGTERM to mpirun", 2, SIGTERM, SignalCase::To::launcher, -1},
+      {"Ctrl-C typed at mpirun's terminal", 2, SIGINT, SignalCase::To::terminal, -1, {}, true},
+      {"SIGTERM to mpirun", 2, SIGTERM, SignalCase::To::launcher, -1, {}, true},
       {"the time of `timeout -s USR1 600 mpirun` is up", 2, SIGALRM, SignalCase::To::timeout, 124,
        {"timeout", "-s", "USR1", "600"}},
       {"the time of `timeout --foreground 600 mpirun` is up", 2, SIGALRM, SignalCase::To::timeout, 124,
-       {"timeout", "--foreground", "600"}}};
+       {"timeout", "--foreground", "600"}, true}};
   int index = 10;
   for (const SignalCase& c : cases) expect_clean_stop(c, index++);
 }
