@@ -121,7 +121,7 @@ int write_ensemble(EnsembleRun& run, const ensemble::EnsembleStatistics& stats, 
 }  // namespace
 
 int finish_run(EnsembleRun& run) {
-  ensemble::EnsembleStatistics& stats = run.results.statistics();
+  ensemble::EnsembleStatistics stats = run.results.finish();  // the signal thread keeps off it from here on
   if (run.restored_statistics) stats.merge(*run.restored_statistics);
   reduce_statistics(run.comm, stats);
   const EnsembleSummary summary = gather_loads(run);

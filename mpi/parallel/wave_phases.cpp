@@ -35,6 +35,8 @@ std::optional<SampleRecord> run_sample(EnsembleRun& run, std::uint64_t k, std::v
       if (process::stop_signal() != 0) throw ensemble::SampleAbandoned{};
     });
   } catch (const ensemble::SampleAbandoned&) {
+  } catch (const std::bad_alloc&) {
+    throw;  // not the sample's failure: the rank's (exit 6)
   } catch (const std::exception& e) {
     r = run.runner.failed_record(k, SampleStatus::integration_failed, std::string("internal error: ") + e.what());
   }
@@ -204,7 +206,16 @@ int run_nominal(EnsembleRun& run) {
       run.nominal = run.restored->nominal;
       return kExitOk;
     }
-    const SampleRecord r = run.runner.run(0, true, run.nominal);
+    SampleRecord r;
+    try {
+      r = run.runner.run(0, true, run.nominal, [] {
+        if (process::stop_signal() != 0) throw ensemble::SampleAbandoned{};
+      });
+    } catch (const ensemble::SampleAbandoned&) {
+      std::cerr << "interrupted by " << process::signal_name(process::stop_signal())
+                << " during the nominal run: nothing to resume yet; run it again\n";
+      return kExitInterrupted;
+    }
     if (r.status == SampleStatus::ok) return kExitOk;
     std::cerr << run.job.file << ": the nominal run failed: " << r.reason << "\n";
     return kExitIntegration;

@@ -17,7 +17,7 @@ void RankResults::start_statistics(EnsembleStatistics stats) {
 
 bool RankResults::keep(const SampleRecord& record, std::span<const double> trajectory) {
   std::lock_guard<std::mutex> guard(lock_);
-  if (stopped_) return false;
+  if (stopped_ || finished_) return false;
   if (stats_ && record.status == SampleStatus::ok) stats_->add_sample(trajectory);
   if (checkpoint_) checkpoint_->add(record);
   return true;
@@ -40,18 +40,33 @@ void RankResults::stop() {
   save_locked(process::AtomicFile::Sync::no);
 }
 
-// A failure is reported once and turns checkpoints off on this rank.
+// A failure (a full disk, or no memory for the buffers) is reported once and
+// turns checkpoints off on this rank.
 bool RankResults::save_locked(process::AtomicFile::Sync sync) {
-  if (!checkpoint_ || !stats_) return false;
+  if (!checkpoint_ || !stats_ || finished_) return false;
   try {
     checkpoint_->save(*stats_, sync);
     last_save_ = std::chrono::steady_clock::now();
     return true;
-  } catch (const process::FileError& e) {
+  } catch (const std::exception& e) {
     std::cerr << "warning: " << e.what() << "; checkpoints are off for this rank\n";
     checkpoint_.reset();
     return false;
   }
+}
+
+EnsembleStatistics RankResults::finish() {
+  std::lock_guard<std::mutex> guard(lock_);
+  save_locked(process::AtomicFile::Sync::yes);
+  finished_ = true;
+  EnsembleStatistics out = std::move(*stats_);
+  stats_.reset();
+  return out;
+}
+
+bool RankResults::checkpointing() const {
+  std::lock_guard<std::mutex> guard(lock_);
+  return checkpoint_ != nullptr;
 }
 
 std::uint64_t RankResults::saved_records() const {

@@ -40,12 +40,18 @@ class RankResults {
   // is kept is saved at once (not flushed: the deadline is SIGKILL's).
   void stop();
 
-  bool checkpointing() const { return checkpoint_ != nullptr; }
+  bool checkpointing() const;
   std::uint64_t saved_records() const;
   // Checkpoints off from now on (a failed write, or common.state missing).
   void drop_checkpoint();
-  // The statistics, at the end of the run.
-  EnsembleStatistics& statistics() { return *stats_; }
+  // The statistics, read by the main thread between waves (the calibration).
+  const EnsembleStatistics& statistics() const { return *stats_; }
+
+  // After the last wave: saves what is not saved yet (flushed, so a failed
+  // final write leaves everything for --resume), hands the statistics over
+  // for the reduction, and ends the signal thread's part: keep(), save()
+  // and stop() do nothing from now on.
+  EnsembleStatistics finish();
 
  private:
   bool save_locked(process::AtomicFile::Sync sync);
@@ -56,6 +62,7 @@ class RankResults {
   double every_ = 0.0;
   std::chrono::steady_clock::time_point last_save_ = std::chrono::steady_clock::now();
   bool stopped_ = false;
+  bool finished_ = false;
 };
 
 }  // namespace treedyn::ensemble

@@ -4,6 +4,8 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <chrono>
+#include <cstdio>
 #include <csignal>
 #include <map>
 #include <mutex>
@@ -26,7 +28,11 @@ struct Owner {
   std::map<int, std::string> temporaries;
   int next_key = 0;
   std::atomic<int> stop{0};
+  std::chrono::steady_clock::time_point first_stop{};
 };
+
+// A later signal this soon after the first is the same stop delivered twice.
+constexpr auto kRepeatWindow = std::chrono::seconds(2);
 
 Owner& owner() {
   static Owner* o = new Owner;  // never destroyed: the signal thread may outlive main's statics
@@ -50,8 +56,9 @@ Owner& owner() {
   ::_exit(128 + signal_number);
 }
 
-// The first stop: record it and run the action; later ones change nothing.
-// Returns false when no StopOnSignals is alive (the signal ends the process).
+// The first stop: record it and run the action; a repeat within the window
+// changes nothing. Returns false when the signal must end the process (no
+// StopOnSignals alive, or a later signal: someone insists).
 bool stop_with(int signal_number) {
   Owner& o = owner();
   std::lock_guard<std::mutex> acting(o.action_lock);
@@ -60,10 +67,19 @@ bool stop_with(int signal_number) {
     std::lock_guard<std::mutex> lock(o.state);
     if (o.stop_depth == 0) return false;
     int expected = 0;
-    if (!o.stop.compare_exchange_strong(expected, signal_number)) return true;
+    if (!o.stop.compare_exchange_strong(expected, signal_number))
+      return std::chrono::steady_clock::now() - o.first_stop < kRepeatWindow;
+    o.first_stop = std::chrono::steady_clock::now();
     action = o.action;
   }
-  if (action) action(signal_number);
+  try {
+    if (action) action(signal_number);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "warning: the stop on %s could not save the checkpoint (%s)\n",
+                 signal_name(signal_number).c_str(), e.what());
+  } catch (...) {
+    std::fprintf(stderr, "warning: the stop on %s could not save the checkpoint\n", signal_name(signal_number).c_str());
+  }
   return true;
 }
 
@@ -96,8 +112,6 @@ void start_signal_owner() {
 }
 
 int stop_signal() { return owner().stop.load(); }
-
-void request_stop(int signal_number) { stop_with(signal_number); }
 
 std::string signal_name(int signal_number) {
   switch (signal_number) {

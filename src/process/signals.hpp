@@ -15,8 +15,11 @@
 //    signal thread: a rank's checkpoint is on disk before a launcher's
 //    SIGKILL, even when the main thread is blocked in MPI waiting for a rank
 //    that died. The main thread sees stop_signal() between output times,
-//    abandons the sample in flight and stops cleanly. Later signals change
-//    nothing: the stop takes well under a second.
+//    abandons the sample in flight and stops cleanly. A signal within 2 s of
+//    the first changes nothing (launchers and process groups deliver one
+//    stop twice, and the stop takes well under a second); a later one ends
+//    the process at once, as without a StopOnSignals (the checkpoint saved
+//    by the first stays loadable), for a rank stuck waiting for a dead one.
 // A signal the process ignored when the owner started (nohup) stays ignored.
 // SIGPIPE is ignored: a write to a closed pipe fails instead of ending the
 // process (`treedyn report F | head -1` still writes the report).
@@ -31,19 +34,17 @@ namespace treedyn::process {
 
 void start_signal_owner();
 
-// The first signal received while a StopOnSignals was alive (or requested
-// with request_stop), else 0. Cheap: an atomic read.
+// The first signal received while a StopOnSignals was alive, else 0.
+// Cheap: an atomic read.
 int stop_signal();
-// As if a signal had come (tests; a rank told by another rank). Runs the
-// stop's action when it is the first.
-void request_stop(int signal_number);
 // "SIGTERM", "SIGINT", ...
 std::string signal_name(int signal_number);
 
 // While alive, signals stop cooperatively: `action` runs on the signal
 // thread for the first one (it must be thread-safe against the main thread:
 // take the lock the main thread holds while it changes what the action
-// reads). The destructor waits for an action in progress.
+// reads; an exception it lets out is reported, not fatal). The destructor
+// waits for an action in progress. One at a time per process.
 class StopOnSignals {
  public:
   explicit StopOnSignals(std::function<void(int)> action = {});

@@ -1,0 +1,137 @@
+// Samples per second, and where a sample's time goes, for every shipped
+// example and a 30- and a 100-body chain (bench/jobs/chain30.toml,
+// chain100.toml), in one run on one core:
+//
+//   rhs/sample   right-hand sides per sample (the integrator's count)
+//   t_rhs        one right-hand side on that very model (TreeOde::rhs)
+//   integration  simulate() alone: no recording, no statistics
+//   sample       what a rank does per sample: SampleRunner::run (set-up,
+//                integration, recording, reductions, responses), the
+//                statistics' update and the record's encoding
+//   statistics   EnsembleStatistics::add_sample alone (part of `sample`)
+//   recording    run() minus the integration alone: recording, reductions,
+//                responses, the final state (part of `sample`)
+//   F_int = integration / (rhs/sample x t_rhs), F_ens = sample / integration
+//
+// Every figure is a median over the samples measured (samples after the
+// pilot, each measured in every way in turn, so that drift hits all alike).
+//
+//   taskset -c 0 ./build/bench/throughput_benchmark [SAMPLES]   (default 15)
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "ensemble/sample_runner.hpp"
+#include "integrate/simulate.hpp"
+#include "integrate/tree_ode.hpp"
+#include "job/sample_job.hpp"
+#include "persistence/record_codec.hpp"
+#include "statistics/ensemble_statistics.hpp"
+
+namespace {
+
+using namespace treedyn;
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0.0 : v[v.size() / 2];
+}
+
+struct Row {
+  std::string name;
+  int bodies = 0;
+  double rhs = 0, t_rhs = 0, integration = 0, sample = 0, statistics = 0, recording = 0;
+};
+
+// One right-hand side on the nominal model and state, timed over ~0.2 s.
+double time_rhs(const Job& job) {
+  TreeOde ode(job.model, job.request.parameterisation, job.request.solver);
+  std::vector<double> y(static_cast<std::size_t>(ode.size())), y_dot(y.size());
+  ode.pack(job.initial, y);
+  long calls = 0;
+  const auto start = Clock::now();
+  while (seconds_since(start) < 0.2)
+    for (int k = 0; k < 100; ++k, ++calls) ode.rhs(0.0, y, y_dot);
+  return seconds_since(start) / static_cast<double>(calls);
+}
+
+// The statistics as the driver calibrates them: the nominal run and the
+// pilot samples' deviations.
+ensemble::EnsembleStatistics calibrated(ensemble::SampleRunner& runner, const ensemble::EnsembleSpec& spec,
+                                        std::vector<double>& nominal) {
+  runner.run(0, true, nominal);
+  const std::size_t entries = nominal.size(), columns = runner.layout().columns;
+  std::vector<double> low(entries, std::numeric_limits<double>::infinity()), high(entries, -low[0]), trajectory;
+  for (std::uint64_t k = 0; k < spec.pilot_samples; ++k)
+    if (runner.run(k, false, trajectory).status == ensemble::SampleStatus::ok)
+      for (std::size_t e = 0; e < entries; ++e) {
+        low[e] = std::min(low[e], trajectory[e] - nominal[e]);
+        high[e] = std::max(high[e], trajectory[e] - nominal[e]);
+      }
+  return ensemble::EnsembleStatistics(
+      runner.times(), columns, spec.histogram_bins,
+      ensemble::calibrate(nominal, low, high, ensemble::column_scales(nominal, columns), columns, spec.histogram_bins));
+}
+
+Row measure(const std::string& name, const std::string& path, int samples) {
+  const auto [job, spec] = ensemble::read_ensemble_job(JobDocument::read(path));
+  ensemble::SampleRunner runner(job, spec);
+  std::vector<double> nominal, trajectory;
+  ensemble::EnsembleStatistics stats = calibrated(runner, spec, nominal);
+  std::vector<double> rhs, integration, run, statistics, sample;
+  std::vector<char> encoded;
+  for (int i = 0; i < samples; ++i) {
+    const std::uint64_t k = (spec.pilot_samples + static_cast<std::uint64_t>(i)) % spec.samples;
+    runner.prepare(k, false);
+    auto t0 = Clock::now();
+    const IntegrationOutcome outcome = simulate(runner.model(), runner.initial_state(), job.request, {});
+    integration.push_back(seconds_since(t0));
+    rhs.push_back(static_cast<double>(outcome.stats.rhs_evaluations));
+
+    t0 = Clock::now();
+    const ensemble::SampleRecord record = runner.run(k, false, trajectory);
+    const double run_time = seconds_since(t0);
+    const auto t1 = Clock::now();
+    if (record.status == ensemble::SampleStatus::ok) stats.add_sample(trajectory);
+    const double stats_time = seconds_since(t1);
+    encoded.clear();
+    ensemble::append_record(record, encoded);
+    sample.push_back(seconds_since(t0));
+    run.push_back(run_time);
+    statistics.push_back(stats_time);
+  }
+  Row row{name, job.model.n, median(rhs), time_rhs(job), median(integration), median(sample), median(statistics)};
+  row.recording = std::max(0.0, median(run) - row.integration);
+  return row;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const int samples = argc > 1 ? std::max(1, std::atoi(argv[1])) : 15;
+  const std::string jobs = TREEDYN_JOBS_DIR, bench = TREEDYN_BENCH_JOBS_DIR;
+  const std::pair<std::string, std::string> cases[] = {
+      {"spherical_pendulum", jobs + "/spherical_pendulum.toml"}, {"double_pendulum", jobs + "/double_pendulum.toml"},
+      {"kapitza", jobs + "/kapitza.toml"},                       {"chain10", jobs + "/chain10.toml"},
+      {"y_tree", jobs + "/y_tree.toml"},                         {"crane_payload", jobs + "/crane_payload.toml"},
+      {"chain30", bench + "/chain30.toml"},                      {"chain100", bench + "/chain100.toml"}};
+  std::printf("| job | bodies | rhs/sample | t_rhs (us) | integration (ms) | sample (ms) | samples/s | statistics "
+              "(%% of sample) | recording (%% of sample) | F_int | F_ens |\n"
+              "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  for (const auto& [name, path] : cases) {
+    const Row r = measure(name, path, samples);
+    std::printf("| %s | %d | %.0f | %.3f | %.3f | %.3f | %.0f | %.1f | %.1f | %.2f | %.2f |\n", r.name.c_str(), r.bodies,
+                r.rhs, 1e6 * r.t_rhs, 1e3 * r.integration, 1e3 * r.sample, 1.0 / r.sample,
+                100.0 * r.statistics / r.sample, 100.0 * r.recording / r.sample, r.integration / (r.rhs * r.t_rhs),
+                r.sample / r.integration);
+    std::fflush(stdout);
+  }
+  return 0;
+}
