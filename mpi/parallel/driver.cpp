@@ -68,12 +68,13 @@ constexpr const char* memory_advice =
     "histogram_bins, output times or quantities";
 
 // A failed run leaves nothing half-written: the temporary output goes with
-// the writer, and a checkpoint directory that holds nothing resumable goes too.
+// the writer, and a checkpoint directory that no resume could restore a
+// sample from goes too.
 int abandon(EnsembleRun& run, int code) {
   if (run.rank == 0) {
     run.writer.reset();
     try {
-      if (!ensemble::checkpoint_exists(run.checkpoint_dir)) ensemble::remove_checkpoint(run.checkpoint_dir);
+      if (!ensemble::checkpoint_holds_samples(run.checkpoint_dir)) ensemble::remove_checkpoint(run.checkpoint_dir);
     } catch (const process::FileError&) {
     }
   }

@@ -249,6 +249,10 @@ bool checkpoint_exists(const fs::path& dir) {
   return exists;
 }
 
+bool checkpoint_holds_samples(const fs::path& dir) {
+  return checkpoint_exists(dir) && !newest_generation(dir).second.empty();
+}
+
 void remove_checkpoint(const fs::path& dir) {
   std::error_code ec;
   if (!fs::exists(dir, ec)) return;

@@ -105,8 +105,14 @@ std::optional<RestoredRun> load_checkpoint(const std::filesystem::path& dir, con
 std::uint64_t consolidate_checkpoint(const std::filesystem::path& dir, const RunIdentity& id,
                                      const RestoredRun& restored);
 
-// Whether the directory holds anything a resume could use (common.state).
+// Whether the directory holds a checkpoint (common.state): a fresh run
+// refuses to overwrite one.
 bool checkpoint_exists(const std::filesystem::path& dir);
+// Whether a resume would restore samples from it: common.state and at least
+// one rank's state of the newest generation. A failed run removes a
+// checkpoint that holds none (only the nominal run, or records whose rank
+// state could not be saved).
+bool checkpoint_holds_samples(const std::filesystem::path& dir);
 
 // Removes the whole directory: renamed away first, so that a kill in the
 // middle leaves no half-deleted checkpoint.

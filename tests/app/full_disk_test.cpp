@@ -42,6 +42,14 @@ class FullDisk : public ::testing::Test {
     EXPECT_TRUE(fs::is_empty(disk_)) << "something was left on the full disk";
   }
 
+  // The Kapitza example over 1 s of motion instead of 5: its output (0.9 MiB)
+  // still overfills both disks, at a fifth of the cost.
+  fs::path kapitza_job() {
+    const fs::path job = dir_.path() / "kapitza.toml";
+    write_text(job, edited_job_text("kapitza.toml", {{"end_time = 5.0", "end_time = 1.0"}}));
+    return job;
+  }
+
   TempDir dir_{"full_disk"};
   fs::path disk_ = dir_.path() / "disk";
   bool mounted_ = false;
@@ -56,21 +64,24 @@ TEST_F(FullDisk, ALongTrajectoryExitsFourAndLeavesNothing) {
 
 TEST_F(FullDisk, AnEnsembleExitsFourAloneAndUnderMpirunAndLeavesNothing) {
   for (int ranks : {0, 2}) {
-    const auto r = run_ensemble(ranks, fs::path(TREEDYN_JOBS_DIR) / "kapitza.toml", disk_ / "kapitza.h5",
+    const auto r = run_ensemble(ranks, kapitza_job(), disk_ / "kapitza.h5",
                                 dir_.path() / "capture", {"--checkpoint-every", "0"});
     expect_clean_failure(r, describe(ranks));
   }
 }
 
 // As a user runs it (checkpoints every 300 s, the default) on a 1 MiB disk:
-// exit 4, and no empty checkpoint directory left behind.
+// exit 4, and no checkpoint left that would resume nothing. Here the nominal
+// run's common.state (0.47 MiB) and the records (0.15 MiB) fit, the rank's
+// state (0.48 MiB) does not, then the output (0.9 MiB) fails: before, the
+// run left common.state and records that --resume restored 0 samples from.
 class FullDiskOneMiB : public FullDisk {
   std::string size() const override { return "1m"; }
 };
 
 TEST_F(FullDiskOneMiB, AnEnsembleWithDefaultCheckpointsLeavesNothing) {
   for (int ranks : {0, 2}) {
-    const auto r = run_ensemble(ranks, fs::path(TREEDYN_JOBS_DIR) / "kapitza.toml", disk_ / "kapitza.h5",
+    const auto r = run_ensemble(ranks, kapitza_job(), disk_ / "kapitza.h5",
                                 dir_.path() / "capture");
     expect_clean_failure(r, describe(ranks) + ", default checkpoints");
   }

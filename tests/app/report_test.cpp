@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "support/command.hpp"
+#include "support/ensemble_run.hpp"
 #include "support/hdf5_reader.hpp"
 
 namespace {
@@ -60,6 +61,7 @@ class Report : public ::testing::TestWithParam<std::string> {};
 // The ensemble's report: every figure there and not blank; its text summary
 // is the ensemble's own end-of-run summary, and its numbers are the file's.
 TEST_P(Report, EnsembleOfTheExample) {
+  if (const std::string why = skipped_when_sanitized(GetParam(), true); !why.empty()) GTEST_SKIP() << why;
   TempDir dir("report_test");
   fs::create_directory(dir.path() / "capture");
   const fs::path job = dir.path() / "job.toml", out = dir.path() / "e.h5", report = dir.path() / "page";
@@ -103,6 +105,7 @@ TEST_P(Report, EnsembleOfTheExample) {
 }
 
 TEST_P(Report, TrajectoryOfTheExample) {
+  if (const std::string why = skipped_when_sanitized(GetParam(), true); !why.empty()) GTEST_SKIP() << why;
   TempDir dir("report_test");
   fs::create_directory(dir.path() / "capture");
   const fs::path out = dir.path() / "t.h5";

@@ -40,18 +40,10 @@ namespace fs = std::filesystem;
 using namespace treedyn::testing;
 using namespace std::chrono_literals;
 
+// The Kapitza example with 64 samples over 1 s of motion instead of 5.
 std::string kapitza_job() {
-  std::string text = read_text(fs::path(TREEDYN_JOBS_DIR) / "kapitza.toml");
-  const std::string from = "samples = 128";
-  const std::size_t at = text.find(from);
-  if (at == std::string::npos) throw std::runtime_error("kapitza.toml changed: no 'samples = 128'");
-  text.replace(at, from.size(), "samples = 64\nblock_size = 4\npilot_samples = 8");
-  // 1 s of motion instead of 5: what is tested does not depend on it, and
-  // the sanitizer build runs it six times.
-  const std::string end = "end_time = 5.0";
-  const std::size_t e = text.find(end);
-  if (e == std::string::npos) throw std::runtime_error("kapitza.toml changed: no 'end_time = 5.0'");
-  return text.replace(e, end.size(), "end_time = 1.0");
+  return edited_job_text("kapitza.toml", {{"samples = 128", "samples = 64\nblock_size = 4\npilot_samples = 8"},
+                                          {"end_time = 5.0", "end_time = 1.0"}});
 }
 
 // An ensemble started in the background through /bin/sh's exec, so the PID

@@ -541,6 +541,7 @@ std::vector<std::string> example_jobs() {
 class EnsembleMpiExample : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(EnsembleMpiExample, RunsOnTwoRanksWithEverySampleOkAndTheDocumentedShapes) {
+  if (const std::string why = skipped_when_sanitized(GetParam(), false); !why.empty()) GTEST_SKIP() << why;
   const fs::path job_path = fs::path(TREEDYN_JOBS_DIR) / (GetParam() + ".toml");
   // The expected shapes from the job, read by treedyn's own job reader and
   // [ensemble] reader; columns per quantity as `treedyn run` labels them.

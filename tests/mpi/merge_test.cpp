@@ -18,12 +18,12 @@ namespace {
 namespace fs = std::filesystem;
 using namespace treedyn::testing;
 
-// The shipped Kapitza job (Sobol design, two responses) cut to 48 samples.
+// The shipped Kapitza job (Sobol design, two responses) cut to 48 samples
+// and 1 s of motion.
 std::string job_text(const std::string& seed = "seed = 5") {
-  std::string text = read_text(fs::path(TREEDYN_JOBS_DIR) / "kapitza.toml");
-  text.replace(text.find("samples = 128"), 13, "samples = 48\npilot_samples = 8");
-  text.replace(text.find("seed = 5"), 8, seed);
-  return text;
+  return edited_job_text("kapitza.toml", {{"samples = 128", "samples = 48\npilot_samples = 8"},
+                                          {"seed = 5", seed},
+                                          {"end_time = 5.0", "end_time = 1.0"}});
 }
 
 CommandResult merge(const std::vector<std::string>& parts, const fs::path& out, const fs::path& capture) {

@@ -4,7 +4,9 @@
 #pragma once
 
 #include <filesystem>
+#include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "support/command.hpp"
@@ -30,6 +32,40 @@ inline CommandResult run_ensemble(int ranks, const std::filesystem::path& job,
   std::vector<std::string> args = {job.string(), "-o", output.string(), "-q"};
   args.insert(args.end(), extra.begin(), extra.end());
   return run_command(TREEDYN_ENSEMBLE_BINARY, args, capture, prefix);
+}
+
+// The text of a shipped job (jobs/NAME) with each `from` replaced by its `to`;
+// throws when a `from` is missing, so a changed example fails loudly instead
+// of silently testing the full job. Tests shorten the examples with it: what
+// they check does not depend on 5 s of motion, and the sanitizer pass runs
+// them again several times slower.
+inline std::string edited_job_text(const std::string& name,
+                                   const std::vector<std::pair<std::string, std::string>>& edits) {
+  std::string text = read_text(std::filesystem::path(TREEDYN_JOBS_DIR) / name);
+  for (const auto& [from, to] : edits) {
+    const std::size_t at = text.find(from);
+    if (at == std::string::npos) throw std::runtime_error(name + " changed: no '" + from + "'");
+    text.replace(at, from.size(), to);
+  }
+  return text;
+}
+
+// The sanitizer pass (TREEDYN_SANITIZE) runs every test but these, which
+// run in the normal pass: the largest shipped examples whole (crane_payload,
+// kapitza, y_tree: 130 s of the sanitized suite; their code paths run there
+// on smaller jobs) and the report's figures beyond one example (Python's
+// matplotlib, nothing the sanitizers check). Returns why, or "" to run.
+inline std::string skipped_when_sanitized(const std::string& example, bool figures) {
+#ifdef TREEDYN_SANITIZED
+  if (figures && example != "spherical_pendulum")
+    return "the sanitizer pass draws one example's figures (spherical_pendulum); the normal pass draws all";
+  if (example == "crane_payload" || example == "kapitza" || example == "y_tree")
+    return "the sanitizer pass runs the smaller examples whole; the normal pass runs all";
+#else
+  (void)example;
+  (void)figures;
+#endif
+  return "";
 }
 
 inline std::string describe(int ranks) {
