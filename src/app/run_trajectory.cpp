@@ -17,10 +17,12 @@ int run_trajectory(const Job& job, const Model& model, const InitialState& initi
                    const std::string& output_path, bool quiet, const RunProvenance& run,
                    const SampleOrigin* sample) {
   process::check_output_path(output_path);  // refuse before integrating, not after
-  Recorder recorder(model, job.output);
+  Recorder recorder(model, job.output, EnergyTracking::on);
+  SimulationRequest request = job.request;
+  request.accelerations_at_outputs = recorder.needs_accelerations();
   const auto start = std::chrono::steady_clock::now();
   const IntegrationOutcome outcome = simulate(
-      model, initial, job.request, [&](const Model& m, const Data& d) { recorder.record(m, d); });
+      model, initial, request, [&](const Model& m, const Data& d) { recorder.record(m, d); });
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (!outcome.ok() && !sample) {
     std::cerr << job.file << ": integration failed (" << name(outcome.failure) << ") at t = "

@@ -19,4 +19,13 @@ bool forward_dynamics(const Model& model, Data& data) {
   return data.angular_acceleration.allFinite();
 }
 
+void compute_kinematics_and_loads(const Model& model, Data& data) {
+  if (data.solver == AccelerationSolver::recursive) {
+    compute_articulated_kinematics(model, data);
+    return;
+  }
+  compute_frame_vectors(model, data);
+  compute_applied_loads(model, data);
+}
+
 }  // namespace treedyn

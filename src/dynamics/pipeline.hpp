@@ -57,6 +57,11 @@ void solve_angular_accelerations(const Model& model, Data& data);
 // data.angular_velocity first. False on a numerical failure.
 bool forward_dynamics(const Model& model, Data& data);
 
+// The stages before the accelerations (positions, the base's motion, the
+// loads): what recover() needs without kRecoverAccelerations, at a fraction
+// of forward_dynamics' cost. Same caller's duties.
+void compute_kinematics_and_loads(const Model& model, Data& data);
+
 // K as a dense 3n x 3n matrix (regular order), for tests and diagnostics.
 // Needs the L^T D L position stage (a Data made for sparse_ldlt).
 Eigen::MatrixXd dense_mass_matrix(const Model& model, const Data& data);

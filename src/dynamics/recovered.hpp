@@ -35,11 +35,26 @@ struct Recovered {
   Vec3 angular_momentum_about_base = Vec3::Zero();  // about the base point r0(t)
 };
 
-// Needs forward_dynamics(model, data) on the current state.
+// What recover() computes beyond the time, the base, the rotations, the
+// angular velocities, the positions and velocities of the centres of mass
+// and joint points and the joint moments (always): each part costs time at
+// every output time, so a recorder asks only for what it writes.
+enum RecoveredPart : unsigned {
+  kRecoverAccelerations = 1u,    // w', r'', joint reactions: need forward_dynamics
+  kRecoverJointAngles = 2u,      // joint_angle, joint_axis: an angle-axis per joint
+  kRecoverEnergy = 4u,           // T, V, spring energy
+  kRecoverAngularMomentum = 8u,  // about the base point
+  kRecoverEverything = 15u,
+};
+
+// Needs forward_dynamics(model, data) on the current state, or only
+// compute_kinematics_and_loads (dynamics/pipeline.hpp) when `parts` leaves
+// out kRecoverAccelerations. Parts left out keep what an earlier call left
+// there (zero at first).
 Recovered recover(const Model& model, const Data& data);
 // The same into `out`, reusing its storage (no allocation after the first
 // call with a given model): for code that recovers at every output time.
-void recover(const Model& model, const Data& data, Recovered& out);
+void recover(const Model& model, const Data& data, Recovered& out, unsigned parts = kRecoverEverything);
 
 // Position of a point fixed in a body (from its CoM, body frame).
 Vec3 body_point_position(const Recovered& r, int user_body, const Vec3& point);

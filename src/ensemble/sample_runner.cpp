@@ -16,7 +16,10 @@ SampleRunner::SampleRunner(const Job& job, const EnsembleSpec& spec)
       spec_(spec),
       design_(spec.design, spec.seed, spec.samples, spec.input_dimensions()),
       uniforms_(spec.input_dimensions()),
-      recorder_(job.model, job.output) {}
+      recorder_(job.model, job.output),
+      request_(job.request) {
+  request_.accelerations_at_outputs = recorder_.needs_accelerations();
+}
 
 std::size_t SampleRunner::final_state_size() const {
   return kFinalStatePerBody * static_cast<std::size_t>(job_.model.n);
@@ -76,7 +79,7 @@ SampleRecord SampleRunner::run(std::uint64_t k, bool nominal, std::vector<double
 
   recorder_.clear();
   const IntegrationOutcome outcome =
-      simulate(model_, state_, job_.request, [&](const Model& m, const Data& data) {
+      simulate(model_, state_, request_, [&](const Model& m, const Data& data) {
         recorder_.record(m, data);
         if (between_outputs) between_outputs();
       });

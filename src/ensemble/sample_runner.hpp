@@ -66,6 +66,7 @@ class SampleRunner {
   InitialState state_;              // this sample's initial state
   Model model_;                     // derived from parameters_ (storage reused)
   Recorder recorder_;
+  SimulationRequest request_;  // the job's, with what recorder_ needs at output times
 };
 
 // The shape every record and the statistics of this job have (what a

@@ -126,7 +126,10 @@ class Integration {
         at = y_out_.get();
       }
       ode_.unpack(tout, view(at));
-      if (!forward_dynamics(model_, ode_.data())) return false;
+      if (!request_.accelerations_at_outputs)
+        compute_kinematics_and_loads(model_, ode_.data());
+      else if (!forward_dynamics(model_, ode_.data()))
+        return false;
       if (observer_) observer_(model_, ode_.data());
       outcome_.time_reached = tout;
       steps_since_output_ = 0;

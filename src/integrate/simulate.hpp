@@ -14,7 +14,8 @@
 namespace treedyn {
 
 // Called at every output time with data holding the state there and the
-// forward dynamics already run on it (pass both to recover()).
+// forward dynamics already run on it (pass both to recover()); only its
+// kinematics and loads when the request's accelerations_at_outputs is false.
 using OutputObserver = std::function<void(const Model& model, const Data& data)>;
 
 // How to integrate: from when, to which output times, in which coordinates,
@@ -25,6 +26,10 @@ struct SimulationRequest {
   Parameterisation parameterisation = Parameterisation::quaternion;
   AccelerationSolver solver = AccelerationSolver::automatic;  // [integrator] solver
   IntegratorSettings settings;
+  // Whether the observer needs accelerations (forward_dynamics) at every
+  // output time; without them an output costs a fraction of a right-hand
+  // side (compute_kinematics_and_loads). A Recorder says which it needs.
+  bool accelerations_at_outputs = true;
 };
 
 // Never throws for integration trouble: a failure comes back in the outcome

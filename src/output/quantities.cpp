@@ -42,37 +42,39 @@ constexpr std::array<QuantityInfo, 16> kCatalogue{{
      body_xyz, body_vectors<&Recovered::angular_velocity>},
     {"angular_acceleration", "rad/s^2",
      "absolute angular acceleration of each body, inertial-frame components", body_xyz,
-     body_vectors<&Recovered::angular_acceleration>},
+     body_vectors<&Recovered::angular_acceleration>, kRecoverAccelerations},
     {"com_position", "m", "position of each body's centre of mass, inertial frame", body_xyz,
      body_vectors<&Recovered::com_position>},
     {"com_velocity", "m/s", "velocity of each body's centre of mass, inertial frame", body_xyz,
      body_vectors<&Recovered::com_velocity>},
     {"com_acceleration", "m/s^2", "acceleration of each body's centre of mass, inertial frame",
-     body_xyz, body_vectors<&Recovered::com_acceleration>},
+     body_xyz, body_vectors<&Recovered::com_acceleration>, kRecoverAccelerations},
     {"joint_position", "m", "position of each body's inboard joint point, inertial frame", body_xyz,
      body_vectors<&Recovered::joint_position>},
     {"joint_reaction", "N",
      "constraint force of each joint on its child body (the joint is named by its child), "
      "inertial frame",
-     body_xyz, body_vectors<&Recovered::joint_reaction>},
+     body_xyz, body_vectors<&Recovered::joint_reaction>, kRecoverAccelerations},
     {"joint_reaction_magnitude", "N",
      "magnitude of each joint's constraint force (joint_reaction): a cable's or link's tension "
      "at its upper joint",
      [](const Model& m, const OutputSpec&) { return per_body(m, {"magnitude"}); },
      [](const Recovered& s, const OutputSpec&, std::vector<double>& row) {
        for (const Vec3& f : s.joint_reaction) row.push_back(f.norm());
-     }},
+     },
+     kRecoverAccelerations},
     {"joint_angle", "rad",
      "rotation angle of each joint: child relative to parent (to the inertial frame for the "
      "joint on the base), in [0, pi]",
      [](const Model& m, const OutputSpec&) { return per_body(m, {"angle"}); },
      [](const Recovered& s, const OutputSpec&, std::vector<double>& row) {
        row.insert(row.end(), s.joint_angle.begin(), s.joint_angle.end());
-     }},
+     },
+     kRecoverJointAngles},
     {"joint_axis", "1",
      "unit axis of each joint's relative rotation (see joint_angle), parent-frame components; "
      "zero when the angle is zero",
-     body_xyz, body_vectors<&Recovered::joint_axis>},
+     body_xyz, body_vectors<&Recovered::joint_axis>, kRecoverJointAngles},
     {"joint_moment", "N m", "spring-damper moment of each joint on its child body, inertial frame",
      body_xyz, body_vectors<&Recovered::joint_moment>},
     {"energy", "J",
@@ -82,13 +84,15 @@ constexpr std::array<QuantityInfo, 16> kCatalogue{{
      },
      [](const Recovered& s, const OutputSpec&, std::vector<double>& row) {
        row.insert(row.end(), {s.energy.kinetic, s.energy.potential, s.energy.spring, s.energy.total()});
-     }},
+     },
+     kRecoverEnergy},
     {"angular_momentum", "kg m^2/s",
      "angular momentum of the whole tree about the base point, inertial frame",
      [](const Model&, const OutputSpec&) { return std::vector<std::string>{"x", "y", "z"}; },
      [](const Recovered& s, const OutputSpec&, std::vector<double>& row) {
        append(row, s.angular_momentum_about_base);
-     }},
+     },
+     kRecoverAngularMomentum},
     {"base", "m, m/s, m/s^2", "base point position, velocity and acceleration r0, r0', r0''",
      [](const Model&, const OutputSpec&) {
        return std::vector<std::string>{"position.x",     "position.y",     "position.z",
@@ -132,6 +136,7 @@ ColumnLayout column_layout(const Model& model, const OutputSpec& output) {
     l.info.push_back(info);
     l.offset.push_back(l.columns);
     l.names.push_back(info->columns(model, output));
+    l.needs |= info->needs;
     l.columns += l.names.back().size();
   }
   return l;

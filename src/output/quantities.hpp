@@ -22,6 +22,9 @@ struct QuantityInfo {
   std::vector<std::string> (*columns)(const Model& model, const OutputSpec& output);
   // Appends this instant's values, one per column, to `row`.
   void (*extract)(const Recovered& state, const OutputSpec& output, std::vector<double>& row);
+  // The parts of Recovered beyond the always-recovered ones it reads
+  // (RecoveredPart flags, dynamics/recovered.hpp).
+  unsigned needs = 0;
 };
 
 // Every quantity a job may ask for, in the order they are written.
@@ -36,6 +39,7 @@ struct ColumnLayout {
   std::vector<std::size_t> offset;             // first column of each quantity
   std::vector<std::vector<std::string>> names; // column labels of each quantity
   std::size_t columns = 0;
+  unsigned needs = 0;  // the quantities' RecoveredPart flags, together
 };
 // Units of column `column` of quantity `quantity` (an index into the
 // layout): a quantity with mixed units ("m, m/s, m/s^2") lists one per equal

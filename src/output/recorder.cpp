@@ -5,8 +5,10 @@
 
 namespace treedyn {
 
-Recorder::Recorder(const Model& model, const OutputSpec& output)
-    : output_(output), layout_(column_layout(model, output)) {}
+Recorder::Recorder(const Model& model, const OutputSpec& output, EnergyTracking energy)
+    : output_(output),
+      layout_(column_layout(model, output)),
+      parts_(layout_.needs | (energy == EnergyTracking::on ? kRecoverEnergy : 0u)) {}
 
 void Recorder::clear() {
   times_.clear();
@@ -15,12 +17,12 @@ void Recorder::clear() {
 }
 
 void Recorder::record(const Model& model, const Data& data) {
-  recover(model, data, state_);
+  recover(model, data, state_, parts_);
   if (times_.empty()) first_energy_ = state_.energy;
   times_.push_back(state_.time);
   for (const QuantityInfo* q : layout_.info) q->extract(state_, output_, values_);
-  max_energy_change_ =
-      std::max(max_energy_change_, std::abs(state_.energy.total() - first_energy_.total()));
+  if (parts_ & kRecoverEnergy)
+    max_energy_change_ = std::max(max_energy_change_, std::abs(state_.energy.total() - first_energy_.total()));
 }
 
 }  // namespace treedyn

@@ -13,11 +13,19 @@
 
 namespace treedyn {
 
+// Whether a recorder follows the energy (for `treedyn run`'s summary) even
+// when no recorded quantity needs it.
+enum class EnergyTracking { off, on };
+
 class Recorder {
  public:
   // `model` names the columns (any model of the same tree); `output` must
-  // outlive the recorder.
-  Recorder(const Model& model, const OutputSpec& output);
+  // outlive the recorder. It recovers only what its quantities read (and
+  // the energy when tracking it).
+  Recorder(const Model& model, const OutputSpec& output, EnergyTracking energy = EnergyTracking::off);
+  // Whether the observed state must carry accelerations: the request's
+  // accelerations_at_outputs (integrate/simulate.hpp).
+  bool needs_accelerations() const { return (parts_ & kRecoverAccelerations) != 0; }
 
   // Forgets the recorded trajectory (keeping its storage) before a new one.
   void clear();
@@ -34,13 +42,15 @@ class Recorder {
   bool empty() const { return times_.empty(); }
   // The state at the last output time recorded.
   const Recovered& last() const { return state_; }
-  // Energies at the first output time, and the largest |E(t) - E(first)| seen, J.
+  // With EnergyTracking::on: energies at the first output time, and the
+  // largest |E(t) - E(first)| seen, J (zero otherwise).
   const Energies& first_energy() const { return first_energy_; }
   double max_energy_change() const { return max_energy_change_; }
 
  private:
   const OutputSpec& output_;
   ColumnLayout layout_;
+  unsigned parts_;  // RecoveredPart flags recover() computes
   std::vector<double> times_, values_;
   Recovered state_;  // reused at every output time
   Energies first_energy_;

@@ -1,6 +1,7 @@
 #include "statistics/ensemble_statistics.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -58,62 +59,115 @@ void add_vector(std::span<T> into, ByteReader& in, Combine combine) {
 
 }  // namespace
 
+namespace {
+// Samples per block: 16, fewer when the block would pass 16 MiB.
+std::size_t block_for(std::size_t entries) {
+  return std::clamp<std::size_t>((std::size_t{1} << 21) / std::max<std::size_t>(entries, 1), 1, 16);
+}
+}  // namespace
+
+wide round_to_wide(double x) {
+  const double a = std::abs(x);
+  if (a < 0x1p52) {
+    // a + 2^52 has no fraction bits left: the addition rounds a to an
+    // integer, to nearest with ties to even; subtracting 2^52 is exact.
+    const auto i = static_cast<std::int64_t>((a + 0x1p52) - 0x1p52);
+    return x < 0.0 ? -wide{i} : wide{i};
+  }
+  if (a < 0x1p63) return static_cast<std::int64_t>(x);  // an integer already
+  // An integer m 2^k with k >= 11: the mantissa's bits, shifted.
+  const auto bits = std::bit_cast<std::uint64_t>(a);
+  const int shift = static_cast<int>(bits >> 52) - 1075;
+  const std::uint64_t mantissa = (bits & ((std::uint64_t{1} << 52) - 1)) | (std::uint64_t{1} << 52);
+  const wide magnitude = static_cast<wide>(mantissa) << shift;
+  return x < 0.0 ? -magnitude : magnitude;
+}
+
 EnsembleStatistics::EnsembleStatistics(std::size_t times, std::size_t columns, int bins,
                                        Calibration calibration)
     : times_(times), columns_(columns), bins_(bins), calibration_(std::move(calibration)) {
   const std::size_t n = entries();
   if (calibration_.center.size() != n) throw std::invalid_argument("calibration size mismatch");
+  block_ = block_for(n);
   sum_.assign(n, 0);
   square_sum_.assign(n, 0);
   min_.assign(n, std::numeric_limits<double>::infinity());
   max_.assign(n, -std::numeric_limits<double>::infinity());
   counts_.assign(n * static_cast<std::size_t>(bins + 2), 0);
   out_of_range_.assign(n, 0);
+  pending_.assign(block_ * n, 0.0);
 }
 
 double EnsembleStatistics::memory_bytes(double entries, int bins) {
   // uint32 bin counters (bins + under/overflow), two 128-bit sums, min, max,
-  // an out-of-range count, and the calibration (4 doubles).
-  return entries * (4.0 * (bins + 2) + 2 * 16.0 + 3 * 8.0 + 4 * 8.0);
+  // an out-of-range count, the calibration (4 doubles) and a block of
+  // pending samples.
+  const double block = static_cast<double>(block_for(static_cast<std::size_t>(std::max(entries, 1.0))));
+  return entries * (4.0 * (bins + 2) + 2 * 16.0 + 3 * 8.0 + 4 * 8.0 + 8.0 * block);
 }
 
 void EnsembleStatistics::add_sample(std::span<const double> trajectory) {
   const std::size_t n = entries();
   if (trajectory.size() != n) throw std::invalid_argument("trajectory size mismatch");
-  for (std::size_t e = 0; e < n; ++e) {
+  std::copy(trajectory.begin(), trajectory.end(), pending_.begin() + static_cast<std::ptrdiff_t>(pending_samples_ * n));
+  ++pending_samples_;
+  ++samples_;
+  if (pending_samples_ == block_) fold_pending();
+}
+
+void EnsembleStatistics::fold_pending() const {
+  if (pending_samples_ == 0) return;
+  for (std::size_t e = 0; e < entries(); ++e) fold_entry(e);
+  pending_samples_ = 0;
+}
+
+// The pending samples' values of one entry, in locals, then into the
+// accumulators.
+void EnsembleStatistics::fold_entry(std::size_t e) const {
+  constexpr double sum_unit = 0x1p62, square_unit = 0x1p60;  // 2^kSumBits, 2^kSquareBits
+  static_assert(kSumBits == 62 && kSquareBits == 60);
+  const std::size_t n = entries();
+  const double center = calibration_.center[e], scale = calibration_.scale[e];
+  const double low = calibration_.low[e], width = calibration_.width[e];
+  std::uint32_t* counts = counts_.data() + e * static_cast<std::size_t>(bins_ + 2);
+  double lo = min_[e], hi = max_[e];
+  wide sum = 0, square = 0;
+  std::uint64_t out = 0;
+  for (std::size_t b = 0; b < pending_samples_; ++b) {
     // + 0.0 turns -0.0 into +0.0: min and max of signed zeros would otherwise
     // depend on which zero came first.
-    const double x = trajectory[e] + 0.0;
+    const double x = pending_[b * n + e] + 0.0;
     if (!std::isfinite(x)) {  // never from a successful run; kept out of everything
-      ++out_of_range_[e];
+      ++out;
       continue;
     }
-    min_[e] = std::min(min_[e], x);
-    max_[e] = std::max(max_[e], x);
-    const double scaled = (x - calibration_.center[e]) / calibration_.scale[e];
+    lo = std::min(lo, x);
+    hi = std::max(hi, x);
+    const double scaled = (x - center) / scale;
     if (std::abs(scaled) <= kMaxScaledDeviation) {
-      // Rounded to the nearest unit of the fixed point: unbiased.
-      sum_[e] += static_cast<wide>(std::nearbyint(std::ldexp(scaled, kSumBits)));
-      square_sum_[e] += static_cast<wide>(std::nearbyint(std::ldexp(scaled * scaled, kSquareBits)));
+      // Rounded to the nearest unit of the fixed point: unbiased. Scaling
+      // by a power of two is exact (std::ldexp's result).
+      sum += round_to_wide(scaled * sum_unit);
+      square += round_to_wide(scaled * scaled * square_unit);
     } else {
-      ++out_of_range_[e];
+      ++out;
     }
-    const double position = (x - calibration_.low[e]) / calibration_.width[e];
-    int bin;
-    if (position < 0.0)
-      bin = 0;
-    else if (position >= bins_)
-      bin = bins_ + 1;
-    else
-      bin = 1 + static_cast<int>(position);
-    ++counts_[e * static_cast<std::size_t>(bins_ + 2) + static_cast<std::size_t>(bin)];
+    const double position = (x - low) / width;
+    const int bin = position < 0.0 ? 0 : position >= bins_ ? bins_ + 1 : 1 + static_cast<int>(position);
+    ++counts[bin];
   }
-  ++samples_;
+  min_[e] = lo;
+  max_[e] = hi;
+  sum_[e] += sum;
+  square_sum_[e] += square;
+  out_of_range_[e] += out;
 }
 
 void EnsembleStatistics::merge(const EnsembleStatistics& o) {
   if (o.entries() != entries() || o.bins_ != bins_ || !(o.calibration_ == calibration_))
     throw std::invalid_argument("merging statistics of another shape or calibration");
+  fold_pending();
+  o.fold_pending();
   for (std::size_t e = 0; e < entries(); ++e) {
     sum_[e] += o.sum_[e];
     square_sum_[e] += o.square_sum_[e];
@@ -138,6 +192,7 @@ std::size_t EnsembleStatistics::state_pieces() const {
 }
 
 void EnsembleStatistics::write_state_piece(std::size_t piece, ByteWriter& out) const {
+  fold_pending();
   if (piece == 0) {
     out.put(kStateMagic);
     out.put(static_cast<std::uint64_t>(entries()));
@@ -193,7 +248,20 @@ void EnsembleStatistics::add_state(std::span<const char> bytes, const std::strin
   if (!in.done()) in.fail("bytes after the statistics");
 }
 
-std::uint64_t EnsembleStatistics::count(std::size_t e) const { return samples_ - out_of_range_[e]; }
+std::uint64_t EnsembleStatistics::count(std::size_t e) const { return samples_ - out_of_range(e); }
+std::uint64_t EnsembleStatistics::out_of_range(std::size_t e) const {
+  fold_pending();
+  return out_of_range_[e];
+}
+double EnsembleStatistics::min(std::size_t e) const {
+  fold_pending();
+  return min_[e];
+}
+double EnsembleStatistics::max(std::size_t e) const {
+  fold_pending();
+  return max_[e];
+}
+
 double EnsembleStatistics::mean(std::size_t e) const {
   const std::uint64_t n = count(e);
   if (n == 0) return std::numeric_limits<double>::quiet_NaN();
@@ -213,6 +281,7 @@ double EnsembleStatistics::std_dev(std::size_t e) const {
 }
 
 std::span<const std::uint32_t> EnsembleStatistics::histogram(std::size_t e) const {
+  fold_pending();
   const auto stride = static_cast<std::size_t>(bins_ + 2);
   return {counts_.data() + e * stride, stride};
 }

@@ -11,6 +11,15 @@
 //
 // An entry is one output time and one column of the recorded quantities.
 // Memory is fixed by (times x columns x bins), never by the number of samples.
+//
+// Samples are folded in blocks: add_sample copies the trajectory aside, and
+// a full block (or any read) is folded entry by entry, so that an entry's
+// sums, extremes and histogram stay in cache for all the block's samples
+// instead of one histogram cache line per entry and sample. Every update is
+// an exact integer addition, a minimum or a maximum: the bits are those of
+// folding each sample at once. Reads fold what is pending (the members it
+// touches are mutable): a read is not safe alongside another thread's
+// access; the ensemble's RankResults holds a lock around both.
 #pragma once
 
 #include <cstdint>
@@ -45,6 +54,8 @@ class EnsembleStatistics {
 
   // One successful sample's trajectory: times x columns, row-major.
   void add_sample(std::span<const double> trajectory);
+  // Samples a block holds: up to 16, fewer when a block would exceed 16 MiB.
+  std::size_t block_samples() const { return block_; }
 
   // Merges another accumulator (same calibration): exact, order-independent.
   void merge(const EnsembleStatistics& other);
@@ -58,11 +69,11 @@ class EnsembleStatistics {
 
   // Results per entry.
   std::uint64_t count(std::size_t entry) const;  // values in the sums
-  std::uint64_t out_of_range(std::size_t entry) const { return out_of_range_[entry]; }
+  std::uint64_t out_of_range(std::size_t entry) const;
   double mean(std::size_t entry) const;
   double std_dev(std::size_t entry) const;  // sample standard deviation (n - 1)
-  double min(std::size_t entry) const { return min_[entry]; }
-  double max(std::size_t entry) const { return max_[entry]; }
+  double min(std::size_t entry) const;
+  double max(std::size_t entry) const;
   // Quantile q from the histogram, linear inside a bin; within one bin width
   // of the exact sample quantile when it falls inside the histogram range.
   double quantile(std::size_t entry, double q) const;
@@ -85,14 +96,28 @@ class EnsembleStatistics {
   void add_state(std::span<const char> bytes, const std::string& what);
 
  private:
+  // Folds the pending samples into the accumulators (logically const: what
+  // a read returns is the same before and after).
+  void fold_pending() const;
+  void fold_entry(std::size_t entry) const;
+
   std::size_t times_, columns_;
   int bins_;
   Calibration calibration_;
-  std::uint64_t samples_ = 0;
-  std::vector<wide> sum_, square_sum_;
-  std::vector<double> min_, max_;
-  std::vector<std::uint32_t> counts_;        // entries x (bins + 2)
-  std::vector<std::uint64_t> out_of_range_;  // values left out of the sums
+  std::uint64_t samples_ = 0;  // pending ones included
+  std::size_t block_ = 1;      // samples per block
+  mutable std::vector<wide> sum_, square_sum_;
+  mutable std::vector<double> min_, max_;
+  mutable std::vector<std::uint32_t> counts_;        // entries x (bins + 2)
+  mutable std::vector<std::uint64_t> out_of_range_;  // values left out of the sums
+  mutable std::vector<double> pending_;              // block_ x entries, sample-major
+  mutable std::size_t pending_samples_ = 0;
 };
+
+// x rounded to the nearest integer (ties to even, as std::nearbyint in the
+// default rounding mode) as a 128-bit integer; |x| < 2^126. Exact, without
+// libm's nearbyint nor libgcc's soft double -> __int128 conversion, which
+// cost more than all the rest of a statistics update.
+wide round_to_wide(double x);
 
 }  // namespace treedyn::ensemble

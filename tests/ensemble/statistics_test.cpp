@@ -618,4 +618,46 @@ TEST(Statistics, EdgeSignedZeroMinMaxOrderIndependent) {
   EXPECT_TRUE(same_bits(a.state(), b.state()));
 }
 
+// Samples are folded in blocks (ensemble_statistics.hpp): a read after every
+// sample folds one sample at a time, a read at the end folds whole blocks
+// and a partial one. The states must be the same bits (memcmp), and so
+// must the statistics read in between and at the end.
+TEST(Statistics, BlocksFoldToTheBitsOfOneSampleAtATime) {
+  const RealEnsemble& r = real_ensemble();
+  EnsembleStatistics each(r.times, r.columns, r.spec.histogram_bins, r.calibration);
+  EnsembleStatistics blocked(r.times, r.columns, r.spec.histogram_bins, r.calibration);
+  ASSERT_GT(blocked.block_samples(), 1u) << "this ensemble is small enough for blocks of several samples";
+  for (const auto& trajectory : r.trajectories) {
+    each.add_sample(trajectory);
+    (void)each.min(0);  // folds
+    blocked.add_sample(trajectory);
+  }
+  ASSERT_NE(r.trajectories.size() % blocked.block_samples(), 0u) << "a partial block is folded too";
+  expect_identical(each, blocked, "one at a time / in blocks");
+  for (std::size_t e = 0; e < each.entries(); ++e) {
+    ASSERT_EQ(each.mean(e), blocked.mean(e)) << e;
+    ASSERT_EQ(each.quantile(e, 0.5), blocked.quantile(e, 0.5)) << e;
+  }
+}
+
+// round_to_wide against what it replaces, std::nearbyint (ties to even)
+// and the compiler's double -> __int128 conversion: every power of two and
+// its neighbours up to 2^100, halves (ties) around the 2^52 and 2^63
+// switches, and a million random values of every magnitude. Exact.
+TEST(Statistics, RoundToWideIsNearbyintThenConversion) {
+  const auto reference = [](double x) { return static_cast<wide>(std::nearbyint(x)); };
+  std::vector<double> values = {0.0, -0.0, 0.5, -0.5, 1.5, -1.5, 2.5, -2.5, 0x1p52 - 0.5, 0x1p52 - 1.5,
+                                -(0x1p52 - 0.5), 0x1p52, 0x1p52 + 1, 0x1p63, -0x1p63, 0x1p82, -0x1p82};
+  for (int k = -60; k <= 100; ++k)
+    for (double f : {1.0, -1.0}) {
+      const double p = f * std::ldexp(1.0, k);
+      values.insert(values.end(), {p, std::nextafter(p, 0.0), std::nextafter(p, 2 * p), p + 0.5 * f, p - 0.5 * f});
+    }
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  std::uniform_int_distribution<int> exponent(-70, 100);
+  for (int k = 0; k < 1000000; ++k) values.push_back(std::ldexp(unit(rng), exponent(rng)));
+  for (double x : values) ASSERT_TRUE(round_to_wide(x) == reference(x)) << std::hexfloat << x;
+}
+
 }  // namespace
