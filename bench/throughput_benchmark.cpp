@@ -19,7 +19,10 @@
 // the pilot, each measured in every way in turn, so that drift hits all
 // alike); `sample` is the median run and encoding plus the mean statistics.
 //
-//   taskset -c 0 ./build/bench/throughput_benchmark [SAMPLES]   (default 32: two blocks of the statistics)
+//   taskset -c 0 ./build/bench/throughput_benchmark [SAMPLES [JOB ...]]
+//
+// SAMPLES defaults to 32 (two blocks of the statistics); JOB names limit
+// the table to those rows (for a profile of one job).
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -133,7 +136,9 @@ int main(int argc, char** argv) {
   std::printf("| job | bodies | rhs/sample | t_rhs (us) | integration (ms) | sample (ms) | samples/s | statistics "
               "(%% of sample) | recording (%% of sample) | F_int | F_ens |\n"
               "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  const std::vector<std::string> only(argv + std::min(argc, 2), argv + argc);
   for (const auto& [name, path] : cases) {
+    if (!only.empty() && std::find(only.begin(), only.end(), name) == only.end()) continue;
     const Row r = measure(name, path, samples);
     std::printf("| %s | %d | %.0f | %.3f | %.3f | %.3f | %.0f | %.1f | %.1f | %.2f | %.2f |\n", r.name.c_str(), r.bodies,
                 r.rhs, 1e6 * r.t_rhs, 1e3 * r.integration, 1e3 * r.sample, 1.0 / r.sample,

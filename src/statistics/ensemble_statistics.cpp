@@ -1,6 +1,7 @@
 #include "statistics/ensemble_statistics.hpp"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <limits>
@@ -60,9 +61,10 @@ void add_vector(std::span<T> into, ByteReader& in, Combine combine) {
 }  // namespace
 
 namespace {
-// Samples per block: 16, fewer when the block would pass 16 MiB.
+// Samples per block: kMaxBlock, fewer when the block would pass 16 MiB.
 std::size_t block_for(std::size_t entries) {
-  return std::clamp<std::size_t>((std::size_t{1} << 21) / std::max<std::size_t>(entries, 1), 1, 16);
+  return std::clamp<std::size_t>((std::size_t{1} << 21) / std::max<std::size_t>(entries, 1), 1,
+                                  EnsembleStatistics::kMaxBlock);
 }
 }  // namespace
 
@@ -122,38 +124,44 @@ void EnsembleStatistics::fold_pending() const {
 }
 
 // The pending samples' values of one entry, in locals, then into the
-// accumulators.
+// accumulators. The divisions come first, over the whole block (the
+// compiler does them several at a time), then the exact integer updates.
 void EnsembleStatistics::fold_entry(std::size_t e) const {
   constexpr double sum_unit = 0x1p62, square_unit = 0x1p60;  // 2^kSumBits, 2^kSquareBits
   static_assert(kSumBits == 62 && kSquareBits == 60);
-  const std::size_t n = entries();
+  const std::size_t n = entries(), count = pending_samples_;
   const double center = calibration_.center[e], scale = calibration_.scale[e];
   const double low = calibration_.low[e], width = calibration_.width[e];
+  std::array<double, kMaxBlock> value, scaled, position;
+  for (std::size_t b = 0; b < count; ++b) {
+    // + 0.0 turns -0.0 into +0.0: min and max of signed zeros would otherwise
+    // depend on which zero came first.
+    value[b] = pending_[b * n + e] + 0.0;
+    scaled[b] = (value[b] - center) / scale;
+    position[b] = (value[b] - low) / width;
+  }
   std::uint32_t* counts = counts_.data() + e * static_cast<std::size_t>(bins_ + 2);
   double lo = min_[e], hi = max_[e];
   wide sum = 0, square = 0;
   std::uint64_t out = 0;
-  for (std::size_t b = 0; b < pending_samples_; ++b) {
-    // + 0.0 turns -0.0 into +0.0: min and max of signed zeros would otherwise
-    // depend on which zero came first.
-    const double x = pending_[b * n + e] + 0.0;
+  for (std::size_t b = 0; b < count; ++b) {
+    const double x = value[b];
     if (!std::isfinite(x)) {  // never from a successful run; kept out of everything
       ++out;
       continue;
     }
     lo = std::min(lo, x);
     hi = std::max(hi, x);
-    const double scaled = (x - center) / scale;
-    if (std::abs(scaled) <= kMaxScaledDeviation) {
+    if (std::abs(scaled[b]) <= kMaxScaledDeviation) {
       // Rounded to the nearest unit of the fixed point: unbiased. Scaling
       // by a power of two is exact (std::ldexp's result).
-      sum += round_to_wide(scaled * sum_unit);
-      square += round_to_wide(scaled * scaled * square_unit);
+      sum += round_to_wide(scaled[b] * sum_unit);
+      square += round_to_wide(scaled[b] * scaled[b] * square_unit);
     } else {
       ++out;
     }
-    const double position = (x - low) / width;
-    const int bin = position < 0.0 ? 0 : position >= bins_ ? bins_ + 1 : 1 + static_cast<int>(position);
+    const double p = position[b];
+    const int bin = p < 0.0 ? 0 : p >= bins_ ? bins_ + 1 : 1 + static_cast<int>(p);
     ++counts[bin];
   }
   min_[e] = lo;

@@ -54,7 +54,9 @@ class EnsembleStatistics {
 
   // One successful sample's trajectory: times x columns, row-major.
   void add_sample(std::span<const double> trajectory);
-  // Samples a block holds: up to 16, fewer when a block would exceed 16 MiB.
+  // Samples a block holds: up to kMaxBlock, fewer when a block would exceed
+  // 16 MiB.
+  static constexpr std::size_t kMaxBlock = 32;
   std::size_t block_samples() const { return block_; }
 
   // Merges another accumulator (same calibration): exact, order-independent.
