@@ -37,18 +37,14 @@
 #include "job/sample_job.hpp"
 #include "persistence/record_codec.hpp"
 #include "statistics/ensemble_statistics.hpp"
+#include "timing.hpp"
 
 namespace {
 
 using namespace treedyn;
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0.0 : v[v.size() / 2];
-}
+using bench::Clock;
+using bench::median;
+using bench::seconds_since;
 
 struct Row {
   std::string name;
