@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "dynamics/pipeline.hpp"
+#include "integrate/state_vector.hpp"
 #include "integrate/stepper.hpp"
 
 namespace treedyn {
@@ -66,8 +67,8 @@ class Integration {
         request_(request),
         observer_(observer),
         ode_(model, request.parameterisation, request.solver),
-        y_(sundials::check_created(N_VNew_Serial(ode_.size(), context_), "N_VNew_Serial")),
-        y_out_(sundials::check_created(N_VNew_Serial(ode_.size(), context_), "N_VNew_Serial")),
+        y_(sundials::new_state_vector(ode_.size(), context_)),
+        y_out_(sundials::new_state_vector(ode_.size(), context_)),
         margins_(static_cast<std::size_t>(ode_.charts())),
         change_(margins_.size(), 0) {
     outcome_.time_reached = request.start_time;
