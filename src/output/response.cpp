@@ -6,24 +6,39 @@
 
 namespace treedyn::ensemble {
 
+namespace {
+
+// For every column, the first output time at which it is smallest
+// (`minimum`) or largest: one pass over the rows in memory order.
+void first_extremes(std::span<const double> trajectory, std::size_t times, std::size_t columns, bool minimum,
+                    std::vector<std::size_t>& best) {
+  best.assign(columns, 0);
+  for (std::size_t k = 1; k < times; ++k) {
+    const double* row = trajectory.data() + k * columns;
+    for (std::size_t c = 0; c < columns; ++c) {
+      const double v = row[c], b = trajectory[best[c] * columns + c];
+      if (minimum ? v < b : v > b) best[c] = k;
+    }
+  }
+}
+
+}  // namespace
+
 void reduce_columns(std::span<const double> trajectory, std::span<const double> times,
                     std::size_t columns, std::span<const Reduction> which, std::vector<double>& out) {
   const std::size_t T = times.size();
+  std::vector<std::size_t> best[2];  // [0] minima, [1] maxima, found once each
   for (Reduction r : which) {
-    for (std::size_t c = 0; c < columns; ++c) {
-      if (r == Reduction::final) {
-        out.push_back(trajectory[(T - 1) * columns + c]);
-        continue;
-      }
-      const bool minimum = r == Reduction::min || r == Reduction::argmin_time;
-      std::size_t best = 0;
-      for (std::size_t k = 1; k < T; ++k) {
-        const double v = trajectory[k * columns + c], b = trajectory[best * columns + c];
-        if (minimum ? v < b : v > b) best = k;
-      }
-      const bool value = r == Reduction::min || r == Reduction::max;
-      out.push_back(value ? trajectory[best * columns + c] : times[best]);
+    if (r == Reduction::final) {
+      out.insert(out.end(), trajectory.begin() + static_cast<std::ptrdiff_t>((T - 1) * columns),
+                 trajectory.begin() + static_cast<std::ptrdiff_t>(T * columns));
+      continue;
     }
+    const bool minimum = r == Reduction::min || r == Reduction::argmin_time;
+    std::vector<std::size_t>& at = best[minimum ? 0 : 1];
+    if (at.empty()) first_extremes(trajectory, T, columns, minimum, at);
+    const bool value = r == Reduction::min || r == Reduction::max;
+    for (std::size_t c = 0; c < columns; ++c) out.push_back(value ? trajectory[at[c] * columns + c] : times[at[c]]);
   }
 }
 

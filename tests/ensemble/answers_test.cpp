@@ -62,6 +62,24 @@ TEST(Response, ColumnReductionsKeepTheFirstTimeOfATie) {
   EXPECT_EQ(out, (std::vector<double>{7, 1, 7, 1.0, 2.0}));
 }
 
+// Several columns, reductions in any order and repeated: each column's
+// values are what that column alone gives (its own one-column reduction).
+TEST(Response, ColumnReductionsOfEveryColumnAreThoseOfTheColumnAlone) {
+  const std::size_t columns = 3, T = kTimes.size();
+  const std::vector<double> x{5, -2, 0,  1, 4, 0,  7, -2, 3,  1, 9, 3,  7, 9, -1};  // times x columns
+  const std::vector<Reduction> which{Reduction::argmax_time, Reduction::min, Reduction::final,
+                                     Reduction::max, Reduction::argmin_time, Reduction::min};
+  std::vector<double> out;
+  reduce_columns(x, kTimes, columns, which, out);
+  ASSERT_EQ(out.size(), which.size() * columns);
+  for (std::size_t c = 0; c < columns; ++c) {
+    std::vector<double> column, alone;
+    for (std::size_t k = 0; k < T; ++k) column.push_back(x[k * columns + c]);
+    reduce_columns(column, kTimes, 1, which, alone);
+    for (std::size_t r = 0; r < which.size(); ++r) EXPECT_EQ(out[r * columns + c], alone[r]) << "column " << c;
+  }
+}
+
 TEST(Response, LimitStatesAreStrict) {
   Response r = response(Response::Reduce::max);
   r.fail_if = Response::FailIf::above;
