@@ -109,6 +109,12 @@ int on_rank_zero(EnsembleRun& run, const std::function<int()>& work) {
 }
 
 int check_range(EnsembleRun& run) {
+  if (run.options.part() && run.spec.stop) {
+    if (run.rank == 0)
+      std::cerr << "error: --samples: [ensemble.stop] decides from every sample before each check point, so "
+                   "its ensemble runs as one job (any number of ranks), not in parts\n";
+    return kExitBadInput;
+  }
   if (run.first < run.end && run.end <= run.spec.samples) return kExitOk;
   if (run.rank == 0)
     std::cerr << "error: --samples " << run.options.first_sample << ":" << run.options.end_sample

@@ -45,7 +45,7 @@
 #include "ensemble/progress.hpp"
 #include "ensemble/rank_results.hpp"
 #include "ensemble/sample_runner.hpp"
-#include "ensemble/wave_plan.hpp"
+#include "analysis/wave_plans.hpp"
 #include "hdf5/ensemble_file.hpp"
 #include "hdf5/provenance.hpp"
 #include "parallel/record_sink.hpp"
@@ -83,6 +83,7 @@ struct EnsembleRun {
   std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
   // The samples this run owns, [first, end): the whole ensemble unless a part.
   std::uint64_t first = 0, end = 0;
+  std::uint64_t samples_used = 0;  // the end of the last wave run: [ensemble.stop] may end before `end`
   bool owns(std::uint64_t k) const { return k >= first && k < end; }
   // A part's checkpoint belongs to its range (id); the part file to the job (job_id).
   ensemble::RunIdentity job_id, id;

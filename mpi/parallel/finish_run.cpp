@@ -94,6 +94,14 @@ int write_part(EnsembleRun& run, const ensemble::EnsembleStatistics& stats) {
   return kExitOk;
 }
 
+// Why the run ended where it did, for the file and the summary.
+std::string stop_reason_of(const EnsembleRun& run) {
+  if (!run.spec.stop) return "no stopping rule: every sample of the design was run";
+  if (run.table)
+    if (auto reason = ensemble::stop_reason(run.spec, *run.table, run.samples_used)) return *reason;
+  return "no target of [ensemble.stop] held: stopped at the most samples, " + std::to_string(run.spec.samples);
+}
+
 // Rank 0, a whole ensemble: the records are in the file already; the rest
 // goes the same way as a merge's (EnsembleWriter::complete).
 int write_ensemble(EnsembleRun& run, const ensemble::EnsembleStatistics& stats, EnsembleSummary summary,
@@ -101,6 +109,12 @@ int write_ensemble(EnsembleRun& run, const ensemble::EnsembleStatistics& stats, 
   summary.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - run.start).count();
   summary.failed = run.records->failed();
   summary.ok = run.records->done() - summary.failed;
+  summary.samples_used = run.samples_used;
+  summary.stop_reason = stop_reason_of(run);
+  if (run.samples_used < run.spec.samples) {
+    if (run.table) run.table->truncate(run.samples_used);
+    run.writer->keep_samples(run.samples_used);
+  }
   const std::vector<ensemble::ResponseAnswer> answers =
       run.table ? ensemble::answer_responses(run.spec, *run.table) : std::vector<ensemble::ResponseAnswer>{};
   try {
@@ -113,6 +127,9 @@ int write_ensemble(EnsembleRun& run, const ensemble::EnsembleStatistics& stats, 
   if (!run.options.quiet) {
     ensemble::print_digest(std::cout, ensemble::digest_of(run.job, run.spec, stats, summary));
     ensemble::print_response_summary(std::cout, run.spec, answers);
+    if (run.spec.stop)
+      std::cout << "stopped after " << run.samples_used << " of at most " << run.spec.samples
+                << " samples: " << summary.stop_reason << "\n";
   }
   std::printf("wrote %s\n", run.options.output_path.c_str());
   return kExitOk;

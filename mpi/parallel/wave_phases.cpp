@@ -242,7 +242,10 @@ int run_waves(EnsembleRun& run) {
     if (any_rank(run.comm, run_wave(run, first, std::max(first, std::min(wave.end, run.end)))))
       return stop_interrupted(run, true);
     const std::optional<ensemble::Wave> next = next_wave(run, wave);
-    if (!next) return kExitOk;
+    if (!next) {
+      run.samples_used = std::min(wave.end, run.end);
+      return kExitOk;
+    }
     wave = *next;
     from = wave.first;
   }

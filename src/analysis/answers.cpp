@@ -1,5 +1,6 @@
 #include "analysis/answers.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <limits>
@@ -80,61 +81,67 @@ Interval wilson_interval(std::uint64_t k, std::uint64_t n, double z) {
   return {k == 0 ? 0.0 : std::max(0.0, centre - half), k == n ? 1.0 : std::min(1.0, centre + half)};
 }
 
+ResponseAnswer answer_response(const EnsembleSpec& spec, const ResponseTable& table, std::size_t r,
+                               std::uint64_t prefix, bool with_sensitivity) {
+  const Response& response = spec.responses[r];
+  const std::uint64_t n = std::min(prefix, table.samples());
+  ResponseAnswer a;
+  Running running;
+  // Convergence at 1, 2, 4, ... samples; for saltelli at 1, 2, 4, ...
+  // whole blocks (2 independent draws each).
+  const std::uint64_t unit =
+      spec.design == Design::saltelli ? saltelli_block(static_cast<unsigned>(table.input_count())) : 1;
+  std::uint64_t successful = 0, exceeded = 0, next_report = unit;
+  for (std::uint64_t k = 0; k < n; ++k) {
+    if (!independent_draw(spec, table, k)) {
+      // Saltelli's AB_i rows: left out here (see independent_draw).
+    } else if (!table.ok(k)) {
+      ++a.failed;
+    } else {
+      ++successful;
+      const double v = table.response(k, r);
+      if (std::isfinite(v))
+        running.add(v);
+      else
+        ++a.not_finite;
+      if (response.exceeds(v)) ++exceeded;
+    }
+    const std::uint64_t m = k + 1;
+    if (m == next_report || m == n) {
+      ConvergencePoint p;
+      p.samples = m;
+      p.used = running.n;
+      p.mean = running.n > 0 ? running.mean : kNaN;
+      p.sem = running.sem();
+      p.probability = response.has_limit() ? ratio(exceeded, successful) : kNaN;
+      p.interval = response.has_limit() ? wilson_interval(exceeded, successful) : Interval{kNaN, kNaN};
+      a.convergence.push_back(p);
+      while (next_report <= m) next_report *= 2;
+    }
+  }
+  a.used = running.n;
+  a.mean = running.n > 0 ? running.mean : kNaN;
+  a.std = running.std_dev();
+  a.sem = running.sem();
+  if (response.has_limit()) {
+    Exceedance e;
+    e.exceeded = exceeded;
+    e.successful = successful;
+    e.failed = a.failed;
+    e.probability = ratio(exceeded, successful);
+    e.interval = wilson_interval(exceeded, successful);
+    a.exceedance = e;
+  }
+  if (!with_sensitivity) return a;
+  if (table.input_count() > 0) a.ranks = ranks_of(spec, table, r);
+  if (spec.design == Design::saltelli) a.sobol = sobol_of(spec, table, r);
+  return a;
+}
+
 std::vector<ResponseAnswer> answer_responses(const EnsembleSpec& spec, const ResponseTable& table) {
   std::vector<ResponseAnswer> answers;
-  for (std::size_t r = 0; r < spec.responses.size(); ++r) {
-    const Response& response = spec.responses[r];
-    ResponseAnswer a;
-    Running running;
-    // Convergence at 1, 2, 4, ... samples; for saltelli at 1, 2, 4, ...
-    // whole blocks (2 independent draws each).
-    const std::uint64_t unit =
-        spec.design == Design::saltelli ? saltelli_block(static_cast<unsigned>(table.input_count())) : 1;
-    std::uint64_t successful = 0, exceeded = 0, next_report = unit;
-    for (std::uint64_t k = 0; k < table.samples(); ++k) {
-      if (!independent_draw(spec, table, k)) {
-        // Saltelli's AB_i rows: left out here (see independent_draw).
-      } else if (!table.ok(k)) {
-        ++a.failed;
-      } else {
-        ++successful;
-        const double v = table.response(k, r);
-        if (std::isfinite(v))
-          running.add(v);
-        else
-          ++a.not_finite;
-        if (response.exceeds(v)) ++exceeded;
-      }
-      const std::uint64_t m = k + 1;
-      if (m == next_report || m == table.samples()) {
-        ConvergencePoint p;
-        p.samples = m;
-        p.used = running.n;
-        p.mean = running.n > 0 ? running.mean : kNaN;
-        p.sem = running.sem();
-        p.probability = response.has_limit() ? ratio(exceeded, successful) : kNaN;
-        p.interval = response.has_limit() ? wilson_interval(exceeded, successful) : Interval{kNaN, kNaN};
-        a.convergence.push_back(p);
-        while (next_report <= m) next_report *= 2;
-      }
-    }
-    a.used = running.n;
-    a.mean = running.n > 0 ? running.mean : kNaN;
-    a.std = running.std_dev();
-    a.sem = running.sem();
-    if (response.has_limit()) {
-      Exceedance e;
-      e.exceeded = exceeded;
-      e.successful = successful;
-      e.failed = a.failed;
-      e.probability = ratio(exceeded, successful);
-      e.interval = wilson_interval(exceeded, successful);
-      a.exceedance = e;
-    }
-    if (table.input_count() > 0) a.ranks = ranks_of(spec, table, r);
-    if (spec.design == Design::saltelli) a.sobol = sobol_of(spec, table, r);
-    answers.push_back(std::move(a));
-  }
+  for (std::size_t r = 0; r < spec.responses.size(); ++r)
+    answers.push_back(answer_response(spec, table, r, table.samples(), true));
   return answers;
 }
 

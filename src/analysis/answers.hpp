@@ -57,6 +57,11 @@ struct ResponseAnswer {
   std::optional<SobolIndices> sobol;  // design = "saltelli" only
 };
 
+// The answers for response r from samples 0 .. prefix-1 of `table`; the
+// rank measures and Sobol' indices only `with_sensitivity`.
+ResponseAnswer answer_response(const EnsembleSpec& spec, const ResponseTable& table, std::size_t r,
+                               std::uint64_t prefix, bool with_sensitivity);
+
 // The answers for every response of `spec`, from `table`.
 std::vector<ResponseAnswer> answer_responses(const EnsembleSpec& spec, const ResponseTable& table);
 

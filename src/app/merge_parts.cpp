@@ -146,7 +146,10 @@ int merge_parts(const std::vector<std::string>& names, const std::string& output
       for (const SampleRecord& r : records) table.add(r);
       answers = ensemble::answer_responses(spec, table);
     }
-    const EnsembleSummary summary = merge_summary(records);
+    EnsembleSummary summary = merge_summary(records);
+    summary.samples_used = spec.samples;
+    summary.stop_reason = complete ? "merged parts: every sample of the design was run"
+                                   : "merged parts: " + std::to_string(held.count()) + " of the samples were run";
     EnsembleWriter writer(output_path, job, spec, runner.layout(), runner.final_state_size());
     writer.write_records(std::move(records));
     writer.write_merge_origin(names, held.ranges());

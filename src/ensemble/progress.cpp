@@ -34,10 +34,14 @@ void Progress::print(std::uint64_t done, std::uint64_t failed, bool final_line) 
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   const double rate = elapsed > 0.0 ? static_cast<double>(done) / elapsed : 0.0;
   const double left = rate > 0.0 ? static_cast<double>(total_ - done) / rate : 0.0;
-  std::fprintf(stderr, "%ssamples %llu/%llu (%llu failed)  %.2f samples/s  elapsed %.1f s  left %.1f s%s",
+  // The last line has no time left: a stopping rule or a signal may end the
+  // run before the total.
+  char ending[48] = "";
+  if (!final_line) std::snprintf(ending, sizeof ending, "  left %.1f s", left);
+  std::fprintf(stderr, "%ssamples %llu/%llu (%llu failed)  %.2f samples/s  elapsed %.1f s%s%s",
                terminal_ ? "\r" : "", static_cast<unsigned long long>(done),
                static_cast<unsigned long long>(total_), static_cast<unsigned long long>(failed),
-               rate, elapsed, left, terminal_ && !final_line ? "   " : "\n");
+               rate, elapsed, ending, terminal_ && !final_line ? "   " : "\n");
   std::fflush(stderr);
 }
 

@@ -38,4 +38,11 @@ void ResponseTable::add(const SampleRecord& record) {
     responses_[k * responses_count_ + r] = record.responses[r];
 }
 
+void ResponseTable::truncate(std::uint64_t n) {
+  if (n >= samples()) return;
+  status_.resize(n);
+  inputs_.resize(n * inputs_count_);
+  responses_.resize(n * responses_count_);
+}
+
 }  // namespace treedyn::ensemble

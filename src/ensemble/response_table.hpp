@@ -20,6 +20,8 @@ class ResponseTable {
                 std::vector<double> responses, std::size_t input_count, std::size_t response_count);
 
   std::uint64_t samples() const { return status_.size(); }
+  // Keeps samples 0 .. n-1 only (a run that a stopping rule ended).
+  void truncate(std::uint64_t n);
   std::size_t input_count() const { return inputs_count_; }
   std::size_t response_count() const { return responses_count_; }
   bool ok(std::uint64_t k) const { return status_[k] == static_cast<std::int32_t>(SampleStatus::ok); }

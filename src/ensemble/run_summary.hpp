@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace treedyn {
@@ -15,6 +16,8 @@ struct EnsembleSummary {
   std::vector<double> peak_rss_mib;         // per rank (getrusage maximum resident set)
   std::vector<long long> samples_per_rank;  // samples each rank integrated
   std::vector<double> busy_seconds;         // time each rank spent integrating samples
+  std::uint64_t samples_used = 0;           // the runs the answers count ([ensemble.stop]: <= samples)
+  std::string stop_reason;                  // why the run ended where it did
 };
 
 }  // namespace treedyn

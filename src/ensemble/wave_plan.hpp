@@ -14,6 +14,9 @@
 // first `pilot_samples` as the pilot wave, whose deviations fix the
 // statistics' calibration.
 //
+// make_wave_plan (analysis/wave_plans.hpp) picks the plan of a job: plans
+// that decide from the answers so far live beside the answers.
+//
 // What a new design provides: a WavePlan (first_wave, next_wave) and, where
 // its samples' inputs depend on earlier waves, a way for SampleRunner to get
 // them (today every input is a pure function of the seed and the index).
@@ -55,7 +58,5 @@ class FixedDesignPlan final : public WavePlan {
  private:
   std::uint64_t samples_;
 };
-
-std::unique_ptr<WavePlan> make_wave_plan(const EnsembleSpec& spec);
 
 }  // namespace treedyn::ensemble

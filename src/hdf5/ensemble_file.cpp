@@ -182,6 +182,15 @@ void EnsembleWriter::create_trajectories() {
   }
 }
 
+void EnsembleWriter::keep_samples(std::size_t rows) {
+  for (const h5::Handle* d : {&inputs_, &status_, &reason_, &time_reached_, &integrator_stats_, &final_state_,
+                              &responses_})
+    if (d->id() != H5I_INVALID_HID) h5::keep_rows(d->id(), rows);
+  for (const auto& quantities : reductions_)
+    for (const h5::Handle& d : quantities) h5::keep_rows(d.id(), rows);
+  for (const h5::Handle& d : trajectories_) h5::keep_rows(d.id(), rows);
+}
+
 void EnsembleWriter::write_records(std::vector<SampleRecord> records) {
   std::sort(records.begin(), records.end(),
             [](const SampleRecord& a, const SampleRecord& b) { return a.index < b.index; });
@@ -511,6 +520,8 @@ void EnsembleWriter::finish(const EnsembleSummary& summary, const RunProvenance&
   h5::write_attribute(root, "base_samples", static_cast<long long>(spec_.base_samples));
   if (spec_.design == ensemble::Design::saltelli)
     h5::write_attribute(root, "saltelli_block", static_cast<long long>(ensemble::saltelli_block(spec_.input_dimensions())));
+  h5::write_attribute(root, "samples_used", static_cast<long long>(summary.samples_used));
+  h5::write_attribute(root, "stop_reason", summary.stop_reason);
   h5::write_attribute(root, "samples_ok", static_cast<long long>(summary.ok));
   h5::write_attribute(root, "samples_failed", static_cast<long long>(summary.failed));
   h5::write_attribute(root, "wall_time_seconds", summary.wall_seconds);

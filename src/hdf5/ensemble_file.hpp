@@ -34,6 +34,9 @@ class EnsembleWriter {
   // merge): the nominal run, /stats, /responses and /sensitivity (one per
   // response; none when `answers` is empty), the summary and provenance as
   // root attributes; then the file is renamed into place.
+  // Keeps the rows of samples 0 .. rows-1 only (a run a stopping rule
+  // ended early); before complete().
+  void keep_samples(std::size_t rows);
   void complete(const std::vector<double>& nominal, const ensemble::EnsembleStatistics& stats,
                 const std::vector<ensemble::ResponseAnswer>& answers, const EnsembleSummary& summary,
                 const RunProvenance& run);

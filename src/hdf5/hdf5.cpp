@@ -206,6 +206,16 @@ void write_rows(hid_t dataset, hid_t type, std::size_t first_row, std::size_t ro
   check(H5Dwrite(dataset, type, memory_space.id(), file_space.id(), H5P_DEFAULT, data), "writing rows");
 }
 
+void keep_rows(hid_t dataset, std::size_t rows) {
+  Handle space(H5Dget_space(dataset), H5Sclose, "getting a dataspace");
+  const int rank = H5Sget_simple_extent_ndims(space.id());
+  std::vector<hsize_t> dims(static_cast<std::size_t>(std::max(rank, 1)));
+  H5Sget_simple_extent_dims(space.id(), dims.data(), nullptr);
+  if (dims[0] <= rows) return;
+  dims[0] = rows;
+  check(H5Dset_extent(dataset, dims.data()), "cutting a dataset to the samples used");
+}
+
 Handle create_row_array(hid_t parent, const std::string& name, hid_t type, std::size_t rows,
                         std::span<const hsize_t> row_shape, std::size_t chunk_rows) {
   std::vector<hsize_t> dims{rows}, chunk{std::clamp<hsize_t>(chunk_rows, 1, std::max<hsize_t>(rows, 1))};

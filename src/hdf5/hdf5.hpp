@@ -74,6 +74,10 @@ Handle write_matrix(hid_t parent, const std::string& name, std::span<const doubl
 // 1-D datasets.
 Handle write_vector(hid_t parent, const std::string& name, std::span<const double> data);
 
+// Keeps the first `rows` rows of a chunked dataset (its first dimension cut
+// to `rows`; nothing happens when it has no more).
+void keep_rows(hid_t dataset, std::size_t rows);
+
 // An N-dimensional dataset of `type` (e.g. H5T_NATIVE_DOUBLE), chunked and
 // compressed, written whole.
 Handle write_array(hid_t parent, const std::string& name, hid_t type, const void* data,

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -12,6 +13,20 @@
 #include "job/job.hpp"
 
 namespace treedyn::ensemble {
+
+// [ensemble.stop]: stop at the first check point (every `every` samples, or
+// `every` whole Saltelli blocks) where one of the targets holds for the
+// response, evaluated on the samples before it in index order.
+struct StopRule {
+  std::size_t response = 0;                 // index into EnsembleSpec::responses
+  std::optional<double> exceedance_cov;     // sqrt((1 - P) / (n P)), once kMinExceedances are seen
+  std::optional<double> mean_sem;           // standard error of the mean, in the response's units
+  std::optional<double> mean_relative_sem;  // standard error / |mean|
+  std::uint64_t every = 0;                  // runs between check points
+};
+// An exceedance coefficient of variation counts only with this many
+// exceedances seen: with fewer, sqrt((1 - P) / (n P)) is itself too uncertain.
+inline constexpr std::uint64_t kMinExceedances = 10;
 
 struct EnsembleSpec {
   std::uint64_t samples = 100;       // runs; for saltelli base_samples * (D + 2)
@@ -28,6 +43,7 @@ struct EnsembleSpec {
   std::vector<Response> responses;
   std::uint64_t store_trajectories = 0;  // full trajectories of samples 0 .. M-1
   int bootstrap_resamples = 1000;        // for the Sobol' index intervals
+  std::optional<StopRule> stop;          // `samples` is then the most the run makes
 
   unsigned input_dimensions() const;
   std::vector<std::string> input_names() const;

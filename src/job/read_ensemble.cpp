@@ -348,6 +348,45 @@ void read_stored_trajectories(const TomlView& t, const Job& job, EnsembleSpec& s
                                      "quantities, or block_size = 1");
 }
 
+// [ensemble.stop]: which response, which targets, how often to check.
+void read_stop(const TomlView& parent, EnsembleSpec& s) {
+  const auto section = parent.subtable("stop");
+  if (!section) return;
+  const TomlView& t = *section;
+  t.check_keys({"response", "exceedance_cov", "mean_sem", "mean_relative_sem", "every"});
+  if (!nested_prefixes(s.design))
+    t.fail("response", "a stopping rule needs a design whose prefixes are designs (monte_carlo, sobol, "
+                       "saltelli); the first n samples of a latin_hypercube are not one");
+  StopRule rule;
+  const std::string name = t.required_string("response");
+  const auto found = std::find_if(s.responses.begin(), s.responses.end(),
+                                  [&](const Response& r) { return r.name == name; });
+  if (found == s.responses.end())
+    t.fail("response", "\"" + name + "\" is not the name of an [[ensemble.response]]");
+  rule.response = static_cast<std::size_t>(found - s.responses.begin());
+  auto target = [&t](std::string_view key) -> std::optional<double> {
+    const auto v = t.number(key);
+    if (v && !(*v > 0.0 && std::isfinite(*v))) t.fail(key, "must be a positive number");
+    return v;
+  };
+  rule.exceedance_cov = target("exceedance_cov");
+  rule.mean_sem = target("mean_sem");
+  rule.mean_relative_sem = target("mean_relative_sem");
+  if (!rule.exceedance_cov && !rule.mean_sem && !rule.mean_relative_sem)
+    t.fail("response", "give at least one target: exceedance_cov, mean_sem or mean_relative_sem");
+  if (rule.exceedance_cov && !found->has_limit())
+    t.fail("exceedance_cov", "response \"" + name + "\" has no limit (add limit and fail_if to it)");
+  const auto every = t.integer("every");
+  if (!every) t.fail("every", "missing: the check interval in samples (saltelli: in base samples, whole blocks)");
+  if (*every < 1) t.fail("every", "must be at least 1");
+  const std::uint64_t unit = s.design == Design::saltelli ? saltelli_block(s.input_dimensions()) : 1;
+  rule.every = static_cast<std::uint64_t>(*every) * unit;
+  if (rule.every > s.samples)
+    t.fail("every", "checks every " + std::to_string(rule.every) + " runs, more than the " +
+                        std::to_string(s.samples) + " the ensemble makes at most");
+  s.stop = rule;
+}
+
 // What rank 0 and every rank must hold, within 8 GiB each.
 void check_memory(const TomlView& t, const Job& job, const EnsembleSpec& s) {
   if (!s.responses.empty()) {
@@ -373,12 +412,13 @@ EnsembleSpec read_ensemble(const Job& job) {
                    "missing [ensemble] section: give at least samples = N (and seed, perturbations)");
   const TomlView& t = *section;
   t.check_keys({"samples", "seed", "design", "quantiles", "histogram_bins", "pilot_samples", "block_size",
-                "perturbation", "per_sample", "response", "store_trajectories", "bootstrap_resamples"});
+                "perturbation", "per_sample", "response", "store_trajectories", "bootstrap_resamples", "stop"});
   EnsembleSpec s;
   read_settings(t, s);
   for (const TomlView& p : t.table_array("perturbation")) s.perturbations.push_back(read_perturbation(p, job));
   count_runs(t, s);
   read_answers(t, job, s);
+  read_stop(t, s);
   read_stored_trajectories(t, job, s);
   check_memory(t, job, s);
   return s;

@@ -454,3 +454,40 @@ TEST_F(Checkpoint, StaleTemporaryFilesOfDeadProcessesAreRemovedWithANote) {
 }
 
 }  // namespace
+
+// A run that stops itself, killed in its second wave (and, on two ranks,
+// in its first), resumes to the same stop: the decisions after each wave
+// are replayed from the restored records.
+TEST_F(Checkpoint, AStoppingRunKilledMidWayResumesToTheSameStop) {
+  const fs::path job = dir_.path() / "stopping.toml";
+  write_text(job, spin_exceedance_job(3000, true));
+  const fs::path reference = fresh_output("stop_reference");
+  const auto full = run_ensemble(2, job, reference, dir_.path() / "capture_ref", {"--checkpoint-every", "0"});
+  ASSERT_EQ(full.exit_code, 0) << full.err;
+  struct Case {
+    const char* what;
+    int ranks, resume_ranks, hold;
+  };
+  const Case cases[] = {{"alone, killed after 150 samples past the pilot (wave 2), resumed on 3 ranks", 0, 3, 150},
+                        {"2 ranks killed after 15 samples each past the pilot, resumed alone", 2, 0, 15}};
+  int index = 0;
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.what);
+    const fs::path out = fresh_output("stop_kill" + std::to_string(index++));
+    const fs::path ckpt = out.string() + ".checkpoint";
+    {
+      Background run(job, out, held_run(c.ranks, kEvery, c.hold), dir_.path() / "capture_bg");
+      await_held(ckpt, std::max(c.ranks, 1), run);
+      ::kill(run.pid(), SIGKILL);
+      ASSERT_NE(run.wait(), 0) << "the run finished before the kill: the case tests nothing";
+    }
+    ASSERT_TRUE(wait_for([&] { return no_process_writes(out); })) << "processes of the killed run live on";
+    const auto r = run_ensemble(c.resume_ranks, job, out, dir_.path() / "capture", {"--resume"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(restored_count(r.err), 32 + std::max(c.ranks, 1) * c.hold) << r.err;
+    H5File a(reference), b(out);
+    EXPECT_EQ(read_integer_attribute(b.id(), "samples_used"), read_integer_attribute(a.id(), "samples_used"));
+    EXPECT_LT(read_integer_attribute(b.id(), "samples_used"), 3000);
+    expect_identical_datasets(a.id(), "uninterrupted", b.id(), c.what, {"/stats", "/samples", "/responses"});
+  }
+}

@@ -50,6 +50,31 @@ inline std::string edited_job_text(const std::string& name,
   return text;
 }
 
+// A job with a known answer for stopping rules: the spherical pendulum over
+// 0.05 s, Monte Carlo (or `design`) over at most `samples`, and as a response
+// the spin at t = 0, which is the sampled input itself (uniform on
+// [1.8, 2.2] rad/s), so P(spin0 > 2.19 rad/s) = 0.025. `with_stop` adds a
+// rule that stops once that probability has a coefficient of variation of
+// 0.2, checked every 100 samples.
+inline std::string spin_exceedance_job(int samples, bool with_stop, const std::string& design = "monte_carlo") {
+  std::string text = edited_job_text("spherical_pendulum.toml",
+                                     {{"end_time = 10.0", "end_time = 0.05"},
+                                      {"samples = 64", "samples = " + std::to_string(samples)},
+                                      {"design = \"latin_hypercube\"", "design = \"" + design + "\""}});
+  text += R"(
+[[ensemble.response]]
+name = "spin0"
+quantity = "angular_velocity"
+column = "rod.z"
+reduce = "at_time"
+time = 0.0
+limit = 2.19
+fail_if = "above"
+)";
+  if (with_stop) text += "\n[ensemble.stop]\nresponse = \"spin0\"\nexceedance_cov = 0.2\nevery = 100\n";
+  return text;
+}
+
 // The sanitizer pass (TREEDYN_SANITIZE) runs every test but these, which
 // run in the normal pass: the largest shipped examples whole (crane_payload,
 // kapitza, y_tree: 130 s of the sanitized suite; their code paths run there
