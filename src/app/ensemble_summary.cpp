@@ -49,6 +49,20 @@ void print_ensemble_summary(std::ostream& out, const Job& job, const EnsembleSpe
     out << "  saltelli: base size N = " << s.base_samples << ", N (D + 2) = " << s.base_samples << " x "
         << saltelli_block(s.input_dimensions()) << " = " << s.samples
         << " runs; sample j (D + 2) + r is A_j (r = 0), B_j (r = 1), AB_i,j (r = 2 + i)\n";
+  if (s.stop) {
+    const StopRule& rule = *s.stop;
+    out << "  stop: checked every " << rule.every << " runs, at the first check point where";
+    const char* joint = "";
+    auto target = [&](const char* name, const std::optional<double>& v) {
+      if (!v) return;
+      out << joint << " " << name << " of " << s.responses[rule.response].name << " <= " << format_number(*v);
+      joint = " or";
+    };
+    target("exceedance_cov", rule.exceedance_cov);
+    target("mean_sem", rule.mean_sem);
+    target("mean_relative_sem", rule.mean_relative_sem);
+    out << " (at most " << s.samples << " runs)\n";
+  }
   if (!nested_prefixes(s.design))
     out << "  latin_hypercube: sample k depends on N too, so prefixes are not nested samples "
            "(convergence by prefix is not meaningful)\n";

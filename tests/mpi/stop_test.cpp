@@ -83,6 +83,16 @@ TEST_F(Stop, StopsAtTheFirstCheckPointWhereTheTargetHoldsOnAnyRankCount) {
   }
 }
 
+TEST_F(Stop, CheckPrintsTheRule) {
+  const fs::path job = write_job("stop.toml", stop_job(true));
+  const auto r = run_command(TREEDYN_ENSEMBLE_BINARY, {job.string(), "--check"}, dir_.path() / "capture_check");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("stop: checked every 100 runs, at the first check point where exceedance_cov of spin0 <= "
+                       "0.2 (at most 3000 runs)"),
+            std::string::npos)
+      << r.out;
+}
+
 TEST_F(Stop, JobsARuleCannotServeAreRefused) {
   // A Latin hypercube's first n samples are not a Latin hypercube.
   const fs::path lhs = write_job("lhs.toml", stop_job(true, "latin_hypercube"));
