@@ -94,16 +94,25 @@ std::string check(const SubsetSettings& s) {
   return {};
 }
 
+namespace {
+std::uint64_t runs_per_chain_level(const SubsetSettings& s) { return s.chains() * (s.states() - 1); }
+}  // namespace
+
+std::uint64_t runs_before(const SubsetSettings& s, int levels) {
+  if (levels <= 0) return 0;
+  return s.samples + static_cast<std::uint64_t>(levels - 1) * runs_per_chain_level(s);
+}
+
 std::uint64_t run_index(const SubsetSettings& s, const RunPlace& p) {
   if (p.level == 0) return p.chain;
-  return static_cast<std::uint64_t>(p.level) * s.samples + p.chain * s.states() + p.state;
+  return runs_before(s, p.level) + p.chain * (s.states() - 1) + p.state - 1;
 }
 
 RunPlace run_place(const SubsetSettings& s, std::uint64_t index) {
-  const auto level = static_cast<int>(index / s.samples);
-  const std::uint64_t within = index % s.samples;
-  if (level == 0) return {0, within, 0};
-  return {level, within / s.states(), within % s.states()};
+  if (index < s.samples) return {0, index, 0};
+  const std::uint64_t r = index - s.samples, R = runs_per_chain_level(s);
+  const std::uint64_t within = r % R;
+  return {1 + static_cast<int>(r / R), within / (s.states() - 1), 1 + within % (s.states() - 1)};
 }
 
 void level_zero_point(const SubsetSettings& s, std::uint64_t k, std::span<double> u) {
@@ -204,38 +213,91 @@ SubsetResult combine(const SubsetSettings& s, std::vector<LevelSummary> levels, 
   return r;
 }
 
-SubsetResult subset_simulation(const SubsetSettings& s, unsigned D, const Response& response) {
+std::vector<double> pack(const LevelStart& start) {
+  std::vector<double> out{static_cast<double>(start.level), start.threshold};
+  out.insert(out.end(), start.spread.begin(), start.spread.end());
+  out.insert(out.end(), start.seed_g.begin(), start.seed_g.end());
+  out.insert(out.end(), start.seed_u.begin(), start.seed_u.end());
+  return out;
+}
+
+LevelStart unpack_level_start(std::span<const double> packed, unsigned D) {
+  if (packed.size() < 2 + D || (packed.size() - 2 - D) % (D + 1) != 0)
+    throw std::invalid_argument("a level's start of the wrong size");
+  LevelStart start;
+  start.level = static_cast<int>(packed[0]);
+  start.threshold = packed[1];
+  const std::size_t chains = (packed.size() - 2 - D) / (D + 1);
+  auto at = packed.begin() + 2;
+  start.spread.assign(at, at + D);
+  start.seed_g.assign(at + D, at + static_cast<std::ptrdiff_t>(D + chains));
+  start.seed_u.assign(at + static_cast<std::ptrdiff_t>(D + chains), packed.end());
+  return start;
+}
+
+SubsetLevels::SubsetLevels(const SubsetSettings& s, unsigned D) : settings_(s), dimensions_(D) {
   if (const std::string problem = check(s); !problem.empty()) throw std::invalid_argument(problem);
-  const std::uint64_t N = s.samples;
-  LevelStates states;
-  states.u.resize(N * D);
-  states.g.resize(N);
-  states.accepted.assign(N, 0);
+}
+
+void SubsetLevels::start(const Response& response) {
+  const std::uint64_t N = settings_.samples;
+  const unsigned D = dimensions_;
+  states_ = LevelStates{};
+  states_.u.resize(N * D);
+  states_.g.resize(N);
+  states_.accepted.assign(N, 0);
   for (std::uint64_t k = 0; k < N; ++k) {
-    const std::span<double> u(states.u.data() + k * D, D);
-    level_zero_point(s, k, u);
-    states.g[k] = response(k, u);
+    const std::span<double> u(states_.u.data() + k * D, D);
+    level_zero_point(settings_, k, u);
+    states_.g[k] = response(k, u);
   }
-  states.runs = N;
-  std::vector<LevelSummary> levels;
-  Spread spread;
-  for (int level = 0;; ++level) {
-    LevelClose close = close_level(s, level, states, spread, D);
-    levels.push_back(close.summary);
-    if (close.last) return combine(s, std::move(levels), close.reached_limit);
-    LevelStates next;
-    for (std::uint64_t c = 0; c < s.chains(); ++c) {
-      const std::uint64_t seed = close.seeds[c];
-      const Chain chain = run_chain(s, level + 1, c, close.summary.threshold, close.spread.s,
-                                    std::span<const double>(states.u.data() + seed * D, D), states.g[seed], response);
-      next.u.insert(next.u.end(), chain.u.begin(), chain.u.end());
-      next.g.insert(next.g.end(), chain.g.begin(), chain.g.end());
-      next.accepted.insert(next.accepted.end(), chain.accepted.begin(), chain.accepted.end());
-      next.runs += chain.runs;
-    }
-    states = std::move(next);
-    spread = std::move(close.spread);
+  states_.runs = N;
+  level_ = 0;
+  close_this_level();
+}
+
+LevelStart SubsetLevels::next_start() const {
+  const unsigned D = dimensions_;
+  LevelStart start{level_ + 1, close_.summary.threshold, close_.spread.s, {}, {}};
+  for (std::uint64_t seed : close_.seeds) {
+    start.seed_g.push_back(states_.g[seed]);
+    start.seed_u.insert(start.seed_u.end(), states_.u.begin() + static_cast<std::ptrdiff_t>(seed * D),
+                        states_.u.begin() + static_cast<std::ptrdiff_t>((seed + 1) * D));
   }
+  return start;
+}
+
+void SubsetLevels::advance(const Response& response) {
+  if (finished()) throw std::logic_error("subset simulation: no level after the last");
+  const unsigned D = dimensions_;
+  const LevelStart start = next_start();
+  LevelStates next;
+  for (std::uint64_t c = 0; c < start.seed_g.size(); ++c) {
+    const Chain chain = run_chain(settings_, start.level, c, start.threshold, start.spread,
+                                  std::span<const double>(start.seed_u.data() + c * D, D), start.seed_g[c], response);
+    next.u.insert(next.u.end(), chain.u.begin(), chain.u.end());
+    next.g.insert(next.g.end(), chain.g.begin(), chain.g.end());
+    next.accepted.insert(next.accepted.end(), chain.accepted.begin(), chain.accepted.end());
+    next.runs += chain.runs;
+  }
+  spread_ = close_.spread;
+  states_ = std::move(next);
+  level_ = start.level;
+  close_this_level();
+}
+
+void SubsetLevels::close_this_level() {
+  close_ = close_level(settings_, level_, states_, spread_, dimensions_);
+  levels_.push_back(close_.summary);
+}
+
+SubsetResult SubsetLevels::result() const { return combine(settings_, levels_, close_.reached_limit); }
+
+SubsetResult subset_simulation(const SubsetSettings& s, unsigned D, const Response& response) {
+  SubsetLevels levels(s, D);
+  levels.start(response);
+  while (!levels.finished()) levels.advance(response);
+  return levels.result();
 }
 
 }  // namespace treedyn::rare_event

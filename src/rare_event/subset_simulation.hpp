@@ -34,15 +34,19 @@ struct SubsetSettings {
 // Empty when the settings are usable, else what is wrong and what is allowed.
 std::string check(const SubsetSettings& settings);
 
-// Run indices. Level 0: sample k is index k. Level j >= 1: chain c, state l
-// is j N + c N_s + l; state 0 is the chain's seed (a state, not a run).
+// Run indices count runs only, level by level. Level 0: sample k is index
+// k. Level j >= 1 makes R = N_c (N_s - 1) runs: chain c, state l >= 1 is
+// N + (j - 1) R + c (N_s - 1) + l - 1. State 0 of a chain is its seed, a
+// state of the level before, not a run.
 struct RunPlace {
   int level = 0;
   std::uint64_t chain = 0;  // level 0: the sample
-  std::uint64_t state = 0;  // level 0: 0
+  std::uint64_t state = 0;  // level 0: 0; later levels: 1 .. N_s - 1
 };
 std::uint64_t run_index(const SubsetSettings& settings, const RunPlace& place);
 RunPlace run_place(const SubsetSettings& settings, std::uint64_t index);
+// Runs of levels 0 .. levels-1 (the first index of level `levels`).
+std::uint64_t runs_before(const SubsetSettings& settings, int levels);
 
 // Level 0's point k: u_i = Phi^-1(U(seed, k, i)).
 void level_zero_point(const SubsetSettings& settings, std::uint64_t k, std::span<double> u);
@@ -128,6 +132,48 @@ struct SubsetResult {
 
 // The estimate and its coefficient of variation from the levels' summaries.
 SubsetResult combine(const SubsetSettings& settings, std::vector<LevelSummary> levels, bool reached_limit);
+
+// What every chain of a level needs, flat for a broadcast: the level, its
+// threshold, the spreads, and each chain's seed (response and point).
+struct LevelStart {
+  int level = 0;
+  double threshold = 0.0;
+  std::vector<double> spread;  // D
+  std::vector<double> seed_g;  // N_c
+  std::vector<double> seed_u;  // N_c x D
+};
+std::vector<double> pack(const LevelStart& start);
+LevelStart unpack_level_start(std::span<const double> packed, unsigned dimensions);
+
+// The algorithm one level at a time: level 0, then each later level's
+// chains, each level closed as soon as its states are in. A parallel run
+// uses it on rank 0 to replay what is finished (with the responses of the
+// records so far) and hand out the next level.
+class SubsetLevels {
+ public:
+  SubsetLevels(const SubsetSettings& settings, unsigned dimensions);
+  // Level 0's N points and responses; closes it.
+  void start(const Response& response);
+  // The chains of the next level, chain by chain; closes it. Only before finished().
+  void advance(const Response& response);
+  bool finished() const { return close_.last; }
+  int level() const { return level_; }  // the last level closed
+  const LevelClose& close() const { return close_; }
+  // What the chains of level() + 1 start from. Only before finished().
+  LevelStart next_start() const;
+  SubsetResult result() const;
+
+ private:
+  void close_this_level();
+
+  const SubsetSettings settings_;
+  unsigned dimensions_;
+  int level_ = -1;
+  LevelStates states_;
+  LevelClose close_;
+  Spread spread_;  // the one this level's chains used
+  std::vector<LevelSummary> levels_;
+};
 
 // The whole algorithm, serially.
 SubsetResult subset_simulation(const SubsetSettings& settings, unsigned dimensions, const Response& response);
