@@ -10,6 +10,7 @@
 #include <iostream>
 
 #include "analysis/digest.hpp"
+#include "analysis/subset_replay.hpp"
 #include "app/exit_codes.hpp"
 #include "parallel/collectives.hpp"
 #include "parallel/driver.hpp"
@@ -95,11 +96,28 @@ int write_part(EnsembleRun& run, const ensemble::EnsembleStatistics& stats) {
 }
 
 // Why the run ended where it did, for the file and the summary.
-std::string stop_reason_of(const EnsembleRun& run) {
+std::string stop_reason_of(const EnsembleRun& run, const rare_event::SubsetResult* rare) {
+  if (rare) {
+    const std::string levels = std::to_string(rare->levels.size() - 1);
+    return rare->reached_limit ? "subset simulation: the threshold reached the limit at level " + levels
+                               : "subset simulation: max_levels (" + levels + ") reached before the limit; the "
+                                 "estimate counts the last level's exceedances";
+  }
   if (!run.spec.stop) return "no stopping rule: every sample of the design was run";
   if (run.table)
     if (auto reason = ensemble::stop_reason(run.spec, *run.table, run.samples_used)) return *reason;
   return "no target of [ensemble.stop] held: stopped at the most samples, " + std::to_string(run.spec.samples);
+}
+
+// The responses' answers: of every sample, but for subset simulation of
+// level 0 alone (the later levels' runs are conditional samples, not a
+// Monte-Carlo sample).
+std::vector<ensemble::ResponseAnswer> answers_of(const EnsembleRun& run) {
+  if (!run.table) return {};
+  if (!run.spec.subset) return ensemble::answer_responses(run.spec, *run.table);
+  ensemble::ResponseTable level_zero = *run.table;
+  level_zero.truncate(run.spec.base_samples);
+  return ensemble::answer_responses(run.spec, level_zero);
 }
 
 // Rank 0, a whole ensemble: the records are in the file already; the rest
@@ -110,15 +128,18 @@ int write_ensemble(EnsembleRun& run, const ensemble::EnsembleStatistics& stats, 
   summary.failed = run.records->failed();
   summary.ok = run.records->done() - summary.failed;
   summary.samples_used = run.samples_used;
-  summary.stop_reason = stop_reason_of(run);
   if (run.samples_used < run.spec.samples) {
     if (run.table) run.table->truncate(run.samples_used);
     run.writer->keep_samples(run.samples_used);
   }
-  const std::vector<ensemble::ResponseAnswer> answers =
-      run.table ? ensemble::answer_responses(run.spec, *run.table) : std::vector<ensemble::ResponseAnswer>{};
+  std::optional<rare_event::SubsetResult> rare;
+  if (run.spec.subset && run.table)
+    rare = ensemble::replay_subset(run.spec, *run.table, run.spec.subset->max_levels).result();
+  summary.stop_reason = stop_reason_of(run, rare ? &*rare : nullptr);
+  const std::vector<ensemble::ResponseAnswer> answers = answers_of(run);
   try {
     if (!run.records->io_error().empty()) throw process::FileError(run.records->io_error());
+    if (rare) run.writer->write_rare_event(ensemble::subset_settings(run.spec), *rare, run.samples_used);
     run.writer->complete(run.nominal, stats, answers, summary, provenance);
   } catch (const process::FileError& e) {
     std::cerr << "error: " << e.what() << "\n";
@@ -127,6 +148,7 @@ int write_ensemble(EnsembleRun& run, const ensemble::EnsembleStatistics& stats, 
   if (!run.options.quiet) {
     ensemble::print_digest(std::cout, ensemble::digest_of(run.job, run.spec, stats, summary));
     ensemble::print_response_summary(std::cout, run.spec, answers);
+    if (rare) ensemble::print_rare_event(std::cout, run.spec, *rare);
     if (run.spec.stop)
       std::cout << "stopped after " << run.samples_used << " of at most " << run.spec.samples
                 << " samples: " << summary.stop_reason << "\n";

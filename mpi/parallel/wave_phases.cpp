@@ -10,11 +10,13 @@
 #include <thread>
 
 #include "app/exit_codes.hpp"
+#include "analysis/subset_replay.hpp"
 #include "parallel/collectives.hpp"
 #include "parallel/driver.hpp"
 #include "parallel/work_queue.hpp"
 #include "process/atomic_file.hpp"
 #include "process/signals.hpp"
+#include "rare_event/subset_simulation.hpp"
 
 namespace treedyn::parallel {
 namespace {
@@ -26,14 +28,18 @@ using Sync = process::AtomicFile::Sync;
 // One sample. Any exception becomes a failed record: a sample never takes
 // the job down. At every output time the record transport progresses, and
 // a stop signal abandons the sample (nullopt: a resumed run runs it again).
-std::optional<SampleRecord> run_sample(EnsembleRun& run, std::uint64_t k, std::vector<double>& trajectory) {
+// `uniforms`: the run's own uniform numbers (a chain's), else the design's.
+std::optional<SampleRecord> run_sample(EnsembleRun& run, std::uint64_t k, std::vector<double>& trajectory,
+                                       std::span<const double> uniforms = {}) {
   const auto start = std::chrono::steady_clock::now();
   std::optional<SampleRecord> r;
+  const auto between_outputs = [&run] {
+    run.sink->poll();
+    if (process::stop_signal() != 0) throw ensemble::SampleAbandoned{};
+  };
   try {
-    r = run.runner.run(k, false, trajectory, [&run] {
-      run.sink->poll();
-      if (process::stop_signal() != 0) throw ensemble::SampleAbandoned{};
-    });
+    r = uniforms.empty() ? run.runner.run(k, false, trajectory, between_outputs)
+                         : run.runner.run_at(k, uniforms, trajectory, between_outputs);
   } catch (const ensemble::SampleAbandoned&) {
   } catch (const std::bad_alloc&) {
     throw;  // not the sample's failure: the rank's (exit 6)
@@ -181,6 +187,57 @@ bool run_wave(EnsembleRun& run, std::uint64_t from, std::uint64_t to) {
   return interrupted;
 }
 
+// Thrown out of a chain's response when this rank must stop (a signal, or
+// another rank's flag): the chain is left where it is; a resumed run runs
+// it again from its seed.
+struct ChainStopped {};
+
+// Chain c of a subset-simulation level: each proposal run here, in order.
+// A run a resumed run already has is run again (the chain needs its
+// response to go on; the same bits) but not kept twice.
+void run_chain(EnsembleRun& run, WorkQueue& queue, const rare_event::LevelStart& start, std::uint64_t c,
+               std::vector<double>& trajectory) {
+  const unsigned D = run.spec.input_dimensions();
+  std::vector<double> uniforms(D);
+  const auto response = [&](std::uint64_t k, std::span<const double> u) {
+    if (!may_go_on(queue)) throw ChainStopped{};
+    for (unsigned i = 0; i < D; ++i) uniforms[i] = rare_event::to_uniform(u[i]);
+    std::optional<SampleRecord> r = run_sample(run, k, trajectory, uniforms);
+    if (!r) throw ChainStopped{};
+    const double g = ensemble::subset_response(run.spec, *r);
+    if (!run.finished.contains(k)) {
+      keep(run, std::move(*r), {});  // not into /stats: level 0 alone is a Monte-Carlo sample
+      ++run.kept_after_pilot;
+      hold_if_asked(run);
+    }
+    return g;
+  };
+  rare_event::run_chain(ensemble::subset_settings(run.spec), start.level, c, start.threshold, start.spread,
+                        std::span<const double>(start.seed_u.data() + c * D, D), start.seed_g[c], response);
+}
+
+// A wave of chains: the queue hands out whole chains. Returns whether a
+// stop cut it short.
+bool run_chain_wave(EnsembleRun& run, const ensemble::Wave& wave) {
+  const rare_event::LevelStart start = rare_event::unpack_level_start(wave.start, run.spec.input_dimensions());
+  WorkQueue queue(run.comm, wave.first, wave.end, wave.chain_length);
+  std::uint64_t begin = 0, end = 0;
+  std::vector<double> trajectory;
+  bool stopped = false;
+  while (!stopped && queue.next(begin, end)) {
+    try {
+      run_chain(run, queue, start, (begin - wave.first) / wave.chain_length, trajectory);
+    } catch (const ChainStopped&) {
+      stopped = true;
+    }
+    run.sink->flush();
+    if (!stopped) run.results.save_if_due();
+  }
+  const bool interrupted = !may_go_on(queue);
+  run.sink->end_wave();
+  return interrupted;
+}
+
 // Rank 0 decides the next wave from every record so far; everyone gets it.
 std::optional<ensemble::Wave> next_wave(EnsembleRun& run, const ensemble::Wave& done) {
   std::optional<ensemble::Wave> next;
@@ -189,6 +246,8 @@ std::optional<ensemble::Wave> next_wave(EnsembleRun& run, const ensemble::Wave& 
   if (run.rank != 0) next.emplace();
   next->first = broadcast(run.comm, next->first);
   next->end = broadcast(run.comm, next->end);
+  next->chain_length = broadcast(run.comm, next->chain_length);
+  broadcast(run.comm, next->start);
   std::vector<char> name(next->name.begin(), next->name.end());
   broadcast(run.comm, name);
   next->name.assign(name.begin(), name.end());
@@ -239,8 +298,10 @@ int run_waves(EnsembleRun& run) {
   }
   for (;;) {
     const std::uint64_t first = std::max({wave.first, from, run.first});
-    if (any_rank(run.comm, run_wave(run, first, std::max(first, std::min(wave.end, run.end)))))
-      return stop_interrupted(run, true);
+    const bool interrupted = wave.chain_length > 0
+                                 ? run_chain_wave(run, wave)
+                                 : run_wave(run, first, std::max(first, std::min(wave.end, run.end)));
+    if (any_rank(run.comm, interrupted)) return stop_interrupted(run, true);
     const std::optional<ensemble::Wave> next = next_wave(run, wave);
     if (!next) {
       run.samples_used = std::min(wave.end, run.end);

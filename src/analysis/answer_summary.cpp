@@ -40,7 +40,10 @@ void print_response_summary(std::ostream& out, const EnsembleSpec& spec,
                             const std::vector<ResponseAnswer>& answers) {
   if (answers.empty()) return;
   out << "responses: mean +- standard error (successful samples with finite values"
-      << (spec.design == Design::saltelli ? "; saltelli: the A and B runs" : "") << ")\n";
+      << (spec.design == Design::saltelli            ? "; saltelli: the A and B runs"
+          : spec.design == Design::subset_simulation ? "; subset_simulation: level 0, the Monte-Carlo level"
+                                                     : "")
+      << ")\n";
   for (std::size_t r = 0; r < answers.size(); ++r) {
     const Response& response = spec.responses[r];
     const ResponseAnswer& a = answers[r];
@@ -63,6 +66,27 @@ void print_response_summary(std::ostream& out, const EnsembleSpec& spec,
     }
     print_drivers(out, spec, a);
   }
+}
+
+void print_rare_event(std::ostream& out, const EnsembleSpec& spec, const rare_event::SubsetResult& result) {
+  const Response& response = spec.responses[spec.subset->response];
+  const double sign = response.fail_if == Response::FailIf::below ? -1.0 : 1.0;
+  const char* side = response.fail_if == Response::FailIf::above ? " > " : " < ";
+  out << "subset simulation: P(" << response.name << side << number(response.limit) << " " << response.units
+      << ") = " << number(result.probability, "%.4g") << ", cov " << number(result.cov, "%.3g")
+      << " (levels taken as uncorrelated), 95 % interval [" << number(result.interval_low, "%.4g") << ", "
+      << number(result.interval_high, "%.4g") << "] (lognormal)\n";
+  out << "  " << result.runs << " runs in " << result.levels.size() << " levels of " << spec.base_samples
+      << "; thresholds:";
+  for (const rare_event::LevelSummary& level : result.levels) out << " " << number(sign * level.threshold, "%.5g");
+  out << " " << response.units << "\n";
+  if (result.probability > 0.0 && result.cov > 0.0)
+    out << "  crude Monte Carlo would need about "
+        << number((1.0 - result.probability) / (result.probability * result.cov * result.cov), "%.3g")
+        << " runs for the same cov\n";
+  if (!result.reached_limit)
+    out << "  warning: max_levels ran out before a level's threshold reached the limit: the estimate counts "
+           "the last level's exceedances (raise max_levels)\n";
 }
 
 }  // namespace treedyn::ensemble

@@ -13,6 +13,7 @@
 #include "job/ensemble_spec.hpp"
 #include "ensemble/response_table.hpp"
 #include "analysis/sensitivity.hpp"
+#include "rare_event/subset_simulation.hpp"
 
 namespace treedyn::ensemble {
 
@@ -69,5 +70,10 @@ std::vector<ResponseAnswer> answer_responses(const EnsembleSpec& spec, const Res
 // exceedance probability with its interval (answer_summary.cpp).
 void print_response_summary(std::ostream& out, const EnsembleSpec& spec,
                             const std::vector<ResponseAnswer>& answers);
+
+// Subset simulation's answer: P(limit exceeded) with its coefficient of
+// variation and interval, each level's threshold, the runs made, and what
+// crude Monte Carlo would have needed for the same coefficient of variation.
+void print_rare_event(std::ostream& out, const EnsembleSpec& spec, const rare_event::SubsetResult& result);
 
 }  // namespace treedyn::ensemble

@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "analysis/answers.hpp"
+#include "analysis/subset_replay.hpp"
 #include "common/format.hpp"
 
 namespace treedyn::ensemble {
@@ -43,7 +44,7 @@ std::optional<std::string> stop_reason(const EnsembleSpec& spec, const ResponseT
 
 Wave StoppingPlan::wave_from(std::uint64_t first) const {
   const std::uint64_t end = std::min(first + spec_.stop->every, spec_.samples);
-  return {first, end, "samples " + std::to_string(first) + " .. " + std::to_string(end - 1)};
+  return {first, end, "samples " + std::to_string(first) + " .. " + std::to_string(end - 1), 0, {}};
 }
 
 Wave StoppingPlan::first_wave() const { return wave_from(0); }
@@ -54,7 +55,21 @@ std::optional<Wave> StoppingPlan::next_wave(const Wave& done, const ResponseTabl
   return wave_from(done.end);
 }
 
+Wave SubsetPlan::first_wave() const { return {0, spec_.base_samples, "level 0", 0, {}}; }
+
+std::optional<Wave> SubsetPlan::next_wave(const Wave& done, const ResponseTable* so_far) const {
+  if (!so_far) return std::nullopt;
+  const rare_event::SubsetSettings settings = subset_settings(spec_);
+  const int level = rare_event::run_place(settings, done.first).level;
+  const rare_event::SubsetLevels levels = replay_subset(spec_, *so_far, level);
+  if (levels.finished()) return std::nullopt;
+  const int next = level + 1;
+  return Wave{rare_event::runs_before(settings, next), rare_event::runs_before(settings, next + 1),
+              "level " + std::to_string(next), settings.states() - 1, rare_event::pack(levels.next_start())};
+}
+
 std::unique_ptr<WavePlan> make_wave_plan(const EnsembleSpec& spec) {
+  if (spec.subset) return std::make_unique<SubsetPlan>(spec);
   if (spec.stop) return std::make_unique<StoppingPlan>(spec);
   return std::make_unique<FixedDesignPlan>(spec.samples);
 }

@@ -29,6 +29,19 @@ class StoppingPlan final : public WavePlan {
   const EnsembleSpec& spec_;
 };
 
+// Subset simulation: level 0 (samples 0 .. N-1), then each level's chains,
+// decided from the levels replayed so far; over when a level's threshold
+// reaches the limit or max_levels is reached.
+class SubsetPlan final : public WavePlan {
+ public:
+  explicit SubsetPlan(const EnsembleSpec& spec) : spec_(spec) {}
+  Wave first_wave() const override;
+  std::optional<Wave> next_wave(const Wave& done, const ResponseTable* so_far) const override;
+
+ private:
+  const EnsembleSpec& spec_;
+};
+
 std::unique_ptr<WavePlan> make_wave_plan(const EnsembleSpec& spec);
 
 }  // namespace treedyn::ensemble

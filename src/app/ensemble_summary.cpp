@@ -63,7 +63,7 @@ void print_ensemble_summary(std::ostream& out, const Job& job, const EnsembleSpe
     target("mean_relative_sem", rule.mean_relative_sem);
     out << " (at most " << s.samples << " runs)\n";
   }
-  if (!nested_prefixes(s.design))
+  if (s.design == Design::latin_hypercube)
     out << "  latin_hypercube: sample k depends on N too, so prefixes are not nested samples "
            "(convergence by prefix is not meaningful)\n";
   const auto nominal = job.definition.parameters.nominal();

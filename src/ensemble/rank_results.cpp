@@ -18,7 +18,7 @@ void RankResults::start_statistics(EnsembleStatistics stats) {
 bool RankResults::keep(const SampleRecord& record, std::span<const double> trajectory) {
   std::lock_guard<std::mutex> guard(lock_);
   if (stopped_ || finished_) return false;
-  if (stats_ && record.status == SampleStatus::ok) stats_->add_sample(trajectory);
+  if (stats_ && record.status == SampleStatus::ok && !trajectory.empty()) stats_->add_sample(trajectory);
   if (checkpoint_) checkpoint_->add(record);
   return true;
 }

@@ -28,8 +28,10 @@ class RankResults {
   bool has_statistics() const { return stats_.has_value(); }
 
   // A finished sample: its record into the checkpoint and, when it succeeded
-  // and the statistics exist, its trajectory into them. False once stopped:
-  // the sample is not kept (a resumed run runs it again).
+  // and the statistics exist, its trajectory into them (an empty trajectory
+  // stays out: a subset simulation's chain runs are not a Monte-Carlo
+  // sample). False once stopped: the sample is not kept (a resumed run runs
+  // it again).
   bool keep(const SampleRecord& record, std::span<const double> trajectory);
 
   // Main thread: saves when the interval has passed (flushed to the disk).

@@ -40,11 +40,15 @@ SampleRecord SampleRunner::failed_record(std::uint64_t k, SampleStatus status,
 
 std::vector<double> SampleRunner::sample_inputs(std::uint64_t k) {
   design_.point(k, uniforms_);
-  std::vector<double> inputs(uniforms_.size());
+  return inputs_at(uniforms_);
+}
+
+std::vector<double> SampleRunner::inputs_at(std::span<const double> uniforms) const {
+  std::vector<double> inputs(uniforms.size());
   std::size_t d = 0;
   for (const Perturbation& p : spec_.perturbations) {
     const auto n = static_cast<std::size_t>(p.dimensions());
-    p.sample(std::span<const double>(uniforms_).subspan(d, n), std::span<double>(inputs).subspan(d, n));
+    p.sample(uniforms.subspan(d, n), std::span<double>(inputs).subspan(d, n));
     d += n;
   }
   return inputs;
@@ -69,6 +73,16 @@ SampleRecord SampleRunner::run(std::uint64_t k, bool nominal, std::vector<double
                                const std::function<void()>& between_outputs) {
   std::vector<double> inputs;
   if (!nominal) inputs = sample_inputs(k);
+  return run_inputs(k, std::move(inputs), nominal, trajectory, between_outputs);
+}
+
+SampleRecord SampleRunner::run_at(std::uint64_t k, std::span<const double> uniforms, std::vector<double>& trajectory,
+                                  const std::function<void()>& between_outputs) {
+  return run_inputs(k, inputs_at(uniforms), false, trajectory, between_outputs);
+}
+
+SampleRecord SampleRunner::run_inputs(std::uint64_t k, std::vector<double> inputs, bool nominal,
+                                      std::vector<double>& trajectory, const std::function<void()>& between_outputs) {
   try {
     set_up(inputs);
   } catch (const ModelError& e) {

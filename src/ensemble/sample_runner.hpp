@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -39,6 +40,11 @@ class SampleRunner {
   SampleRecord run(std::uint64_t k, bool nominal, std::vector<double>& trajectory,
                    const std::function<void()>& between_outputs = {});
 
+  // Run k at explicit uniform numbers in (0, 1), one per input dimension,
+  // instead of the design's (subset simulation's chains make their own).
+  SampleRecord run_at(std::uint64_t k, std::span<const double> uniforms, std::vector<double>& trajectory,
+                      const std::function<void()>& between_outputs = {});
+
   // The record of a sample that produced nothing: NaN reductions, responses and final state.
   SampleRecord failed_record(std::uint64_t k, SampleStatus status, std::string reason) const;
 
@@ -52,11 +58,15 @@ class SampleRunner {
 
   // The sampled values (SI) of sample k's perturbed inputs.
   std::vector<double> sample_inputs(std::uint64_t k);
+  // ... of the inputs at uniform numbers `uniforms` (one per dimension).
+  std::vector<double> inputs_at(std::span<const double> uniforms) const;
 
  private:
   // parameters_ and state_: the nominal ones with `inputs` applied (none:
   // nominal), then model_. Throws ModelError.
   void set_up(const std::vector<double>& inputs);
+  SampleRecord run_inputs(std::uint64_t k, std::vector<double> inputs, bool nominal, std::vector<double>& trajectory,
+                          const std::function<void()>& between_outputs);
 
   const Job& job_;
   const EnsembleSpec& spec_;

@@ -26,6 +26,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "ensemble/response_table.hpp"
 #include "job/ensemble_spec.hpp"
@@ -35,6 +36,11 @@ namespace treedyn::ensemble {
 struct Wave {
   std::uint64_t first = 0, end = 0;  // sample indices [first, end)
   std::string name;                  // for progress lines and messages
+  // > 0: the wave's runs are chains of this many runs, [first + c L,
+  // first + (c + 1) L) for chain c; one rank runs a chain, in order, since
+  // each run's inputs follow from the one before (subset simulation).
+  std::uint64_t chain_length = 0;
+  std::vector<double> start;  // what the chains start from (rare_event::LevelStart, packed)
 };
 
 class WavePlan {
@@ -52,7 +58,7 @@ class WavePlan {
 class FixedDesignPlan final : public WavePlan {
  public:
   explicit FixedDesignPlan(std::uint64_t samples) : samples_(samples) {}
-  Wave first_wave() const override { return {0, samples_, "samples"}; }
+  Wave first_wave() const override { return {0, samples_, "samples", 0, {}}; }
   std::optional<Wave> next_wave(const Wave&, const ResponseTable*) const override { return std::nullopt; }
 
  private:

@@ -498,6 +498,86 @@ void EnsembleWriter::write_merge_origin(const std::vector<std::string>& parts,
   h5::write_attribute(root, "held_samples", std::span<const long long>(flat));
 }
 
+void EnsembleWriter::write_run_places(const rare_event::SubsetSettings& settings, std::size_t rows) {
+  std::vector<std::int32_t> levels(rows);
+  std::vector<std::int64_t> chains(rows), states(rows);
+  for (std::size_t k = 0; k < rows; ++k) {
+    const rare_event::RunPlace p = rare_event::run_place(settings, k);
+    levels[k] = p.level;
+    chains[k] = static_cast<std::int64_t>(p.chain);
+    states[k] = static_cast<std::int64_t>(p.state);
+  }
+  const hsize_t n[1] = {rows};
+  h5::Handle l = h5::write_array(samples_.id(), "level", H5T_NATIVE_INT32, levels.data(), n);
+  describe(l.id(), "1", "subset-simulation level of the run (0: the Monte-Carlo level)", {});
+  h5::Handle c = h5::write_array(samples_.id(), "chain", H5T_NATIVE_INT64, chains.data(), n);
+  describe(c.id(), "1", "the run's Markov chain in its level (level 0: the sample)", {});
+  h5::Handle s = h5::write_array(samples_.id(), "state", H5T_NATIVE_INT64, states.data(), n);
+  describe(s.id(), "1", "the run's state in its chain, 1 .. 1/p0 - 1 (state 0, the seed, is a run of the level "
+                        "before; level 0: 0)", {});
+}
+
+void EnsembleWriter::write_rare_event(const rare_event::SubsetSettings& settings,
+                                      const rare_event::SubsetResult& result, std::size_t rows) {
+  write_run_places(settings, rows);
+
+  const ensemble::Response& response = spec_.responses[spec_.subset->response];
+  const double sign = response.fail_if == ensemble::Response::FailIf::below ? -1.0 : 1.0;
+  h5::Handle group = h5::create_group(file_.id(), "rare_event");
+  h5::write_attribute(group.id(), "description",
+                      std::string("subset simulation (Au and Beck 2001) in standard normal space: levels of "
+                                  "conditional samples, conditional sampling after Papaioannou et al. 2015"));
+  h5::Handle g = h5::create_group(group.id(), response.name);
+  h5::write_attribute(g.id(), "limit", response.limit);
+  h5::write_attribute(g.id(), "fail_if", fail_if_name(response));
+  h5::write_attribute(g.id(), "units", response.units);
+  h5::write_attribute(g.id(), "level_probability", settings.level_probability);
+  h5::write_attribute(g.id(), "samples_per_level", static_cast<long long>(settings.samples));
+  h5::write_attribute(g.id(), "reached_limit", static_cast<long long>(result.reached_limit ? 1 : 0));
+  write_described_scalar(g.id(), "probability", result.probability, "1",
+                         "P(limit exceeded) = product of the levels' conditional probabilities");
+  write_described_scalar(g.id(), "cov", result.cov, "1",
+                         "coefficient of variation: sqrt(sum of the levels' delta_j^2), the levels taken as "
+                         "uncorrelated (the usual estimate; it understates a little)");
+  const double interval[2] = {result.interval_low, result.interval_high};
+  const hsize_t two[1] = {2};
+  h5::Handle w = h5::write_array(g.id(), "interval", H5T_NATIVE_DOUBLE, interval, two);
+  describe(w.id(), "1",
+           "95 % interval: the estimate taken as lognormal with that cov, P exp(-+1.96 sqrt(ln(1 + cov^2))); "
+           "with no exceedance at the last level, [0, the rule of three there]",
+           {"low", "high"});
+  write_described_scalar(g.id(), "runs", result.runs, "1",
+                         "model runs made: every proposal is a run, accepted or not");
+  write_described_scalar(g.id(), "crude_monte_carlo_runs",
+                         result.probability > 0.0 && result.cov > 0.0
+                             ? (1.0 - result.probability) / (result.probability * result.cov * result.cov)
+                             : std::numeric_limits<double>::quiet_NaN(),
+                         "1", "runs crude Monte Carlo would need for the same cov: (1 - P) / (P cov^2)");
+  write_levels(g.id(), result, sign, response.units);
+}
+
+void EnsembleWriter::write_levels(hid_t g, const rare_event::SubsetResult& result, double sign,
+                                  const std::string& units) {
+  std::vector<double> thresholds, conditional, gamma, acceptance, runs;
+  for (const rare_event::LevelSummary& level : result.levels) {
+    thresholds.push_back(sign * level.threshold);
+    conditional.push_back(level.conditional_probability);
+    gamma.push_back(level.gamma);
+    acceptance.push_back(level.acceptance_rate);
+    runs.push_back(static_cast<double>(level.runs));
+  }
+  h5::Handle t = h5::write_vector(g, "thresholds", thresholds);
+  describe(t.id(), units, "per level: the response's threshold (the last: the limit itself)", {});
+  h5::Handle p = h5::write_vector(g, "conditional_probability", conditional);
+  describe(p.id(), "1", "per level: the fraction of its states beyond its threshold (p0 but at the last)", {});
+  h5::Handle y = h5::write_vector(g, "gamma", gamma);
+  describe(y.id(), "1", "per level: the chains' correlation factor in delta_j^2 = (1 - p) / (N p) (1 + gamma)", {});
+  h5::Handle a = h5::write_vector(g, "acceptance_rate", acceptance);
+  describe(a.id(), "1", "per level: accepted proposals / proposals (level 0: 1)", {});
+  h5::Handle r = h5::write_vector(g, "runs_per_level", runs);
+  describe(r.id(), "1", "per level: the runs it made", {});
+}
+
 void EnsembleWriter::complete(const std::vector<double>& nominal, const ensemble::EnsembleStatistics& stats,
                               const std::vector<ensemble::ResponseAnswer>& answers, const EnsembleSummary& summary,
                               const RunProvenance& run) {

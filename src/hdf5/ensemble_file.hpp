@@ -11,6 +11,7 @@
 #include "output/quantities.hpp"
 #include "job/ensemble_spec.hpp"
 #include "output/sample_record.hpp"
+#include "rare_event/subset_simulation.hpp"
 #include "statistics/ensemble_statistics.hpp"
 #include "hdf5/hdf5.hpp"
 #include "hdf5/provenance.hpp"
@@ -30,13 +31,20 @@ class EnsembleWriter {
   // [first, end) rows). Call before complete().
   void write_merge_origin(const std::vector<std::string>& parts,
                           const std::vector<std::pair<std::uint64_t, std::uint64_t>>& held);
+  // Keeps the rows of samples 0 .. rows-1 only (a run a stopping rule or
+  // subset simulation's last level ended early); before complete().
+  void keep_samples(std::size_t rows);
+  // design = "subset_simulation": /rare_event/<response> (the estimate, its
+  // coefficient of variation and interval, and each level's threshold,
+  // conditional probability, gamma, acceptance rate and runs) and every
+  // run's place, /samples/level, chain, state (rows 0 .. rows-1); before
+  // complete().
+  void write_rare_event(const rare_event::SubsetSettings& settings, const rare_event::SubsetResult& result,
+                        std::size_t rows);
   // The end of every ensemble file, whoever wrote its records (a run, a
   // merge): the nominal run, /stats, /responses and /sensitivity (one per
   // response; none when `answers` is empty), the summary and provenance as
   // root attributes; then the file is renamed into place.
-  // Keeps the rows of samples 0 .. rows-1 only (a run a stopping rule
-  // ended early); before complete().
-  void keep_samples(std::size_t rows);
   void complete(const std::vector<double>& nominal, const ensemble::EnsembleStatistics& stats,
                 const std::vector<ensemble::ResponseAnswer>& answers, const EnsembleSummary& summary,
                 const RunProvenance& run);
@@ -55,6 +63,8 @@ class EnsembleWriter {
   void write_response_answer(hid_t parent, const ensemble::Response& response, const ensemble::ResponseAnswer& a);
   void write_sensitivity(hid_t parent, const ensemble::Response& response, const ensemble::ResponseAnswer& a);
   void finish(const EnsembleSummary& summary, const RunProvenance& run);
+  void write_run_places(const rare_event::SubsetSettings& settings, std::size_t rows);
+  void write_levels(hid_t group, const rare_event::SubsetResult& result, double sign, const std::string& units);
 
   const Job& job_;
   const ensemble::EnsembleSpec& spec_;

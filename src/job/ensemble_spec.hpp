@@ -28,6 +28,14 @@ struct StopRule {
 // exceedances seen: with fewer, sqrt((1 - P) / (n P)) is itself too uncertain.
 inline constexpr std::uint64_t kMinExceedances = 10;
 
+// [ensemble.subset] of design = "subset_simulation": `samples` runs per
+// level, the response's limit as the failure, levels of probability p0.
+struct SubsetSpec {
+  std::size_t response = 0;        // index into EnsembleSpec::responses (it has a limit)
+  double level_probability = 0.1;  // p0
+  int max_levels = 10;             // levels after level 0, at most
+};
+
 struct EnsembleSpec {
   std::uint64_t samples = 100;       // runs; for saltelli base_samples * (D + 2)
   std::uint64_t base_samples = 100;  // `samples` as the job gives it (saltelli: the base size N)
@@ -44,6 +52,7 @@ struct EnsembleSpec {
   std::uint64_t store_trajectories = 0;  // full trajectories of samples 0 .. M-1
   int bootstrap_resamples = 1000;        // for the Sobol' index intervals
   std::optional<StopRule> stop;          // `samples` is then the most the run makes
+  std::optional<SubsetSpec> subset;      // design = "subset_simulation": samples = the most runs
 
   unsigned input_dimensions() const;
   std::vector<std::string> input_names() const;

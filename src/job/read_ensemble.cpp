@@ -356,7 +356,10 @@ void read_stop(const TomlView& parent, EnsembleSpec& s) {
   t.check_keys({"response", "exceedance_cov", "mean_sem", "mean_relative_sem", "every"});
   if (!nested_prefixes(s.design))
     t.fail("response", "a stopping rule needs a design whose prefixes are designs (monte_carlo, sobol, "
-                       "saltelli); the first n samples of a latin_hypercube are not one");
+                       "saltelli); " +
+                           std::string(s.design == Design::latin_hypercube
+                                           ? "the first n samples of a latin_hypercube are not one"
+                                           : "subset_simulation sets its own runs (samples per level, levels)"));
   StopRule rule;
   const std::string name = t.required_string("response");
   const auto found = std::find_if(s.responses.begin(), s.responses.end(),
@@ -387,6 +390,54 @@ void read_stop(const TomlView& parent, EnsembleSpec& s) {
   s.stop = rule;
 }
 
+// [ensemble.subset] of design = "subset_simulation": the response whose
+// limit is the failure, p0, the levels; `samples` is per level, and the
+// run count is the most the levels can make: N + max_levels N (1 - p0).
+void read_subset(const TomlView& parent, EnsembleSpec& s) {
+  const auto section = parent.subtable("subset");
+  if (s.design != Design::subset_simulation) {
+    if (section) section->fail("response", "[ensemble.subset] is only for design = \"subset_simulation\"");
+    return;
+  }
+  if (!section)
+    parent.fail("design", "subset_simulation needs an [ensemble.subset] table with response = NAME (a response "
+                          "with a limit)");
+  const TomlView& t = *section;
+  t.check_keys({"response", "level_probability", "max_levels"});
+  if (s.input_dimensions() == 0)
+    parent.fail("design", "subset_simulation needs at least one [[ensemble.perturbation]] (the uncertain inputs)");
+  SubsetSpec subset;
+  const std::string name = t.required_string("response");
+  const auto found = std::find_if(s.responses.begin(), s.responses.end(),
+                                  [&](const Response& r) { return r.name == name; });
+  if (found == s.responses.end())
+    t.fail("response", "\"" + name + "\" is not the name of an [[ensemble.response]]");
+  if (!found->has_limit())
+    t.fail("response", "response \"" + name + "\" has no limit: give it limit and fail_if (the failure whose "
+                       "probability is estimated)");
+  subset.response = static_cast<std::size_t>(found - s.responses.begin());
+  subset.level_probability = t.number("level_probability", 0.1);
+  const double p0 = subset.level_probability;
+  if (!(p0 > 0.0 && p0 <= 0.5))
+    t.fail("level_probability", "must be in (0, 0.5]; 0.1 is the usual value");
+  const double inverse = 1.0 / p0;
+  if (std::abs(inverse - std::round(inverse)) > 1e-9 * inverse)
+    t.fail("level_probability", "1 / level_probability must be a whole number (0.1, 0.2, 0.25, 0.5, ...)");
+  const auto states = static_cast<std::uint64_t>(std::llround(inverse));
+  if (s.base_samples % states != 0)
+    parent.fail("samples", "subset_simulation: samples (per level) x level_probability must be a whole number "
+                           "of chains: samples must be a multiple of " + std::to_string(states));
+  const auto levels = t.integer("max_levels");
+  if (levels && (*levels < 1 || *levels > 100)) t.fail("max_levels", "must be from 1 to 100");
+  subset.max_levels = levels ? static_cast<int>(*levels) : 10;
+  const std::uint64_t chain_runs = s.base_samples - s.base_samples / states;
+  s.samples = s.base_samples + static_cast<std::uint64_t>(subset.max_levels) * chain_runs;
+  if (s.samples > kMaxRuns)
+    parent.fail("samples", "subset_simulation may make samples + max_levels x samples x (1 - level_probability) = " +
+                               std::to_string(s.samples) + " runs; at most " + std::to_string(kMaxRuns));
+  s.subset = subset;
+}
+
 // What rank 0 and every rank must hold, within 8 GiB each.
 void check_memory(const TomlView& t, const Job& job, const EnsembleSpec& s) {
   if (!s.responses.empty()) {
@@ -412,13 +463,15 @@ EnsembleSpec read_ensemble(const Job& job) {
                    "missing [ensemble] section: give at least samples = N (and seed, perturbations)");
   const TomlView& t = *section;
   t.check_keys({"samples", "seed", "design", "quantiles", "histogram_bins", "pilot_samples", "block_size",
-                "perturbation", "per_sample", "response", "store_trajectories", "bootstrap_resamples", "stop"});
+                "perturbation", "per_sample", "response", "store_trajectories", "bootstrap_resamples", "stop",
+                "subset"});
   EnsembleSpec s;
   read_settings(t, s);
   for (const TomlView& p : t.table_array("perturbation")) s.perturbations.push_back(read_perturbation(p, job));
   count_runs(t, s);
   read_answers(t, job, s);
   read_stop(t, s);
+  read_subset(t, s);
   read_stored_trajectories(t, job, s);
   check_memory(t, job, s);
   return s;

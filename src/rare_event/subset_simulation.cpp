@@ -115,6 +115,11 @@ RunPlace run_place(const SubsetSettings& s, std::uint64_t index) {
   return {1 + static_cast<int>(r / R), within / (s.states() - 1), 1 + within % (s.states() - 1)};
 }
 
+double to_uniform(double u) {
+  const double v = boost::math::cdf(boost::math::normal(), u);
+  return std::clamp(v, std::numeric_limits<double>::min(), std::nextafter(1.0, 0.0));
+}
+
 void level_zero_point(const SubsetSettings& s, std::uint64_t k, std::span<double> u) {
   for (std::size_t i = 0; i < u.size(); ++i) u[i] = standard_normal(s.seed, k, i, kLevelZeroStream);
 }

@@ -48,6 +48,11 @@ RunPlace run_place(const SubsetSettings& settings, std::uint64_t index);
 // Runs of levels 0 .. levels-1 (the first index of level `levels`).
 std::uint64_t runs_before(const SubsetSettings& settings, int levels);
 
+// Phi(u): the uniform number in (0, 1) of a standard normal coordinate,
+// kept inside the open interval (the inputs' quantile functions are not
+// finite at 0 and 1; Phi(u) rounds to 1 from u = 8.3 on).
+double to_uniform(double u);
+
 // Level 0's point k: u_i = Phi^-1(U(seed, k, i)).
 void level_zero_point(const SubsetSettings& settings, std::uint64_t k, std::span<double> u);
 

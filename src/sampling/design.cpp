@@ -138,6 +138,7 @@ void SampleDesign::point(std::uint64_t sample, std::span<double> u) const {
 double SampleDesign::uniform(std::uint64_t sample, unsigned dimension) const {
   switch (design_) {
     case Design::monte_carlo:
+    case Design::subset_simulation:  // level 0; later levels' points come from their chains
       return counter_uniform(seed_, sample, dimension, 0);
     case Design::latin_hypercube: {
       // Stratum pi_d(k) of N, then a uniform position inside it.

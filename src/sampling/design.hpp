@@ -16,12 +16,14 @@ enum class Design {
   latin_hypercube,  // every dimension split into N strata, each hit exactly once
   sobol,            // Sobol points (Joe-Kuo direction numbers), Owen-scrambled by hashing
   saltelli,         // Saltelli's A, B, AB_i from one scrambled Sobol sequence over 2D dimensions
+  subset_simulation,  // level 0 as monte_carlo, then Markov chains towards a limit (rare_event/)
 };
 
-inline constexpr NameTable<Design, 4> kDesignNames{{{Design::monte_carlo, "monte_carlo"},
+inline constexpr NameTable<Design, 5> kDesignNames{{{Design::monte_carlo, "monte_carlo"},
                                                     {Design::latin_hypercube, "latin_hypercube"},
                                                     {Design::sobol, "sobol"},
-                                                    {Design::saltelli, "saltelli"}}};
+                                                    {Design::saltelli, "saltelli"},
+                                                    {Design::subset_simulation, "subset_simulation"}}};
 
 // Saltelli's design over D inputs and base size N makes N (D + 2) runs, in
 // blocks of D + 2 per base point j (so a prefix of whole blocks is itself a
@@ -43,7 +45,7 @@ inline SaltelliPlace saltelli_place(std::uint64_t sample, unsigned dimensions) {
 }
 // Whether the design's prefixes are nested (sample k does not depend on N):
 // what makes convergence by prefix meaningful. Latin hypercube is not.
-inline bool nested_prefixes(Design d) { return d != Design::latin_hypercube; }
+inline bool nested_prefixes(Design d) { return d != Design::latin_hypercube && d != Design::subset_simulation; }
 inline std::string_view name(Design d) { return name_in(kDesignNames, d); }
 inline bool parse_design(std::string_view text, Design& out) { return parse_in(kDesignNames, text, out); }
 

@@ -1,0 +1,29 @@
+// Subset simulation over an ensemble's records: the settings a job's
+// [ensemble.subset] gives, and the levels replayed from the responses of
+// the runs so far (rank 0 decides each next level with it, and a resumed run
+// replays the same decisions from its restored records).
+#pragma once
+
+#include <cstdint>
+
+#include "ensemble/response_table.hpp"
+#include "job/ensemble_spec.hpp"
+#include "rare_event/subset_simulation.hpp"
+
+namespace treedyn::ensemble {
+
+// N = samples per level, p0, max_levels, the seed, and the limit as a
+// failure g > b: for fail_if = "below", g = -value and b = -limit.
+rare_event::SubsetSettings subset_settings(const EnsembleSpec& spec);
+
+// g of run k: the response with that sign; NaN for a failed run.
+double subset_response(const EnsembleSpec& spec, const ResponseTable& table, std::uint64_t k);
+
+// ... of one record.
+double subset_response(const EnsembleSpec& spec, const SampleRecord& record);
+
+// Levels 0 .. `levels` replayed from `table` (or fewer when the last one is
+// reached first), each closed.
+rare_event::SubsetLevels replay_subset(const EnsembleSpec& spec, const ResponseTable& table, int levels);
+
+}  // namespace treedyn::ensemble
