@@ -71,7 +71,7 @@ struct CommandLine {
   treedyn::parallel::EnsembleOptions options;
   bool check_only = false;
   long long sample = 0, job_sample = 0;
-  std::string sample_range;
+  std::string sample_range, from;
   CLI::Option *sample_option = nullptr, *write_job_option = nullptr, *samples_option = nullptr;
 };
 
@@ -99,6 +99,10 @@ void define_options(CLI::App& app, CommandLine& c) {
       "[sample] section with its inputs); treedyn run of it reproduces the sample");
   for (auto* o : {c.sample_option, c.write_job_option}) o->check(CLI::NonNegativeNumber)->excludes("--check");
   c.sample_option->excludes(c.write_job_option);
+  app.add_option("--from", c.from,
+                 "with --sample or --write-job: the job's ensemble file (HDF5); needed for a run of a "
+                 "subset simulation's level after 0, whose inputs follow from the runs before it")
+      ->excludes("--check");
   app.add_option("--checkpoint-every", c.options.checkpoint_every,
                  "seconds between each rank's checkpoint in OUTPUT.checkpoint/ (0: no checkpoints); "
                  "a stop signal writes one and exits 5")
@@ -142,9 +146,9 @@ int one_sample(const CommandLine& c, int rank) {
   int code = kExitOk;
   if (rank == 0)
     code = *c.sample_option ? rerun_sample(c.options.job_path, static_cast<std::uint64_t>(c.sample),
-                                           c.options.output_path, c.options.quiet, c.options.provenance)
+                                           c.options.output_path, c.options.quiet, c.options.provenance, c.from)
                             : write_sample_job(c.options.job_path, static_cast<std::uint64_t>(c.job_sample),
-                                               c.options.output_path);
+                                               c.options.output_path, c.from);
   MPI_Bcast(&code, 1, MPI_INT, 0, MPI_COMM_WORLD);
   return code;
 }
@@ -203,6 +207,10 @@ int main(int argc, char** argv) {
   c.options.provenance = start_provenance(argc, argv, c.options.job_path);
   if (c.options.output_path.empty()) {
     if (session.rank() == 0) std::cerr << "error: --output is required (or use --check)\n";
+    return kExitBadInput;
+  }
+  if (!c.from.empty() && !*c.sample_option && !*c.write_job_option) {
+    if (session.rank() == 0) std::cerr << "error: --from is only for --sample K or --write-job K\n";
     return kExitBadInput;
   }
   if (*c.sample_option || *c.write_job_option) return one_sample(c, session.rank());

@@ -109,17 +109,6 @@ std::string stop_reason_of(const EnsembleRun& run, const rare_event::SubsetResul
   return "no target of [ensemble.stop] held: stopped at the most samples, " + std::to_string(run.spec.samples);
 }
 
-// The responses' answers: of every sample, but for subset simulation of
-// level 0 alone (the later levels' runs are conditional samples, not a
-// Monte-Carlo sample).
-std::vector<ensemble::ResponseAnswer> answers_of(const EnsembleRun& run) {
-  if (!run.table) return {};
-  if (!run.spec.subset) return ensemble::answer_responses(run.spec, *run.table);
-  ensemble::ResponseTable level_zero = *run.table;
-  level_zero.truncate(run.spec.base_samples);
-  return ensemble::answer_responses(run.spec, level_zero);
-}
-
 // Rank 0, a whole ensemble: the records are in the file already; the rest
 // goes the same way as a merge's (EnsembleWriter::complete).
 int write_ensemble(EnsembleRun& run, const ensemble::EnsembleStatistics& stats, EnsembleSummary summary,
@@ -136,7 +125,8 @@ int write_ensemble(EnsembleRun& run, const ensemble::EnsembleStatistics& stats, 
   if (run.spec.subset && run.table)
     rare = ensemble::replay_subset(run.spec, *run.table, run.spec.subset->max_levels).result();
   summary.stop_reason = stop_reason_of(run, rare ? &*rare : nullptr);
-  const std::vector<ensemble::ResponseAnswer> answers = answers_of(run);
+  const std::vector<ensemble::ResponseAnswer> answers =
+      run.table ? ensemble::answer_responses(run.spec, *run.table) : std::vector<ensemble::ResponseAnswer>{};
   try {
     if (!run.records->io_error().empty()) throw process::FileError(run.records->io_error());
     if (rare) run.writer->write_rare_event(ensemble::subset_settings(run.spec), *rare, run.samples_used);

@@ -139,6 +139,11 @@ ResponseAnswer answer_response(const EnsembleSpec& spec, const ResponseTable& ta
 }
 
 std::vector<ResponseAnswer> answer_responses(const EnsembleSpec& spec, const ResponseTable& table) {
+  if (spec.subset && table.samples() > spec.base_samples) {
+    ResponseTable level_zero = table;
+    level_zero.truncate(spec.base_samples);
+    return answer_responses(spec, level_zero);
+  }
   std::vector<ResponseAnswer> answers;
   for (std::size_t r = 0; r < spec.responses.size(); ++r)
     answers.push_back(answer_response(spec, table, r, table.samples(), true));

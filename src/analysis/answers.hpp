@@ -63,7 +63,9 @@ struct ResponseAnswer {
 ResponseAnswer answer_response(const EnsembleSpec& spec, const ResponseTable& table, std::size_t r,
                                std::uint64_t prefix, bool with_sensitivity);
 
-// The answers for every response of `spec`, from `table`.
+// The answers for every response of `spec`, from `table`: every sample,
+// but for subset simulation level 0 alone (its later levels' runs are
+// conditional samples, not a Monte-Carlo sample).
 std::vector<ResponseAnswer> answer_responses(const EnsembleSpec& spec, const ResponseTable& table);
 
 // The end-of-run lines: each response's mean +- standard error, and each

@@ -1,6 +1,8 @@
 #include "analysis/subset_replay.hpp"
 
+#include <algorithm>
 #include <limits>
+#include <stdexcept>
 
 namespace treedyn::ensemble {
 
@@ -34,6 +36,28 @@ rare_event::SubsetLevels replay_subset(const EnsembleSpec& spec, const ResponseT
   replay.start(recorded);
   while (replay.level() < levels && !replay.finished()) replay.advance(recorded);
   return replay;
+}
+
+std::vector<double> subset_uniforms(const EnsembleSpec& spec, const ResponseTable& table, std::uint64_t k) {
+  const rare_event::SubsetSettings settings = subset_settings(spec);
+  const rare_event::RunPlace place = rare_event::run_place(settings, k);
+  const unsigned D = spec.input_dimensions();
+  if (place.level == 0) throw std::invalid_argument("run " + std::to_string(k) + " is in level 0: the design's own");
+  const rare_event::SubsetLevels levels = replay_subset(spec, table, place.level - 1);
+  if (levels.level() != place.level - 1 || levels.finished() || k >= table.samples())
+    throw std::invalid_argument("run " + std::to_string(k) + " (level " + std::to_string(place.level) +
+                                ") was not made: the file's levels end before it");
+  const rare_event::LevelStart start = levels.next_start();
+  std::vector<double> u(D);
+  const auto recorded = [&](std::uint64_t index, std::span<const double> v) {
+    if (index == k) std::copy(v.begin(), v.end(), u.begin());
+    return index < table.samples() ? subset_response(spec, table, index) : std::numeric_limits<double>::quiet_NaN();
+  };
+  rare_event::run_chain(settings, start.level, place.chain, start.threshold, start.spread,
+                        std::span<const double>(start.seed_u.data() + place.chain * D, D), start.seed_g[place.chain],
+                        recorded);
+  for (double& v : u) v = rare_event::to_uniform(v);
+  return u;
 }
 
 }  // namespace treedyn::ensemble

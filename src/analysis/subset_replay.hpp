@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
 #include "ensemble/response_table.hpp"
 #include "job/ensemble_spec.hpp"
@@ -21,6 +22,11 @@ double subset_response(const EnsembleSpec& spec, const ResponseTable& table, std
 
 // ... of one record.
 double subset_response(const EnsembleSpec& spec, const SampleRecord& record);
+
+// The uniform numbers of run k of a level after 0, as the run made them: the
+// levels before it replayed from `table`, then its chain up to it. Throws
+// std::invalid_argument when the table's levels ended before run k.
+std::vector<double> subset_uniforms(const EnsembleSpec& spec, const ResponseTable& table, std::uint64_t k);
 
 // Levels 0 .. `levels` replayed from `table` (or fewer when the last one is
 // reached first), each closed.

@@ -15,6 +15,9 @@ int exit_code_of(const std::function<int()>& command) {
   } catch (const JobError& e) {
     std::cerr << "error: " << e.what() << "\n";
     return kExitBadInput;
+  } catch (const CommandRefused& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return kExitBadInput;
   } catch (const process::FileError& e) {
     std::cerr << "error: " << e.what() << "\n";
     return kExitIo;

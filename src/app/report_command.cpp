@@ -94,16 +94,11 @@ void ensemble_summary(std::ostream& out, const h5::ReadFile& f, const std::strin
     out << "responses: not computed, the file holds only some of the samples (attribute held_samples)\n";
     return;
   }
-  std::vector<std::int32_t> status;
-  for (long long s : f.integers("/samples/status")) status.push_back(static_cast<std::int32_t>(s));
-  const std::size_t D = spec.input_dimensions();
-  std::vector<double> inputs = D > 0 ? f.doubles("/samples/inputs") : std::vector<double>{};
   try {
-    const ensemble::ResponseTable table(std::move(status), std::move(inputs), f.doubles("/samples/responses"), D,
-                                        spec.responses.size());
+    const ensemble::ResponseTable table = h5::response_table(f, spec.input_dimensions(), spec.responses.size());
     ensemble::print_response_summary(out, spec, ensemble::answer_responses(spec, table));
-  } catch (const std::invalid_argument&) {
-    throw Refused{file + ": /samples does not have the shape its job gives (an older layout?)"};
+  } catch (const h5::IoError& e) {
+    throw Refused{file + ": " + e.what()};
   }
 }
 

@@ -1,6 +1,7 @@
 #include "app/rerun_sample.hpp"
 
 #include <iostream>
+#include <optional>
 
 #include "app/command_errors.hpp"
 #include "app/exit_codes.hpp"
@@ -11,6 +12,8 @@
 #include "ensemble/sample_runner.hpp"
 #include "process/atomic_file.hpp"
 #include "job/job_error.hpp"
+#include "analysis/subset_replay.hpp"
+#include "hdf5/read_file.hpp"
 
 namespace treedyn {
 namespace {
@@ -25,10 +28,43 @@ void require_sample(const Job& job, const ensemble::EnsembleSpec& spec, std::uin
                        (spec.design == ensemble::Design::saltelli ? " (saltelli: samples x (D + 2) runs)" : ""));
 }
 
+// Refused with what to do instead: a subset simulation's run k after level
+// 0 needs the ensemble file, whose records replay the levels to its inputs.
+[[noreturn]] void refuse(const std::string& what) { throw CommandRefused(what); }
+
+// Sample k's inputs: the design's, or, for a run of a subset simulation's
+// later level, those its chain made, replayed from the ensemble file `from`
+// (and checked against the inputs the file recorded for it).
+std::vector<double> inputs_of(const Job& job, const ensemble::EnsembleSpec& spec, ensemble::SampleRunner& runner,
+                              std::uint64_t k, const std::string& from) {
+  if (!spec.subset || k < spec.base_samples) return runner.sample_inputs(k);
+  if (from.empty())
+    refuse("run " + std::to_string(k) + " is in a level after level 0 of this subset simulation: its inputs follow "
+           "from the runs before it; give the ensemble's output file with --from FILE.h5");
+  std::vector<double> inputs;
+  std::optional<ensemble::ResponseTable> table;
+  try {
+    const h5::ReadFile file(from);
+    if (!file.has_attribute("/", "job_text") || file.string_attribute("/", "job_text") != job.text)
+      refuse("--from " + from + ": not an ensemble file of " + job.file + " (its job_text differs)");
+    table = h5::response_table(file, spec.input_dimensions(), spec.responses.size());
+    inputs = runner.inputs_at(ensemble::subset_uniforms(spec, *table, k));
+  } catch (const h5::IoError& e) {
+    refuse("--from " + from + ": " + e.what());
+  } catch (const std::invalid_argument& e) {
+    refuse("--from " + from + ": " + e.what());
+  }
+  for (std::size_t d = 0; d < inputs.size(); ++d)
+    if (inputs[d] != table->input(k, d))
+      refuse(from + ": the replayed inputs of run " + std::to_string(k) + " differ from those the file recorded "
+             "(another build, or a file changed since)");
+  return inputs;
+}
+
 }  // namespace
 
 int rerun_sample(const std::string& job_path, std::uint64_t k, const std::string& output_path,
-                 bool quiet, const RunProvenance& run) {
+                 bool quiet, const RunProvenance& run, const std::string& from) {
   return exit_code_of([&]() -> int {
     const auto [job, spec] = ensemble::read_ensemble_job(JobDocument::read(job_path));
     require_sample(job, spec, k);
@@ -37,8 +73,9 @@ int rerun_sample(const std::string& job_path, std::uint64_t k, const std::string
     origin.index = k;
     origin.input_names = spec.input_names();
     origin.input_units = spec.input_units();
+    origin.inputs = inputs_of(job, spec, runner, k, from);
     try {
-      origin.inputs = runner.prepare(k, false);
+      runner.prepare_inputs(origin.inputs);
     } catch (const ModelError& e) {
       std::cerr << job_path << ", sample " << k << ": the sampled inputs give an invalid model: "
                 << e.what() << "\n(the ensemble records this sample with status 2); no output written\n";
@@ -48,13 +85,14 @@ int rerun_sample(const std::string& job_path, std::uint64_t k, const std::string
   });
 }
 
-int write_sample_job(const std::string& job_path, std::uint64_t k, const std::string& output_path) {
+int write_sample_job(const std::string& job_path, std::uint64_t k, const std::string& output_path,
+                     const std::string& from) {
   return exit_code_of([&]() -> int {
     const auto [job, spec] = ensemble::read_ensemble_job(JobDocument::read(job_path));
     ensemble::require_not_a_sample_job(job);
     require_sample(job, spec, k);
     ensemble::SampleRunner runner(job, spec);
-    const std::vector<double> inputs = runner.sample_inputs(k);
+    const std::vector<double> inputs = inputs_of(job, spec, runner, k, from);
     process::write_file_atomically(output_path, ensemble::sample_job_text(job, spec, k, inputs));
     std::cout << "wrote " << output_path << " (sample " << k << " of " << job_path
               << "; run it with treedyn run)\n";

@@ -53,6 +53,8 @@ class SampleRunner {
   // from them. Returns the sampled inputs; throws ModelError when the
   // perturbed parameters make an invalid model.
   std::vector<double> prepare(std::uint64_t k, bool nominal);
+  // The same with given inputs (a run whose inputs are not the design's).
+  void prepare_inputs(const std::vector<double>& inputs) { set_up(inputs); }
   const Model& model() const { return model_; }
   const InitialState& initial_state() const { return state_; }
 

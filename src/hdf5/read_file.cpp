@@ -74,4 +74,16 @@ std::vector<long long> ReadFile::integers(const std::string& path) const {
   return read_all<long long>(file_.id(), path, H5T_NATIVE_LLONG, nullptr, path_);
 }
 
+ensemble::ResponseTable response_table(const ReadFile& file, std::size_t inputs, std::size_t responses) {
+  std::vector<std::int32_t> status;
+  for (long long s : file.integers("/samples/status")) status.push_back(static_cast<std::int32_t>(s));
+  try {
+    return ensemble::ResponseTable(std::move(status), inputs > 0 ? file.doubles("/samples/inputs") : std::vector<double>{},
+                                   responses > 0 ? file.doubles("/samples/responses") : std::vector<double>{}, inputs,
+                                   responses);
+  } catch (const std::invalid_argument&) {
+    throw IoError("/samples does not have the shape its job gives (an older layout?)");
+  }
+}
+
 }  // namespace treedyn::h5

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "ensemble/response_table.hpp"
 #include "hdf5/hdf5.hpp"
 
 namespace treedyn::h5 {
@@ -28,5 +29,9 @@ class ReadFile {
   std::string path_;
   Handle file_;
 };
+
+// An ensemble file's /samples/status, inputs and responses as a table (the
+// records rank 0 kept). Throws IoError when their shapes do not fit.
+ensemble::ResponseTable response_table(const ReadFile& file, std::size_t inputs, std::size_t responses);
 
 }  // namespace treedyn::h5
