@@ -91,7 +91,7 @@ Handle write_scalar(hid_t parent, const std::string& name, std::uint64_t value);
 Handle create_rows(hid_t parent, const std::string& name, hid_t type, std::size_t rows,
                    std::size_t columns, std::size_t chunk_rows);
 void write_rows(hid_t dataset, hid_t type, std::size_t first_row, std::size_t rows,
-                std::size_t columns, const void* data);
+                std::size_t columns, const void* data, hid_t transfer = H5P_DEFAULT);
 // The same with rows of any shape: (rows, row_shape...), e.g. one
 // (times x columns) trajectory per row. write_row_block writes rows
 // first_row .. first_row + rows - 1 whole.
