@@ -109,10 +109,11 @@ int on_rank_zero(EnsembleRun& run, const std::function<int()>& work) {
 }
 
 int check_range(EnsembleRun& run) {
-  if (run.options.part() && run.spec.stop) {
+  if (run.options.part() && (run.spec.stop || run.spec.subset)) {
     if (run.rank == 0)
-      std::cerr << "error: --samples: [ensemble.stop] decides from every sample before each check point, so "
-                   "its ensemble runs as one job (any number of ranks), not in parts\n";
+      std::cerr << "error: --samples: " << (run.spec.stop ? "[ensemble.stop]" : "subset_simulation")
+                << " decides from every sample before each check point, so its ensemble runs as one job (any "
+                   "number of ranks), not in parts\n";
     return kExitBadInput;
   }
   if (run.first < run.end && run.end <= run.spec.samples) return kExitOk;

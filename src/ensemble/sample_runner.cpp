@@ -133,6 +133,7 @@ RecordShape record_shape(const SampleRunner& runner, std::uint64_t first, std::u
   shape.final_state = runner.final_state_size();
   shape.trajectory = runner.times() * runner.layout().columns;
   shape.stored = spec.store_trajectories;
+  if (spec.subset) shape.statistics_end = spec.base_samples;  // /stats is level 0
   return shape;
 }
 

@@ -87,7 +87,9 @@ std::vector<SampleRecord> load_part(const fs::path& dir, const std::string& stem
   }
   std::vector<SampleRecord> records = read_frames(records_path(dir, stem), records_bytes);
   check_records(records, shape, "checkpoint " + path.string());
-  const auto ok = std::count_if(records.begin(), records.end(), [](const auto& r) { return r.status == SampleStatus::ok; });
+  const auto ok = std::count_if(records.begin(), records.end(), [&](const auto& r) {
+    return r.status == SampleStatus::ok && r.index < shape.statistics_end;
+  });
   if (records.size() != records_count || static_cast<std::uint64_t>(ok) != part.samples())
     throw CheckpointError("checkpoint " + path.string() +
                           " is damaged (its records and statistics do not agree); remove it to start afresh");

@@ -72,6 +72,9 @@ struct RecordShape {
   std::size_t inputs = 0, reductions = 0, responses = 0, final_state = 0;
   std::size_t trajectory = 0;        // entries, for samples < stored
   std::uint64_t stored = 0;          // store_trajectories
+  // Records from this index on are not in the statistics (a subset
+  // simulation's levels after 0); by default every record is.
+  std::uint64_t statistics_end = UINT64_MAX;
 };
 // Throws CheckpointError naming `what` for the first record that does not fit.
 void check_records(const std::vector<SampleRecord>& records, const RecordShape& shape, const std::string& what);

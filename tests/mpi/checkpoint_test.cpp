@@ -491,3 +491,31 @@ TEST_F(Checkpoint, AStoppingRunKilledMidWayResumesToTheSameStop) {
     expect_identical_datasets(a.id(), "uninterrupted", b.id(), c.what, {"/stats", "/samples", "/responses"});
   }
 }
+
+// A subset simulation killed inside a chain of its first later level
+// resumes to the same levels, bit for bit: rank 0 replays the decisions
+// from the restored records, and the chain cut short runs again from its
+// seed (its finished runs give the same responses and are not kept twice).
+TEST_F(Checkpoint, ASubsetSimulationKilledInsideAChainResumesToTheSameLevels) {
+  const fs::path job = dir_.path() / "ball.toml";
+  write_text(job, isotropic_ball_job(ball_limit_for(1e-3), 1000, kBallSubset));
+  const fs::path reference = fresh_output("subset_reference");
+  const auto full = run_ensemble(2, job, reference, dir_.path() / "capture_ref", {"--checkpoint-every", "0"});
+  ASSERT_EQ(full.exit_code, 0) << full.err;
+  const fs::path out = fresh_output("subset_kill");
+  const fs::path ckpt = out.string() + ".checkpoint";
+  constexpr int kHold = 968 + 105;  // the rest of level 0 after its 32 pilot runs, then into chain 11 of level 1
+  {
+    Background run(job, out, held_run(0, kEvery, kHold), dir_.path() / "capture_bg");
+    await_held(ckpt, 1, run);
+    ::kill(run.pid(), SIGKILL);
+    ASSERT_NE(run.wait(), 0) << "the run finished before the kill: the case tests nothing";
+  }
+  ASSERT_TRUE(wait_for([&] { return no_process_writes(out); })) << "processes of the killed run live on";
+  const auto r = run_ensemble(2, job, out, dir_.path() / "capture", {"--resume"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(restored_count(r.err), 32 + kHold) << r.err;
+  H5File a(reference), b(out);
+  expect_identical_datasets(a.id(), "uninterrupted", b.id(), "killed in a chain and resumed",
+                            {"/stats", "/samples", "/responses", "/rare_event"});
+}

@@ -3,6 +3,9 @@
 // each test executable (tests/CMakeLists.txt).
 #pragma once
 
+#include <boost/math/special_functions/gamma.hpp>
+
+#include <cstdio>
 #include <filesystem>
 #include <stdexcept>
 #include <string>
@@ -74,6 +77,54 @@ fail_if = "above"
   if (with_stop) text += "\n[ensemble.stop]\nresponse = \"spin0\"\nexceedance_cov = 0.2\nevery = 100\n";
   return text;
 }
+
+// The isotropic ball of tests/mpi/subset_test.cpp (its header says why the
+// exceedance probability is exact): E0 = -4.905 J, E = E0 + 0.275 |w|^2.
+inline constexpr double kBallE0 = -4.905, kBallHalfInertia = 0.275;
+
+// The energy limit exceeded with `probability`: E0 + 0.275 c, c the
+// chi-square (3 degrees of freedom) quantile.
+inline double ball_limit_for(double probability) {
+  return kBallE0 + kBallHalfInertia * 2.0 * boost::math::gamma_q_inv(1.5, probability);
+}
+
+// The job: w ~ N(0, I) rad/s as three inputs, the final total energy as the
+// response with `limit`; `design_lines` go into [ensemble].
+inline std::string isotropic_ball_job(double limit, int samples, const std::string& design_lines) {
+  char limit_text[64];
+  std::snprintf(limit_text, sizeof limit_text, "%.17g", limit);
+  std::string text = R"(title = "isotropic ball on a spherical joint"
+
+[[body]]
+name = "ball"
+mass = 1.0
+inertia = [[0.3, 0.0, 0.0], [0.0, 0.3, 0.0], [0.0, 0.0, 0.55]]
+parent = "base"
+joint_on_child = [0.0, 0.0, 0.5]
+
+[integrator]
+method = "cvode_adams"
+parameterisation = "quaternion"
+rtol = 1e-10
+atol = 1e-12
+
+[output]
+end_time = 0.2
+step = 0.1
+quantities = ["energy"]
+
+[ensemble]
+samples = )" + std::to_string(samples) +
+                     "\nseed = 5\n" + design_lines + "\n";
+  for (const char* axis : {"x", "y", "z"})
+    text += std::string("\n[[ensemble.perturbation]]\ntarget = \"body.ball.angular_velocity.") + axis +
+            "\"\ndistribution = \"normal\"\nstd = 1.0\n";
+  text += std::string("\n[[ensemble.response]]\nname = \"energy\"\nquantity = \"energy\"\ncolumn = \"total\"\n") +
+          "reduce = \"final\"\nlimit = " + limit_text + "\nfail_if = \"above\"\n";
+  return text;
+}
+
+inline const std::string kBallSubset = "design = \"subset_simulation\"\n\n[ensemble.subset]\nresponse = \"energy\"";
 
 // The sanitizer pass (TREEDYN_SANITIZE) runs every test but these, which
 // run in the normal pass: the largest shipped examples whole (crane_payload,

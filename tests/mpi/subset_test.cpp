@@ -1,0 +1,194 @@
+// Subset simulation through the tree dynamics, against an exceedance
+// probability known exactly from a conserved quantity.
+//
+// The case: one body on a spherical joint under gravity whose inertia about
+// the pivot is isotropic, J_O = 0.55 E (J_c = diag(0.3, 0.3, 0.55) kg m^2,
+// 1 kg, pivot 0.5 m above the centre of mass), started hanging at rest in
+// orientation with an angular velocity w ~ N(0, I) rad/s (three sampled
+// inputs). Its total energy is conserved, E = E0 + J_O |w|^2 / 2 with
+// E0 = -m g d = -4.905 J, and |w|^2 is chi-square with 3 degrees of
+// freedom, so P(E > E0 + 0.275 c) = Q_chi2(3, c) exactly: the limit is set
+// from c = 2 gamma_q_inv(3/2, P). The integrator keeps E to ~1e-10 J, far
+// inside any difference that matters here.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "support/command.hpp"
+#include "support/ensemble_run.hpp"
+#include "support/hdf5_reader.hpp"
+
+namespace {
+
+using namespace treedyn::testing;
+namespace fs = std::filesystem;
+
+const std::string kSubset = kBallSubset;
+
+struct RareEvent {
+  double probability = 0, cov = 0;
+  long long runs = 0, rows = 0;
+};
+
+RareEvent rare_event_of(const fs::path& file) {
+  H5File f(file);
+  RareEvent r;
+  r.probability = read_doubles(f.id(), "/rare_event/energy/probability").at(0);
+  r.cov = read_doubles(f.id(), "/rare_event/energy/cov").at(0);
+  r.runs = read_integers(f.id(), "/rare_event/energy/runs").at(0);
+  r.rows = static_cast<long long>(shape(f.id(), "/samples/status").at(0));
+  return r;
+}
+
+class Subset : public ::testing::Test {
+ protected:
+  fs::path write_job(const std::string& name, const std::string& text) {
+    const fs::path p = dir_.path() / name;
+    write_text(p, text);
+    return p;
+  }
+  TempDir dir_{"subset_test"};
+};
+
+TEST_F(Subset, OneInAThousandIsExactWithinItsCovOnAnyRankCount) {
+  const double exact = 1e-3;
+  const fs::path job = write_job("ball.toml", isotropic_ball_job(ball_limit_for(exact), 1000, kSubset));
+  std::vector<fs::path> outputs;
+  for (int ranks : {0, 2, 3}) {
+    outputs.push_back(dir_.path() / ("ball" + std::to_string(ranks) + ".h5"));
+    const auto r = run_ensemble(ranks, job, outputs.back(), dir_.path() / ("capture" + std::to_string(ranks)));
+    ASSERT_EQ(r.exit_code, 0) << describe(ranks) << ": " << r.err;
+  }
+  const RareEvent r = rare_event_of(outputs[0]);
+  std::printf("P = %.4g (exact %.4g), cov %.3f, %lld runs\n", r.probability, exact, r.cov, r.runs);
+  EXPECT_LE(std::abs(r.probability - exact), 2.0 * r.cov * r.probability);
+  EXPECT_EQ(r.rows, r.runs) << "every run is a row of /samples";
+  H5File f(outputs[0]);
+  EXPECT_NEAR(read_double_array(f.id(), "/nominal/energy")(0, 3), kBallE0, 1e-12) << "the case's E0";
+  // Levels 0 .. m: N (1 + (1 - p0) m) runs; each row's place by the index.
+  const std::vector<long long> level = read_integers(f.id(), "/samples/level"),
+                               chain = read_integers(f.id(), "/samples/chain"),
+                               state = read_integers(f.id(), "/samples/state");
+  const long long m = level.back();
+  EXPECT_EQ(r.runs, 1000 + m * 900);
+  for (long long k = 0; k < r.rows; k += 97) {
+    const long long within = k < 1000 ? k : (k - 1000) % 900;
+    EXPECT_EQ(level[k], k < 1000 ? 0 : 1 + (k - 1000) / 900) << k;
+    EXPECT_EQ(chain[k], k < 1000 ? k : within / 9) << k;
+    EXPECT_EQ(state[k], k < 1000 ? 0 : 1 + within % 9) << k;
+  }
+  // /stats is level 0, the Monte-Carlo sample.
+  EXPECT_EQ(read_double_array(f.id(), "/stats/energy/count")(0, 3), 1000.0);
+  for (std::size_t k = 1; k < outputs.size(); ++k) {
+    H5File other(outputs[k]);
+    expect_identical_datasets(f.id(), "alone", other.id(), outputs[k].filename().string(),
+                              {"/stats", "/samples", "/responses", "/rare_event"});
+  }
+}
+
+// Any run of any level alone: --sample K --from the ensemble file replays
+// the levels to K's inputs; its final state is the ensemble's, bit for bit.
+TEST_F(Subset, ARunOfALaterLevelRerunsAloneBitForBit) {
+  const fs::path job = write_job("ball.toml", isotropic_ball_job(ball_limit_for(1e-3), 500, kSubset));
+  const fs::path out = dir_.path() / "ball.h5";
+  ASSERT_EQ(run_ensemble(2, job, out, dir_.path() / "capture").exit_code, 0);
+  H5File f(out);
+  const DoubleArray final_state = read_double_array(f.id(), "/samples/final_state");
+  const long long rows = static_cast<long long>(final_state.rows());
+  for (long long k : {7LL, 500LL + 3 * 9 + 4, rows - 1}) {
+    const fs::path alone = dir_.path() / ("sample" + std::to_string(k) + ".h5");
+    const auto r = run_command(TREEDYN_ENSEMBLE_BINARY,
+                               {job.string(), "--sample", std::to_string(k), "--from", out.string(), "-o",
+                                alone.string(), "-q"},
+                               dir_.path() / "capture_sample");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    H5File a(alone);
+    const std::vector<double> mine = read_doubles(a.id(), "/final_state");
+    for (std::size_t c = 0; c < mine.size(); ++c) EXPECT_EQ(mine[c], final_state(static_cast<std::size_t>(k), c)) << k;
+  }
+  const auto refused = run_command(TREEDYN_ENSEMBLE_BINARY,
+                                   {job.string(), "--sample", std::to_string(rows - 1), "-o",
+                                    (dir_.path() / "no.h5").string(), "-q"},
+                                   dir_.path() / "capture_refused");
+  EXPECT_EQ(refused.exit_code, 2);
+  EXPECT_NE(refused.err.find("give the ensemble's output file with --from FILE.h5"), std::string::npos) << refused.err;
+  EXPECT_FALSE(fs::exists(dir_.path() / "no.h5"));
+}
+
+// The same exceedance by crude Monte Carlo with 30 times the runs: its
+// Wilson interval holds the exact value, and subset simulation's estimate
+// agrees with it within two combined standard errors.
+TEST_F(Subset, CrudeMonteCarloWithThirtyTimesTheRunsAgrees) {
+  if (const std::string why = skipped_when_sanitized("crude Monte Carlo (100,000 runs)", false); !why.empty())
+    GTEST_SKIP() << why;
+  const double exact = 1e-3;
+  const fs::path subset = write_job("subset.toml", isotropic_ball_job(ball_limit_for(exact), 1000, kSubset));
+  ASSERT_EQ(run_ensemble(2, subset, dir_.path() / "subset.h5", dir_.path() / "capture_s").exit_code, 0);
+  const RareEvent r = rare_event_of(dir_.path() / "subset.h5");
+  const fs::path crude =
+      write_job("crude.toml", isotropic_ball_job(ball_limit_for(exact), static_cast<int>(30 * r.runs), "design = \"monte_carlo\""));
+  const auto c = run_ensemble(2, crude, dir_.path() / "crude.h5", dir_.path() / "capture_c");
+  ASSERT_EQ(c.exit_code, 0) << c.err;
+  H5File f(dir_.path() / "crude.h5");
+  const double p = read_doubles(f.id(), "/responses/energy/exceedance/probability").at(0);
+  const std::vector<double> wilson = read_doubles(f.id(), "/responses/energy/exceedance/interval");
+  std::printf("crude Monte Carlo, %lld runs: P = %.4g [%.4g, %.4g]; subset simulation, %lld runs: %.4g (cov %.3f)\n",
+              30 * r.runs, p, wilson[0], wilson[1], r.runs, r.probability, r.cov);
+  EXPECT_LE(wilson[0], exact);
+  EXPECT_GE(wilson[1], exact);
+  const double crude_se = std::sqrt(p * (1.0 - p) / static_cast<double>(30 * r.runs));
+  EXPECT_LE(std::abs(r.probability - p), 2.0 * std::hypot(r.cov * r.probability, crude_se));
+}
+
+// One in a million: a coefficient of variation of at most 0.15 with at most
+// 50,000 runs (N = 7000 per level), and the estimate within two of it.
+TEST_F(Subset, OneInAMillionWithinFiftyThousandRuns) {
+  const double exact = 1e-6;
+  const fs::path job = write_job("million.toml", isotropic_ball_job(ball_limit_for(exact), 7000, kSubset + "\nmax_levels = 8"));
+  const auto run = run_ensemble(2, job, dir_.path() / "million.h5", dir_.path() / "capture");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const RareEvent r = rare_event_of(dir_.path() / "million.h5");
+  std::printf("P = %.4g (exact %.4g), cov %.3f, %lld runs\n", r.probability, exact, r.cov, r.runs);
+  EXPECT_LE(r.cov, 0.15);
+  EXPECT_LE(r.runs, 50000);
+  EXPECT_LE(std::abs(r.probability - exact), 2.0 * r.cov * r.probability);
+}
+
+TEST_F(Subset, JobsItCannotServeAreRefused) {
+  struct Case {
+    std::string what, text, message;
+  };
+  const double b = ball_limit_for(1e-3);
+  const std::vector<Case> cases = {
+      {"no table", isotropic_ball_job(b, 1000, "design = \"subset_simulation\""),
+       "ensemble.design: subset_simulation needs an [ensemble.subset] table"},
+      {"chains", isotropic_ball_job(b, 1005, kSubset), "samples must be a multiple of 10"},
+      {"p0", isotropic_ball_job(b, 1000, kSubset + "\nlevel_probability = 0.3"), "1 / level_probability must be a whole number"},
+      {"other design", isotropic_ball_job(b, 1000, "design = \"monte_carlo\"\n\n[ensemble.subset]\nresponse = \"energy\""),
+       "[ensemble.subset] is only for design = \"subset_simulation\""},
+      {"no limit",
+       isotropic_ball_job(b, 1000, "design = \"subset_simulation\"\n\n[ensemble.subset]\nresponse = \"energy\"") +
+           "\n[[ensemble.response]]\nname = \"free\"\nquantity = \"energy\"\ncolumn = \"kinetic\"\nreduce = \"max\"\n",
+       ""},
+  };
+  for (const Case& c : cases) {
+    std::string text = c.text;
+    if (c.what == "no limit") {
+      const std::size_t at = text.find("response = \"energy\"");
+      text.replace(at, 19, "response = \"free\"");
+    }
+    const fs::path job = write_job(c.what + ".toml", text);
+    const auto r = run_ensemble(0, job, dir_.path() / "refused.h5", dir_.path() / "capture_refused");
+    EXPECT_EQ(r.exit_code, 2) << c.what << ": " << r.err;
+    const std::string message = c.what == "no limit" ? "has no limit" : c.message;
+    EXPECT_NE(r.err.find(message), std::string::npos) << c.what << ": " << r.err;
+    EXPECT_NE(r.err.find(c.what + ".toml:"), std::string::npos) << c.what << ": " << r.err;
+    EXPECT_FALSE(fs::exists(dir_.path() / "refused.h5"));
+  }
+}
+
+}  // namespace
