@@ -16,6 +16,7 @@
 #include "app/exit_codes.hpp"
 #include "analysis/answers.hpp"
 #include "analysis/digest.hpp"
+#include "analysis/subset_replay.hpp"
 #include "job/ensemble_spec.hpp"
 #include "job/sample_job.hpp"
 #include "hdf5/read_file.hpp"
@@ -63,7 +64,10 @@ void ensemble_summary(std::ostream& out, const h5::ReadFile& f, const std::strin
   }
   const ColumnLayout layout = column_layout(job.model, job.output);
   ensemble::EnsembleDigest d;
-  d.samples = static_cast<std::uint64_t>(f.number_attribute("/", "samples"));
+  // The runs the file holds: fewer than `samples` (the most) when a stopping
+  // rule or subset simulation's last level ended the run.
+  d.samples = static_cast<std::uint64_t>(
+      f.number_attribute("/", f.has_attribute("/", "samples_used") ? "samples_used" : "samples"));
   d.ok = static_cast<std::uint64_t>(f.number_attribute("/", "samples_ok"));
   d.failed = static_cast<std::uint64_t>(f.number_attribute("/", "samples_failed"));
   d.ranks = static_cast<int>(f.number_attribute("/", "ranks"));
@@ -97,6 +101,8 @@ void ensemble_summary(std::ostream& out, const h5::ReadFile& f, const std::strin
   try {
     const ensemble::ResponseTable table = h5::response_table(f, spec.input_dimensions(), spec.responses.size());
     ensemble::print_response_summary(out, spec, ensemble::answer_responses(spec, table));
+    if (spec.subset)
+      ensemble::print_rare_event(out, spec, ensemble::replay_subset(spec, table, spec.subset->max_levels).result());
   } catch (const h5::IoError& e) {
     throw Refused{file + ": " + e.what()};
   }

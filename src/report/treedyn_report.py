@@ -198,19 +198,55 @@ def final_value_histograms(f, page, quantity, groups):
         page.figure(fig, f"{quantity} {name}: histogram of the values at the last output time (per sample)")
 
 
+def rare_event_section(f, page):
+    """Subset simulation's answer: the probability, its cov and interval, the runs beside crude Monte Carlo's,
+    and the exceedance curve its levels trace (P(g > b_j) = p0^(j+1) at each level's threshold)."""
+    if "rare_event" not in f:
+        return
+    page.heading("Rare event (subset simulation)")
+    for name, g in f["rare_event"].items():
+        units = text(g.attrs["units"])
+        side = ">" if text(g.attrs["fail_if"]) == "above" else "<"
+        p, cov, runs = g["probability"][()], g["cov"][()], int(g["runs"][()])
+        crude = g["crude_monte_carlo_runs"][()]
+        page.table(["question", "answer"], [
+            [f"P({name} {side} {g.attrs['limit']:.6g} {units})", f"{p:.4g}"],
+            ["coefficient of variation (levels taken as uncorrelated)", f"{cov:.3g}"],
+            ["95 % interval (lognormal with that cov)", f"[{g['interval'][0]:.4g}, {g['interval'][1]:.4g}]"],
+            ["model runs (every proposal is a run)", f"{runs}"],
+            ["crude Monte Carlo for the same cov, (1 - P) / (P cov²)", f"{crude:.3g}"],
+            ["the threshold reached the limit", "yes" if int(g.attrs["reached_limit"]) else
+             "no: max_levels ran out (raise it)"]])
+        thresholds, conditional = g["thresholds"][:], g["conditional_probability"][:]
+        page.table(["level", f"threshold ({units})", "conditional probability", "gamma", "acceptance rate", "runs"],
+                   [[j, f"{thresholds[j]:.6g}", f"{conditional[j]:.4g}", f"{g['gamma'][j]:.3g}",
+                     f"{g['acceptance_rate'][j]:.3g}", int(g["runs_per_level"][j])] for j in range(len(thresholds))])
+        fig, ax = plt.subplots(figsize=(6, 3.5))
+        ax.semilogy(thresholds, np.cumprod(conditional), "o-", color="tab:red")
+        ax.set_xlabel(f"{name} ({units})")
+        ax.set_ylabel(f"P({name} {side} threshold)")
+        page.figure(fig, f"the exceedance curve the levels trace: at each level's threshold, the product of the "
+                         f"conditional probabilities so far; the last point is the limit")
+
+
 def response_figures(f, page):
     if "samples/responses" not in f:
         return
     values = f["samples/responses"]
     names = strings(values.attrs["columns"])
     units = strings(values.attrs["column_units"])
+    rows = slice(None)
+    counted = "every sample"
+    if "samples/level" in f:  # subset simulation: level 0 is the Monte-Carlo sample
+        rows = f["samples/level"][:] == 0
+        counted = "level 0 of the subset simulation (its Monte-Carlo sample)"
     page.heading("Responses")
     fig, axes = subplot_grid(len(names))
     for r, ax in enumerate(axes):
-        histogram(ax, values[:, r], names[r], units[r])
+        histogram(ax, values[:, r][rows], names[r], units[r])
         if "responses" in f and names[r] in f["responses"] and "exceedance" in f["responses"][names[r]]:
             ax.axvline(f["responses"][names[r]]["exceedance"].attrs["limit"], color="tab:red", ls="--", lw=1)
-    page.figure(fig, "histograms of the responses (dashed: the limit)")
+    page.figure(fig, f"histograms of the responses over {counted} (dashed: the limit)")
     if "responses" not in f:  # a merge of an incomplete set of parts
         page.paragraph("No /responses: the file holds only some of the samples (root attribute held_samples).")
         return
@@ -405,6 +441,7 @@ def main():
             for q in a.quantity:
                 if q not in recorded:
                     fail(f"--quantity {q}: not recorded in {a.file}; recorded: {' '.join(recorded)}")
+            rare_event_section(f, page)  # the answer first
             for q in a.quantity or recorded:
                 page.heading(q)
                 groups = ensemble_quantity_figures(f, page, q, bool(a.quantity))

@@ -88,6 +88,17 @@ TEST_F(Subset, OneInAThousandIsExactWithinItsCovOnAnyRankCount) {
     expect_identical_datasets(f.id(), "alone", other.id(), outputs[k].filename().string(),
                               {"/stats", "/samples", "/responses", "/rare_event"});
   }
+  // The report answers first: the probability with its cov, the levels, the
+  // runs beside crude Monte Carlo's.
+  const fs::path report = dir_.path() / "report";
+  const auto page = run_command(TREEDYN_BINARY, {"report", outputs[0].string(), "-o", report.string()},
+                                dir_.path() / "capture_report");
+  ASSERT_EQ(page.exit_code, 0) << page.err;
+  const std::string html = read_text(report / "index.html"), summary = read_text(report / "summary.txt");
+  EXPECT_LT(html.find("Rare event (subset simulation)"), html.find("<h2>energy</h2>")) << "the answer comes first";
+  EXPECT_NE(summary.find("subset simulation: P(energy > "), std::string::npos) << summary;
+  EXPECT_NE(summary.find("crude Monte Carlo would need about"), std::string::npos) << summary;
+  EXPECT_NE(summary.find("ensemble: " + std::to_string(r.runs) + " samples"), std::string::npos) << summary;
 }
 
 // Any run of any level alone: --sample K --from the ensemble file replays
