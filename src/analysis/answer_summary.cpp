@@ -75,7 +75,8 @@ void print_rare_event(std::ostream& out, const EnsembleSpec& spec, const rare_ev
   out << "subset simulation: P(" << response.name << side << number(response.limit) << " " << response.units
       << ") = " << number(result.probability, "%.4g") << ", cov " << number(result.cov, "%.3g")
       << " (levels taken as uncorrelated), 95 % interval [" << number(result.interval_low, "%.4g") << ", "
-      << number(result.interval_high, "%.4g") << "] (lognormal)\n";
+      << number(result.interval_high, "%.4g") << "]"
+      << (result.probability > 0.0 ? " (lognormal)\n" : " (none beyond the limit: the rule of three at the last level)\n");
   out << "  " << result.runs << " runs in " << result.levels.size() << " levels of " << spec.base_samples
       << "; thresholds:";
   for (const rare_event::LevelSummary& level : result.levels) out << " " << number(sign * level.threshold, "%.5g");

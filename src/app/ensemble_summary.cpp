@@ -49,6 +49,16 @@ void print_ensemble_summary(std::ostream& out, const Job& job, const EnsembleSpe
     out << "  saltelli: base size N = " << s.base_samples << ", N (D + 2) = " << s.base_samples << " x "
         << saltelli_block(s.input_dimensions()) << " = " << s.samples
         << " runs; sample j (D + 2) + r is A_j (r = 0), B_j (r = 1), AB_i,j (r = 2 + i)\n";
+  if (s.subset) {
+    const double p0 = s.subset->level_probability;
+    char smallest[32];
+    std::snprintf(smallest, sizeof smallest, "%.0e", std::pow(p0, s.subset->max_levels + 1));
+    out << "  subset_simulation: " << s.base_samples << " runs per level, level_probability " << format_number(p0)
+        << " (" << static_cast<std::uint64_t>(std::llround(static_cast<double>(s.base_samples) * p0))
+        << " chains of " << std::llround(1.0 / p0) << " states), at most " << s.subset->max_levels
+        << " levels after level 0 (" << s.samples << " runs); P(" << s.responses[s.subset->response].name
+        << " beyond its limit) down to about " << smallest << "\n";
+  }
   if (s.stop) {
     const StopRule& rule = *s.stop;
     out << "  stop: checked every " << rule.every << " runs, at the first check point where";

@@ -203,3 +203,32 @@ TEST_F(Subset, JobsItCannotServeAreRefused) {
 }
 
 }  // namespace
+
+namespace {
+
+// The shipped rare-event example (jobs/rare_events/), shortened: 10 s of
+// motion, 100 runs per level, two levels after level 0.
+TEST(SubsetExample, TheCraneJobRunsAsShippedAndShortened) {
+  TempDir dir("subset_example");
+  const fs::path shipped = fs::path(TREEDYN_JOBS_DIR) / "rare_events" / "crane_peak_tension.toml";
+  const auto check = run_command(TREEDYN_ENSEMBLE_BINARY, {shipped.string(), "--check"}, dir.path() / "capture_check");
+  ASSERT_EQ(check.exit_code, 0) << check.err;
+  EXPECT_NE(check.out.find("subset_simulation: 1000 runs per level"), std::string::npos) << check.out;
+  std::string text = read_text(shipped);
+  for (const auto& [from, to] : std::vector<std::pair<std::string, std::string>>{
+           {"end_time = 60.0", "end_time = 10.0"}, {"samples = 1000 ", "samples = 100 "}, {"max_levels = 8", "max_levels = 2"}}) {
+    const std::size_t at = text.find(from);
+    ASSERT_NE(at, std::string::npos) << "the example changed: " << from;
+    text.replace(at, from.size(), to);
+  }
+  const fs::path job = dir.path() / "crane.toml";
+  write_text(job, text);
+  const auto r = run_ensemble(2, job, dir.path() / "crane.h5", dir.path() / "capture");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  H5File f(dir.path() / "crane.h5");
+  EXPECT_TRUE(exists(f.id(), "/rare_event/peak_tension/probability"));
+  EXPECT_EQ(read_integers(f.id(), "/rare_event/peak_tension/runs").at(0),
+            static_cast<long long>(shape(f.id(), "/samples/status").at(0)));
+}
+
+}  // namespace
