@@ -232,3 +232,42 @@ TEST(SubsetExample, TheCraneJobRunsAsShippedAndShortened) {
 }
 
 }  // namespace
+
+namespace {
+
+// Every distribution goes through standard normal space: a subset
+// simulation's level 0 is, bit for bit, the Monte-Carlo design of the same
+// seed (orientation components, uniform, truncated normal and lognormal
+// inputs here), and every later run's inputs stay in their distributions'
+// supports.
+TEST(SubsetInputs, LevelZeroIsTheMonteCarloDesignAndLaterRunsStayInTheSupports) {
+  TempDir dir("subset_inputs");
+  std::string text = spin_exceedance_job(200, false, "subset_simulation");
+  text += "\n[ensemble.subset]\nresponse = \"spin0\"\nmax_levels = 2\n";
+  const std::string lognormal = "\n[[ensemble.perturbation]]\ntarget = \"gravity.z\"\ndistribution = \"lognormal\"\n"
+                                "mu = 0.0\nsigma = 0.05\nmode = \"scale\"\n";
+  text += lognormal;
+  const fs::path job = dir.path() / "subset.toml";
+  write_text(job, text);
+  ASSERT_EQ(run_ensemble(2, job, dir.path() / "subset.h5", dir.path() / "capture_s").exit_code, 0);
+  std::string mc = spin_exceedance_job(200, false, "monte_carlo") + lognormal;
+  const fs::path mc_job = dir.path() / "mc.toml";
+  write_text(mc_job, mc);
+  ASSERT_EQ(run_ensemble(0, mc_job, dir.path() / "mc.h5", dir.path() / "capture_m").exit_code, 0);
+  H5File s(dir.path() / "subset.h5"), m(dir.path() / "mc.h5");
+  const DoubleArray subset = read_double_array(s.id(), "/samples/inputs"), crude = read_double_array(m.id(), "/samples/inputs");
+  ASSERT_EQ(subset.cols(), 6u);  // orientation x, y, z; spin; pivot; gravity
+  ASSERT_GT(subset.rows(), 200u) << "the case never left level 0";
+  for (std::size_t k = 0; k < 200; ++k)
+    for (std::size_t d = 0; d < subset.cols(); ++d) ASSERT_EQ(subset(k, d), crude(k, d)) << k << ", " << d;
+  for (std::size_t k = 200; k < subset.rows(); ++k) {
+    EXPECT_GE(subset(k, 3), 1.8) << k;  // uniform [1.8, 2.2]
+    EXPECT_LE(subset(k, 3), 2.2) << k;
+    EXPECT_GE(subset(k, 4), 0.49) << k;  // truncated normal [0.49, 0.51]
+    EXPECT_LE(subset(k, 4), 0.51) << k;
+    EXPECT_GT(subset(k, 5), 0.0) << k;  // lognormal
+    for (std::size_t d = 0; d < 3; ++d) EXPECT_TRUE(std::isfinite(subset(k, d))) << k;
+  }
+}
+
+}  // namespace
