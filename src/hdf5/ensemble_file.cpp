@@ -534,6 +534,7 @@ void EnsembleWriter::write_rare_event(const rare_event::SubsetSettings& settings
   h5::write_attribute(g.id(), "level_probability", settings.level_probability);
   h5::write_attribute(g.id(), "samples_per_level", static_cast<long long>(settings.samples));
   h5::write_attribute(g.id(), "reached_limit", static_cast<long long>(result.reached_limit ? 1 : 0));
+  h5::write_attribute(g.id(), "too_many_failed", static_cast<long long>(result.too_many_failed ? 1 : 0));
   write_described_scalar(g.id(), "probability", result.probability, "1",
                          "P(limit exceeded) = product of the levels' conditional probabilities");
   write_described_scalar(g.id(), "cov", result.cov, "1",
@@ -558,13 +559,14 @@ void EnsembleWriter::write_rare_event(const rare_event::SubsetSettings& settings
 
 void EnsembleWriter::write_levels(hid_t g, const rare_event::SubsetResult& result, double sign,
                                   const std::string& units) {
-  std::vector<double> thresholds, conditional, gamma, acceptance, runs;
+  std::vector<double> thresholds, conditional, gamma, acceptance, runs, failed;
   for (const rare_event::LevelSummary& level : result.levels) {
     thresholds.push_back(sign * level.threshold);
     conditional.push_back(level.conditional_probability);
     gamma.push_back(level.gamma);
     acceptance.push_back(level.acceptance_rate);
     runs.push_back(static_cast<double>(level.runs));
+    failed.push_back(static_cast<double>(level.failed_runs));
   }
   h5::Handle t = h5::write_vector(g, "thresholds", thresholds);
   describe(t.id(), units, "per level: the response's threshold (the last: the limit itself)", {});
@@ -576,6 +578,8 @@ void EnsembleWriter::write_levels(hid_t g, const rare_event::SubsetResult& resul
   describe(a.id(), "1", "per level: accepted proposals / proposals (level 0: 1)", {});
   h5::Handle r = h5::write_vector(g, "runs_per_level", runs);
   describe(r.id(), "1", "per level: the runs it made", {});
+  h5::Handle x = h5::write_vector(g, "failed_per_level", failed);
+  describe(x.id(), "1", "per level: its states whose run failed (never beyond a threshold)", {});
 }
 
 void EnsembleWriter::complete(const std::vector<double>& nominal, const ensemble::EnsembleStatistics& stats,

@@ -166,8 +166,13 @@ LevelClose close_level(const SubsetSettings& s, int level, const LevelStates& st
   const double next = 0.5 * (states.g[order[Nc - 1]] + states.g[order[Nc]]);
   LevelClose close;
   close.reached_limit = next >= s.limit;
-  close.last = close.reached_limit || level >= s.max_levels;
+  // NaN: more than N (1 - p0) of the level's runs failed (NaN sorts last), so
+  // no threshold exists; the level ends the simulation and says so.
+  close.too_many_failed = std::isnan(next);
+  close.last = close.reached_limit || close.too_many_failed || level >= s.max_levels;
   LevelSummary& summary = close.summary;
+  summary.failed_runs = static_cast<std::uint64_t>(
+      std::count_if(states.g.begin(), states.g.end(), [](double g) { return std::isnan(g); }));
   summary.threshold = close.last ? s.limit : next;
   // An intermediate level's probability is p0 by construction: its N p0
   // largest states (ties broken by index) seed the next level, whether or
@@ -190,9 +195,11 @@ LevelClose close_level(const SubsetSettings& s, int level, const LevelStates& st
   return close;
 }
 
-SubsetResult combine(const SubsetSettings& s, std::vector<LevelSummary> levels, bool reached_limit) {
+SubsetResult combine(const SubsetSettings& s, std::vector<LevelSummary> levels, bool reached_limit,
+                     bool too_many_failed) {
   SubsetResult r;
   r.reached_limit = reached_limit;
+  r.too_many_failed = too_many_failed;
   r.probability = 1.0;
   double variance = 0.0;  // sum of delta_j^2
   const double N = static_cast<double>(s.samples);
@@ -296,7 +303,9 @@ void SubsetLevels::close_this_level() {
   levels_.push_back(close_.summary);
 }
 
-SubsetResult SubsetLevels::result() const { return combine(settings_, levels_, close_.reached_limit); }
+SubsetResult SubsetLevels::result() const {
+  return combine(settings_, levels_, close_.reached_limit, close_.too_many_failed);
+}
 
 SubsetResult subset_simulation(const SubsetSettings& s, unsigned D, const Response& response) {
   SubsetLevels levels(s, D);

@@ -18,6 +18,7 @@
 #include <boost/math/distributions/normal.hpp>
 
 #include <cmath>
+#include <limits>
 #include <numeric>
 
 namespace treedyn::rare_event {
@@ -151,6 +152,36 @@ TEST(SubsetSimulation, SettingsThatCannotFormChainsAreRefused) {
   EXPECT_THROW(subset_simulation(s, 2, [](std::uint64_t, std::span<const double>) { return 0.0; }),
                std::invalid_argument);
   EXPECT_EQ(check(settings(3.0)), "");
+}
+
+}  // namespace
+}  // namespace treedyn::rare_event
+
+namespace treedyn::rare_event {
+namespace {
+
+// Failed runs (NaN responses) are never beyond a threshold; when more than
+// N (1 - p0) of a level's runs fail there is no threshold, and the
+// simulation ends there and says so instead of chaining on NaN.
+TEST(SubsetSimulation, FailedRunsNeverExceedAndTooManyEndTheSimulation) {
+  SubsetSettings s = settings(3.0);
+  s.seed = 4;
+  // Runs with u_0 < 1.5 fail: 93 % of level 0.
+  const SubsetResult r = subset_simulation(s, 2, [](std::uint64_t, std::span<const double> u) {
+    return u[0] < 1.5 ? std::numeric_limits<double>::quiet_NaN() : linear(u);
+  });
+  EXPECT_TRUE(r.too_many_failed);
+  EXPECT_FALSE(r.reached_limit);
+  ASSERT_EQ(r.levels.size(), 1u);
+  EXPECT_GT(r.levels[0].failed_runs, 900u);
+  EXPECT_LT(r.probability, 0.01);
+  // A few failures only: they count as not beyond, and the levels go on.
+  const SubsetResult some = subset_simulation(s, 2, [](std::uint64_t k, std::span<const double> u) {
+    return k % 50 == 0 ? std::numeric_limits<double>::quiet_NaN() : linear(u);
+  });
+  EXPECT_FALSE(some.too_many_failed);
+  EXPECT_TRUE(some.reached_limit);
+  EXPECT_GT(some.levels[0].failed_runs, 0u);
 }
 
 }  // namespace
