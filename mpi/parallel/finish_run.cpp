@@ -99,9 +99,9 @@ int write_part(EnsembleRun& run, const ensemble::EnsembleStatistics& stats) {
 std::string stop_reason_of(const EnsembleRun& run, const rare_event::SubsetResult* rare) {
   if (rare) {
     const std::string levels = std::to_string(rare->levels.size() - 1);
-    if (rare->too_many_failed)
-      return "subset simulation: more than N (1 - p0) runs of level " + levels + " failed, so no threshold exists; "
-             "the estimate counts that level's exceedances (see /samples/status and reason)";
+    if (rare->no_threshold)
+      return "subset simulation: level " + levels + " has no threshold (more than N (1 - p0) of its runs failed, "
+             "or its responses pile up at one value); the estimate counts that level's exceedances";
     return rare->reached_limit ? "subset simulation: the threshold reached the limit at level " + levels
                                : "subset simulation: max_levels (" + levels + ") reached before the limit; the "
                                  "estimate counts the last level's exceedances";

@@ -225,6 +225,11 @@ bool run_chain_wave(EnsembleRun& run, const ensemble::Wave& wave) {
   std::vector<double> trajectory;
   bool stopped = false;
   while (!stopped && queue.next(begin, end)) {
+    // A chain a resumed run has whole is not run again: rank 0 replays it
+    // from the restored records. One cut short runs again from its seed.
+    bool finished = true;
+    for (std::uint64_t k = begin; k < end && finished; ++k) finished = run.finished.contains(k);
+    if (finished) continue;
     try {
       run_chain(run, queue, start, (begin - wave.first) / wave.chain_length, trajectory);
     } catch (const ChainStopped&) {

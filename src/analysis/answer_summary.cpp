@@ -85,9 +85,10 @@ void print_rare_event(std::ostream& out, const EnsembleSpec& spec, const rare_ev
     out << "  crude Monte Carlo would need about "
         << number((1.0 - result.probability) / (result.probability * result.cov * result.cov), "%.3g")
         << " runs for the same cov\n";
-  if (result.too_many_failed)
-    out << "  warning: more than N (1 - p0) runs of the last level failed (no threshold exists): the estimate "
-           "counts that level's exceedances and is too low by an unknown amount; see /samples/reason\n";
+  if (result.no_threshold)
+    out << "  warning: the last level has no threshold (more than N (1 - p0) of its runs failed, or its responses "
+           "pile up at one value): the estimate counts that level's exceedances and may be far off; see "
+           "/samples/status and /samples/reason\n";
   else if (!result.reached_limit)
     out << "  warning: max_levels ran out before a level's threshold reached the limit: the estimate counts "
            "the last level's exceedances (raise max_levels)\n";

@@ -18,7 +18,9 @@ rare_event::SubsetSettings subset_settings(const EnsembleSpec& spec) {
 }
 
 double subset_response(const EnsembleSpec& spec, const ResponseTable& table, std::uint64_t k) {
-  if (!table.ok(k)) return std::numeric_limits<double>::quiet_NaN();
+  // A run the table does not hold (a file cut short, or another build's
+  // levels) reads as failed rather than past the end.
+  if (k >= table.samples() || !table.ok(k)) return std::numeric_limits<double>::quiet_NaN();
   const std::size_t r = spec.subset->response;
   const double value = table.response(k, r);
   return spec.responses[r].fail_if == Response::FailIf::below ? -value : value;

@@ -1,5 +1,6 @@
 #include "app/rerun_sample.hpp"
 
+#include <cmath>
 #include <iostream>
 #include <optional>
 
@@ -55,7 +56,7 @@ std::vector<double> inputs_of(const Job& job, const ensemble::EnsembleSpec& spec
     refuse("--from " + from + ": " + e.what());
   }
   for (std::size_t d = 0; d < inputs.size(); ++d)
-    if (inputs[d] != table->input(k, d))
+    if (inputs[d] != table->input(k, d) && !(std::isnan(inputs[d]) && std::isnan(table->input(k, d))))
       refuse(from + ": the replayed inputs of run " + std::to_string(k) + " differ from those the file recorded "
              "(another build, or a file changed since)");
   return inputs;

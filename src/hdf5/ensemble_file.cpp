@@ -534,7 +534,7 @@ void EnsembleWriter::write_rare_event(const rare_event::SubsetSettings& settings
   h5::write_attribute(g.id(), "level_probability", settings.level_probability);
   h5::write_attribute(g.id(), "samples_per_level", static_cast<long long>(settings.samples));
   h5::write_attribute(g.id(), "reached_limit", static_cast<long long>(result.reached_limit ? 1 : 0));
-  h5::write_attribute(g.id(), "too_many_failed", static_cast<long long>(result.too_many_failed ? 1 : 0));
+  h5::write_attribute(g.id(), "no_threshold", static_cast<long long>(result.no_threshold ? 1 : 0));
   write_described_scalar(g.id(), "probability", result.probability, "1",
                          "P(limit exceeded) = product of the levels' conditional probabilities");
   write_described_scalar(g.id(), "cov", result.cov, "1",
@@ -579,7 +579,7 @@ void EnsembleWriter::write_levels(hid_t g, const rare_event::SubsetResult& resul
   h5::Handle r = h5::write_vector(g, "runs_per_level", runs);
   describe(r.id(), "1", "per level: the runs it made", {});
   h5::Handle x = h5::write_vector(g, "failed_per_level", failed);
-  describe(x.id(), "1", "per level: its states whose run failed (never beyond a threshold)", {});
+  describe(x.id(), "1", "per level: its runs that failed (never beyond a threshold; rejected proposals)", {});
 }
 
 void EnsembleWriter::complete(const std::vector<double>& nominal, const ensemble::EnsembleStatistics& stats,

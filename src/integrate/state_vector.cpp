@@ -43,10 +43,16 @@ void quotient(N_Vector x, N_Vector y, N_Vector z) {
   for (std::size_t i = 0; i < zd.size(); ++i) zd[i] = xd[i] / yd[i];
 }
 
-// N_VScale_Serial: copy for c = 1, negation for c = -1, c x otherwise.
+// N_VScale_Serial: copy for c = 1, negation for c = -1 (only a NaN's sign
+// would tell them from c x), c x otherwise.
 void scale(sunrealtype c, N_Vector x, N_Vector z) {
   const auto xd = data(x), zd = data(z);
-  for (std::size_t i = 0; i < zd.size(); ++i) zd[i] = c * xd[i];
+  if (c == 1.0)
+    for (std::size_t i = 0; i < zd.size(); ++i) zd[i] = xd[i];
+  else if (c == -1.0)
+    for (std::size_t i = 0; i < zd.size(); ++i) zd[i] = -xd[i];
+  else
+    for (std::size_t i = 0; i < zd.size(); ++i) zd[i] = c * xd[i];
 }
 
 void absolute(N_Vector x, N_Vector z) {
@@ -165,12 +171,8 @@ sunrealtype min_quotient(N_Vector num, N_Vector denom) {
   for (std::size_t i = 0; i < nd.size(); ++i) {
     if (dd[i] == 0.0) continue;
     const double q = nd[i] / dd[i];
-    if (first) {
-      min = q;
-      first = false;
-    } else if (q < min) {
-      min = q;
-    }
+    min = first ? q : (min < q ? min : q);  // SUNMIN(min, q), ties to q as there
+    first = false;
   }
   return min;
 }

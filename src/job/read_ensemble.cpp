@@ -383,6 +383,10 @@ void read_stop(const TomlView& parent, EnsembleSpec& s) {
   if (!every) t.fail("every", "missing: the check interval in samples (saltelli: in base samples, whole blocks)");
   if (*every < 1) t.fail("every", "must be at least 1");
   const std::uint64_t unit = s.design == Design::saltelli ? saltelli_block(s.input_dimensions()) : 1;
+  if (static_cast<std::uint64_t>(*every) > s.samples / unit)
+    t.fail("every", "checks every " + std::to_string(*every) + (unit > 1 ? " blocks" : " samples") +
+                        ", more than the ensemble makes at most (" + std::to_string(s.samples / unit) +
+                        (unit > 1 ? " blocks)" : ")"));
   rule.every = static_cast<std::uint64_t>(*every) * unit;
   if (rule.every > s.samples)
     t.fail("every", "checks every " + std::to_string(rule.every) + " runs, more than the " +

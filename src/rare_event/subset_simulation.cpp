@@ -71,7 +71,8 @@ Spread next_spread(const LevelStates& states, std::span<const std::uint64_t> see
     double mean = 0.0, square = 0.0;
     for (std::uint64_t k : seeds) mean += states.u[k * D + i] / n;
     for (std::uint64_t k : seeds) square += (states.u[k * D + i] - mean) * (states.u[k * D + i] - mean);
-    next.s[i] = lambda * std::min(1.0, std::sqrt(square / (n - 1.0)));
+    // At least 0.1: seeds that are copies of one state must not freeze a component.
+    next.s[i] = lambda * std::clamp(std::sqrt(square / (n - 1.0)), 0.1, 1.0);
   }
   return next;
 }
@@ -150,6 +151,7 @@ Chain run_chain(const SubsetSettings& s, int level, std::uint64_t chain_index, d
     propose(s, index, spread, current, v);
     const double g = response(index, v);
     ++chain.runs;
+    chain.failed_runs += std::isnan(g) ? 1 : 0;
     const bool accept = g > threshold;  // false for NaN
     const std::span<const double> next = accept ? std::span<const double>(v) : current;
     std::copy(next.begin(), next.end(), chain.u.begin() + static_cast<std::ptrdiff_t>(l * D));
@@ -159,35 +161,74 @@ Chain run_chain(const SubsetSettings& s, int level, std::uint64_t chain_index, d
   return chain;
 }
 
+namespace {
+
+// Whether the states tied with the N p0-th largest are more than one
+// chain's repeats of one state. A rejected proposal repeats a state, so such
+// ties are ordinary: the index order breaks them and the level's probability
+// is p0. A tie at level 0, across chains or at +-inf is a pile-up of the
+// response at one value (a level never crossed is +inf, say): then only the
+// count beyond it is a probability.
+bool piled_up(const SubsetSettings& s, int level, std::span<const double> g, std::span<const std::uint64_t> order) {
+  const double boundary = g[order[s.chains() - 1]];
+  if (!(g[order[s.chains()]] == boundary)) return false;
+  if (level == 0 || std::isinf(boundary)) return true;
+  std::uint64_t chain = s.samples;  // none yet
+  for (std::uint64_t k = 0; k < g.size(); ++k) {
+    if (!(g[k] == boundary)) continue;
+    if (chain != s.samples && k / s.states() != chain) return true;
+    chain = k / s.states();
+  }
+  return false;
+}
+
+// The next level's seeds: the N p0 largest states; after a pile-up, the
+// states beyond it, taken in turn until there are N p0.
+std::vector<std::uint64_t> seeds_of(const SubsetSettings& s, std::span<const double> g,
+                                    std::span<const std::uint64_t> order, bool piled, double threshold) {
+  std::vector<std::uint64_t> seeds(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(s.chains()));
+  if (!piled) return seeds;
+  std::uint64_t beyond = 0;
+  while (beyond < order.size() && g[order[beyond]] > threshold) ++beyond;
+  for (std::uint64_t c = 0; c < seeds.size(); ++c) seeds[c] = order[c % beyond];
+  return seeds;
+}
+
+}  // namespace
+
 LevelClose close_level(const SubsetSettings& s, int level, const LevelStates& states, const Spread& used,
                        unsigned D) {
   const std::uint64_t N = s.samples, Nc = s.chains();
   const std::vector<std::uint64_t> order = descending(states.g);
-  const double next = 0.5 * (states.g[order[Nc - 1]] + states.g[order[Nc]]);
+  const bool piled = piled_up(s, level, states.g, order);
+  const double next = piled ? states.g[order[Nc - 1]] : 0.5 * (states.g[order[Nc - 1]] + states.g[order[Nc]]);
+  const auto count_beyond = [&](double b) {
+    return static_cast<std::uint64_t>(std::count_if(states.g.begin(), states.g.end(), [&](double g) { return g > b; }));
+  };
   LevelClose close;
   close.reached_limit = next >= s.limit;
-  // NaN: more than N (1 - p0) of the level's runs failed (NaN sorts last), so
-  // no threshold exists; the level ends the simulation and says so.
-  close.too_many_failed = std::isnan(next);
-  close.last = close.reached_limit || close.too_many_failed || level >= s.max_levels;
+  // No threshold: more than N (1 - p0) runs failed (NaN sorts last), or the
+  // responses pile up at the level's largest value; the simulation ends here.
+  close.no_threshold = std::isnan(next) || (piled && count_beyond(next) == 0);
+  close.last = close.reached_limit || close.no_threshold || level >= s.max_levels;
   LevelSummary& summary = close.summary;
-  summary.failed_runs = static_cast<std::uint64_t>(
-      std::count_if(states.g.begin(), states.g.end(), [](double g) { return std::isnan(g); }));
+  summary.failed_runs = level == 0 ? static_cast<std::uint64_t>(std::count_if(
+                                         states.g.begin(), states.g.end(), [](double g) { return std::isnan(g); }))
+                                   : states.failed_runs;
   summary.threshold = close.last ? s.limit : next;
-  // An intermediate level's probability is p0 by construction: its N p0
-  // largest states (ties broken by index) seed the next level, whether or
-  // not a repeated state sits exactly on the threshold. The last level
-  // counts its states beyond b (N_F / N).
-  const auto beyond = std::count_if(states.g.begin(), states.g.end(), [&](double g) { return g > summary.threshold; });
-  summary.conditional_probability =
-      close.last ? static_cast<double>(beyond) / static_cast<double>(N) : s.level_probability;
+  // An intermediate level's probability is p0 by construction (its N p0
+  // largest states, ties broken by index, seed the next level), but after a
+  // pile-up it is the count beyond; the last level counts N_F / N.
+  summary.conditional_probability = close.last || piled
+                                        ? static_cast<double>(count_beyond(summary.threshold)) / static_cast<double>(N)
+                                        : s.level_probability;
   summary.gamma = level == 0 ? 0.0 : chain_correlation(s, states.g, summary.threshold, summary.conditional_probability);
   const auto accepted = std::count(states.accepted.begin(), states.accepted.end(), std::uint8_t{1});
   summary.acceptance_rate =
       level == 0 ? 1.0 : static_cast<double>(accepted) / static_cast<double>(std::max<std::uint64_t>(states.runs, 1));
   summary.runs = states.runs;
   if (close.last) return close;
-  close.seeds.assign(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(Nc));
+  close.seeds = seeds_of(s, states.g, order, piled, next);
   const double lambda =
       level == 0 ? used.lambda
                  : std::clamp(used.lambda * std::exp(summary.acceptance_rate - kTargetAcceptance), 0.05, 1.0);
@@ -196,10 +237,10 @@ LevelClose close_level(const SubsetSettings& s, int level, const LevelStates& st
 }
 
 SubsetResult combine(const SubsetSettings& s, std::vector<LevelSummary> levels, bool reached_limit,
-                     bool too_many_failed) {
+                     bool no_threshold) {
   SubsetResult r;
   r.reached_limit = reached_limit;
-  r.too_many_failed = too_many_failed;
+  r.no_threshold = no_threshold;
   r.probability = 1.0;
   double variance = 0.0;  // sum of delta_j^2
   const double N = static_cast<double>(s.samples);
@@ -291,6 +332,7 @@ void SubsetLevels::advance(const Response& response) {
     next.g.insert(next.g.end(), chain.g.begin(), chain.g.end());
     next.accepted.insert(next.accepted.end(), chain.accepted.begin(), chain.accepted.end());
     next.runs += chain.runs;
+    next.failed_runs += chain.failed_runs;
   }
   spread_ = close_.spread;
   states_ = std::move(next);
@@ -304,7 +346,7 @@ void SubsetLevels::close_this_level() {
 }
 
 SubsetResult SubsetLevels::result() const {
-  return combine(settings_, levels_, close_.reached_limit, close_.too_many_failed);
+  return combine(settings_, levels_, close_.reached_limit, close_.no_threshold);
 }
 
 SubsetResult subset_simulation(const SubsetSettings& s, unsigned D, const Response& response) {

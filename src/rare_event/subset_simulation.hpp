@@ -72,6 +72,7 @@ struct Chain {
   std::vector<double> g;
   std::vector<std::uint8_t> accepted;  // [0] (the seed) is 0
   std::uint64_t runs = 0;
+  std::uint64_t failed_runs = 0;  // proposals whose run failed (rejected)
 };
 
 // g(index, u): the response of the run at `index` for the point u. A NaN
@@ -91,6 +92,7 @@ struct LevelStates {
   std::vector<double> g;  // N
   std::vector<std::uint8_t> accepted;  // N; level 0: all 0
   std::uint64_t runs = 0;
+  std::uint64_t failed_runs = 0;  // later levels: the chains' failed proposals
 };
 
 struct LevelSummary {
@@ -99,7 +101,7 @@ struct LevelSummary {
   double gamma = 0.0;                    // the chains' correlation factor (0 at level 0)
   double acceptance_rate = 0.0;          // accepted proposals / proposals (level 0: 1)
   std::uint64_t runs = 0;
-  std::uint64_t failed_runs = 0;         // states whose run failed (NaN response): never beyond a threshold
+  std::uint64_t failed_runs = 0;         // runs that failed (NaN response): never beyond a threshold
 };
 
 // What a level's states give: its summary, whether it is the last, and the
@@ -117,7 +119,7 @@ struct LevelClose {
   LevelSummary summary;
   bool last = false;
   bool reached_limit = false;  // the threshold reached b (else max_levels ran out)
-  bool too_many_failed = false;  // more than N (1 - p0) runs failed: no threshold
+  bool no_threshold = false;  // more than N (1 - p0) runs failed, or the responses pile up: none exists
   std::vector<std::uint64_t> seeds;  // positions in the level's states
   Spread spread;                     // for the next level's chains
 };
@@ -133,14 +135,14 @@ struct SubsetResult {
   double cov = 0.0;          // sqrt(sum_j delta_j^2): levels taken as uncorrelated
   double interval_low = 0.0, interval_high = 0.0;  // 95 %: lognormal with that cov
   bool reached_limit = false;  // false: max_levels ran out before the threshold reached b
-  bool too_many_failed = false;  // true: a level had more than N (1 - p0) failed runs (no threshold)
+  bool no_threshold = false;  // true: a level had no threshold (failed runs, or a pile-up of responses)
   std::uint64_t runs = 0;
   std::vector<LevelSummary> levels;
 };
 
 // The estimate and its coefficient of variation from the levels' summaries.
 SubsetResult combine(const SubsetSettings& settings, std::vector<LevelSummary> levels, bool reached_limit,
-                     bool too_many_failed = false);
+                     bool no_threshold = false);
 
 // What every chain of a level needs, flat for a broadcast: the level, its
 // threshold, the spreads, and each chain's seed (response and point).

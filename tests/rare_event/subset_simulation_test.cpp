@@ -170,7 +170,7 @@ TEST(SubsetSimulation, FailedRunsNeverExceedAndTooManyEndTheSimulation) {
   const SubsetResult r = subset_simulation(s, 2, [](std::uint64_t, std::span<const double> u) {
     return u[0] < 1.5 ? std::numeric_limits<double>::quiet_NaN() : linear(u);
   });
-  EXPECT_TRUE(r.too_many_failed);
+  EXPECT_TRUE(r.no_threshold);
   EXPECT_FALSE(r.reached_limit);
   ASSERT_EQ(r.levels.size(), 1u);
   EXPECT_GT(r.levels[0].failed_runs, 900u);
@@ -179,9 +179,39 @@ TEST(SubsetSimulation, FailedRunsNeverExceedAndTooManyEndTheSimulation) {
   const SubsetResult some = subset_simulation(s, 2, [](std::uint64_t k, std::span<const double> u) {
     return k % 50 == 0 ? std::numeric_limits<double>::quiet_NaN() : linear(u);
   });
-  EXPECT_FALSE(some.too_many_failed);
+  EXPECT_FALSE(some.no_threshold);
   EXPECT_TRUE(some.reached_limit);
   EXPECT_GT(some.levels[0].failed_runs, 0u);
+}
+
+}  // namespace
+}  // namespace treedyn::rare_event
+
+namespace treedyn::rare_event {
+namespace {
+
+// A response that piles up at one value: g = u_0 where u_0 > 1.5, else
+// -inf (a level never crossed, say), so only 6.7 % of level 0 is finite,
+// less than p0. That level's probability is then the count beyond the pile,
+// its seeds the finite states in turn, and the estimate of
+// P(u_0 > 3) = Phi(-3) stays unbiased (30 seeds, 2 standard errors).
+TEST(SubsetSimulation, APileUpOfResponsesCountsWhatLiesBeyondIt) {
+  const double exact = boost::math::cdf(boost::math::normal(), -3.0);
+  std::vector<double> estimates;
+  for (int k = 0; k < 30; ++k) {
+    SubsetSettings s = settings(3.0);
+    s.seed = 300 + static_cast<std::uint64_t>(k);
+    const SubsetResult r = subset_simulation(s, 3, [](std::uint64_t, std::span<const double> u) {
+      return u[0] > 1.5 ? u[0] : -std::numeric_limits<double>::infinity();
+    });
+    ASSERT_FALSE(r.no_threshold);
+    EXPECT_NEAR(r.levels[0].conditional_probability, 0.0668, 0.03);  // P(u_0 > 1.5), not p0
+    estimates.push_back(r.probability);
+  }
+  double mean = 0.0, square = 0.0;
+  for (double e : estimates) mean += e / 30.0;
+  for (double e : estimates) square += (e - mean) * (e - mean) / 29.0;
+  EXPECT_NEAR(mean, exact, 2.0 * std::sqrt(square / 30.0));
 }
 
 }  // namespace
