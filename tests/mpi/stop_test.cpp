@@ -123,7 +123,9 @@ TEST_F(Stop, JobsARuleCannotServeAreRefused) {
   text = stop_job(false) + "\n[ensemble.stop]\nresponse = \"spin0\"\nmean_sem = 0.01\nevery = 5000\n";
   r = run_ensemble(0, write_job("every.toml", text), dir_.path() / "every.h5", dir_.path() / "capture_every");
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.err.find("ensemble.stop.every: checks every 5000 runs, more than the 3000"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("ensemble.stop.every: checks every 5000 samples, more than the ensemble makes at most (3000)"),
+            std::string::npos)
+      << r.err;
 }
 
 }  // namespace
