@@ -280,6 +280,10 @@ void EnsembleWriter::write_statistics(const ensemble::EnsembleStatistics& s) {
                           (spec_.design == ensemble::Design::saltelli
                                ? "; saltelli: over every run, the correlated AB_i rows included (sem "
                                  "assumes independent samples: use the A and B rows of /samples for it)"
+                           : spec_.design == ensemble::Design::subset_simulation
+                               ? "; subset_simulation: level 0 alone (samples 0 .. N-1), an unbiased "
+                                 "Monte-Carlo sample; the later levels' runs are conditional samples and "
+                                 "left out (they are in /samples)"
                                : ""));
   const std::vector<double>& t = job_.request.output_times;
   h5::write_attribute(group.id(), "quantities", layout_.quantity);  // in the job's order

@@ -121,6 +121,26 @@ TEST_F(Subset, ARunOfALaterLevelRerunsAloneBitForBit) {
     const std::vector<double> mine = read_doubles(a.id(), "/final_state");
     for (std::size_t c = 0; c < mine.size(); ++c) EXPECT_EQ(mine[c], final_state(static_cast<std::size_t>(k), c)) << k;
   }
+  // --write-job K --from the file: `treedyn run` of that job is run K too.
+  const long long k = 500 + 7 * 9 + 2;
+  const fs::path sample_job = dir_.path() / "sample.toml", sample_out = dir_.path() / "sample_job.h5";
+  ASSERT_EQ(run_command(TREEDYN_ENSEMBLE_BINARY,
+                        {job.string(), "--write-job", std::to_string(k), "--from", out.string(), "-o",
+                         sample_job.string()},
+                        dir_.path() / "capture_write")
+                .exit_code,
+            0);
+  ASSERT_EQ(run_command(TREEDYN_BINARY, {"run", sample_job.string(), "-o", sample_out.string(), "-q"},
+                        dir_.path() / "capture_run")
+                .exit_code,
+            0);
+  H5File written(sample_out);
+  const std::vector<double> from_job = read_doubles(written.id(), "/final_state");
+  for (std::size_t c = 0; c < from_job.size(); ++c)
+    EXPECT_EQ(from_job[c], final_state(static_cast<std::size_t>(k), c)) << "--write-job " << k;
+  const std::vector<std::string> stats_about = read_string_attribute(f.id(), "/stats", "description");
+  ASSERT_EQ(stats_about.size(), 1u);
+  EXPECT_NE(stats_about[0].find("subset_simulation: level 0 alone"), std::string::npos) << stats_about[0];
   const auto refused = run_command(TREEDYN_ENSEMBLE_BINARY,
                                    {job.string(), "--sample", std::to_string(rows - 1), "-o",
                                     (dir_.path() / "no.h5").string(), "-q"},
