@@ -154,7 +154,7 @@ TEST_F(Subset, ARunOfALaterLevelRerunsAloneBitForBit) {
 // Wilson interval holds the exact value, and subset simulation's estimate
 // agrees with it within two combined standard errors.
 TEST_F(Subset, CrudeMonteCarloWithThirtyTimesTheRunsAgrees) {
-  if (const std::string why = skipped_when_sanitized("crude Monte Carlo (100,000 runs)", false); !why.empty())
+  if (const std::string why = skipped_when_sanitized_as_large("crude Monte Carlo (111,000 runs)"); !why.empty())
     GTEST_SKIP() << why;
   const double exact = 1e-3;
   const fs::path subset = write_job("subset.toml", isotropic_ball_job(ball_limit_for(exact), 1000, kSubset));
@@ -178,6 +178,8 @@ TEST_F(Subset, CrudeMonteCarloWithThirtyTimesTheRunsAgrees) {
 // One in a million: a coefficient of variation of at most 0.15 with at most
 // 50,000 runs (N = 7000 per level), and the estimate within two of it.
 TEST_F(Subset, OneInAMillionWithinFiftyThousandRuns) {
+  if (const std::string why = skipped_when_sanitized_as_large("P = 1e-6 (38,500 runs)"); !why.empty())
+    GTEST_SKIP() << why;
   const double exact = 1e-6;
   const fs::path job = write_job("million.toml", isotropic_ball_job(ball_limit_for(exact), 7000, kSubset + "\nmax_levels = 8"));
   const auto run = run_ensemble(2, job, dir_.path() / "million.h5", dir_.path() / "capture");
@@ -229,6 +231,7 @@ namespace {
 // The shipped rare-event example (jobs/rare_events/), shortened: 10 s of
 // motion, 100 runs per level, two levels after level 0.
 TEST(SubsetExample, TheCraneJobRunsAsShippedAndShortened) {
+  if (const std::string why = skipped_when_sanitized("crane_payload", false); !why.empty()) GTEST_SKIP() << why;
   TempDir dir("subset_example");
   const fs::path shipped = fs::path(TREEDYN_JOBS_DIR) / "rare_events" / "crane_peak_tension.toml";
   const auto check = run_command(TREEDYN_ENSEMBLE_BINARY, {shipped.string(), "--check"}, dir.path() / "capture_check");

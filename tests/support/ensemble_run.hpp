@@ -144,6 +144,17 @@ inline std::string skipped_when_sanitized(const std::string& example, bool figur
   return "";
 }
 
+// The same for a statistical check whose runs are many but whose code
+// paths a smaller test of the sanitized pass runs too: `what` names it.
+inline std::string skipped_when_sanitized_as_large(const std::string& what) {
+#ifdef TREEDYN_SANITIZED
+  return what + ": its code paths run in the sanitizer pass on smaller jobs; the normal pass runs it";
+#else
+  (void)what;
+  return "";
+#endif
+}
+
 inline std::string describe(int ranks) {
   return ranks == 0 ? std::string("the binary alone") : "mpirun -np " + std::to_string(ranks);
 }
