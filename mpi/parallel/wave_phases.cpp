@@ -58,6 +58,16 @@ void keep(EnsembleRun& run, SampleRecord record, std::span<const double> traject
   ++run.kept;
 }
 
+void hold_if_asked(EnsembleRun& run);
+
+// A run after the pilot: kept (into the statistics when `trajectory` is
+// given), counted, and the test hold honoured.
+void keep_after_pilot(EnsembleRun& run, SampleRecord record, std::span<const double> trajectory) {
+  keep(run, std::move(record), trajectory);
+  ++run.kept_after_pilot;
+  hold_if_asked(run);
+}
+
 // TREEDYN_TEST_HOLD_AFTER (driver.hpp): once this rank has kept that many
 // samples after the pilot, it says so in a file and waits for a stop signal.
 void hold_if_asked(EnsembleRun& run) {
@@ -171,13 +181,10 @@ bool run_wave(EnsembleRun& run, std::uint64_t from, std::uint64_t to) {
       stopped = !may_go_on(queue);
       if (stopped || run.finished.contains(k)) continue;
       std::optional<SampleRecord> r = run_sample(run, k, trajectory);
-      if (r) {
-        keep(run, std::move(*r), trajectory);
-        ++run.kept_after_pilot;
-        hold_if_asked(run);
-      } else {
+      if (r)
+        keep_after_pilot(run, std::move(*r), trajectory);
+      else
         stopped = true;
-      }
     }
     run.sink->flush();
     if (!stopped) run.results.save_if_due();
@@ -205,11 +212,7 @@ void run_chain(EnsembleRun& run, WorkQueue& queue, const rare_event::LevelStart&
     std::optional<SampleRecord> r = run_sample(run, k, trajectory, uniforms);
     if (!r) throw ChainStopped{};
     const double g = ensemble::subset_response(run.spec, *r);
-    if (!run.finished.contains(k)) {
-      keep(run, std::move(*r), {});  // not into /stats: level 0 alone is a Monte-Carlo sample
-      ++run.kept_after_pilot;
-      hold_if_asked(run);
-    }
+    if (!run.finished.contains(k)) keep_after_pilot(run, std::move(*r), {});  // not into /stats: level 0 alone is one
     return g;
   };
   rare_event::run_chain(ensemble::subset_settings(run.spec), start.level, c, start.threshold, start.spread,

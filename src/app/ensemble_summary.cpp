@@ -39,6 +39,37 @@ void print_invalid_mass(std::ostream& out, const Perturbation& p, const ModelDef
         << "distribution, or use truncated_normal (lower bound) or lognormal for a positive quantity\n";
 }
 
+// The subset-simulation line: runs per level, chains, the most runs and
+// the smallest probability the levels reach.
+void print_subset(std::ostream& out, const EnsembleSpec& s) {
+  if (!s.subset) return;
+  const double p0 = s.subset->level_probability;
+  char smallest[32];
+  std::snprintf(smallest, sizeof smallest, "%.0e", std::pow(p0, s.subset->max_levels + 1));
+  out << "  subset_simulation: " << s.base_samples << " runs per level, level_probability " << format_number(p0)
+      << " (" << static_cast<std::uint64_t>(std::llround(static_cast<double>(s.base_samples) * p0))
+      << " chains of " << std::llround(1.0 / p0) << " states), at most " << s.subset->max_levels
+      << " levels after level 0 (" << s.samples << " runs); P(" << s.responses[s.subset->response].name
+      << " beyond its limit) down to about " << smallest << "\n";
+}
+
+// The stopping rule's line: the check interval and each target.
+void print_stop_rule(std::ostream& out, const EnsembleSpec& s) {
+  if (!s.stop) return;
+  const StopRule& rule = *s.stop;
+  out << "  stop: checked every " << rule.every << " runs, at the first check point where";
+  const char* joint = "";
+  auto target = [&](const char* name, const std::optional<double>& v) {
+    if (!v) return;
+    out << joint << " " << name << " of " << s.responses[rule.response].name << " <= " << format_number(*v);
+    joint = " or";
+  };
+  target("exceedance_cov", rule.exceedance_cov);
+  target("mean_sem", rule.mean_sem);
+  target("mean_relative_sem", rule.mean_relative_sem);
+  out << " (at most " << s.samples << " runs)\n";
+}
+
 }  // namespace
 
 void print_ensemble_summary(std::ostream& out, const Job& job, const EnsembleSpec& s) {
@@ -49,30 +80,8 @@ void print_ensemble_summary(std::ostream& out, const Job& job, const EnsembleSpe
     out << "  saltelli: base size N = " << s.base_samples << ", N (D + 2) = " << s.base_samples << " x "
         << saltelli_block(s.input_dimensions()) << " = " << s.samples
         << " runs; sample j (D + 2) + r is A_j (r = 0), B_j (r = 1), AB_i,j (r = 2 + i)\n";
-  if (s.subset) {
-    const double p0 = s.subset->level_probability;
-    char smallest[32];
-    std::snprintf(smallest, sizeof smallest, "%.0e", std::pow(p0, s.subset->max_levels + 1));
-    out << "  subset_simulation: " << s.base_samples << " runs per level, level_probability " << format_number(p0)
-        << " (" << static_cast<std::uint64_t>(std::llround(static_cast<double>(s.base_samples) * p0))
-        << " chains of " << std::llround(1.0 / p0) << " states), at most " << s.subset->max_levels
-        << " levels after level 0 (" << s.samples << " runs); P(" << s.responses[s.subset->response].name
-        << " beyond its limit) down to about " << smallest << "\n";
-  }
-  if (s.stop) {
-    const StopRule& rule = *s.stop;
-    out << "  stop: checked every " << rule.every << " runs, at the first check point where";
-    const char* joint = "";
-    auto target = [&](const char* name, const std::optional<double>& v) {
-      if (!v) return;
-      out << joint << " " << name << " of " << s.responses[rule.response].name << " <= " << format_number(*v);
-      joint = " or";
-    };
-    target("exceedance_cov", rule.exceedance_cov);
-    target("mean_sem", rule.mean_sem);
-    target("mean_relative_sem", rule.mean_relative_sem);
-    out << " (at most " << s.samples << " runs)\n";
-  }
+  print_subset(out, s);
+  print_stop_rule(out, s);
   if (s.design == Design::latin_hypercube)
     out << "  latin_hypercube: sample k depends on N too, so prefixes are not nested samples "
            "(convergence by prefix is not meaningful)\n";

@@ -348,6 +348,14 @@ void read_stored_trajectories(const TomlView& t, const Job& job, EnsembleSpec& s
                                      "quantities, or block_size = 1");
 }
 
+// The index of the [[ensemble.response]] that `t`'s `response` names.
+std::size_t named_response(const TomlView& t, const EnsembleSpec& s) {
+  const std::string name = t.required_string("response");
+  for (std::size_t r = 0; r < s.responses.size(); ++r)
+    if (s.responses[r].name == name) return r;
+  t.fail("response", "\"" + name + "\" is not the name of an [[ensemble.response]]");
+}
+
 // [ensemble.stop]: which response, which targets, how often to check.
 void read_stop(const TomlView& parent, EnsembleSpec& s) {
   const auto section = parent.subtable("stop");
@@ -361,12 +369,10 @@ void read_stop(const TomlView& parent, EnsembleSpec& s) {
                                            ? "the first n samples of a latin_hypercube are not one"
                                            : "subset_simulation sets its own runs (samples per level, levels)"));
   StopRule rule;
-  const std::string name = t.required_string("response");
-  const auto found = std::find_if(s.responses.begin(), s.responses.end(),
-                                  [&](const Response& r) { return r.name == name; });
-  if (found == s.responses.end())
-    t.fail("response", "\"" + name + "\" is not the name of an [[ensemble.response]]");
-  rule.response = static_cast<std::size_t>(found - s.responses.begin());
+  const std::size_t index = named_response(t, s);
+  const Response& response = s.responses[index];
+  const std::string& name = response.name;
+  rule.response = index;
   auto target = [&t](std::string_view key) -> std::optional<double> {
     const auto v = t.number(key);
     if (v && !(*v > 0.0 && std::isfinite(*v))) t.fail(key, "must be a positive number");
@@ -377,7 +383,7 @@ void read_stop(const TomlView& parent, EnsembleSpec& s) {
   rule.mean_relative_sem = target("mean_relative_sem");
   if (!rule.exceedance_cov && !rule.mean_sem && !rule.mean_relative_sem)
     t.fail("response", "give at least one target: exceedance_cov, mean_sem or mean_relative_sem");
-  if (rule.exceedance_cov && !found->has_limit())
+  if (rule.exceedance_cov && !response.has_limit())
     t.fail("exceedance_cov", "response \"" + name + "\" has no limit (add limit and fail_if to it)");
   const auto every = t.integer("every");
   if (!every) t.fail("every", "missing: the check interval in samples (saltelli: in base samples, whole blocks)");
@@ -411,15 +417,13 @@ void read_subset(const TomlView& parent, EnsembleSpec& s) {
   if (s.input_dimensions() == 0)
     parent.fail("design", "subset_simulation needs at least one [[ensemble.perturbation]] (the uncertain inputs)");
   SubsetSpec subset;
-  const std::string name = t.required_string("response");
-  const auto found = std::find_if(s.responses.begin(), s.responses.end(),
-                                  [&](const Response& r) { return r.name == name; });
-  if (found == s.responses.end())
-    t.fail("response", "\"" + name + "\" is not the name of an [[ensemble.response]]");
-  if (!found->has_limit())
+  const std::size_t index = named_response(t, s);
+  const Response& response = s.responses[index];
+  const std::string& name = response.name;
+  if (!response.has_limit())
     t.fail("response", "response \"" + name + "\" has no limit: give it limit and fail_if (the failure whose "
                        "probability is estimated)");
-  subset.response = static_cast<std::size_t>(found - s.responses.begin());
+  subset.response = index;
   subset.level_probability = t.number("level_probability", 0.1);
   const double p0 = subset.level_probability;
   if (!(p0 > 0.0 && p0 <= 0.5))
