@@ -51,11 +51,15 @@ std::optional<SampleRecord> run_sample(EnsembleRun& run, std::uint64_t k, std::v
   return r;
 }
 
-// Into this rank's results and checkpoint, and on to rank 0.
+// Into this rank's results (the statistics' update) and checkpoint, and on
+// to rank 0. Counted as busy: it is the sample's own work, not waiting.
 void keep(EnsembleRun& run, SampleRecord record, std::span<const double> trajectory) {
-  if (!run.results.keep(record, trajectory)) return;
-  run.sink->add(std::move(record));
-  ++run.kept;
+  const auto start = std::chrono::steady_clock::now();
+  if (run.results.keep(record, trajectory)) {
+    run.sink->add(std::move(record));
+    ++run.kept;
+  }
+  run.busy_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 void hold_if_asked(EnsembleRun& run);

@@ -15,7 +15,7 @@ struct EnsembleSummary {
   double wall_seconds = 0.0;
   std::vector<double> peak_rss_mib;         // per rank (getrusage maximum resident set)
   std::vector<long long> samples_per_rank;  // samples each rank integrated
-  std::vector<double> busy_seconds;         // time each rank spent integrating samples
+  std::vector<double> busy_seconds;         // time each rank spent on samples: integrating, recording, updating its statistics, checkpointing, sending
   std::uint64_t samples_used = 0;           // the runs the answers count ([ensemble.stop]: <= samples)
   std::string stop_reason;                  // why the run ended where it did
 };
