@@ -163,6 +163,7 @@ void EnsembleWriter::create_reductions() {
                                                    chunk_rows()));
       describe(reductions_.back().back().id(), time ? "s" : std::string(layout_.info[q]->units),
                about + " of " + layout_.quantity[q], layout_.names[q]);
+      if (!time) write_column_units(reductions_.back().back().id(), layout_, q);
     }
   }
 }
@@ -179,6 +180,7 @@ void EnsembleWriter::create_trajectories() {
                                                  spec_.store_trajectories, shape, 1));
     describe(trajectories_.back().id(), std::string(layout_.info[q]->units),
              std::string(layout_.info[q]->description) + "; sample x time (/stats/time) x column", layout_.names[q]);
+    write_column_units(trajectories_.back().id(), layout_, q);
   }
 }
 

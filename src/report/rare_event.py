@@ -1,0 +1,39 @@
+"""Subset simulation's answer: the probability, its cov and interval, the runs beside crude Monte Carlo's,
+and the exceedance curve its levels trace (P(g > b_j) = p0^(j+1) at each level's threshold)."""
+import numpy as np
+
+import matplotlib.pyplot as plt
+
+from read import text
+
+
+def rare_event_section(f, page):
+    if "rare_event" not in f:
+        return
+    page.heading("Rare event (subset simulation)", 3)
+    for name, g in f["rare_event"].items():
+        answer_table(page, name, g)
+        units, side = text(g.attrs["units"]), ">" if text(g.attrs["fail_if"]) == "above" else "<"
+        thresholds, conditional = g["thresholds"][:], g["conditional_probability"][:]
+        page.table(["level", f"threshold ({units})", "conditional probability", "gamma", "acceptance rate", "runs"],
+                   [[j, f"{thresholds[j]:.6g}", f"{conditional[j]:.4g}", f"{g['gamma'][j]:.3g}",
+                     f"{g['acceptance_rate'][j]:.3g}", int(g["runs_per_level"][j])] for j in range(len(thresholds))])
+        fig, ax = plt.subplots(figsize=(6, 3.5), layout="constrained")
+        ax.semilogy(thresholds, np.cumprod(conditional), "o-", color="tab:red")
+        ax.set_xlabel(f"{name} ({units})")
+        ax.set_ylabel(f"P({name} {side} threshold)")
+        page.figure(fig, "the exceedance curve the levels trace: at each level's threshold, the product of the "
+                         "conditional probabilities so far; the last point is the limit", f"rare_event_{name}")
+
+
+def answer_table(page, name, g):
+    units, side = text(g.attrs["units"]), ">" if text(g.attrs["fail_if"]) == "above" else "<"
+    p, cov, runs = g["probability"][()], g["cov"][()], int(g["runs"][()])
+    page.table(["question", "answer"], [
+        [f"P({name} {side} {g.attrs['limit']:.6g} {units})", f"{p:.4g}"],
+        ["coefficient of variation (levels taken as uncorrelated)", f"{cov:.3g}"],
+        ["95 % interval (lognormal with that cov)", f"[{g['interval'][0]:.4g}, {g['interval'][1]:.4g}]"],
+        ["model runs (every proposal is a run)", f"{runs}"],
+        ["crude Monte Carlo for the same cov, (1 - P) / (P cov²)", f"{g['crude_monte_carlo_runs'][()]:.3g}"],
+        ["the threshold reached the limit", "yes" if int(g.attrs["reached_limit"]) else
+         "no: max_levels ran out (raise it)"]])
