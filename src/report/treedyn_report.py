@@ -15,6 +15,8 @@ import argparse
 import os
 import sys
 
+sys.dont_write_bytecode = True  # no __pycache__ beside the sources
+
 
 def fail(message, code=2):
     print(f"error: {message}", file=sys.stderr)
@@ -64,65 +66,6 @@ def provenance(f, page):
             rows.append([key, ", ".join(strings(v)) if isinstance(v, np.ndarray) else text(v)])
     page.table(["attribute", "value"], rows)
     page.end_fold()
-
-
-def trajectory_report(f, page, wanted):
-    t = f["time"][:]
-    if (not wanted or "joint_angle" in wanted) and "joint_angle" in f:
-        d = f["joint_angle"]
-        fig, ax = plt.subplots(figsize=(8, 3.5))
-        names = strings(d.attrs["columns"])
-        for c in range(min(d.shape[1], 10)):
-            ax.plot(t, d[:, c], lw=0.9, label=names[c])
-        ax.set_xlabel("t (s)")
-        ax.set_ylabel(f"joint angle ({units_of(d)})")
-        ax.legend(fontsize=7, ncol=2)
-        page.figure(fig, "joint angles" + (f" (the first 10 of {d.shape[1]})" if d.shape[1] > 10 else ""))
-    if (not wanted or "energy" in wanted) and "energy" in f:
-        e = f["energy"]
-        names = strings(e.attrs["columns"])
-        fig, (a, b) = plt.subplots(1, 2, figsize=(10, 3.5))
-        for c in range(e.shape[1]):
-            a.plot(t, e[:, c], lw=0.9, label=names[c])
-        a.set_xlabel("t (s)")
-        a.set_ylabel(f"energy ({units_of(e)})")
-        a.legend(fontsize=7)
-        total = e[:, names.index("total")]
-        b.plot(t, total - total[0], lw=0.9)
-        b.set_xlabel("t (s)")
-        b.set_ylabel(f"E(t) - E(0) ({units_of(e)})")
-        page.figure(fig, "energy and its drift (a moving base, springs or dampers change it)")
-    magnitude = None
-    if "joint_reaction_magnitude" in f:
-        magnitude = f["joint_reaction_magnitude"][:]
-        names = strings(f["joint_reaction_magnitude"].attrs["columns"])
-    elif "joint_reaction" in f:
-        r = f["joint_reaction"][:]
-        magnitude = np.linalg.norm(r.reshape(r.shape[0], -1, 3), axis=2)
-        names = [c.rsplit(".", 1)[0] for c in strings(f["joint_reaction"].attrs["columns"])[::3]]
-    if magnitude is not None and (not wanted or "joint_reaction" in wanted or "joint_reaction_magnitude" in wanted):
-        fig, ax = plt.subplots(figsize=(8, 3.5))
-        for c in range(min(magnitude.shape[1], 10)):
-            ax.plot(t, magnitude[:, c], lw=0.9, label=names[c])
-        ax.set_xlabel("t (s)")
-        ax.set_ylabel("joint reaction magnitude (N)")
-        ax.legend(fontsize=7, ncol=2)
-        page.figure(fig, "magnitude of each joint's constraint force")
-    paths = "point_position" if "point_position" in f else "com_position" if "com_position" in f else None
-    if paths and (not wanted or paths in wanted):
-        d = f[paths][:]
-        names = strings(f[paths].attrs["columns"])
-        fig, axes = plt.subplots(1, 3, figsize=(12, 3.8))
-        for ax, (i, j, label) in zip(axes, ((0, 1, "x-y"), (0, 2, "x-z"), (1, 2, "y-z"))):
-            for p in range(min(d.shape[1] // 3, 10)):
-                ax.plot(d[:, 3 * p + i], d[:, 3 * p + j], lw=0.8, label=names[3 * p].rsplit(".", 1)[0])
-            ax.set_xlabel(f"{'xyz'[i]} (m)")
-            ax.set_ylabel(f"{'xyz'[j]} (m)")
-            ax.set_title(label, fontsize=9)
-            ax.set_aspect("equal", adjustable="datalim")
-        axes[0].legend(fontsize=7)
-        page.figure(fig, f"paths of the recorded {'points' if paths == 'point_position' else 'centres of mass'}, "
-                         "three projections")
 
 
 def summary_text(page, out_dir):

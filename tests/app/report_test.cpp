@@ -127,6 +127,99 @@ INSTANTIATE_TEST_SUITE_P(Examples, Report, ::testing::ValuesIn(kExamples),
 // `treedyn report FILE | head -1`: the reader stops after one line. The
 // report is written all the same, with no traceback and exit 0 (the writes
 // to the closed pipe fail quietly, in treedyn and in the plotting script).
+// A job whose samples fail in two ways (tests/mpi/ensemble_mpi_test.cpp's
+// kFailingJob, with a response and its limit): a light tip (normal(1, 1)
+// mass, so P(mass <= 0) = Phi(-1) = 0.159) is an invalid model, a fast spin
+// against max_steps = 200 gives up. The page must say so first.
+const std::string kFailingJob = R"(title = "report test: failing samples"
+[environment]
+gravity = [0.0, 0.0, -9.81]
+[[body]]
+name = "rod"
+shape = "cylinder"
+radius = 0.02
+length = 0.5
+mass = 1.0
+parent = "base"
+joint_on_child = [0.0, 0.0, 0.25]
+orientation = { type = "axis_angle", axis = [1, 0, 0], angle = 30, unit = "deg" }
+[[body]]
+name = "tip"
+shape = "sphere"
+radius = 0.05
+mass = 0.3
+parent = "rod"
+joint_on_parent = [0.0, 0.0, -0.25]
+joint_on_child = [0.0, 0.0, 0.05]
+[integrator]
+method = "erk_dormand_prince"
+max_steps = 200
+[output]
+end_time = 1.0
+step = 0.1
+quantities = ["energy", "joint_angle"]
+[ensemble]
+samples = 24
+seed = 9
+design = "monte_carlo"
+[[ensemble.perturbation]]
+target = "body.tip.mass"
+distribution = "normal"
+mean = 1.0
+std = 1.0
+[[ensemble.perturbation]]
+target = "body.rod.angular_velocity.y"
+distribution = "uniform"
+lower = 0.0
+upper = 50.0
+[[ensemble.response]]
+name = "swing"
+quantity = "joint_angle"
+column = "rod.angle"
+reduce = "max"
+limit = 1.0
+fail_if = "above"
+)";
+
+TEST(Report, FailedSamplesComeFirstAndTheirOwnPageSaysWhy) {
+  if (const std::string why = skipped_when_sanitized("failing samples", true); !why.empty()) GTEST_SKIP() << why;
+  TempDir dir("report_failing");
+  const fs::path job = dir.path() / "failing.toml", out = dir.path() / "failing.h5";
+  write_text(job, kFailingJob);
+  ASSERT_EQ(run_command(TREEDYN_ENSEMBLE_BINARY, {job.string(), "-o", out.string(), "-q"}, dir.path() / "c").exit_code,
+            0);
+  std::vector<long long> status;
+  {
+    const H5File f(out);
+    status = read_integers(f.id(), "/samples/status");
+  }
+  const auto failed = std::find_if(status.begin(), status.end(), [](long long s) { return s == 1; });
+  ASSERT_NE(failed, status.end()) << "the job must give an integration failure";
+  ASSERT_GT(std::count(status.begin(), status.end(), 2), 0) << "and an invalid model";
+  const long long count = std::count_if(status.begin(), status.end(), [](long long s) { return s != 0; });
+  const CommandResult r = treedyn({"report", out.string()}, dir.path() / "c");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string page = read_text(dir.path() / "failing_report" / "index.html");
+  const std::size_t alarm = page.find("<div class=\"alarm\">" + std::to_string(count) + " of 24 samples failed");
+  EXPECT_NE(alarm, std::string::npos) << "a red banner with the count";
+  EXPECT_LT(alarm, page.find("<img")) << "before any figure";
+  EXPECT_NE(page.find("body.tip.mass: its distribution normal(mean=1, std=1) puts P = 0.16 at or below zero"),
+            std::string::npos);
+  const long long k = failed - status.begin();
+  EXPECT_NE(page.find("--sample " + std::to_string(k) + " -o sample_" + std::to_string(k) + ".h5"), std::string::npos)
+      << "the failed sample's rerun command";
+  expect_figures(dir.path() / "failing_report");
+  // The failed sample alone: its page opens with the failure, why and its inputs.
+  const fs::path sample = dir.path() / "sample.h5";
+  ASSERT_EQ(run_command(TREEDYN_ENSEMBLE_BINARY, {job.string(), "--sample", std::to_string(k), "-o", sample.string(),
+                                                  "-q"}, dir.path() / "c").exit_code, 0);
+  ASSERT_EQ(treedyn({"report", sample.string()}, dir.path() / "c").exit_code, 0);
+  const std::string own = read_text(dir.path() / "sample_report" / "index.html");
+  EXPECT_NE(own.find("Sample " + std::to_string(k) + " FAILED: too_much_work"), std::string::npos) << own;
+  EXPECT_NE(own.find("<td>body.tip.mass</td>"), std::string::npos);
+  expect_figures(dir.path() / "sample_report");
+}
+
 TEST(Report, IntoAPipeClosedAfterOneLine) {
   TempDir dir("report_test");
   fs::create_directory(dir.path() / "capture");
