@@ -18,11 +18,16 @@ int run_trajectory(const Job& job, const Model& model, const InitialState& initi
                    const SampleOrigin* sample) {
   process::check_output_path(output_path);  // refuse before integrating, not after
   Recorder recorder(model, job.output, EnergyTracking::on);
+  const OutputSpec motion_spec = motion_output();
+  Recorder motion(model, motion_spec);  // /motion, for the viewers
   SimulationRequest request = job.request;
   request.accelerations_at_outputs = recorder.needs_accelerations();
   const auto start = std::chrono::steady_clock::now();
   const IntegrationOutcome outcome = simulate(
-      model, initial, request, [&](const Model& m, const Data& d) { recorder.record(m, d); });
+      model, initial, request, [&](const Model& m, const Data& d) {
+        recorder.record(m, d);
+        motion.record(m, d);
+      });
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (!outcome.ok() && !sample) {
     std::cerr << job.file << ": integration failed (" << name(outcome.failure) << ") at t = "
@@ -43,7 +48,8 @@ int run_trajectory(const Job& job, const Model& model, const InitialState& initi
       origin->reason = failure_reason(outcome);
     }
   }
-  write_trajectory(output_path, job, recorder, outcome, run, origin ? &*origin : nullptr);
+  const MotionScene scene = motion_scene(job.definition, model);
+  write_trajectory(output_path, job, recorder, outcome, run, {scene, motion}, origin ? &*origin : nullptr);
   if (!outcome.ok()) {
     std::cout << "sample " << sample->index << " fails as in the ensemble: " << origin->reason << "\nwrote "
               << output_path << " (the " << recorder.times().size()

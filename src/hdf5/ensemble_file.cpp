@@ -8,6 +8,7 @@
 #include "hdf5/trajectory_file.hpp"
 #include "common/format.hpp"
 #include "output/final_state.hpp"
+#include "output/motion.hpp"
 #include "output/quantities.hpp"
 
 namespace treedyn {
@@ -272,6 +273,9 @@ void EnsembleWriter::write_nominal(const std::vector<double>& trajectory) {
   h5::Handle time = h5::write_vector(group.id(), "time", t);
   describe(time.id(), "s", "output times", {"time"});
   write_quantity_datasets(group.id(), layout_, t.size(), trajectory, "/nominal/time");
+  write_motion_scene(file_.id(), motion_scene(job_.definition, job_.model),
+                     "the bodies' shapes and the stick figure, for viewers; the poses are /nominal/com_position and "
+                     "/nominal/orientation (and /trajectories/...) when those quantities are recorded");
 }
 
 void EnsembleWriter::write_statistics(const ensemble::EnsembleStatistics& s) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "output/final_state.hpp"
+#include "output/motion.hpp"
 
 namespace treedyn {
 
@@ -73,8 +74,85 @@ void write_chart_changes(hid_t root, const Job& job, const IntegrationOutcome& o
 
 }  // namespace
 
+namespace {
+
+// The recorder's rows (com_position, orientation, joint_position: motion_output())
+// as poses (T x 7n) and stick-figure points (T x 2n x 3).
+void split_motion(const Recorder& motion, std::size_t n, std::vector<double>& pose, std::vector<double>& points) {
+  const std::size_t T = motion.times().size(), C = motion.layout().columns;
+  pose.assign(T * 7 * n, 0.0);
+  points.assign(T * 6 * n, 0.0);
+  for (std::size_t t = 0; t < T; ++t) {
+    const double* com = motion.values().data() + t * C;
+    const double* q = com + 3 * n;
+    const double* joint = q + 4 * n;
+    for (std::size_t u = 0; u < n; ++u) {
+      double* pu = pose.data() + (t * n + u) * 7;
+      double* xu = points.data() + (t * n + u) * 6;
+      for (std::size_t k = 0; k < 3; ++k) {
+        pu[k] = xu[3 + k] = com[3 * u + k];
+        xu[k] = joint[3 * u + k];
+      }
+      for (std::size_t k = 0; k < 4; ++k) pu[3 + k] = q[4 * u + k];
+    }
+  }
+}
+
+// /motion's poses and stick-figure points at every output time.
+void write_motion_poses(hid_t g, const MotionScene& scene, const Recorder& motion) {
+  const std::size_t n = scene.body.size(), T = motion.times().size();
+  std::vector<double> pose, points;
+  split_motion(motion, n, pose, points);
+  std::vector<std::string> pose_columns, point_names;
+  for (const std::string& b : scene.body) {
+    for (const char* c : {"x", "y", "z", "q0", "q1", "q2", "q3"}) pose_columns.push_back(b + "." + c);
+    point_names.insert(point_names.end(), {b + ".joint", b + ".com"});
+  }
+  h5::Handle set = h5::write_matrix(g, "pose", pose, T, 7 * n);
+  h5::write_attribute(set.id(), "units", std::string("m, 1"));
+  h5::write_attribute(set.id(), "description",
+                      std::string("per body its centre of mass (inertial frame) and its orientation quaternion "
+                                  "(q0 >= 0, body to inertial); rows: /time"));
+  h5::write_attribute(set.id(), "columns", pose_columns);
+  const hsize_t point_dims[3] = {T, 2 * n, 3};
+  set = h5::write_array(g, "points", H5T_NATIVE_DOUBLE, points.data(), point_dims);
+  h5::write_attribute(set.id(), "units", std::string("m"));
+  h5::write_attribute(set.id(), "description",
+                      std::string("the stick figure: per body its inboard joint point and its centre of mass "
+                                  "(point_names), inertial frame; time x point x (x, y, z)"));
+  h5::write_attribute(set.id(), "point_names", point_names);
+}
+
+}  // namespace
+
+h5::Handle write_motion_scene(hid_t root, const MotionScene& scene, const std::string& about) {
+  const std::size_t n = scene.body.size();
+  h5::Handle g = h5::create_group(root, "motion");
+  h5::write_attribute(g.id(), "description", about);
+  h5::write_attribute(g.id(), "bodies", scene.body);
+  h5::write_attribute(g.id(), "parents", std::span<const long long>(scene.parent));
+  h5::write_attribute(g.id(), "shapes", scene.shape);
+  const hsize_t segment_dims[2] = {scene.segments.size(), 2};
+  h5::Handle set = h5::write_array(g.id(), "segments", H5T_NATIVE_INT64, scene.segments.data(), segment_dims);
+  h5::write_attribute(set.id(), "description",
+                      std::string("the stick figure's line segments, as pairs of 0-based point rows (per body u: "
+                                  "2u its inboard joint, 2u + 1 its centre of mass): each body's joint to its "
+                                  "centre of mass, each child's joint to its parent's centre of mass"));
+  set = h5::write_matrix(g.id(), "dimensions", scene.dimensions, n, 3);
+  h5::write_attribute(set.id(), "units", std::string("m"));
+  h5::write_attribute(set.id(), "description",
+                      std::string("per body (attribute shapes): box edges along body x, y, z; cylinder (radius, "
+                                  "radius, length along body z); sphere (radius x 3); zero for an explicit inertia; "
+                                  "the description's nominal values"));
+  set = h5::write_matrix(g.id(), "com_to_joint", scene.com_to_joint, n, 3);
+  h5::write_attribute(set.id(), "units", std::string("m"));
+  h5::write_attribute(set.id(), "description",
+                      std::string("per body the vector from its centre of mass to its inboard joint, body frame"));
+  return g;
+}
+
 void write_trajectory(const std::filesystem::path& path, const Job& job, const Recorder& recorder,
-                      const IntegrationOutcome& outcome, const RunProvenance& run,
+                      const IntegrationOutcome& outcome, const RunProvenance& run, const TrajectoryMotion& motion,
                       const SampleOrigin* sample) {
   h5::File file(path);
   const hid_t root = file.id();
@@ -113,6 +191,11 @@ void write_trajectory(const std::filesystem::path& path, const Job& job, const R
     h5::write_attribute(set.id(), "columns", final_state_columns(job.model.tree()));
   }
   write_chart_changes(root, job, outcome);
+  write_motion_poses(write_motion_scene(root, motion.scene,
+                                        "the bodies' shapes, poses and stick figure at every output time (/time), "
+                                        "for viewers: treedyn report's 3-D view, ParaView through FILE.xmf")
+                         .id(),
+                     motion.scene, motion.recorder);
   if (sample) {
     h5::Handle group = h5::create_group(root, "sample");
     h5::write_attribute(group.id(), "description",

@@ -12,6 +12,7 @@
 #include "hdf5/provenance.hpp"
 #include "integrate/settings.hpp"
 #include "job/job.hpp"
+#include "output/motion.hpp"
 #include "output/quantities.hpp"
 #include "output/recorder.hpp"
 
@@ -37,11 +38,21 @@ struct SampleOrigin {
   std::vector<double> inputs;  // SI
 };
 
-// Writes /time, one dataset per quantity, /final_state and the run's
-// attributes (and /sample for a rerun sample), under a temporary name
+// /motion without poses: the bodies' names, parents, shapes, dimensions and
+// joint points, and the stick figure's segments (output/motion.hpp).
+h5::Handle write_motion_scene(hid_t root, const MotionScene& scene, const std::string& about);
+
+// The trajectory's /motion: the scene and a Recorder of motion_output().
+struct TrajectoryMotion {
+  const MotionScene& scene;
+  const Recorder& recorder;
+};
+
+// Writes /time, one dataset per quantity, /final_state, /motion and the
+// run's attributes (and /sample for a rerun sample), under a temporary name
 // renamed into place when complete. Throws h5::IoError.
 void write_trajectory(const std::filesystem::path& path, const Job& job, const Recorder& recorder,
-                      const IntegrationOutcome& outcome, const RunProvenance& run,
+                      const IntegrationOutcome& outcome, const RunProvenance& run, const TrajectoryMotion& motion,
                       const SampleOrigin* sample = nullptr);
 
 }  // namespace treedyn

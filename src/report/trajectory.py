@@ -6,6 +6,7 @@ import matplotlib.pyplot as plt
 
 from page import legend_outside
 from read import strings, text, units_of
+from view3d import view_section
 
 MAX_LINES = 10
 
@@ -96,6 +97,7 @@ def path_figure(f, page, t, paths):
 def trajectory_report(f, page, wanted):
     t = f["time"][:]
     sample_section(f, page)
+    view_section(f, page)
     if (not wanted or "joint_angle" in wanted) and "joint_angle" in f:
         d = f["joint_angle"]
         lines(page, t, d[:], strings(d.attrs["columns"]), f"joint angle ({units_of(d)})", "joint angles",

@@ -50,6 +50,7 @@ from page import Page  # noqa: E402
 from rare_event import rare_event_section  # noqa: E402
 from read import counted_rows, strings, text  # noqa: E402
 from trajectory import trajectory_report  # noqa: E402
+from view3d import view_section  # noqa: E402
 
 
 PROVENANCE = ["start_utc", "end_utc", "host", "command_line", "job_path", "treedyn_version", "git_commit",
@@ -86,6 +87,7 @@ def ensemble_report(f, page, file_name, quantities, out_dir):
     rows, counted = counted_rows(f)
     rare_event_section(f, page)  # a rare event's probability is the answer
     answers_section(f, page, file_name)
+    view_section(f, page)
     summary_text(page, out_dir)
     page.heading("The evidence behind the answers")
     response_figures(f, page, rows, counted)

@@ -119,6 +119,27 @@ TEST_P(Report, TrajectoryOfTheExample) {
   expect_figures(dir.path() / "t_report");  // the default directory: FILE without .h5, plus _report
   const CommandResult s = run_command(kPython, {kChecks, "strings", out.string()}, dir.path() / "capture");
   EXPECT_EQ(s.exit_code, 0) << s.out << s.err;
+  // /motion: each joint point is its CoM plus A c, segment lengths hold to 1e-8 m (a rigid tree), the
+  // root's joint is on the base point; the page's 3-D view carries these poses (to its 6 decimals).
+  const CommandResult m =
+      run_command(kPython, {kChecks, "motion", out.string(), (dir.path() / "t_report").string()}, dir.path() / "capture");
+  EXPECT_EQ(m.exit_code, 0) << m.out << m.err;
+  EXPECT_EQ(m.out.rfind("ok motion", 0), 0u) << m.out;
+}
+
+// The 3-D view in headless Chromium, offline (no name resolves): no console
+// error, the canvas drawn at the first and the middle frame, and different.
+TEST(Report, ThreeDViewDrawsTheMotionInHeadlessChromium) {
+  if (!fs::exists("/usr/bin/chromium")) GTEST_SKIP() << "chromium is not installed (apt-get install chromium)";
+  if (const std::string why = skipped_when_sanitized("3-D view", true); !why.empty()) GTEST_SKIP() << why;
+  TempDir dir("report_view");
+  const fs::path out = dir.path() / "t.h5";
+  ASSERT_EQ(treedyn({"run", std::string(TREEDYN_JOBS_DIR) + "/double_pendulum.toml", "-o", out.string(), "-q"},
+                    dir.path() / "c").exit_code, 0);
+  ASSERT_EQ(treedyn({"report", out.string()}, dir.path() / "c").exit_code, 0);
+  const CommandResult v = run_command(kPython, {kChecks, "view", (dir.path() / "t_report").string()}, dir.path() / "c");
+  EXPECT_EQ(v.exit_code, 0) << v.out << v.err;
+  EXPECT_EQ(v.out.rfind("ok view", 0), 0u) << v.out;
 }
 
 INSTANTIATE_TEST_SUITE_P(Examples, Report, ::testing::ValuesIn(kExamples),

@@ -3,6 +3,11 @@
 
   report_checks.py pngs DIR     every PNG index.html references exists, decodes and is not blank
   report_checks.py strings FILE every string attribute and string dataset reads as str in h5py
+  report_checks.py motion FILE DIR  /motion of a trajectory file is a rigid tree that moves as its poses say
+                                (each joint = CoM + A c, segment lengths constant, the root's joint on the
+                                base point), and DIR/index.html's 3-D view carries those poses
+  report_checks.py view DIR     the 3-D view in headless Chromium, offline: no console error, the canvas
+                                drawn at two frames and different between them
 Prints 'ok ...' and exits 0, or prints what is wrong and exits 1.
 """
 import os
@@ -61,6 +66,103 @@ def strings(path):
     return 1 if bad else 0
 
 
+def rotate(q, v):
+    """Unit quaternions q (..., 4: q0 scalar) applied to vectors v (..., 3)."""
+    w, u = q[..., :1], q[..., 1:]
+    t = 2 * np.cross(u, v)
+    return v + w * t + np.cross(u, t)
+
+
+def view_payload(directory):
+    import json
+    with open(os.path.join(directory, "index.html"), encoding="utf-8") as f:
+        page = f.read()
+    found = re.search(r'<script id="treedyn-motion" type="application/json">(.*?)</script>', page, re.S)
+    return json.loads(found.group(1).replace("<\\/", "</")) if found else None, page
+
+
+def motion(path, directory):
+    bad = []
+    with h5py.File(path, "r") as f:
+        m = f["motion"]
+        pose, points, segments = m["pose"][:], m["points"][:], m["segments"][:]
+        c = m["com_to_joint"][:]
+        n = c.shape[0]
+        q = pose.reshape(pose.shape[0], n, 7)
+        joints = q[:, :, :3] + rotate(q[:, :, 3:], np.broadcast_to(c, q[:, :, :3].shape))
+        if not np.allclose(points[:, 0::2], joints, atol=1e-9):
+            bad.append("a joint point is not CoM + A c")
+        if not np.array_equal(points[:, 1::2], q[:, :, :3]):
+            bad.append("a CoM point is not the pose's")
+        lengths = np.linalg.norm(points[:, segments[:, 0]] - points[:, segments[:, 1]], axis=2)
+        if not np.allclose(lengths, lengths[0], atol=1e-8):
+            bad.append(f"a segment's length changes by {np.abs(lengths - lengths[0]).max():.3g} m")
+        root = list(m.attrs["parents"]).index(-1)
+        if "base" in f and not np.allclose(points[:, 2 * root], f["base"][:, :3], atol=1e-9):
+            bad.append("the root's joint is not on the base point")
+        data, _ = view_payload(directory)
+        if data is None:
+            bad.append("index.html has no 3-D view")
+        else:
+            rows = [int(np.argmin(np.abs(f["time"][:] - t))) for t in data["times"]]
+            if not np.allclose(np.array(data["runs"][0]["pose"]), pose[rows], atol=1e-6):
+                bad.append("the view's poses are not the file's")
+    for b in bad:
+        print(b)
+    if not bad:
+        print(f"ok motion of {n} bodies at {pose.shape[0]} times")
+    return 1 if bad else 0
+
+
+def chromium():
+    import shutil
+    return shutil.which("chromium") or shutil.which("chromium-browser")
+
+
+def probe(directory, frame):
+    """Headless Chromium, no network: the page's data-probe at this frame, and the console's errors."""
+    import subprocess
+    url = "file://" + os.path.abspath(os.path.join(directory, "index.html")) + f"#frame={frame}&probe"
+    run = subprocess.run([chromium(), "--headless", "--no-sandbox", "--disable-gpu", "--use-gl=swiftshader",
+                          "--enable-unsafe-swiftshader", "--enable-logging=stderr", "--v=0",
+                          "--host-resolver-rules=MAP * ~NOTFOUND", "--dump-dom", url],
+                         capture_output=True, text=True, timeout=300)
+    errors = [line for line in run.stderr.splitlines() if ":CONSOLE" in line and "GL Driver Message" not in line
+              and ("ERROR" in line or "Uncaught" in line or "rror" in line)]
+    found = re.search(r'data-probe="frame=(\d+) drawn=(\d+) of (\d+) hash=(\d+)"', run.stdout)
+    return (None if not found else tuple(int(x) for x in found.groups())), errors
+
+
+def view(directory):
+    data, page = view_payload(directory)
+    bad = []
+    if data is None:
+        bad.append("index.html has no 3-D view")
+    if re.search(r'(src|href)="(https?:)?//', page):
+        bad.append("the page loads something from the network")
+    if not bad:
+        frames = len(data["times"])
+        seen = []
+        for frame in (0, frames // 2):
+            found, errors = probe(directory, frame)
+            bad += [f"frame {frame}: console: {e}" for e in errors]
+            if found is None:
+                bad.append(f"frame {frame}: the view did not draw (no data-probe)")
+            elif found[1] < 0.002 * found[2]:
+                bad.append(f"frame {frame}: the canvas is blank ({found[1]} of {found[2]} pixels drawn)")
+            else:
+                seen.append(found)
+        if len(seen) == 2 and seen[0][3] == seen[1][3]:
+            bad.append("the canvas is the same at two frames")
+    for b in bad:
+        print(b)
+    if not bad:
+        print("ok view: " + "; ".join(f"frame {s[0]} drew {s[1]} of {s[2]} pixels" for s in seen))
+    return 1 if bad else 0
+
+
 if __name__ == "__main__":
     what, target = sys.argv[1], sys.argv[2]
-    sys.exit(pngs(target) if what == "pngs" else strings(target))
+    if what == "motion":
+        sys.exit(motion(target, sys.argv[3]))
+    sys.exit({"pngs": pngs, "strings": strings, "view": view}[what](target))
