@@ -51,6 +51,7 @@ from rare_event import rare_event_section  # noqa: E402
 from read import counted_rows, strings, text  # noqa: E402
 from trajectory import trajectory_report  # noqa: E402
 from view3d import view_section  # noqa: E402
+from xdmf import write_xdmf  # noqa: E402
 
 
 PROVENANCE = ["start_utc", "end_utc", "host", "command_line", "job_path", "treedyn_version", "git_commit",
@@ -110,6 +111,14 @@ def trajectory_page(f, page, file_name, quantities, out_dir):
         if q not in recorded:
             fail(f"--quantity {q}: not recorded in {file_name}; recorded: {' '.join(recorded)}")
     trajectory_report(f, page, set(quantities))
+    xmf, why = write_xdmf(f, file_name)
+    if xmf:
+        page.paragraph(f"For ParaView or VisIt: {os.path.basename(xmf)} beside the file (File > Open, XDMF reader) "
+                       "holds the stick figure as poly-lines at every output time, read from /motion.")
+        say(f"wrote {xmf}")
+    else:
+        page.paragraph(f"No XDMF file for ParaView: {why}.")
+        print(f"warning: no XDMF file: {why}", file=sys.stderr)
     summary_text(page, out_dir)
 
 

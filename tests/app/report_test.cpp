@@ -125,6 +125,31 @@ TEST_P(Report, TrajectoryOfTheExample) {
       run_command(kPython, {kChecks, "motion", out.string(), (dir.path() / "t_report").string()}, dir.path() / "capture");
   EXPECT_EQ(m.exit_code, 0) << m.out << m.err;
   EXPECT_EQ(m.out.rfind("ok motion", 0), 0u) << m.out;
+  // FILE.xmf beside the file, read back with meshio: times, poly-lines and points are the file's.
+  EXPECT_NE(r.out.find("wrote " + (dir.path() / "t.xmf").string()), std::string::npos) << r.out;
+  const CommandResult x = run_command(kPython, {kChecks, "xdmf", (dir.path() / "t.xmf").string(), out.string()},
+                                      dir.path() / "capture");
+  EXPECT_EQ(x.exit_code, 0) << x.out << x.err;
+  EXPECT_EQ(x.out.rfind("ok xdmf", 0), 0u) << x.out;
+}
+
+// An XDMF file that cannot be written (its name taken by a directory) is a
+// warning: the page is still drawn, and nothing half-written is left.
+TEST(Report, AnXdmfFileThatCannotBeWrittenIsAWarning) {
+  if (const std::string why = skipped_when_sanitized("xdmf", true); !why.empty()) GTEST_SKIP() << why;
+  TempDir dir("report_xdmf");
+  const fs::path out = dir.path() / "t.h5";
+  ASSERT_EQ(treedyn({"run", std::string(TREEDYN_JOBS_DIR) + "/spherical_pendulum.toml", "-o", out.string(), "-q"},
+                    dir.path() / "c").exit_code, 0);
+  fs::create_directory(dir.path() / "t.xmf");
+  const CommandResult r = treedyn({"report", out.string()}, dir.path() / "c");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("warning: no XDMF file: cannot write " + (dir.path() / "t.xmf").string()), std::string::npos)
+      << r.err;
+  EXPECT_TRUE(fs::is_directory(dir.path() / "t.xmf"));
+  EXPECT_TRUE(fs::exists(dir.path() / "t_report" / "index.html"));
+  for (const auto& e : fs::directory_iterator(dir.path()))
+    EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos) << e.path();
 }
 
 // The 3-D view in headless Chromium, offline (no name resolves): no console

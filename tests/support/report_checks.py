@@ -6,6 +6,9 @@
   report_checks.py motion FILE DIR  /motion of a trajectory file is a rigid tree that moves as its poses say
                                 (each joint = CoM + A c, segment lengths constant, the root's joint on the
                                 base point), and DIR/index.html's 3-D view carries those poses
+  report_checks.py xdmf FILE.xmf FILE.h5  the XDMF file read back with meshio: its times, the poly-lines
+                                connectivity and every step's points are the HDF5 file's /time, /motion/segments
+                                and /motion/points
   report_checks.py view DIR     the 3-D view in headless Chromium, offline: no console error, the canvas
                                 drawn at two frames and different between them
 Prints 'ok ...' and exits 0, or prints what is wrong and exits 1.
@@ -161,8 +164,51 @@ def view(directory):
     return 1 if bad else 0
 
 
+def xdmf(xmf, path):
+    """meshio reads the XML and every HDF5 or XML data item (meshio 7 has no HyperSlab item: the selection,
+    start / stride / count per dimension as the XDMF model defines it, is applied here)."""
+    import xml.etree.ElementTree as ET
+    from meshio.xdmf.common import xdmf_to_meshio_type
+    from meshio.xdmf.main import XdmfReader
+    reader = XdmfReader(xmf)
+    root = ET.parse(xmf).getroot()
+    if root.get("Version") != "3.0":
+        print(f"XDMF version {root.get('Version')}, not 3.0")
+        return 1
+    collection = root.find("Domain/Grid")
+    steps = collection.findall("Grid")
+    bad = []
+    with h5py.File(path, "r") as f:
+        t, points, segments = f["time"][:], f["motion/points"][:], f["motion/segments"][:]
+        if collection.get("CollectionType") != "Temporal" or len(steps) != t.size:
+            bad.append(f"{len(steps)} steps in a {collection.get('CollectionType')} collection for {t.size} times")
+        for k, grid in enumerate(steps):
+            topology, geometry = grid.find("Topology"), grid.find("Geometry")
+            if float(grid.find("Time").get("Value")) != t[k]:
+                bad.append(f"step {k}: time {grid.find('Time').get('Value')} is not {t[k]!r}")
+            cells = reader._read_data_item(topology.find("DataItem"))
+            if xdmf_to_meshio_type[topology.get("TopologyType")] != "line" or not np.array_equal(cells, segments):
+                bad.append(f"step {k}: the poly-lines are not /motion/segments")
+            slab = geometry.find("DataItem")
+            selection, source = (reader._read_data_item(d) for d in slab.findall("DataItem"))
+            start, stride, count = selection.astype(int)
+            picked = source[tuple(slice(a, a + s * c, s) for a, s, c in zip(start, stride, count))]
+            shape = [int(d) for d in slab.get("Dimensions").split()]
+            if list(picked.shape) != shape or not np.array_equal(picked.reshape(-1, 3), points[k]):
+                bad.append(f"step {k}: the points are not /motion/points[{k}]")
+            if len(bad) > 5:
+                break
+    for b in bad:
+        print(b)
+    if not bad:
+        print(f"ok xdmf: {len(steps)} steps of {points.shape[1]} points and {segments.shape[0]} poly-lines")
+    return 1 if bad else 0
+
+
 if __name__ == "__main__":
     what, target = sys.argv[1], sys.argv[2]
+    if what == "xdmf":
+        sys.exit(xdmf(target, sys.argv[3]))
     if what == "motion":
         sys.exit(motion(target, sys.argv[3]))
     sys.exit({"pngs": pngs, "strings": strings, "view": view}[what](target))
