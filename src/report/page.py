@@ -16,7 +16,8 @@ STYLE = ("body{font-family:sans-serif;max-width:1150px;margin:auto;padding:0 8px
          ".alarm{background:#fde2e1;border-left:6px solid #c62828;padding:6px 10px;margin:0.6em 0}"
          ".warning{background:#fff4d6;border-left:6px solid #e0a000;padding:6px 10px;margin:0.6em 0}"
          ".good{background:#e5f4e6;border-left:6px solid #2e7d32;padding:6px 10px;margin:0.6em 0}"
-         "details{margin:0.4em 0}summary{cursor:pointer;font-weight:bold}code{background:#f4f4f4}")
+         "details{margin:0.4em 0}summary{cursor:pointer;font-weight:bold}code{background:#f4f4f4}"
+         "td code{word-break:break-all;font-size:85%}")
 
 
 def slug(words):

@@ -39,8 +39,9 @@ def finite_rows(t, values):
 def lines(page, t, values, names, ylabel, caption, name):
     fig, ax = plt.subplots(figsize=(8, 3.3), layout="constrained")
     t, values = finite_rows(t, values)
+    marker = "o" if t.size < 3 else None  # a failed sample may have one or two output times
     for c in range(min(values.shape[1], MAX_LINES)):
-        ax.plot(t, values[:, c], lw=0.9, label=names[c])
+        ax.plot(t, values[:, c], lw=0.9, marker=marker, label=names[c])
     ax.set_xlabel("t (s)")
     ax.set_ylabel(ylabel)
     legend_outside([ax])
@@ -52,14 +53,15 @@ def energy_figure(page, t, e):
     names = strings(e.attrs["columns"])
     t, values = finite_rows(t, e[:])
     fig, (a, b) = plt.subplots(1, 2, figsize=(10, 3.3), layout="constrained")
+    marker = "o" if t.size < 3 else None
     for c in range(values.shape[1]):
-        a.plot(t, values[:, c], lw=0.9, label=names[c])
+        a.plot(t, values[:, c], lw=0.9, marker=marker, label=names[c])
     a.set_xlabel("t (s)")
     a.set_ylabel(f"energy ({units_of(e)})")
     a.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     total = values[:, names.index("total")]
     if total.size:
-        b.plot(t, total - total[0], lw=0.9)
+        b.plot(t, total - total[0], lw=0.9, marker=marker)
     b.set_xlabel("t (s)")
     b.set_ylabel(f"E(t) - E(0) ({units_of(e)})")
     page.figure(fig, "energy and its drift (a moving base, springs or dampers change it)", "energy")

@@ -95,12 +95,14 @@ def ensemble_report(f, page, file_name, quantities, out_dir):
     sensitivity_figures(f, page)
     failed_table(f, page)
     page.heading("Recorded quantities over time")
-    page.paragraph(f"Statistics over the successful samples at every output time; histograms at the last output "
-                   f"time over {counted}. Click a quantity to open it.")
+    page.paragraph("Statistics over the successful samples at every output time. Click a quantity to open it; "
+                   "`treedyn report FILE --quantity Q` draws all of Q's columns and the histograms of its values at "
+                   f"the last output time over {counted}.")
     for q in quantities or recorded:
         page.fold(q)
         groups = ensemble_quantity_figures(f, page, q, bool(quantities))
-        final_value_histograms(f, page, q, groups, rows, counted)
+        if quantities:  # on request: the page stays quick to draw (the values are in /samples/final)
+            final_value_histograms(f, page, q, groups, rows, counted)
         page.end_fold()
 
 
