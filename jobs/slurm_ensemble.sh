@@ -1,19 +1,37 @@
 #!/usr/bin/env bash
-# Slurm batch script for one ensemble. Copy it anywhere, set JOB, OUT and the
-# resources, then:   sbatch slurm_ensemble.sh
+# Slurm batch script for one ensemble. Copy it, set the resources below, then
 #
-# * Ranks: `srun --mpi=pmix` (Open MPI built with PMIx, as Debian's is), or
-#   set LAUNCH=mpirun to start the ranks with mpirun inside the allocation.
-#   treedyn-ensemble refuses to run when Slurm asked for several tasks but
-#   MPI sees only one rank (a launch without PMI).
-# * Time limit: Slurm sends SIGUSR1 to this script 120 s before the limit
-#   (--signal=B:USR1@120). The script passes it to the ranks, which finish
-#   the sample in flight, write their checkpoint and exit 5; the script then
-#   requeues the job (--requeue), and the requeued job resumes from the
-#   checkpoint (--resume). A job killed outright (node failure, scancel -s
-#   KILL) resumes the same way from its last periodic checkpoint
-#   (--checkpoint-every, 300 s by default).
-# * The output is named with the job id (the same after a requeue).
+#   sbatch slurm_ensemble.sh JOB.toml [OUT.h5]
+#
+# from the directory where OUT should go (paths are taken from there). The
+# arguments reach the script whatever the cluster's export rules
+# (SBATCH_EXPORT=NONE included). Instead of arguments, the environment works
+# too: sbatch --export=ALL,JOB=...,OUT=... slurm_ensemble.sh
+#
+# Settings (arguments, else the environment, else these defaults):
+#   JOB       the job file (required)
+#   OUT       the ensemble file; default JOBNAME_ensemble.h5 in the submit
+#             directory. Resubmitting with the same OUT resumes the run, so
+#             give two different ensembles two different OUTs.
+#   TREEDYN   treedyn-ensemble; default: on PATH, else build/mpi/ under the
+#             submit directory. Set it to YOUR build's absolute path, e.g.
+#             TREEDYN=$HOME/treedyn/build/mpi/treedyn-ensemble
+#   LAUNCH    srun (default: srun --mpi=pmix, Open MPI with PMIx as Debian's)
+#             or mpirun (mpirun inside the allocation; MPIRUN_FLAGS added)
+#   CHECKPOINT_EVERY  seconds between each rank's periodic checkpoints (300)
+#
+# What happens when the job is stopped:
+# * Time limit: Slurm sends SIGUSR1 to this script about 120 s before the
+#   limit (--signal=B:USR1@120; Slurm may send it up to 60 s earlier). The
+#   ranks finish their sample in flight, save their checkpoint and exit 5;
+#   the script requeues the job (--requeue) and the requeued job, same id,
+#   resumes from the checkpoint. Slurm holds a requeued job for a while
+#   (BeginTime, about 2 minutes) before it can start again.
+# * `scancel` (SIGTERM to the ranks): the ranks save and exit 5 as above, but
+#   a cancelled job is not requeued: submit the same command again (same
+#   OUT), and it resumes. `scancel -s KILL` or a node failure leaves only the
+#   last periodic checkpoint (at most CHECKPOINT_EVERY s old): the same
+#   resubmission resumes from it.
 #SBATCH --job-name=treedyn-ensemble
 #SBATCH --ntasks=32
 #SBATCH --cpus-per-task=1
@@ -26,22 +44,33 @@
 set -euo pipefail
 
 cd "${SLURM_SUBMIT_DIR:-$PWD}"
-# Absolute paths: the job may start in another directory after a requeue.
-TREEDYN=$(realpath "${TREEDYN:-build/mpi/treedyn-ensemble}")
-JOB=$(realpath "${JOB:-jobs/crane_payload.toml}")
-OUT=$(realpath -m "${OUT:-$(basename "${JOB%.toml}")_ensemble_${SLURM_JOB_ID:-local}.h5}")
+JOB=${1:-${JOB:-}}
+OUT=${2:-${OUT:-}}
+[ -n "$JOB" ] || { echo "usage: sbatch slurm_ensemble.sh JOB.toml [OUT.h5] (or JOB=... in the environment)" >&2; exit 2; }
+[ -f "$JOB" ] || { echo "JOB: no such file: $JOB (relative paths start at $PWD)" >&2; exit 2; }
+if [ -z "${TREEDYN:-}" ]; then
+  TREEDYN=$(command -v treedyn-ensemble || echo build/mpi/treedyn-ensemble)
+fi
+[ -x "$TREEDYN" ] || { echo "TREEDYN: no executable $TREEDYN; set TREEDYN to your build's treedyn-ensemble (absolute path)" >&2; exit 2; }
+# Absolute paths: a requeued job may start in another directory.
+TREEDYN=$(realpath "$TREEDYN")
+JOB=$(realpath "$JOB")
+OUT=$(realpath -m "${OUT:-$(basename "${JOB%.toml}")_ensemble.h5}")
 LAUNCH=${LAUNCH:-srun}
+CHECKPOINT_EVERY=${CHECKPOINT_EVERY:-300}
 
 case "$LAUNCH" in
   srun) launcher=(srun --mpi=pmix) ;;
   mpirun) launcher=(mpirun ${MPIRUN_FLAGS:-} -np "${SLURM_NTASKS:-1}") ;;
   *) echo "LAUNCH must be srun or mpirun, not '$LAUNCH'" >&2; exit 2 ;;
 esac
+echo "$(date -u +%FT%TZ) job ${SLURM_JOB_ID:-local} (restart ${SLURM_RESTART_COUNT:-0}): $JOB -> $OUT" >&2
 
 # --resume starts from the beginning when there is no checkpoint yet.
-"${launcher[@]}" "$TREEDYN" "$JOB" -o "$OUT" --resume --checkpoint-every 300 --progress-interval 60 &
+"${launcher[@]}" "$TREEDYN" "$JOB" -o "$OUT" --resume --checkpoint-every "$CHECKPOINT_EVERY" \
+  --progress-interval 60 &
 ranks=$!
-trap 'echo "$(date -u +%FT%TZ) time limit near: stopping the ranks" >&2; kill -USR1 "$ranks" 2>/dev/null || true' USR1
+trap 'echo "$(date -u +%FT%TZ) time limit near (SIGUSR1): stopping the ranks" >&2; kill -USR1 "$ranks" 2>/dev/null || true' USR1
 # `wait` returns early when the trap runs; wait again for the real status.
 status=0
 wait "$ranks" || status=$?

@@ -74,7 +74,7 @@ int write_part(EnsembleRun& run, const ensemble::EnsembleStatistics& stats) {
   ensemble::PartFile part;
   part.id = run.job_id;
   part.job_text = run.job.text;
-  part.job_path = run.options.job_path;
+  part.job_path = run.options.provenance.job_path.empty() ? run.options.job_path : run.options.provenance.job_path;
   part.first = run.first;
   part.end = run.end;
   part.nominal = run.nominal;

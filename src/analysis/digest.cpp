@@ -38,6 +38,7 @@ EnsembleDigest digest_of(const Job& job, const EnsembleSpec& spec, const Ensembl
   d.failed = summary.failed;
   d.ranks = summary.ranks;
   d.wall_seconds = summary.wall_seconds;
+  d.run_here = summary.samples_run_here();
   d.last_time = job.request.output_times[last];
   d.low_probability = *std::min_element(spec.quantiles.begin(), spec.quantiles.end());
   d.high_probability = *std::max_element(spec.quantiles.begin(), spec.quantiles.end());
@@ -51,11 +52,18 @@ EnsembleDigest digest_of(const Job& job, const EnsembleSpec& spec, const Ensembl
 
 void print_digest(std::ostream& out, const EnsembleDigest& d) {
   char line[200];
-  std::snprintf(line, sizeof line, "ensemble: %llu samples (%llu ok, %llu failed) on %d rank%s in %.2f s (%.2f samples/s)\n",
+  std::snprintf(line, sizeof line, "ensemble: %llu samples (%llu ok, %llu failed) on %d rank%s in %.2f s",
                 static_cast<unsigned long long>(d.samples), static_cast<unsigned long long>(d.ok),
-                static_cast<unsigned long long>(d.failed), d.ranks, d.ranks == 1 ? "" : "s", d.wall_seconds,
-                d.wall_seconds > 0 ? static_cast<double>(d.ok + d.failed) / d.wall_seconds : 0.0);
+                static_cast<unsigned long long>(d.failed), d.ranks, d.ranks == 1 ? "" : "s", d.wall_seconds);
   out << line;
+  const double rate = d.wall_seconds > 0 ? static_cast<double>(d.run_here) / d.wall_seconds : 0.0;
+  if (d.run_here >= d.ok + d.failed)
+    out << format(" (%.2f samples/s)\n", rate, 0.0, 0.0, 0.0);
+  else if (d.run_here == 0)
+    out << " (none run here: merged or restored)\n";
+  else
+    out << format(" (%.2f samples/s over the %g run here; the others were restored from the checkpoint)\n", rate,
+                  static_cast<double>(d.run_here), 0.0, 0.0);
   if (d.ok == 0) return;
   out << format("at t = %g s: mean +- std [%g%%, %g%%]\n", d.last_time, 100.0 * d.low_probability,
                 100.0 * d.high_probability, 0.0);

@@ -27,6 +27,9 @@ struct EnsembleDigest {
   std::uint64_t samples = 0, ok = 0, failed = 0;
   int ranks = 1;
   double wall_seconds = 0.0;
+  // Samples this run integrated itself: fewer than ok + failed after a resume
+  // (the rest restored) or a merge (none); the rate divides these by the time.
+  std::uint64_t run_here = 0;
   double last_time = 0.0;
   double low_probability = 0.05, high_probability = 0.95;  // the outer stored quantiles
   std::vector<DigestLine> lines;

@@ -3,6 +3,7 @@
 #include <sys/resource.h>
 
 #include <algorithm>
+#include <chrono>
 #include <iostream>
 #include <numeric>
 #include <optional>
@@ -128,6 +129,7 @@ EnsembleSummary merge_summary(const std::vector<SampleRecord>& records) {
 
 int merge_parts(const std::vector<std::string>& names, const std::string& output_path, bool quiet,
                 const RunProvenance& run) {
+  const auto start = std::chrono::steady_clock::now();
   try {
     std::vector<PartFile> parts = read_parts(names);
     const ensemble::IndexRanges held = held_samples(parts, names);
@@ -147,13 +149,16 @@ int merge_parts(const std::vector<std::string>& names, const std::string& output
       answers = ensemble::answer_responses(spec, table);
     }
     EnsembleSummary summary = merge_summary(records);
+    RunProvenance provenance = run;
+    provenance.job_path = parts[0].job_path;  // the job the parts ran (absolute), not a part file
     summary.samples_used = spec.samples;
     summary.stop_reason = complete ? "merged parts: every sample of the design was run"
                                    : "merged parts: " + std::to_string(held.count()) + " of the samples were run";
     EnsembleWriter writer(output_path, job, spec, runner.layout(), runner.final_state_size());
     writer.write_records(std::move(records));
     writer.write_merge_origin(names, held.ranges());
-    writer.complete(parts[0].nominal, stats, answers, summary, run);
+    summary.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    writer.complete(parts[0].nominal, stats, answers, summary, provenance);
     if (!quiet && !answers.empty()) ensemble::print_response_summary(std::cout, spec, answers);
     std::printf("wrote %s (%llu of %llu samples from %zu parts)\n", output_path.c_str(),
                 static_cast<unsigned long long>(held.count()), static_cast<unsigned long long>(spec.samples),

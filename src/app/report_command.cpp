@@ -72,6 +72,9 @@ void ensemble_summary(std::ostream& out, const h5::ReadFile& f, const std::strin
   d.failed = static_cast<std::uint64_t>(f.number_attribute("/", "samples_failed"));
   d.ranks = static_cast<int>(f.number_attribute("/", "ranks"));
   d.wall_seconds = f.number_attribute("/", "wall_time_seconds");
+  d.run_here = f.has_attribute("/", "samples_run_here")
+                   ? static_cast<std::uint64_t>(f.number_attribute("/", "samples_run_here"))
+                   : d.ok + d.failed;
   const std::vector<double> t = f.doubles("/stats/time");
   if (t.empty()) throw Refused{file + ": /stats/time is empty"};
   const std::size_t T = t.size(), last = T - 1;

@@ -15,6 +15,12 @@ struct EnsembleSummary {
   double wall_seconds = 0.0;
   std::vector<double> peak_rss_mib;         // per rank (getrusage maximum resident set)
   std::vector<long long> samples_per_rank;  // samples each rank integrated
+  // Their sum: the samples this run integrated itself (not those restored or merged).
+  std::uint64_t samples_run_here() const {
+    std::uint64_t n = 0;
+    for (long long s : samples_per_rank) n += static_cast<std::uint64_t>(s);
+    return n;
+  }
   std::vector<double> busy_seconds;         // time each rank spent on samples: integrating, recording, updating its statistics, checkpointing, sending
   std::uint64_t samples_used = 0;           // the runs the answers count ([ensemble.stop]: <= samples)
   std::string stop_reason;                  // why the run ended where it did

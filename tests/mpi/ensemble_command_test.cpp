@@ -177,6 +177,32 @@ TEST(EnsembleCommand, SlurmTasksWithOneMpiRankAreRefused) {
   EXPECT_EQ(one.exit_code, 0) << one.err;
 }
 
+// An srun task of 4 without PMI (`srun --mpi=none`): refused before MPI_Init
+// (which would fail there with a bare "internal error"), in words by task 0,
+// silently by the others; with PMI in the environment it is not refused.
+TEST(EnsembleCommand, SrunTasksWithoutPmiAreRefusedBeforeMpiStarts) {
+  TempDir dir("ensemble_command_test");
+  fs::create_directory(dir.path() / "capture");
+  const fs::path out = dir.path() / "out.h5";
+  const std::vector<std::string> args = {std::string(TREEDYN_JOBS_DIR) + "/spherical_pendulum.toml", "-o",
+                                         out.string(), "-q"};
+  const CommandResult first = run_command(TREEDYN_ENSEMBLE_BINARY, args, dir.path() / "capture",
+                                          {"env", "SLURM_PROCID=0", "SLURM_STEP_NUM_TASKS=4", "SLURM_NTASKS=4"});
+  EXPECT_EQ(first.exit_code, 2) << first.err;
+  EXPECT_NE(first.err.find("started by srun as one of 4 tasks without a process manager interface"),
+            std::string::npos) << first.err;
+  EXPECT_NE(first.err.find("srun --mpi=pmix"), std::string::npos) << first.err;
+  const CommandResult other = run_command(TREEDYN_ENSEMBLE_BINARY, args, dir.path() / "capture",
+                                          {"env", "SLURM_PROCID=3", "SLURM_STEP_NUM_TASKS=4", "SLURM_NTASKS=4"});
+  EXPECT_EQ(other.exit_code, 2);
+  EXPECT_EQ(other.err, "");
+  EXPECT_FALSE(fs::exists(out));
+  // PMIx present (srun --mpi=pmix sets it; here a singleton in fact): not this refusal but the one after MPI_Init.
+  const CommandResult pmix = run_command(TREEDYN_ENSEMBLE_BINARY, args, dir.path() / "capture",
+                                         {"env", "SLURM_PROCID=0", "SLURM_NTASKS=4", "PMIX_RANK=0"});
+  EXPECT_EQ(pmix.err.find("without a process manager interface"), std::string::npos) << pmix.err;
+}
+
 // ---------------------------------------------------------------------------
 // Bad [ensemble] answers input: FILE:LINE:COLUMN: FIELD, what was wrong and
 // what is allowed, exit 2, nothing written.

@@ -69,6 +69,10 @@ TEST_F(Merge, ThreePartsOnDifferentRankCountsMergeIntoOneRunBitwise) {
   EXPECT_EQ(read_integer_attribute(got.id(), "samples"), 48);
   EXPECT_EQ(read_double_attribute(got.id(), "held_samples"), (std::vector<double>{0, 48}));
   EXPECT_EQ(read_string_attribute(got.id(), "merged_from").size(), 3u);
+  // Provenance: the job the parts ran, the merge's own time, no sample run by the merge itself.
+  EXPECT_EQ(read_single_string_attribute(got.id(), "job_path"), fs::absolute(job_).lexically_normal().string());
+  EXPECT_GT(read_double_attribute(got.id(), "wall_time_seconds").at(0), 0.0);
+  EXPECT_EQ(read_integer_attribute(got.id(), "samples_run_here"), 0);
 }
 
 TEST_F(Merge, OverlapsOtherJobsAndBadRangesAreRefusedAndGapsAreReported) {
