@@ -99,6 +99,23 @@ TEST_P(Report, EnsembleOfTheExample) {
     ++checked;
   }
   EXPECT_GT(checked, 0u) << r.out;
+  // The page's answers table: every response's mean ± standard error as in /responses (%.6g, %.3g).
+  const std::string page = read_text(report / "index.html");
+  if (exists(f.id(), "/responses")) {
+    const auto names = read_string_attribute(f.id(), "/samples/responses", "columns");
+    const auto units = read_string_attribute(f.id(), "/samples/responses", "column_units");
+    for (std::size_t k = 0; k < names.size(); ++k) {
+      char cell[160];
+      std::snprintf(cell, sizeof cell, "<td>%s</td><td>%.6g ± %.3g %s</td>", names[k].c_str(),
+                    read_doubles(f.id(), "/responses/" + names[k] + "/mean").at(0),
+                    read_doubles(f.id(), "/responses/" + names[k] + "/sem").at(0), units[k].c_str());
+      EXPECT_NE(page.find(cell), std::string::npos) << cell;
+    }
+    EXPECT_LT(page.find("<h2>Answers</h2>"), page.find("<img")) << "the answers come before any figure";
+  }
+  // Per-sample reductions of mixed-unit quantities say each column's unit.
+  if (exists(f.id(), "/samples/final/base"))
+    EXPECT_EQ(read_string_attribute(f.id(), "/samples/final/base", "column_units").size(), 9u);
   // Strings read as str, and the provenance is there.
   const CommandResult s = run_command(kPython, {kChecks, "strings", out.string()}, dir.path() / "capture");
   EXPECT_EQ(s.exit_code, 0) << s.out << s.err;
