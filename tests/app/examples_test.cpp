@@ -81,7 +81,7 @@ const Example& example(const std::string& name) {
        // Bodies in the job file's order: the [[chain]] stands before the container.
        {"cable1", "cable2", "cable3", "cable4", "container"},
        {"container_corner"},
-       {"com_position", "joint_reaction", "joint_reaction_magnitude", "joint_angle", "energy", "base",
+       {"com_position", "orientation", "joint_reaction", "joint_reaction_magnitude", "joint_angle", "energy", "base",
         "point_position"}},
       {"kapitza",
        5.0,
