@@ -70,13 +70,15 @@ echo "$(date -u +%FT%TZ) job ${SLURM_JOB_ID:-local} (restart ${SLURM_RESTART_COU
 "${launcher[@]}" "$TREEDYN" "$JOB" -o "$OUT" --resume --checkpoint-every "$CHECKPOINT_EVERY" \
   --progress-interval 60 &
 ranks=$!
-trap 'echo "$(date -u +%FT%TZ) time limit near (SIGUSR1): stopping the ranks" >&2; kill -USR1 "$ranks" 2>/dev/null || true' USR1
-# `wait` returns early when the trap runs; wait again for the real status.
-status=0
-wait "$ranks" || status=$?
-while kill -0 "$ranks" 2>/dev/null; do
+trapped=0
+trap 'trapped=1; echo "$(date -u +%FT%TZ) time limit near (SIGUSR1): stopping the ranks" >&2; kill -USR1 "$ranks" 2>/dev/null || true' USR1
+# A trap interrupts `wait` (status > 128); wait again for the ranks' own status
+# (bash keeps it even when they have already ended).
+while :; do
   status=0
   wait "$ranks" || status=$?
+  [ "$trapped" = 1 ] || break
+  trapped=0
 done
 
 if [ "$status" -eq 5 ] && [ -n "${SLURM_JOB_ID:-}" ]; then

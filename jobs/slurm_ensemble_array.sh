@@ -35,6 +35,10 @@ set -euo pipefail
 task=${SLURM_ARRAY_TASK_ID:-}
 count=${SLURM_ARRAY_TASK_COUNT:-}
 [ -n "$task" ] && [ -n "$count" ] || { echo "submit with sbatch --array=0-N (N + 1 parts)" >&2; exit 2; }
+if [ "${SLURM_ARRAY_TASK_MIN:-0}" != 0 ] || [ "${SLURM_ARRAY_TASK_MAX:-$((count - 1))}" != $((count - 1)) ]; then
+  echo "the array must be 0-N with every index (got ${SLURM_ARRAY_TASK_MIN}-${SLURM_ARRAY_TASK_MAX}, $count tasks)" >&2
+  exit 2
+fi
 cd "${SLURM_SUBMIT_DIR:-$PWD}"
 JOB=${1:-${JOB:-}}
 OUT=${2:-${OUT:-}}
@@ -78,12 +82,15 @@ fi
 "${launcher[@]}" "$TREEDYN" "$JOB" -o "$part" --samples "$first:$end" --resume \
   --checkpoint-every "$CHECKPOINT_EVERY" --progress-interval 60 &
 ranks=$!
-trap 'echo "$(date -u +%FT%TZ) time limit near (SIGUSR1): stopping task $task" >&2; kill -USR1 "$ranks" 2>/dev/null || true' USR1
-status=0
-wait "$ranks" || status=$?
-while kill -0 "$ranks" 2>/dev/null; do
+trapped=0
+trap 'trapped=1; echo "$(date -u +%FT%TZ) time limit near (SIGUSR1): stopping task $task" >&2; kill -USR1 "$ranks" 2>/dev/null || true' USR1
+# A trap interrupts `wait` (status > 128); wait again for the ranks' own status
+# (bash keeps it even when they have already ended).
+while :; do
   status=0
   wait "$ranks" || status=$?
+  [ "$trapped" = 1 ] || break
+  trapped=0
 done
 if [ "$status" -eq 5 ]; then
   echo "$(date -u +%FT%TZ) interrupted: requeueing task ${SLURM_ARRAY_JOB_ID}_${task} to resume" >&2

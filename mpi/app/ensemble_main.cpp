@@ -165,15 +165,20 @@ bool started_without_pmi(const treedyn::parallel::Session& session, const std::s
   return true;
 }
 
-// An srun task (SLURM_PROCID set) of a step of several tasks with no process
-// manager interface in its environment (`srun --mpi=none`, or a cluster whose
-// default is none): MPI_Init would fail there with a bare "internal error".
-// Refused before it, by task 0 in words; every task exits 2.
-bool srun_task_without_pmi() {
+// An srun task (SLURM_PROCID and SLURM_STEP_NUM_TASKS: a job step, not the
+// batch script, whose environment has SLURM_NTASKS only) of a step of several
+// tasks with no process manager interface in its environment (`srun
+// --mpi=none`, or a cluster whose default is none): MPI_Init would fail there
+// with a bare "internal error". Refused before it, by task 0 in words; every
+// task exits 2. --check, --help and merge need no ranks and are let through.
+bool srun_task_without_pmi(int argc, char** argv) {
   const char* task = std::getenv("SLURM_PROCID");
   const char* tasks = std::getenv("SLURM_STEP_NUM_TASKS");
-  if (!tasks) tasks = std::getenv("SLURM_NTASKS");
   if (!task || !tasks || std::atol(tasks) <= 1) return false;
+  for (int k = 1; k < argc; ++k) {
+    const std::string a = argv[k];
+    if (a == "--check" || a == "--help" || a == "-h" || (k == 1 && a == "merge")) return false;
+  }
   for (const char* pmi : {"PMIX_RANK", "PMI_RANK", "PMI_FD", "OMPI_COMM_WORLD_RANK"})
     if (std::getenv(pmi)) return false;
   if (std::atol(task) == 0)
@@ -206,7 +211,7 @@ int main(int argc, char** argv) {
   // Before MPI_Init: MPI's threads must inherit the blocked signals.
   process::start_signal_owner();
   h5::quiet_errors();  // first of all HDF5 calls: no exit handler, no error stack on stderr
-  if (srun_task_without_pmi()) return kExitBadInput;
+  if (srun_task_without_pmi(argc, argv)) return kExitBadInput;
   parallel::Session session(&argc, &argv);
   if (argc > 1 && std::string(argv[1]) == "merge") {
     int code = merge_command(argc - 1, argv + 1, session.rank());

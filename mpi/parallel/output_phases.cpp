@@ -112,6 +112,7 @@ int start_records(EnsembleRun& run) {
     if (const int code = on_rank_zero(run, [&run] { return restore_on_rank_zero(run); }); code != kExitOk) return code;
     run.generation = broadcast(run.comm, run.generation);
     run.restored_samples = sum_over_ranks(run.comm, run.restored_samples);
+    run.progress->restored(run.restored_samples);
   }
   run.checkpoints = run.options.checkpoint_every > 0.0;
   if (run.checkpoints)

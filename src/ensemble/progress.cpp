@@ -32,7 +32,8 @@ void Progress::print(std::uint64_t done, std::uint64_t failed, bool final_line) 
   last_printed_ = done;
   const double elapsed =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-  const double rate = elapsed > 0.0 ? static_cast<double>(done) / elapsed : 0.0;
+  const double run_here = done > restored_ ? static_cast<double>(done - restored_) : 0.0;
+  const double rate = elapsed > 0.0 ? run_here / elapsed : 0.0;
   const double left = rate > 0.0 ? static_cast<double>(total_ - done) / rate : 0.0;
   // The last line has no time left: a stopping rule or a signal may end the
   // run before the total.

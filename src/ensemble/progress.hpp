@@ -14,6 +14,8 @@ class Progress {
   Progress(std::uint64_t total, double interval_seconds, bool enabled);
   void update(std::uint64_t done, std::uint64_t failed);
   void finish(std::uint64_t done, std::uint64_t failed);
+  // Samples a resume restored: counted as done, not in the rate (nor in the time left).
+  void restored(std::uint64_t samples) { restored_ = samples; }
 
  private:
   void print(std::uint64_t done, std::uint64_t failed, bool final_line);
@@ -23,6 +25,7 @@ class Progress {
   bool enabled_, terminal_;
   std::chrono::steady_clock::time_point start_, last_;
   std::uint64_t last_printed_ = 0;
+  std::uint64_t restored_ = 0;
   bool printed_ = false;
 };
 

@@ -3,7 +3,7 @@ probability of exceeding its limit with a verdict on N, the ranked drivers,
 the warnings that matter, input-vs-response scatter plots and the extreme and
 failed samples with the commands that rerun them."""
 import math
-import os
+import shlex
 
 import numpy as np
 
@@ -18,6 +18,7 @@ TOP_DRIVERS = 10
 SCATTER_DRIVERS = 4
 EXTREME_ROWS = 5
 POSITIVE_TARGETS = ("mass", "length", "inertia", "stiffness", "damping", "frequency")
+NOT_RUN = 3  # /samples/status of a row a merge of some parts does not hold
 
 
 def answers_section(f, page, file_name):
@@ -42,37 +43,60 @@ def answers_section(f, page, file_name):
 
 def failure_banner(f, page):
     status = f["samples/status"][:]
-    failed = int(np.count_nonzero(status != 0))
+    not_run = int(np.count_nonzero(status == NOT_RUN))
+    if not_run:
+        page.note(f"{not_run} of {status.size} samples are not in this file (a merge of some parts: status 3); "
+                  f"everything below counts the {status.size - not_run} it holds.")
+    ran = status[status != NOT_RUN]
+    failed = int(np.count_nonzero(ran != 0))
     if failed == 0:
-        page.note(f"All {status.size} samples integrated successfully.", "good")
+        page.note(f"All {ran.size} samples integrated successfully.", "good")
         return
-    share = failed / status.size
-    invalid = int(np.count_nonzero(status == 2))
-    words = (f"{failed} of {status.size} samples failed ({share:.1%}): {failed - invalid} integrations failed, "
+    share = failed / ran.size
+    invalid = int(np.count_nonzero(ran == 2))
+    words = (f"{failed} of {ran.size} samples failed ({share:.1%}): {failed - invalid} integrations failed, "
              f"{invalid} sampled models were invalid. Every statistic below counts the successful ones only, "
              f"so a failure that depends on the inputs biases them; see 'Failed samples' for why.")
     page.note(words, "alarm" if share > 0.01 else "warning")
 
 
-def mean_verdict(mean, sem, used):
+def mean_verdict(mean, sem, used, per_used=1.0):
+    """`per_used`: counted runs per run with a finite value (a response that is often +inf, never crossed)."""
     if used < 10 or not np.isfinite(sem):
-        return f"no: {used} runs"
+        return f"no: {used} runs with a finite value"
     half = 1.96 * sem
-    if mean == 0 or half <= MEAN_PRECISION * abs(mean):
-        return f"yes: ±{half / abs(mean):.1%} (95 %)" if mean != 0 else f"yes: ±{half:.3g} (95 %)"
-    need = math.ceil(used * (half / (MEAN_PRECISION * abs(mean))) ** 2)
-    return f"not for ±{MEAN_PRECISION:.0%}: ±{half / abs(mean):.0%} now; about {need} runs would do"
+    if mean == 0:
+        return f"no relative precision (the mean is 0): ±{half:.3g} (95 %)"
+    if half <= MEAN_PRECISION * abs(mean):
+        return f"yes: ±{half / abs(mean):.1%} (95 %)"
+    need = math.ceil(per_used * used * (half / (MEAN_PRECISION * abs(mean))) ** 2)
+    return f"not for ±{MEAN_PRECISION:.0%}: ±{half / abs(mean):.0%} now; about {need} counted runs would do"
 
 
 def probability_verdict(count, n, p, low, high):
+    if n == 0:
+        return "no successful run"
     if count == 0:
         return f"no exceedance in {n} runs: P < {high:.2g} (95 %); for a smaller P use subset simulation"
     half = (high - low) / 2
     if half <= PROBABILITY_PRECISION * p:
         return f"yes: ±{half / p:.0%} (95 %)"
     need = math.ceil(n * (half / (PROBABILITY_PRECISION * p)) ** 2)
-    return (f"not for ±{PROBABILITY_PRECISION:.0%}: ±{half / p:.0%} now ({count} exceedances); about {need} runs "
-            f"would do")
+    return (f"not for ±{PROBABILITY_PRECISION:.0%}: ±{half / p:.0%} now ({count} exceedances); about {need} counted "
+            f"runs would do")
+
+
+def counted_runs_meaning(f):
+    """What a number of counted runs means for the job's `samples`, said once under the table."""
+    design = text(f.attrs.get("design", ""))
+    if design == "saltelli" and "saltelli_block" in f.attrs:
+        block = int(f.attrs["saltelli_block"])
+        return (f"For this Saltelli design K counted runs are samples = K / 2 base points, that is K / 2 x {block} "
+                f"model runs.")
+    if design in ("sobol", "latin_hypercube"):
+        return (f"The verdicts take the runs as independent; the {design} design's stratification usually makes "
+                f"the estimates better than that.")
+    return ""
 
 
 def response_table(f, page, rows):
@@ -85,8 +109,11 @@ def response_table(f, page, rows):
     for r, name in enumerate(names):
         g = f["responses"][name]
         mean, sem, used = g["mean"][()], g["sem"][()], int(g["used"][()])
-        row = [name, f"{mean:.6g} ± {sem:.3g} {units[r]}", f"{used} ({int(g['failed'][()])} failed)",
-               mean_verdict(mean, sem, used), "", ""]
+        infinite = int(g["not_finite"][()]) if "not_finite" in g else 0
+        runs = f"{used} ({int(g['failed'][()])} failed" + (f", {infinite} not finite: never crossed, not in the mean)"
+                                                           if infinite else ")")
+        row = [name, f"{mean:.6g} ± {sem:.3g} {units[r]}" + (" (over the finite ones)" if infinite else ""), runs,
+               mean_verdict(mean, sem, used, (used + infinite) / used if used else 1.0), "", ""]
         e = g.get("exceedance")
         if e is not None:
             side = ">" if fail_side(values, r) == "above" else "<"
@@ -99,6 +126,8 @@ def response_table(f, page, rows):
     page.table(["response", "mean ± standard error", "runs used", f"is N enough for the mean "
                 f"(±{MEAN_PRECISION:.0%})?", "probability of exceeding the limit (Wilson interval)",
                 f"is N enough for P (±{PROBABILITY_PRECISION:.0%})?"], table)
+    if counted_runs_meaning(f):
+        page.paragraph(counted_runs_meaning(f))
 
 
 def last_time_warnings(f, rows):
@@ -131,9 +160,12 @@ def outside_range_warnings(f):
     if "samples/inputs" not in f or "column_distributions" not in f["samples/inputs"].attrs:
         return []
     d = f["samples/inputs"]
+    modes = strings(d.attrs["column_modes"]) if "column_modes" in d.attrs else ["set"] * d.shape[1]
     out = []
-    for name, law in zip(strings(d.attrs["columns"]), strings(d.attrs["column_distributions"])):
-        if not law.startswith("normal(") or not name.split(".")[-1].startswith(POSITIVE_TARGETS):
+    for name, law, mode in zip(strings(d.attrs["columns"]), strings(d.attrs["column_distributions"]), modes):
+        # 'set' and 'scale' (a factor of the nominal value) must stay positive; an 'add' offset need not
+        if mode not in ("set", "scale") or not law.startswith("normal(") or \
+                not name.split(".")[-1].startswith(POSITIVE_TARGETS):
             continue
         fields = dict(part.split("=") for part in law[len("normal("):law.index(")")].split(", "))
         mean, std = float(fields["mean"]), float(fields["std"])
@@ -217,8 +249,9 @@ def drivers(f, page, rows):
             if sobol:
                 row += [interval(s["total_order"][i], s["total_order_ci"][i]),
                         interval(s["first_order"][i], s["first_order_ci"][i])]
-            note = "; ".join(f"correlated with {names[j]} in these runs (rho = {rho:.2f})" for j, rho in
-                             pairs.get(i, []))
+            chance = 2 / math.sqrt(n - 1) if n > 1 else 1.0
+            note = "; ".join(f"correlated with {names[j]} in these runs (rho = {rho:.2f}; chance alone gives "
+                             f"|rho| up to about {chance:.2f} at n = {n})" for j, rho in pairs.get(i, []))
             row += [f"{s['srrc'][i]:.3f}", f"{s['spearman'][i]:.3f}", note]
             table.append(row)
         used = int(s.attrs.get("rank_samples", n))
@@ -250,16 +283,22 @@ def scatter_figures(f, page, rows):
         y = values[:, r][rows]
         order = driver_order(f["sensitivity"][name])[:SCATTER_DRIVERS]
         exceeded = exceeded_mask(values, r, y)
+        ok = (status == 0) & np.isfinite(y)
+        infinite = (status == 0) & ~np.isfinite(y)
+        failed = status != 0
+        low, high = (np.min(y[ok]), np.max(y[ok])) if ok.any() else (0.0, 1.0)
         fig, axes = subplot_grid(len(order), width=3.6, height=2.8, columns=4)
         for ax, i in zip(axes, order):
             x = inputs[:, i]
-            ok = (status == 0) & np.isfinite(y)
             ax.plot(x[ok & ~exceeded], y[ok & ~exceeded], ".", color="tab:blue", ms=4, label="ok")
             if exceeded.any():
                 ax.plot(x[ok & exceeded], y[ok & exceeded], ".", color="tab:red", ms=5, label="limit exceeded")
-            if (~ok).any():
-                ax.plot(x[~ok], np.full((~ok).sum(), np.nanmin(y) if ok.any() else 0.0), "x", color="0.3",
-                        ms=5, label="failed (drawn at the bottom)")
+            if infinite.any():
+                ax.plot(x[infinite], np.full(infinite.sum(), high), "^", color="tab:green", ms=4,
+                        label="not finite, e.g. never crossed (drawn at the top)")
+            if failed.any():
+                ax.plot(x[failed], np.full(failed.sum(), low), "x", color="0.3", ms=5,
+                        label="failed (drawn at the bottom)")
             limit = values.attrs["limit"][r]
             if np.isfinite(limit):
                 ax.axhline(limit, color="tab:red", ls="--", lw=0.8, label="limit")
@@ -279,8 +318,8 @@ def exceeded_mask(values, r, y):
 
 
 def rerun_commands(f, file_name, k):
-    job = text(f.attrs.get("job_path", "JOB.toml"))
-    source = f" --from {file_name}" if "samples/level" in f and f["samples/level"][k] > 0 else ""
+    job = shlex.quote(text(f.attrs.get("job_path", "JOB.toml")))
+    source = f" --from {shlex.quote(file_name)}" if "samples/level" in f and f["samples/level"][k] > 0 else ""
     return (f"treedyn-ensemble {job} --sample {k}{source} -o sample_{k}.h5",
             f"treedyn-ensemble {job} --write-job {k}{source} -o sample_{k}.toml")
 
@@ -304,7 +343,7 @@ def extreme_samples(f, page, file_name):
         for k in picks:
             table.append(extreme_row(f, file_name, k, f"{'largest' if toward == 'above' else 'smallest'} {name}",
                                      f"{y[k]:.6g}", inputs[k]))
-    for k in np.flatnonzero(status != 0)[:EXTREME_ROWS]:
+    for k in np.flatnonzero((status == 1) | (status == 2))[:EXTREME_ROWS]:
         table.append(extreme_row(f, file_name, k, "failed", text(f["samples/reason"][k]), inputs[k]))
     page.table(["sample", "why listed", "value or reason"] + input_names + ["rerun alone", "as a job"], table,
                code_columns=(3 + len(input_names), 4 + len(input_names)))

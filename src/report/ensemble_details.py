@@ -20,9 +20,13 @@ def response_figures(f, page, rows, counted):
     fig, axes = subplot_grid(len(names), height=2.6)
     for r, ax in enumerate(axes):
         histogram(ax, data[:, r], names[r], units[r])
+        finite = int(np.count_nonzero(np.isfinite(data[:, r])))
+        if finite < data.shape[0]:
+            ax.set_title(f"{finite} of {data.shape[0]} finite (failed: NaN, never crossed: inf)", fontsize=8)
         if np.isfinite(values.attrs["limit"][r]):
             ax.axvline(values.attrs["limit"][r], color="tab:red", ls="--", lw=1)
-    page.figure(fig, f"histograms of the responses over {counted} (dashed: the limit)", "responses_histograms")
+    page.figure(fig, f"histograms of the responses over {counted}, their finite values (dashed: the limit)",
+                "responses_histograms")
     if "responses" in f:
         convergence_figure(f, page, names, units)
 
@@ -83,8 +87,8 @@ def sensitivity_figures(f, page):
 
 def failed_table(f, page):
     status = f["samples/status"][:]
-    failed = np.flatnonzero(status != 0)
-    page.heading(f"Failed samples: {failed.size} of {status.size}")
+    failed = np.flatnonzero((status == 1) | (status == 2))  # 3: not run in this merged file
+    page.heading(f"Failed samples: {failed.size} of {int(np.count_nonzero(status != 3))}")
     if failed.size == 0:
         return
     reason, reached = f["samples/reason"], f["samples/time_reached"]

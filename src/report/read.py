@@ -24,12 +24,14 @@ def fail_side(responses, r):
 def counted_rows(f):
     """The rows of /samples that are independent draws, and the words saying which: for Saltelli the A and B
     runs (the AB runs repeat A's inputs but one), for subset simulation level 0 (its Monte-Carlo sample)."""
-    n = f["samples/status"].shape[0]
+    status = f["samples/status"][:]
+    n, held = status.size, status != 3  # 3: not in this file (a merge of some parts)
+    note = "" if held.all() else f", of the {int(held.sum())} this merged file holds"
     if "samples/level" in f:
         rows = f["samples/level"][:] == 0
         return rows, f"level 0 of the subset simulation, its Monte-Carlo sample ({int(rows.sum())} runs)"
     if text(f.attrs.get("design", "")) == "saltelli" and "saltelli_block" in f.attrs:
-        rows = np.arange(n) % int(f.attrs["saltelli_block"]) < 2
+        rows = (np.arange(n) % int(f.attrs["saltelli_block"]) < 2) & held
         return rows, (f"the {int(rows.sum())} independent runs of the {n} (the A and B runs of the Saltelli "
-                      f"design; its AB runs repeat A's inputs but one)")
-    return np.ones(n, dtype=bool), f"all {n} samples"
+                      f"design; its AB runs repeat A's inputs but one){note}")
+    return held, f"all {int(held.sum())} samples{note}"

@@ -21,8 +21,8 @@ def sample_section(f, page):
         page.note(f"Sample {k} FAILED: {text(s['reason'])}. The integration reached t = {s['time_reached']:g} s; "
                   f"everything below stops there.", "alarm")
     else:
-        page.note(f"Sample {k} of the ensemble, integrated alone: it succeeded (bitwise the ensemble's sample).",
-                  "good")
+        page.note(f"Sample {k} of the ensemble, integrated alone by the ensemble's own code path: it succeeded "
+                  f"(its /final_state is the ensemble's /samples/final_state row, bit for bit: tested).", "good")
     if "sample/inputs" in f:
         d = f["sample/inputs"]
         page.table(["input", "value", "unit"], [[n, f"{v:.9g}", u] for n, v, u in

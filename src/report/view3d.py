@@ -67,14 +67,26 @@ def runs_of(f):
     return (t[rows], runs), None
 
 
+def finite_or_none(rows):
+    """Nested lists with NaN and inf as None (JSON has neither; JSON.parse refuses them)."""
+    return [[v if np.isfinite(v) else None for v in row] for row in np.round(rows, 6).tolist()]
+
+
+def script_json(data):
+    """JSON safe inside <script>: no '<', '>' or '&' can end or re-open the element."""
+    text = json.dumps(data, separators=(",", ":"), allow_nan=False)
+    return text.replace("<", "\\u003c").replace(">", "\\u003e").replace("&", "\\u0026")
+
+
 def payload(f):
     found, why = runs_of(f)
     if found is None:
         return None, why
     t, runs = found
+    if t.size == 0:
+        return None, "the file has no output time"
     data = {"title": text(f.attrs.get("title", "")), "times": np.round(t, 6).tolist(), "scene": scene_of(f),
-            "runs": [{"label": label, "ghost": ghost, "pose": np.round(pose, 6).tolist()}
-                     for label, ghost, pose in runs]}
+            "runs": [{"label": label, "ghost": ghost, "pose": finite_or_none(pose)} for label, ghost, pose in runs]}
     return data, None
 
 
@@ -89,7 +101,7 @@ def view_section(f, page):
         return
     scripts = [THREE] + ([ORBIT] if os.path.exists(ORBIT) else []) + [VIEWER_JS]
     code = "".join(f"<script>{open(s, encoding='utf-8').read()}</script>\n" for s in scripts)
-    blob = json.dumps(data, separators=(",", ":")).replace("</", "<\\/")
+    blob = script_json(data)
     ghosts = sum(1 for r in data["runs"] if r["ghost"])
     page.paragraph(f"{data['runs'][0]['label']}" + (f" with {ghosts} stored samples ghosted" if ghosts else "")
                    + f", {len(data['times'])} frames from t = {data['times'][0]:g} to {data['times'][-1]:g} s. "

@@ -3,6 +3,7 @@ collection of poly-lines, every step's points a hyperslab of the HDF5 dataset, s
 the motion (File > Open FILE.xmf, the XDMF reader). Written atomically; a directory that cannot be written
 is reported, not fatal (the page is still drawn)."""
 import os
+from xml.sax.saxutils import escape
 
 HEADER = '<?xml version="1.0" ?>\n<!DOCTYPE Xdmf SYSTEM "Xdmf.dtd" []>\n<Xdmf Version="3.0">\n<Domain>\n'
 
@@ -26,6 +27,9 @@ def write_xdmf(f, file_name):
     segments = f["motion/segments"].shape[0]
     times = f["time"][:]
     h5 = os.path.basename(file_name)
+    if ":" in h5:
+        return None, f"its name {h5} has a ':', which XDMF takes as the file:dataset separator"
+    h5 = escape(h5)
     body = "".join(step(h5, k, t, frames, points, segments) for k, t in enumerate(times))
     text = (HEADER + '<Grid Name="motion" GridType="Collection" CollectionType="Temporal">\n' + body
             + "</Grid>\n</Domain>\n</Xdmf>\n")

@@ -106,7 +106,7 @@ TEST_P(Report, EnsembleOfTheExample) {
     const auto units = read_string_attribute(f.id(), "/samples/responses", "column_units");
     for (std::size_t k = 0; k < names.size(); ++k) {
       char cell[160];
-      std::snprintf(cell, sizeof cell, "<td>%s</td><td>%.6g ± %.3g %s</td>", names[k].c_str(),
+      std::snprintf(cell, sizeof cell, "<td>%s</td><td>%.6g ± %.3g %s", names[k].c_str(),
                     read_doubles(f.id(), "/responses/" + names[k] + "/mean").at(0),
                     read_doubles(f.id(), "/responses/" + names[k] + "/sem").at(0), units[k].c_str());
       EXPECT_NE(page.find(cell), std::string::npos) << cell;

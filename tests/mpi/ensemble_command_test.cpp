@@ -199,8 +199,24 @@ TEST(EnsembleCommand, SrunTasksWithoutPmiAreRefusedBeforeMpiStarts) {
   EXPECT_FALSE(fs::exists(out));
   // PMIx present (srun --mpi=pmix sets it; here a singleton in fact): not this refusal but the one after MPI_Init.
   const CommandResult pmix = run_command(TREEDYN_ENSEMBLE_BINARY, args, dir.path() / "capture",
-                                         {"env", "SLURM_PROCID=0", "SLURM_NTASKS=4", "PMIX_RANK=0"});
+                                         {"env", "SLURM_PROCID=0", "SLURM_STEP_NUM_TASKS=4", "SLURM_NTASKS=4",
+                                          "PMIX_RANK=0"});
   EXPECT_EQ(pmix.err.find("without a process manager interface"), std::string::npos) << pmix.err;
+  // The batch script of a 4-task job (SLURM_PROCID=0, SLURM_NTASKS=4, no step): --check runs there (the
+  // array script reads the sample count so), and a run is refused after MPI_Init, not by this guard.
+  const std::vector<std::string> batch = {"env", "SLURM_PROCID=0", "SLURM_NTASKS=4"};
+  const CommandResult check = run_command(
+      TREEDYN_ENSEMBLE_BINARY, {std::string(TREEDYN_JOBS_DIR) + "/spherical_pendulum.toml", "--check"},
+      dir.path() / "capture", batch);
+  EXPECT_EQ(check.exit_code, 0) << check.err;
+  const CommandResult run = run_command(TREEDYN_ENSEMBLE_BINARY, args, dir.path() / "capture", batch);
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.err.find("SLURM_NTASKS=4 but MPI sees 1 rank"), std::string::npos) << run.err;
+  // --check inside a 4-task step without PMI: no ranks needed, let through.
+  const CommandResult step_check = run_command(
+      TREEDYN_ENSEMBLE_BINARY, {std::string(TREEDYN_JOBS_DIR) + "/spherical_pendulum.toml", "--check"},
+      dir.path() / "capture", {"env", "SLURM_PROCID=0", "SLURM_STEP_NUM_TASKS=4", "SLURM_NTASKS=4"});
+  EXPECT_EQ(step_check.exit_code, 0) << step_check.err;
 }
 
 // ---------------------------------------------------------------------------

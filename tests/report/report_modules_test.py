@@ -13,20 +13,26 @@ from answers import (conclusion, input_correlations, last_time_warnings, mean_ve
                      probability_verdict)
 from history import constant_columns, rotation_angle_degrees, valid_range
 from read import counted_rows
+from view3d import script_json
+from xdmf import write_xdmf
 
 
 class Verdicts(unittest.TestCase):
     def test_mean_enough_and_how_many_runs_otherwise(self):
         self.assertTrue(mean_verdict(10.0, 0.1, 100).startswith("yes: ±2.0%"))
         # sigma = 1 * sqrt(100) = 10; n >= (1.96 * 10 / (0.05 * 10))^2 = 1536.64
-        self.assertIn("about 1537 runs", mean_verdict(10.0, 1.0, 100))
+        self.assertIn("about 1537 counted runs", mean_verdict(10.0, 1.0, 100))
         self.assertTrue(mean_verdict(10.0, 1.0, 5).startswith("no: 5 runs"))
+        # 12 finite values of 128 runs (the others never crossed): the runs to count scale by 128 / 12.
+        self.assertIn(f"about {math.ceil(128 / 12 * 1536.64)} counted runs", mean_verdict(10.0, 1.0, 100, 128 / 12))
+        self.assertTrue(mean_verdict(0.0, 100.0, 50).startswith("no relative precision (the mean is 0)"))
 
     def test_probability(self):
         self.assertIn("no exceedance in 200 runs: P < 0.019", probability_verdict(0, 200, 0.0, 0.0, 0.0188))
         self.assertTrue(probability_verdict(400, 1000, 0.4, 0.37, 0.43).startswith("yes: ±8%"))
         # half-width 0.05 of P = 0.1: 50 %; runs for 20 %: 100 * (0.5 / 0.2)^2 = 625
-        self.assertIn("about 625 runs", probability_verdict(10, 100, 0.1, 0.05, 0.15))
+        self.assertIn("about 625 counted runs", probability_verdict(10, 100, 0.1, 0.05, 0.15))
+        self.assertEqual(probability_verdict(0, 0, float("nan"), 0.0, 1.0), "no successful run")
 
 
 def write(path, build):
@@ -85,11 +91,41 @@ class FromFiles(unittest.TestCase):
         self.assertEqual(len(warnings), 1)  # 'early' reaches it in 1 of 10 runs, not more than 10 %
         self.assertTrue(warnings[0].startswith("late: in 10 of 10 runs the maximum"))
 
+    def test_rows_a_merge_does_not_hold_are_not_counted(self):
+        def build(f):
+            f["samples/status"] = np.array([0, 1, 3, 3, 0], dtype=np.int32)
+        write(self.path, build)
+        with h5py.File(self.path) as f:
+            rows, words = counted_rows(f)
+        self.assertEqual(list(np.flatnonzero(rows)), [0, 1, 4])
+        self.assertEqual(words, "all 3 samples, of the 3 this merged file holds")
+
+    def test_xdmf_names_are_escaped_and_a_colon_refused(self):
+        for name, ok in (("a&<b.h5", True), ("a:b.h5", False)):
+            path = os.path.join(self.dir.name, name)
+
+            def build(f):
+                f["time"] = np.array([0.0, 0.5])
+                f["motion/points"] = np.zeros((2, 2, 3))
+                f["motion/segments"] = np.array([[0, 1]])
+            write(path, build)
+            with h5py.File(path) as f:
+                written, why = write_xdmf(f, path)
+            if ok:
+                import xml.etree.ElementTree as ET
+                item = ET.parse(written).getroot().find("Domain/Grid/Grid/Topology/DataItem")
+                self.assertEqual(item.text, "a&<b.h5:/motion/segments")
+            else:
+                self.assertIsNone(written)
+                self.assertIn("has a ':'", why)
+
     def test_normal_mass_below_zero(self):
         def build(f):
-            d = f.create_dataset("samples/inputs", data=np.zeros((1, 2)))
-            d.attrs["columns"] = ["body.tip.mass", "base.z[1].amplitude"]
-            d.attrs["column_distributions"] = ["normal(mean=1, std=1)", "normal(mean=0, std=1)"]
+            d = f.create_dataset("samples/inputs", data=np.zeros((1, 3)))
+            d.attrs["columns"] = ["body.tip.mass", "base.z[1].amplitude", "body.rod.mass"]
+            d.attrs["column_distributions"] = ["normal(mean=1, std=1)", "normal(mean=0, std=1)",
+                                               "normal(mean=0, std=0.05)"]
+            d.attrs["column_modes"] = ["set", "set", "add"]  # an offset of the nominal mass may be negative
         write(self.path, build)
         with h5py.File(self.path) as f:
             warnings = outside_range_warnings(f)
@@ -116,6 +152,15 @@ class FromFiles(unittest.TestCase):
 
 
 class Readings(unittest.TestCase):
+    def test_view_json_cannot_close_or_reopen_its_script_element(self):
+        text = script_json({"title": "</script><!--<script>&", "x": [1.5]})
+        for bad in ("<", ">", "&"):
+            self.assertNotIn(bad, text)
+        import json
+        self.assertEqual(json.loads(text)["title"], "</script><!--<script>&")
+        with self.assertRaises(ValueError):
+            script_json({"x": [float("nan")]})  # JSON.parse refuses NaN: the view turns them into null first
+
     def test_rotation_angle_of_quaternions(self):
         q0 = np.cos(np.radians([0.0, 45.0, 90.0]))  # rotations by 0, 90 and 180 degrees
         np.testing.assert_allclose(rotation_angle_degrees(q0), [0.0, 90.0, 180.0], atol=1e-9)

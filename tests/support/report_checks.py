@@ -81,7 +81,9 @@ def view_payload(directory):
     with open(os.path.join(directory, "index.html"), encoding="utf-8") as f:
         page = f.read()
     found = re.search(r'<script id="treedyn-motion" type="application/json">(.*?)</script>', page, re.S)
-    return json.loads(found.group(1).replace("<\\/", "</")) if found else None, page
+    def refuse(constant):  # JSON has no NaN or Infinity: JSON.parse would throw
+        raise ValueError(f"{constant} in the view's JSON")
+    return json.loads(found.group(1), parse_constant=refuse) if found else None, page
 
 
 def motion(path, directory):
