@@ -107,7 +107,8 @@ def view_section(f, page):
                    + f", {len(data['times'])} frames from t = {data['times'][0]:g} to {data['times'][-1]:g} s. "
                    "Drag to turn, scroll to zoom; z is up. Bodies are drawn by their shapes (nominal dimensions) "
                    "with a stick from each joint through the centre of mass; the dashed line is the base point's "
-                   "path.")
+                   "path." + (" To see an extreme or failed sample move, rerun it with the command in the table "
+                              "above and report that file." if "stats" in f else ""))
     page.raw('<div id="treedyn-view" style="position:relative;width:100%;height:480px;border:1px solid #bbb">'
              '</div><div style="margin:4px 0"><button id="treedyn-play">pause</button> '
              '<input id="treedyn-time" type="range" min="0" value="0" style="width:70%;vertical-align:middle"> '
