@@ -13,6 +13,8 @@
 // a file, and the test kills or signals it then; the number of samples a
 // resume restores is known exactly.
 #include <gtest/gtest.h>
+
+#include <algorithm>
 #include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>
@@ -132,20 +134,27 @@ class Background {
 
 // What the held ranks wrote: each rank's PID and the samples it has kept.
 struct Held {
+  int rank = 0;
   pid_t pid = 0;
   long kept = 0;
 };
+// In rank order (a directory lists in no set order: the victim of a "kill
+// one rank" case must be the last rank, never rank 0, whose records of the
+// pilot samples are on disk already).
 std::vector<Held> held_ranks(const fs::path& checkpoint) {
   std::vector<Held> out;
   std::error_code ec;
   for (const auto& e : fs::directory_iterator(checkpoint, ec)) {
-    if (e.path().filename().string().rfind("held-rank", 0) != 0) continue;
+    const std::string name = e.path().filename().string();
+    if (name.rfind("held-rank", 0) != 0) continue;
     std::istringstream in(read_text(e.path()));
     std::string pid_word, kept_word;
     Held h;
+    h.rank = std::stoi(name.substr(std::string("held-rank").size()));
     in >> pid_word >> h.pid >> kept_word >> h.kept;
     if (in) out.push_back(h);
   }
+  std::sort(out.begin(), out.end(), [](const Held& a, const Held& b) { return a.rank < b.rank; });
   return out;
 }
 
