@@ -91,8 +91,8 @@ TEST_F(FullDiskOneMiB, AnEnsembleWithDefaultCheckpointsLeavesNothing) {
 // checkpoints where it can, and the output's own failure is exit 4. What
 // stays is a checkpoint --resume can load (common.state), or nothing.
 TEST_F(FullDisk, CheckpointsOnAFullDiskWarnAndTheRunStillEndsCleanly) {
-  const auto r = run_ensemble(2, fs::path(TREEDYN_JOBS_DIR) / "kapitza.toml", disk_ / "kapitza.h5",
-                              dir_.path() / "capture", {"--checkpoint-every", "0.1"});
+  const auto r = run_ensemble(2, kapitza_job(), disk_ / "kapitza.h5", dir_.path() / "capture",
+                              {"--checkpoint-every", "0.1"});
   std::printf("[checkpoints] exit %d: %s", r.exit_code, r.err.c_str());
   EXPECT_EQ(r.exit_code, 4) << r.err;
   EXPECT_EQ(r.err.find("Segmentation"), std::string::npos) << r.err;

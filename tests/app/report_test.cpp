@@ -114,8 +114,9 @@ TEST_P(Report, EnsembleOfTheExample) {
     EXPECT_LT(page.find("<h2>Answers</h2>"), page.find("<img")) << "the answers come before any figure";
   }
   // Per-sample reductions of mixed-unit quantities say each column's unit.
-  if (exists(f.id(), "/samples/final/base"))
+  if (exists(f.id(), "/samples/final/base")) {
     EXPECT_EQ(read_string_attribute(f.id(), "/samples/final/base", "column_units").size(), 9u);
+  }
   // Strings read as str, and the provenance is there.
   const CommandResult s = run_command(kPython, {kChecks, "strings", out.string()}, dir.path() / "capture");
   EXPECT_EQ(s.exit_code, 0) << s.out << s.err;

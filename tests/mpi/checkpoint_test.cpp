@@ -21,6 +21,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -83,7 +84,7 @@ class Background {
     if (launch.ranks > 0) command += quote(TREEDYN_MPIEXEC) + " --oversubscribe -np " + std::to_string(launch.ranks) + " ";
     command += quote(TREEDYN_ENSEMBLE_BINARY) + " " + quote(job.string()) + " -o " + quote(out.string()) + " -q";
     for (const auto& e : launch.extra) command += " " + quote(e);
-    std::string line = "exec env";
+    std::string line = "exec env " + launcher_environment(launch.ranks > 0);
     if (launch.hold) line += " TREEDYN_TEST_HOLD_AFTER=" + std::to_string(*launch.hold);
     if (launch.unsaved) line += " TREEDYN_TEST_HOLD_UNSAVED=1";
     for (const auto& w : launch.wrapper) line += " " + quote(w);
@@ -101,8 +102,6 @@ class Background {
       read_end_ = fds[0];
     }
     const char* argv[] = {"/bin/sh", "-c", line.c_str(), nullptr};
-    setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
-    setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
     const int spawned = posix_spawn(&pid_, "/bin/sh", &actions, nullptr, const_cast<char**>(argv), environ);
     posix_spawn_file_actions_destroy(&actions);
     if (read_end_ >= 0) ::close(read_end_);
@@ -234,6 +233,53 @@ class Checkpoint : public ::testing::Test {
 
 TempDir* Checkpoint::shared_ = nullptr;
 
+// The major version of the Open MPI under test (0 when unknown).
+int open_mpi_major() {
+  static const int major = [] {
+    TempDir dir("mpirun_version");
+    const CommandResult r = run_command(TREEDYN_MPIEXEC, {"--version"}, dir.path());
+    const std::size_t at = r.out.find("(Open MPI) ");
+    return at == std::string::npos ? 0 : std::atoi(r.out.c_str() + at + 11);
+  }();
+  return major;
+}
+
+// Once Open MPI 5's mpirun (prterun) ends a job on SIGINT or SIGTERM, it no
+// longer forwards what the ranks print: the ranks stop and save all the same
+// (the restored count says so), but the hint line never reaches the
+// terminal. Open MPI 4.1's mpirun prints it.
+bool launcher_forwards_last_words() { return open_mpi_major() == 4; }
+
+// When Open MPI 5's mpirun ends a job (it was signalled, or a rank died) it
+// sends the ranks SIGCONT, SIGTERM 0.25 s later and SIGKILL 0.25 s after
+// that: fixed in PRRTE's source (odls_base_default_kill_local_procs), no
+// parameter changes it. On a loaded machine or under the sanitizers a
+// rank's save may not fit in that: then what it saved before stays, its
+// temporary file stays too, and the resume removes that with a note.
+// Open MPI 4.1 gives the ranks about 1 s after each signal.
+bool launcher_may_cut_the_save() { return open_mpi_major() >= 5; }
+
+// The temporary files (NAME.tmp-PID) in `dirs`.
+std::vector<fs::path> temporaries(const std::vector<fs::path>& dirs) {
+  std::vector<fs::path> out;
+  for (const fs::path& dir : dirs) {
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator(dir, ec))
+      if (e.path().filename().string().find(".tmp-") != std::string::npos) out.push_back(e.path());
+  }
+  return out;
+}
+
+// A save the launcher cut (launcher_may_cut_the_save) leaves temporaries of
+// processes that are gone, never a complete-looking file: the resume
+// (`resume_err`) must remove each with a note.
+void expect_only_dead_temporaries(const std::vector<fs::path>& left, const std::string& resume_err) {
+  for (const fs::path& f : left) {
+    EXPECT_NE(resume_err.find("note: removed " + f.string()), std::string::npos) << resume_err;
+    EXPECT_FALSE(fs::exists(f)) << f << " outlived the resume";
+  }
+}
+
 const std::vector<std::string> kEvery = {"--checkpoint-every", "0.2"};
 // Long enough that only a hold or a signal saves: what is on disk is what
 // the signal path put there.
@@ -291,10 +337,17 @@ TEST_F(Checkpoint, KillNineOfMpirunOrOfOneRankThenResumeOnOtherRankCountsIsBitwi
     }
     ASSERT_TRUE(wait_for([&] { return no_process_writes(out); })) << "processes of the killed run live on";
     EXPECT_FALSE(fs::exists(out)) << "a killed run must not leave the output";
+    const std::vector<fs::path> left = temporaries({out.parent_path(), ckpt});
     const auto r = run_ensemble(c.resume_ranks, job_, out, dir_.path() / "capture", {"--resume", "--checkpoint-every", "0.2"});
     std::printf("[%s] resume: exit %d, %s", c.what, r.exit_code, r.err.c_str());
     ASSERT_EQ(r.exit_code, 0) << r.err;
-    EXPECT_EQ(restored_count(r.err), expected) << r.err;
+    if (c.one_rank && launcher_may_cut_the_save()) {  // the survivors' saves on SIGTERM may be cut
+      EXPECT_GE(restored_count(r.err), 0) << r.err;
+      EXPECT_LE(restored_count(r.err), expected) << r.err;
+      expect_only_dead_temporaries(left, r.err);
+    } else {
+      EXPECT_EQ(restored_count(r.err), expected) << r.err;
+    }
     expect_like_reference(out, c.what);
     // Done: the checkpoint and every temporary are gone.
     EXPECT_EQ(listing(out.parent_path()), std::vector<std::string>{"ensemble.h5"});
@@ -337,19 +390,6 @@ struct SignalCase {
   bool launcher_ends_job = false;  // mpirun itself takes SIGINT or SIGTERM and ends the job
 };
 
-// Once Open MPI 5's mpirun (prterun) ends a job on SIGINT or SIGTERM, it no
-// longer forwards what the ranks print: the ranks stop and save all the same
-// (the restored count says so), but the hint line never reaches the
-// terminal. Open MPI 4.1's mpirun prints it.
-bool launcher_forwards_last_words() {
-  static const bool forwards = [] {
-    TempDir dir("mpirun_version");
-    const CommandResult r = run_command(TREEDYN_MPIEXEC, {"--version"}, dir.path());
-    return r.out.find("(Open MPI) 4.") != std::string::npos;
-  }();
-  return forwards;
-}
-
 void Checkpoint::expect_clean_stop(const SignalCase& c, int index) {
   SCOPED_TRACE(c.what);
   const fs::path out = fresh_output("signal" + std::to_string(index));
@@ -378,12 +418,28 @@ void Checkpoint::expect_clean_stop(const SignalCase& c, int index) {
     EXPECT_EQ(code, c.exit_code) << err;
   else
     EXPECT_NE(code, 0) << err;
-  // Nothing half-written: only the checkpoint directory.
-  EXPECT_EQ(listing(out.parent_path()), std::vector<std::string>{"ensemble.h5.checkpoint"});
-  for (const auto& f : listing(ckpt)) EXPECT_EQ(f.find(".tmp-"), std::string::npos) << f;
+  ASSERT_TRUE(wait_for([&] { return no_process_writes(out); })) << "processes of the stopped run live on";
+  // Nothing half-written: only the checkpoint directory (and the temporaries
+  // of a save the launcher cut, where it may).
+  const bool may_cut = c.launcher_ends_job && launcher_may_cut_the_save();
+  const std::vector<fs::path> left = temporaries({out.parent_path(), ckpt});
+  if (!may_cut) {
+    EXPECT_EQ(left, std::vector<fs::path>{});
+  }
+  std::vector<std::string> kept_files = listing(out.parent_path());
+  std::erase_if(kept_files, [](const std::string& f) { return f.find(".tmp-") != std::string::npos; });
+  EXPECT_EQ(kept_files, std::vector<std::string>{"ensemble.h5.checkpoint"});
   const auto r = run_ensemble(c.ranks == 0 ? 0 : 3, job_, out, dir_.path() / "capture", {"--resume"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_EQ(restored_count(r.err), kept) << r.err;
+  if (may_cut) {
+    std::printf("[%s] %zu temporaries left, %ld of %ld samples restored\n", c.what, left.size(),
+                restored_count(r.err), kept);
+    EXPECT_GE(restored_count(r.err), 0) << r.err;  // the resume says what it restored
+    EXPECT_LE(restored_count(r.err), kept) << r.err;
+    expect_only_dead_temporaries(left, r.err);
+  } else {
+    EXPECT_EQ(restored_count(r.err), kept) << r.err;
+  }
   expect_like_reference(out, std::string("resumed after ") + c.what);
 }
 

@@ -54,15 +54,37 @@ std::string quote(const std::string& s) {
   return q + "'";
 }
 
-CommandResult run_command(const std::string& binary, const std::vector<std::string>& args,
-                          const fs::path& capture, const std::vector<std::string>& prefix) {
-  fs::create_directories(capture);
+namespace {
+
+// This test process's directory for the launchers' session directories,
+// removed with everything in it when the process ends.
+struct LauncherTemp {
+  fs::path path = fs::temp_directory_path() / ("treedyn_mpi_" + std::to_string(getpid()));
+  LauncherTemp() { fs::create_directories(path); }
+  ~LauncherTemp() {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+  }
+};
+
+}  // namespace
+
+std::string launcher_environment(bool mpirun) {
   // Open MPI refuses to run as root (as CI does) without these; they reach
   // mpirun, its ranks and a singleton treedyn-ensemble alike.
   setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
   setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
+  if (!mpirun) return "";  // a singleton's helper (Open MPI 4.1) may outlive this process
+  static const LauncherTemp temp;
+  return "TMPDIR=" + quote(temp.path.string());
+}
+
+CommandResult run_command(const std::string& binary, const std::vector<std::string>& args,
+                          const fs::path& capture, const std::vector<std::string>& prefix) {
+  fs::create_directories(capture);
   const fs::path out = capture / "stdout.txt", err = capture / "stderr.txt";
-  std::string command;
+  const bool mpirun = std::find(prefix.begin(), prefix.end(), std::string(TREEDYN_MPIEXEC)) != prefix.end();
+  std::string command = launcher_environment(mpirun) + " ";
   for (const auto& word : prefix) command += quote(word) + " ";
   command += quote(binary);
   for (const auto& a : args) command += " " + quote(a);

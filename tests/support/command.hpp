@@ -36,6 +36,16 @@ struct CommandResult {
   double seconds = 0.0;  // wall time of the whole command
 };
 
+// What every launch needs: Open MPI's permission to run as root (set in
+// this process's environment, so it reaches mpirun, its ranks and a
+// singleton alike), and for `mpirun`, a shell assignment to put before the
+// command: TMPDIR in a directory of this test process that goes when it
+// ends. Open MPI 5's mpirun keeps its session directory in TMPDIR, named by
+// its PID; one it could not remove (a test kills mpirun with SIGKILL) makes a
+// later mpirun that gets the same PID fail (PRTE "session_dir ... Exists",
+// exit 213).
+std::string launcher_environment(bool mpirun);
+
 // Runs `PREFIX... BINARY ARGS...` through the shell, every word quoted, with
 // stdin from /dev/null. `prefix` holds words that wrap the binary (a
 // `timeout` line, an `mpirun -np N` line). stdout and stderr are captured in
