@@ -33,9 +33,8 @@ double ratio(std::uint64_t k, std::uint64_t n) {
 // inputs, but not independently of A_j, so the mean, the standard error,
 // the exceedance probability (and their intervals) and the rank measures
 // use the A and B runs only.
-bool independent_draw(const EnsembleSpec& spec, const ResponseTable& table, std::uint64_t k) {
-  return spec.design != Design::saltelli ||
-         saltelli_place(k, static_cast<unsigned>(table.input_count())).role != SaltelliRole::ab;
+bool independent_draw(const EnsembleSpec& spec, std::uint64_t k) {
+  return spec.design != Design::saltelli || saltelli_place(k, spec.unit_count()).role != SaltelliRole::ab;
 }
 
 RankSensitivity ranks_of(const EnsembleSpec& spec, const ResponseTable& table, std::size_t r) {
@@ -44,18 +43,19 @@ RankSensitivity ranks_of(const EnsembleSpec& spec, const ResponseTable& table, s
   x.reserve(table.samples() * d);
   y.reserve(table.samples());
   for (std::uint64_t k = 0; k < table.samples(); ++k) {
-    if (!table.ok(k) || std::isnan(table.response(k, r)) || !independent_draw(spec, table, k)) continue;
+    if (!table.ok(k) || std::isnan(table.response(k, r)) || !independent_draw(spec, k)) continue;
     for (std::size_t i = 0; i < d; ++i) x.push_back(table.input(k, i));
     y.push_back(table.response(k, r));
   }
   return rank_sensitivity(x, d, y);
 }
 
+// Indices per Saltelli unit (an input, or a group of them).
 SobolIndices sobol_of(const EnsembleSpec& spec, const ResponseTable& table, std::size_t r) {
-  const std::size_t d = table.input_count(), block = saltelli_block(static_cast<unsigned>(d));
+  const std::size_t d = spec.unit_count(), block = spec.saltelli_block();
   std::vector<double> f_a, f_b, f_ab;
   for (std::uint64_t j = 0; j < table.samples() / block; ++j) {
-    // A block counts only when all its D + 2 runs succeeded with finite values.
+    // A block counts only when all its U + 2 runs succeeded with finite values.
     bool complete = true;
     for (std::size_t m = 0; m < block; ++m) {
       const std::uint64_t k = j * block + m;
@@ -90,10 +90,10 @@ ResponseAnswer answer_response(const EnsembleSpec& spec, const ResponseTable& ta
   // Convergence at 1, 2, 4, ... samples; for saltelli at 1, 2, 4, ...
   // whole blocks (2 independent draws each).
   const std::uint64_t unit =
-      spec.design == Design::saltelli ? saltelli_block(static_cast<unsigned>(table.input_count())) : 1;
+      spec.design == Design::saltelli ? spec.saltelli_block() : 1;
   std::uint64_t successful = 0, exceeded = 0, next_report = unit;
   for (std::uint64_t k = 0; k < n; ++k) {
-    if (!independent_draw(spec, table, k)) {
+    if (!independent_draw(spec, k)) {
       // Saltelli's AB_i rows: left out here (see independent_draw).
     } else if (!table.ok(k)) {
       ++a.failed;

@@ -70,16 +70,45 @@ void print_stop_rule(std::ostream& out, const EnsembleSpec& s) {
   out << " (at most " << s.samples << " runs)\n";
 }
 
+// A grouped Saltelli design: the run count and what each group holds.
+void print_groups(std::ostream& out, const EnsembleSpec& s) {
+  out << "  saltelli with " << s.unit_count() << " groups: base size N = " << s.base_samples
+      << ", N (G + 2) = " << s.base_samples << " x " << s.saltelli_block() << " = " << s.samples
+      << " runs; sample j (G + 2) + r is A_j (r = 0), B_j (r = 1), AB_g,j (r = 2 + g: A_j with group g's "
+         "inputs from B_j)\n";
+  const std::vector<std::string> names = s.input_names();
+  for (std::size_t g = 0; g < s.sobol_units.size(); ++g) {
+    const SobolUnit& unit = s.sobol_units[g];
+    out << "    group " << g << " " << unit.name << ":";
+    for (unsigned d : unit.inputs) out << " " << names[d];
+    out << "\n";
+  }
+}
+
+// Each correlated pair, in both parameters.
+void print_correlations(std::ostream& out, const EnsembleSpec& s) {
+  if (s.correlations.empty()) return;
+  const std::vector<std::string> names = s.input_names();
+  out << "  correlated inputs (normal copula on their own marginals):\n";
+  for (const InputCorrelation& c : s.correlations) {
+    const double spearman = spearman_of_normal_copula(c.normal_copula);
+    out << "    " << names[c.a] << " ~ " << names[c.b] << ": normal copula rho = " << format_number(c.normal_copula)
+        << ", Spearman " << format_number(spearman) << (c.given_as_spearman ? " (given)" : "") << "\n";
+  }
+}
+
 }  // namespace
 
 void print_ensemble_summary(std::ostream& out, const Job& job, const EnsembleSpec& s) {
   out << "ensemble: " << s.samples << " samples, seed " << s.seed << ", design " << name(s.design)
       << ", " << s.perturbations.size() << " perturbation" << (s.perturbations.size() == 1 ? "" : "s")
       << " (" << s.input_dimensions() << " sampled inputs)\n";
-  if (s.design == Design::saltelli)
+  if (s.design == Design::saltelli && !s.grouped)
     out << "  saltelli: base size N = " << s.base_samples << ", N (D + 2) = " << s.base_samples << " x "
-        << saltelli_block(s.input_dimensions()) << " = " << s.samples
+        << s.saltelli_block() << " = " << s.samples
         << " runs; sample j (D + 2) + r is A_j (r = 0), B_j (r = 1), AB_i,j (r = 2 + i)\n";
+  if (s.design == Design::saltelli && s.grouped) print_groups(out, s);
+  print_correlations(out, s);
   print_subset(out, s);
   print_stop_rule(out, s);
   if (s.design == Design::latin_hypercube)

@@ -14,7 +14,8 @@ namespace treedyn::ensemble {
 SampleRunner::SampleRunner(const Job& job, const EnsembleSpec& spec)
     : job_(job),
       spec_(spec),
-      design_(spec.design, spec.seed, spec.samples, spec.input_dimensions()),
+      design_(spec.design, spec.seed, spec.samples, spec.input_dimensions(), spec.unit_of_input()),
+      copula_(spec.input_dimensions(), spec.correlations),
       uniforms_(spec.input_dimensions()),
       recorder_(job.model, job.output),
       request_(job.request) {
@@ -44,11 +45,13 @@ std::vector<double> SampleRunner::sample_inputs(std::uint64_t k) {
 }
 
 std::vector<double> SampleRunner::inputs_at(std::span<const double> uniforms) const {
-  std::vector<double> inputs(uniforms.size());
+  std::vector<double> u(uniforms.begin(), uniforms.end());
+  if (!copula_.empty()) copula_.correlate(u);
+  std::vector<double> inputs(u.size());
   std::size_t d = 0;
   for (const Perturbation& p : spec_.perturbations) {
     const auto n = static_cast<std::size_t>(p.dimensions());
-    p.sample(uniforms.subspan(d, n), std::span<double>(inputs).subspan(d, n));
+    p.sample(std::span<const double>(u).subspan(d, n), std::span<double>(inputs).subspan(d, n));
     d += n;
   }
   return inputs;

@@ -60,7 +60,8 @@ class SampleRunner {
 
   // The sampled values (SI) of sample k's perturbed inputs.
   std::vector<double> sample_inputs(std::uint64_t k);
-  // ... of the inputs at uniform numbers `uniforms` (one per dimension).
+  // ... of the inputs at independent uniform numbers `uniforms` (one per
+  // dimension; correlated inputs go through the normal copula first).
   std::vector<double> inputs_at(std::span<const double> uniforms) const;
 
  private:
@@ -73,6 +74,7 @@ class SampleRunner {
   const Job& job_;
   const EnsembleSpec& spec_;
   SampleDesign design_;
+  NormalCopula copula_;  // the correlated inputs ([[ensemble.correlation]])
   std::vector<double> uniforms_;
   std::vector<double> parameters_;  // this sample's parameter vector
   InitialState state_;              // this sample's initial state

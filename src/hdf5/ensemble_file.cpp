@@ -480,20 +480,68 @@ void EnsembleWriter::write_sensitivity(hid_t parent, const ensemble::Response& r
   per_input("srrc", a.ranks.srrc, "standardised rank regression coefficient of each input (see the r_squared attribute)");
   h5::write_attribute(sg.id(), "rank_r_squared", a.ranks.r_squared);
   h5::write_attribute(sg.id(), "rank_samples", static_cast<long long>(a.ranks.samples));
-  if (!a.sobol) return;
-  const ensemble::SobolIndices& s = *a.sobol;
-  per_input("first_order", s.first, "first-order Sobol' index (Saltelli 2010) of each input");
-  per_input("total_order", s.total, "total Sobol' index (Jansen) of each input");
-  auto interval = [&](const char* name, const std::vector<double>& v, const std::string& what) {
-    h5::Handle set = h5::write_matrix(sg.id(), name, v, inputs.size(), 2);
-    describe(set.id(), "1", what + ": input x (low, high); rows follow the 'inputs' attribute", {"low", "high"});
-    h5::write_attribute(set.id(), "inputs", inputs);
+  if (a.sobol) write_sobol(sg.id(), *a.sobol);
+}
+
+namespace {
+
+// Per-unit values spread to the inputs: an input alone in its unit gets the
+// unit's value (`width` per unit: 1, or 2 for an interval), an input of a
+// larger group NaN (its own index is not estimated).
+std::vector<double> per_input_values(const ensemble::EnsembleSpec& spec, const std::vector<double>& unit_values,
+                                     std::size_t width) {
+  std::vector<double> out(spec.input_dimensions() * width, std::numeric_limits<double>::quiet_NaN());
+  for (std::size_t u = 0; u < spec.sobol_units.size(); ++u) {
+    if (spec.sobol_units[u].inputs.size() != 1) continue;
+    const std::size_t d = spec.sobol_units[u].inputs.front();
+    for (std::size_t w = 0; w < width; ++w) out[d * width + w] = unit_values[u * width + w];
+  }
+  return out;
+}
+
+}  // namespace
+
+void EnsembleWriter::write_sobol(hid_t sg, const ensemble::SobolIndices& s) {
+  const std::vector<std::string> inputs = spec_.input_names();
+  const bool grouped = spec_.grouped;
+  auto spread = [&](const std::vector<double>& v, std::size_t width) {
+    return grouped ? per_input_values(spec_, v, width) : v;
   };
-  interval("first_order_ci", s.first_ci, "95 % bootstrap interval of the first-order index");
-  interval("total_order_ci", s.total_ci, "95 % bootstrap interval of the total index");
-  h5::write_attribute(sg.id(), "sobol_variance", s.variance);
-  h5::write_attribute(sg.id(), "sobol_base_samples", static_cast<long long>(s.base_samples));
-  h5::write_attribute(sg.id(), "bootstrap_resamples", static_cast<long long>(spec_.bootstrap_resamples));
+  const std::string grouped_note = grouped ? " (NaN for an input of a larger group: see group_first_order)" : "";
+  auto vector = [&](const char* name, const std::vector<double>& v, const std::string& what,
+                    const std::vector<std::string>& rows) {
+    h5::Handle set = h5::write_vector(sg, name, v);
+    describe(set.id(), "1", what, rows);
+  };
+  auto interval = [&](const char* name, const std::vector<double>& v, const std::string& what,
+                      const std::vector<std::string>& rows, const char* row_word) {
+    h5::Handle set = h5::write_matrix(sg, name, v, rows.size(), 2);
+    describe(set.id(), "1", what + ": " + row_word + " x (low, high); rows follow the '" + row_word + "s' attribute",
+             {"low", "high"});
+    h5::write_attribute(set.id(), std::string(row_word) + "s", rows);
+  };
+  vector("first_order", spread(s.first, 1), "first-order Sobol' index (Saltelli 2010) of each input" + grouped_note, inputs);
+  vector("total_order", spread(s.total, 1), "total Sobol' index (Jansen) of each input" + grouped_note, inputs);
+  interval("first_order_ci", spread(s.first_ci, 2), "95 % bootstrap interval of the first-order index", inputs, "input");
+  interval("total_order_ci", spread(s.total_ci, 2), "95 % bootstrap interval of the total index", inputs, "input");
+  if (grouped) {
+    std::vector<std::string> groups, members;
+    for (const ensemble::SobolUnit& unit : spec_.sobol_units) {
+      groups.push_back(unit.name);
+      std::string listed;
+      for (unsigned d : unit.inputs) listed += (listed.empty() ? "" : ", ") + inputs[d];
+      members.push_back(listed);
+    }
+    vector("group_first_order", s.first, "first-order Sobol' index of each group (its inputs together)", groups);
+    vector("group_total_order", s.total, "total Sobol' index of each group (its inputs together)", groups);
+    interval("group_first_order_ci", s.first_ci, "95 % bootstrap interval of the group first-order index", groups, "group");
+    interval("group_total_order_ci", s.total_ci, "95 % bootstrap interval of the group total index", groups, "group");
+    h5::write_attribute(sg, "groups", groups);
+    h5::write_attribute(sg, "group_inputs", members);
+  }
+  h5::write_attribute(sg, "sobol_variance", s.variance);
+  h5::write_attribute(sg, "sobol_base_samples", static_cast<long long>(s.base_samples));
+  h5::write_attribute(sg, "bootstrap_resamples", static_cast<long long>(spec_.bootstrap_resamples));
 }
 
 void EnsembleWriter::write_merge_origin(const std::vector<std::string>& parts,
@@ -613,7 +661,7 @@ void EnsembleWriter::finish(const EnsembleSummary& summary, const RunProvenance&
   h5::write_attribute(root, "samples", static_cast<long long>(spec_.samples));
   h5::write_attribute(root, "base_samples", static_cast<long long>(spec_.base_samples));
   if (spec_.design == ensemble::Design::saltelli)
-    h5::write_attribute(root, "saltelli_block", static_cast<long long>(ensemble::saltelli_block(spec_.input_dimensions())));
+    h5::write_attribute(root, "saltelli_block", static_cast<long long>(spec_.saltelli_block()));
   h5::write_attribute(root, "samples_used", static_cast<long long>(summary.samples_used));
   h5::write_attribute(root, "stop_reason", summary.stop_reason);
   h5::write_attribute(root, "samples_ok", static_cast<long long>(summary.ok));

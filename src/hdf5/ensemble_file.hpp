@@ -62,6 +62,7 @@ class EnsembleWriter {
   void write_answers(const std::vector<ensemble::ResponseAnswer>& answers);
   void write_response_answer(hid_t parent, const ensemble::Response& response, const ensemble::ResponseAnswer& a);
   void write_sensitivity(hid_t parent, const ensemble::Response& response, const ensemble::ResponseAnswer& a);
+  void write_sobol(hid_t sensitivity_group, const ensemble::SobolIndices& s);
   void finish(const EnsembleSummary& summary, const RunProvenance& run);
   void write_run_places(const rare_event::SubsetSettings& settings, std::size_t rows);
   void write_levels(hid_t group, const rare_event::SubsetResult& result, double sign, const std::string& units);

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "sampling/design.hpp"
+#include "sampling/normal_copula.hpp"
 #include "sampling/perturbation.hpp"
 #include "output/response.hpp"
 #include "job/job.hpp"
@@ -36,6 +37,16 @@ struct SubsetSpec {
   int max_levels = 10;             // levels after level 0, at most
 };
 
+// What Saltelli's design moves together in one AB block, and what one
+// Sobol' index is of: a declared [[ensemble.group]], an orientation
+// perturbation's three inputs (when groups are declared), or one input.
+// Without [[ensemble.group]] every input is a unit of its own: the
+// per-input design.
+struct SobolUnit {
+  std::string name;              // the group's, the orientation's target, or the input's name
+  std::vector<unsigned> inputs;  // input dimensions, ascending
+};
+
 struct EnsembleSpec {
   std::uint64_t samples = 100;       // runs; for saltelli base_samples * (D + 2)
   std::uint64_t base_samples = 100;  // `samples` as the job gives it (saltelli: the base size N)
@@ -53,11 +64,19 @@ struct EnsembleSpec {
   int bootstrap_resamples = 1000;        // for the Sobol' index intervals
   std::optional<StopRule> stop;          // `samples` is then the most the run makes
   std::optional<SubsetSpec> subset;      // design = "subset_simulation": samples = the most runs
+  std::vector<SobolUnit> sobol_units;    // saltelli: the units (read_ensemble fills them)
+  bool grouped = false;                  // [[ensemble.group]] given: sobol_units are not the inputs
+  std::vector<InputCorrelation> correlations;
 
   unsigned input_dimensions() const;
   std::vector<std::string> input_names() const;
   // SI unit of every input column ("1" for a scale factor).
   std::vector<std::string> input_units() const;
+  // Saltelli's units (every input alone when sobol_units is empty), the unit
+  // of each input dimension, and the runs per base sample, U + 2.
+  unsigned unit_count() const;
+  std::vector<unsigned> unit_of_input() const;
+  std::uint64_t saltelli_block() const { return ensemble::saltelli_block(unit_count()); }
 };
 
 // Memory the statistics need on every rank: bin counters, sums, minima and

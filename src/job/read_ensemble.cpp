@@ -221,6 +221,18 @@ std::vector<std::string> EnsembleSpec::input_names() const {
   return names;
 }
 
+unsigned EnsembleSpec::unit_count() const {
+  return sobol_units.empty() ? input_dimensions() : static_cast<unsigned>(sobol_units.size());
+}
+
+std::vector<unsigned> EnsembleSpec::unit_of_input() const {
+  std::vector<unsigned> unit(input_dimensions());
+  for (unsigned d = 0; d < unit.size(); ++d) unit[d] = d;
+  for (unsigned u = 0; u < sobol_units.size(); ++u)
+    for (unsigned d : sobol_units[u].inputs) unit[d] = u;
+  return unit;
+}
+
 std::vector<std::string> EnsembleSpec::input_units() const {
   std::vector<std::string> units;
   for (const Perturbation& p : perturbations)
@@ -286,7 +298,7 @@ Perturbation read_perturbation(const TomlView& p, const Job& job) {
   return pert;
 }
 
-// The number of runs the design makes (saltelli: N (D + 2)), within what the
+// The number of runs the design makes (saltelli: N (U + 2)), within what the
 // exact sums hold.
 void count_runs(const TomlView& t, EnsembleSpec& s) {
   if (s.design == Design::sobol && s.input_dimensions() > 1000)
@@ -296,12 +308,13 @@ void count_runs(const TomlView& t, EnsembleSpec& s) {
     const unsigned d = s.input_dimensions();
     if (d == 0) t.fail("design", "saltelli needs at least one [[ensemble.perturbation]] (the inputs to rank)");
     if (2 * d > 1000) t.fail("perturbation", "saltelli supports at most 500 input dimensions (2D Sobol dimensions)");
-    if (s.base_samples > kMaxRuns / saltelli_block(d))
-      t.fail("samples", "saltelli makes samples x (D + 2) = " + std::to_string(s.base_samples) + " x " +
-                            std::to_string(saltelli_block(d)) + " runs; at most " + std::to_string(kMaxRuns) +
+    const std::string block = s.grouped ? "(G + 2)" : "(D + 2)";
+    if (s.base_samples > kMaxRuns / s.saltelli_block())
+      t.fail("samples", "saltelli makes samples x " + block + " = " + std::to_string(s.base_samples) + " x " +
+                            std::to_string(s.saltelli_block()) + " runs; at most " + std::to_string(kMaxRuns) +
                             " (2^26, so that the exact 128-bit sums cannot overflow): use at most " +
-                            std::to_string(kMaxRuns / saltelli_block(d)));
-    s.samples = s.base_samples * saltelli_block(d);
+                            std::to_string(kMaxRuns / s.saltelli_block()));
+    s.samples = s.base_samples * s.saltelli_block();
   }
   // The exact sums hold 2^26 extreme samples (d / S at its 2^20 limit, squared
   // with 60 fraction bits: 2^100 each, 2^126 in all); 32-bit Sobol points and
@@ -388,7 +401,7 @@ void read_stop(const TomlView& parent, EnsembleSpec& s) {
   const auto every = t.integer("every");
   if (!every) t.fail("every", "missing: the check interval in samples (saltelli: in base samples, whole blocks)");
   if (*every < 1) t.fail("every", "must be at least 1");
-  const std::uint64_t unit = s.design == Design::saltelli ? saltelli_block(s.input_dimensions()) : 1;
+  const std::uint64_t unit = s.design == Design::saltelli ? s.saltelli_block() : 1;
   if (static_cast<std::uint64_t>(*every) > s.samples / unit)
     t.fail("every", "checks every " + std::to_string(*every) + (unit > 1 ? " blocks" : " samples") +
                         ", more than the ensemble makes at most (" + std::to_string(s.samples / unit) +
@@ -472,10 +485,12 @@ EnsembleSpec read_ensemble(const Job& job) {
   const TomlView& t = *section;
   t.check_keys({"samples", "seed", "design", "quantiles", "histogram_bins", "pilot_samples", "block_size",
                 "perturbation", "per_sample", "response", "store_trajectories", "bootstrap_resamples", "stop",
-                "subset"});
+                "subset", "group", "correlation"});
   EnsembleSpec s;
   read_settings(t, s);
   for (const TomlView& p : t.table_array("perturbation")) s.perturbations.push_back(read_perturbation(p, job));
+  read_groups(t, s);
+  read_correlations(t, s);
   count_runs(t, s);
   read_answers(t, job, s);
   read_stop(t, s);

@@ -51,4 +51,11 @@ namespace treedyn::ensemble {
 // table, resolved against the model (sampling/targets.hpp).
 Perturbation read_target(const TomlView& table, const ModelDefinition& model);
 
+struct EnsembleSpec;
+// [[ensemble.group]] into spec.sobol_units (every input alone without one)
+// and [[ensemble.correlation]] into spec.correlations, after the
+// perturbations and the design are read (read_input_relations.cpp).
+void read_groups(const TomlView& ensemble, EnsembleSpec& spec);
+void read_correlations(const TomlView& ensemble, EnsembleSpec& spec);
+
 }  // namespace treedyn::ensemble

@@ -7,6 +7,7 @@
 #include <boost/random/sobol.hpp>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace treedyn::ensemble {
@@ -93,15 +94,25 @@ std::uint32_t sobol_bits(std::uint64_t k, unsigned dimension, unsigned dimension
 }
 
 SampleDesign::SampleDesign(Design design, std::uint64_t seed, std::uint64_t samples,
-                           unsigned dimensions)
-    : design_(design), seed_(seed), samples_(samples), dimensions_(dimensions) {
+                           unsigned dimensions, std::vector<unsigned> unit_of_dimension)
+    : design_(design),
+      seed_(seed),
+      samples_(samples),
+      dimensions_(dimensions),
+      unit_of_dimension_(std::move(unit_of_dimension)),
+      units_(dimensions) {
+  if (unit_of_dimension_.empty())
+    for (unsigned d = 0; d < dimensions; ++d) unit_of_dimension_.push_back(d);
+  if (unit_of_dimension_.size() != dimensions)
+    throw std::invalid_argument("saltelli design: one unit per input dimension");
+  units_ = dimensions == 0 ? 0 : *std::max_element(unit_of_dimension_.begin(), unit_of_dimension_.end()) + 1;
   const unsigned sobol_dimensions = design == Design::saltelli ? 2 * dimensions : dimensions;
   const bool uses_sobol = design == Design::sobol || design == Design::saltelli;
   if (uses_sobol && sobol_dimensions > boost::random::detail::qrng_tables::sobol::max_dimension)
     throw std::invalid_argument(std::string(name(design)) + " design: at most " +
                                 std::to_string(boost::random::detail::qrng_tables::sobol::max_dimension) +
                                 " Sobol dimensions");
-  const std::uint64_t points = design == Design::saltelli ? samples / saltelli_block(dimensions) : samples;
+  const std::uint64_t points = design == Design::saltelli ? samples / saltelli_block(units_) : samples;
   if (uses_sobol && points > 0xffffffffULL)
     throw std::invalid_argument(std::string(name(design)) + " design: at most 2^32 - 1 Sobol points");
 }
@@ -122,13 +133,16 @@ void SampleDesign::sobol_point(std::uint64_t index, unsigned total, unsigned fir
 void SampleDesign::point(std::uint64_t sample, std::span<double> u) const {
   if (design_ == Design::sobol) return sobol_point(sample, dimensions_, 0, u);
   if (design_ == Design::saltelli) {
-    const SaltelliPlace at = saltelli_place(sample, dimensions_);
+    const SaltelliPlace at = saltelli_place(sample, units_);
     const unsigned d = dimensions_;
     sobol_point(at.base, 2 * d, at.role == SaltelliRole::b ? d : 0, u);
     if (at.role == SaltelliRole::ab) {
       double from_b = 0.0;
-      sobol_point(at.base, 2 * d, d + at.input, std::span<double>(&from_b, 1));
-      u[at.input] = from_b;
+      for (unsigned i = 0; i < d; ++i) {
+        if (unit_of_dimension_[i] != at.unit) continue;
+        sobol_point(at.base, 2 * d, d + i, std::span<double>(&from_b, 1));
+        u[i] = from_b;
+      }
     }
     return;
   }

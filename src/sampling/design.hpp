@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <span>
 #include <string_view>
+#include <vector>
 
 #include "common/enum_names.hpp"
 
@@ -25,21 +26,23 @@ inline constexpr NameTable<Design, 5> kDesignNames{{{Design::monte_carlo, "monte
                                                     {Design::saltelli, "saltelli"},
                                                     {Design::subset_simulation, "subset_simulation"}}};
 
-// Saltelli's design over D inputs and base size N makes N (D + 2) runs, in
-// blocks of D + 2 per base point j (so a prefix of whole blocks is itself a
-// Saltelli design): sample k = j (D + 2) + r is
+// Saltelli's design over D inputs in U units (an input alone, or a group of
+// inputs whose indices are taken together; U = D without groups) and base
+// size N makes N (U + 2) runs, in blocks of U + 2 per base point j (so a
+// prefix of whole blocks is itself a Saltelli design): sample k = j (U + 2) + r
+// is
 //   r = 0:      A_j      (dimensions 0 .. D-1 of scrambled Sobol point j of 2D),
 //   r = 1:      B_j      (dimensions D .. 2D-1 of the same point),
-//   r = 2 + i:  AB_i,j   (A_j with input i taken from B_j).
+//   r = 2 + g:  AB_g,j   (A_j with the inputs of unit g taken from B_j).
 enum class SaltelliRole { a, b, ab };
 struct SaltelliPlace {
   std::uint64_t base = 0;  // j
   SaltelliRole role = SaltelliRole::a;
-  unsigned input = 0;      // i, for ab
+  unsigned unit = 0;       // g, for ab
 };
-inline std::uint64_t saltelli_block(unsigned dimensions) { return dimensions + 2u; }
-inline SaltelliPlace saltelli_place(std::uint64_t sample, unsigned dimensions) {
-  const std::uint64_t block = saltelli_block(dimensions), r = sample % block;
+inline std::uint64_t saltelli_block(unsigned units) { return units + 2u; }
+inline SaltelliPlace saltelli_place(std::uint64_t sample, unsigned units) {
+  const std::uint64_t block = saltelli_block(units), r = sample % block;
   return {sample / block, r == 0 ? SaltelliRole::a : r == 1 ? SaltelliRole::b : SaltelliRole::ab,
           r >= 2 ? static_cast<unsigned>(r - 2) : 0u};
 }
@@ -51,7 +54,10 @@ inline bool parse_design(std::string_view text, Design& out) { return parse_in(k
 
 class SampleDesign {
  public:
-  SampleDesign(Design design, std::uint64_t seed, std::uint64_t samples, unsigned dimensions);
+  // `unit_of_dimension` (saltelli only): the unit of each input dimension,
+  // 0 .. U-1; empty: every dimension is a unit of its own (U = D).
+  SampleDesign(Design design, std::uint64_t seed, std::uint64_t samples, unsigned dimensions,
+               std::vector<unsigned> unit_of_dimension = {});
 
   // u in the open interval (0, 1).
   double uniform(std::uint64_t sample, unsigned dimension) const;
@@ -70,6 +76,8 @@ class SampleDesign {
   std::uint64_t seed_;
   std::uint64_t samples_;
   unsigned dimensions_;
+  std::vector<unsigned> unit_of_dimension_;  // size D
+  unsigned units_;                           // U
 };
 
 // Independent uniform in (0, 1) from Philox4x64 keyed by seed, counter

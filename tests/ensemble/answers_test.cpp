@@ -186,7 +186,7 @@ TEST(SaltelliDesign, BlocksHoldABAndTheMixedRows) {
       small.point(j * (D + 2) + 2 + i, ab);
       for (unsigned d = 0; d < D; ++d) EXPECT_EQ(ab[d], d == i ? b[d] : a[d]) << "j " << j << " i " << i;
       EXPECT_EQ(saltelli_place(j * (D + 2) + 2 + i, D).role, SaltelliRole::ab);
-      EXPECT_EQ(saltelli_place(j * (D + 2) + 2 + i, D).input, i);
+      EXPECT_EQ(saltelli_place(j * (D + 2) + 2 + i, D).unit, i);
     }
     for (unsigned d = 0; d < D; ++d) EXPECT_EQ(small.uniform(j * (D + 2) + 1, d), b[d]);
   }
