@@ -92,8 +92,8 @@ void print_correlations(std::ostream& out, const EnsembleSpec& s) {
   out << "  correlated inputs (normal copula on their own marginals):\n";
   for (const InputCorrelation& c : s.correlations) {
     const double spearman = spearman_of_normal_copula(c.normal_copula);
-    out << "    " << names[c.a] << " ~ " << names[c.b] << ": normal copula rho = " << format_number(c.normal_copula)
-        << ", Spearman " << format_number(spearman) << (c.given_as_spearman ? " (given)" : "") << "\n";
+    out << "    " << names[c.a] << " ~ " << names[c.b] << ": normal copula rho = " << format_digits(c.normal_copula, 4)
+        << ", Spearman " << format_digits(spearman, 4) << (c.given_as_spearman ? " (given)" : "") << "\n";
   }
 }
 

@@ -16,4 +16,10 @@ std::string format_number(double v) {
   return buffer;
 }
 
+std::string format_digits(double v, int digits) {
+  char buffer[40];
+  std::snprintf(buffer, sizeof buffer, "%.*g", digits, v);
+  return buffer;
+}
+
 }  // namespace treedyn

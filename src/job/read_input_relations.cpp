@@ -159,7 +159,7 @@ InputCorrelation read_correlation(const TomlView& c, const EnsembleSpec& s) {
 }
 
 std::string describe(const InputCorrelation& c, const std::vector<std::string>& names) {
-  return names[c.a] + " ~ " + names[c.b] + " (normal copula " + format_number(c.normal_copula) + ")";
+  return names[c.a] + " ~ " + names[c.b] + " (normal copula " + format_digits(c.normal_copula, 4) + ")";
 }
 
 // The normal copula's matrix must stay positive definite with entry `c`
@@ -175,7 +175,7 @@ void check_positive_definite(const TomlView& c, const EnsembleSpec& s) {
   std::string listed;
   for (const InputCorrelation& k : s.correlations) listed += "\n  " + describe(k, names);
   c.fail("inputs", "with this one the correlations cannot hold together (their normal-copula matrix is not "
-                   "positive definite: smallest eigenvalue " + format_number(smallest) + "):" + listed +
+                   "positive definite: smallest eigenvalue " + format_digits(smallest, 3) + "):" + listed +
                        "\nweaken some of them");
 }
 
