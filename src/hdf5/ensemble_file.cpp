@@ -55,6 +55,15 @@ void describe_inputs(hid_t inputs, const ensemble::EnsembleSpec& spec) {
   h5::write_attribute(inputs, "column_targets", target);
   h5::write_attribute(inputs, "column_distributions", distribution);
   h5::write_attribute(inputs, "column_modes", mode);
+  if (spec.correlations.empty()) return;
+  // The correlated pairs ([[ensemble.correlation]]), so that a reader tells
+  // a dependence the job asked for from one the sample happened to have.
+  const std::vector<std::string> names = spec.input_names();
+  std::vector<std::string> pairs;
+  for (const ensemble::InputCorrelation& c : spec.correlations)
+    pairs.push_back(names[c.a] + " ~ " + names[c.b] + ": normal copula " + format_number(c.normal_copula) +
+                    ", Spearman " + format_number(ensemble::spearman_of_normal_copula(c.normal_copula)));
+  h5::write_attribute(inputs, "correlated_pairs", pairs);
 }
 
 // The /samples/responses attributes: what each column is and its limit.

@@ -201,10 +201,43 @@ def input_correlations(f, rows):
     return pairs, names, int(ok.sum())
 
 
+def per_input_sobol(s):
+    """Whether the per-input Sobol' indices are there: a grouped design has them per group."""
+    return "total_order" in s and "group_total_order" not in s
+
+
 def driver_order(s):
-    """Inputs ranked by total Sobol' index where there is one, else by |SRRC|."""
-    key = s["total_order"][:] if "total_order" in s else np.abs(s["srrc"][:])
+    """Inputs ranked by total Sobol' index where there is one per input, else by |SRRC|."""
+    key = s["total_order"][:] if per_input_sobol(s) else np.abs(s["srrc"][:])
     return np.argsort(-np.nan_to_num(key, nan=-1.0), kind="stable")
+
+
+def asked_correlations(f):
+    """The input pairs the job correlates on purpose ([[ensemble.correlation]]), as written in the file
+    ("A ~ B: normal copula rho, Spearman r")."""
+    return strings(f["samples/inputs"].attrs.get("correlated_pairs", []))
+
+
+def asked_pair(asked, a, b):
+    return any(set(text.split(": ")[0].split(" ~ ")) == {a, b} for text in asked)
+
+
+def group_drivers(page, name, s):
+    """A grouped Saltelli design: one total and first-order index per group of inputs taken together."""
+    groups = strings(s["group_total_order"].attrs["columns"])
+    members = strings(s.attrs.get("group_inputs", [""] * len(groups)))
+    total, first = s["group_total_order"][:], s["group_first_order"][:]
+    order = np.argsort(-np.nan_to_num(total, nan=-1.0), kind="stable")
+    strong = [i for i in order if np.isfinite(total[i]) and total[i] >= 0.05]
+    words = f"{name} is driven by " + (", ".join(f"{groups[i]} (total Sobol' index {total[i]:.2g})" for i in strong)
+                                       if strong else "no single group")
+    weak = [groups[i] for i in order if i not in strong]
+    if weak:
+        words += f"; {', '.join(weak)} matter little (total Sobol' index below 0.05)"
+    page.note(words + " (groups: the inputs of each taken together).", "good")
+    page.table(["group", "its inputs", "total Sobol' [95 %]", "first order [95 %]"],
+               [[groups[i], members[i], interval(total[i], s["group_total_order_ci"][i]),
+                 interval(first[i], s["group_first_order_ci"][i])] for i in order])
 
 
 def interval(v, ci):
@@ -213,7 +246,7 @@ def interval(v, ci):
 
 def conclusion(name, s, order, names):
     """One sentence: what drives the response, and what does not matter."""
-    sobol = "total_order" in s
+    sobol = per_input_sobol(s)
     key = s["total_order"][:] if sobol else np.abs(s["srrc"][:])
     measure = "total Sobol' index" if sobol else "|SRRC|"
     strong = [i for i in order if np.isfinite(key[i]) and key[i] >= 0.05]
@@ -234,12 +267,19 @@ def drivers(f, page, rows):
                    "variance that goes away if the input were known), else by the standardised rank regression "
                    "coefficient (SRRC: the input's own effect with the others held fixed). Spearman's rank "
                    "correlation is each input alone; with inputs correlated in the sample it mixes their effects.")
+    asked = asked_correlations(f)
+    if asked:
+        page.note("Inputs correlated on purpose by the job ([[ensemble.correlation]], a normal copula on each "
+                  "input's own distribution): " + "; ".join(asked) + ". Their Spearman coefficients below mix "
+                  "each other's effects; the SRRC separate them.")
     responses = strings(f["samples/responses"].attrs["columns"])
     for name in [r for r in responses if r in f["sensitivity"]]:
         s = f["sensitivity"][name]
         order = driver_order(s)[:TOP_DRIVERS]
-        sobol = "total_order" in s
+        sobol = per_input_sobol(s)
         r2 = s.attrs.get("rank_r_squared", float("nan"))
+        if "group_total_order" in s:
+            group_drivers(page, name, s)
         page.note(conclusion(name, s, order, names), "good")
         header = ["input"] + (["total Sobol' [95 %]", "first order [95 %]"] if sobol else []) + \
                  ["SRRC", "Spearman", "note"]
@@ -250,14 +290,16 @@ def drivers(f, page, rows):
                 row += [interval(s["total_order"][i], s["total_order_ci"][i]),
                         interval(s["first_order"][i], s["first_order_ci"][i])]
             chance = 2 / math.sqrt(n - 1) if n > 1 else 1.0
-            note = "; ".join(f"correlated with {names[j]} in these runs (rho = {rho:.2f}; chance alone gives "
-                             f"|rho| up to about {chance:.2f} at n = {n})" for j, rho in pairs.get(i, []))
+            note = "; ".join(f"correlated with {names[j]} in these runs (rho = {rho:.2f}; "
+                             + ("asked by the job)" if asked_pair(asked, names[i], names[j]) else
+                                f"chance alone gives |rho| up to about {chance:.2f} at n = {n})")
+                             for j, rho in pairs.get(i, []))
             row += [f"{s['srrc'][i]:.3f}", f"{s['spearman'][i]:.3f}", note]
             table.append(row)
         used = int(s.attrs.get("rank_samples", n))
         page.paragraph(f"{name}: rank R² = {r2:.2f} over {used} runs (how much of the response's rank variance the "
                        f"SRRC explain; near 1 the ranking by SRRC is trustworthy).")
-        if r2 < 0.7 and not sobol:
+        if r2 < 0.7 and "total_order" not in s:
             page.note(f"{name}: the SRRC explain only {r2:.0%} of its rank variance: the response is not monotone "
                       f"in the inputs or they interact, so this ranking is uncertain; a saltelli design gives "
                       f"Sobol' indices that do not assume monotonicity.")

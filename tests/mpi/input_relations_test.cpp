@@ -30,7 +30,15 @@ std::string spherical_job(const std::string& ensemble, const std::string& extra)
          extra;
 }
 
-const std::string kCorrelations = R"(
+const std::string kHighestAngle = R"(
+[[ensemble.response]]
+name = "highest_angle"
+quantity = "joint_angle"
+column = "rod.angle"
+reduce = "max"
+)";
+
+const std::string kCorrelations = kHighestAngle + R"(
 [[ensemble.correlation]]
 inputs = ["body.rod.angular_velocity.z", "body.rod.joint_on_child.z"]
 spearman = 0.7
@@ -58,6 +66,14 @@ std::vector<double> input_column(hid_t file, std::size_t c) {
   std::vector<double> out;
   for (std::size_t k = c; k < all.size(); k += 5) out.push_back(all[k]);
   return out;
+}
+
+// `treedyn report` of `out`: its page's text.
+std::string report_page(const fs::path& out, const TempDir& dir) {
+  const fs::path page = dir.path() / (out.stem().string() + "_report");
+  const CommandResult r = run_command(TREEDYN_BINARY, {"report", out.string(), "-o", page.string()}, dir.path() / "capture");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  return read_text(page / "index.html");
 }
 
 // 4096 Sobol samples with two correlations asked: the rank correlations of
@@ -97,6 +113,10 @@ TEST(InputRelations, CorrelatedInputsHaveTheAskedRankCorrelationsAndTheSameBitsO
       std::printf("Spearman(input %zu, input %zu) = %+.4f, asked %+.4f\n", a, b, r, asked[a][b]);
       EXPECT_NEAR(r, asked[a][b], 0.04) << a << ", " << b;
     }
+  // The file says which pairs were asked; the report tells them from chance.
+  EXPECT_EQ(read_string_attribute(first.id(), "/samples/inputs", "correlated_pairs").size(), 2u);
+  if (skipped_when_sanitized("correlated inputs", true).empty())  // the report's Python: the normal pass
+    EXPECT_NE(report_page(outputs[0], dir).find("Inputs correlated on purpose by the job"), std::string::npos);
 }
 
 // Saltelli with one group (spin and pivot together): the orientation is a
@@ -112,13 +132,7 @@ TEST(InputRelations, AGroupedSaltelliDesignRunsNTimesGPlusTwoAndWritesGroupIndic
 [[ensemble.group]]
 name = "spin_and_pivot"
 inputs = ["body.rod.angular_velocity.z", "body.rod.joint_on_child.z"]
-
-[[ensemble.response]]
-name = "highest_angle"
-quantity = "joint_angle"
-column = "rod.angle"
-reduce = "max"
-)"));
+)" + kHighestAngle));
   const auto check = run_command(TREEDYN_ENSEMBLE_BINARY, {"--check", job.string()}, dir.path() / "capture");
   ASSERT_EQ(check.exit_code, 0) << check.err;
   EXPECT_NE(check.out.find("saltelli with 2 groups: base size N = 8, N (G + 2) = 8 x 4 = 32 runs"), std::string::npos)
@@ -146,6 +160,11 @@ reduce = "max"
   for (double v : read_doubles(f.id(), g + "first_order")) EXPECT_TRUE(std::isnan(v)) << "an input of a group";
   for (double v : read_doubles(f.id(), g + "group_total_order")) EXPECT_TRUE(std::isfinite(v));
   EXPECT_EQ(read_doubles(f.id(), g + "spearman").size(), 5u);
+  if (!skipped_when_sanitized("grouped indices", true).empty()) return;  // the report's Python: the normal pass
+  const std::string page = report_page(out, dir);
+  EXPECT_NE(page.find("(groups: the inputs of each taken together)"), std::string::npos);
+  EXPECT_NE(page.find("<td>spin_and_pivot</td><td>body.rod.angular_velocity.z, body.rod.joint_on_child.z</td>"),
+            std::string::npos);
 }
 
 // Bad input: exit 2, FILE:LINE:COLUMN: FIELD, what was wrong and what is
