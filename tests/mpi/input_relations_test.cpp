@@ -115,8 +115,9 @@ TEST(InputRelations, CorrelatedInputsHaveTheAskedRankCorrelationsAndTheSameBitsO
     }
   // The file says which pairs were asked; the report tells them from chance.
   EXPECT_EQ(read_string_attribute(first.id(), "/samples/inputs", "correlated_pairs").size(), 2u);
-  if (skipped_when_sanitized("correlated inputs", true).empty())  // the report's Python: the normal pass
+  if (skipped_when_sanitized("correlated inputs", true).empty()) {  // the report's Python: the normal pass
     EXPECT_NE(report_page(outputs[0], dir).find("Inputs correlated on purpose by the job"), std::string::npos);
+  }
 }
 
 // Saltelli with one group (spin and pivot together): the orientation is a
