@@ -9,8 +9,8 @@ import unittest
 import h5py
 import numpy as np
 
-from answers import (conclusion, input_correlations, last_time_warnings, mean_verdict, outside_range_warnings,
-                     probability_verdict)
+from answers import (asked_pair, conclusion, driver_order, group_drivers, input_correlations, last_time_warnings,
+                     mean_verdict, outside_range_warnings, probability_verdict)
 from history import constant_columns, rotation_angle_degrees, valid_range
 from read import counted_rows
 from view3d import script_json
@@ -149,6 +149,42 @@ class FromFiles(unittest.TestCase):
             words = conclusion("y", f["s"], [1, 0], ["a", "b"])
         self.assertEqual(words, "y is driven by b (total Sobol' index 0.9); a matter little (total Sobol' index "
                                 "below 0.05).")
+
+
+    def test_a_grouped_design_ranks_groups_by_their_indices_and_inputs_by_srrc(self):
+        def build(f):
+            f["s/total_order"] = np.array([np.nan, np.nan, 0.02])  # inputs 0 and 1 are one group
+            f["s/srrc"] = np.array([0.1, 0.8, 0.05])
+            f["s/group_total_order"] = np.array([0.97, 0.02])
+            f["s/group_total_order"].attrs["columns"] = ["start", "c"]
+            f["s/group_first_order"] = np.array([0.95, 0.01])
+            f["s/group_total_order_ci"] = np.array([[0.9, 1.0], [0.0, 0.05]])
+            f["s/group_first_order_ci"] = np.array([[0.9, 1.0], [0.0, 0.04]])
+            f["s"].attrs["group_inputs"] = ["a, b", "c"]
+        write(self.path, build)
+
+        class Collect:
+            def __init__(self):
+                self.notes, self.tables = [], []
+
+            def note(self, words, kind="warning"):
+                self.notes.append(words)
+
+            def table(self, header, rows, code_columns=()):
+                self.tables.append(rows)
+
+        page = Collect()
+        with h5py.File(self.path) as f:
+            self.assertEqual(list(driver_order(f["s"])), [1, 0, 2])  # by |SRRC|: the Sobol' ones are per group
+            group_drivers(page, "y", f["s"])
+        self.assertEqual(page.notes, ["y is driven by start (total Sobol' index 0.97); c matter little (total "
+                                      "Sobol' index below 0.05) (groups: the inputs of each taken together)."])
+        self.assertEqual([row[:2] for row in page.tables[0]], [["start", "a, b"], ["c", "c"]])
+
+    def test_asked_pairs_are_matched_by_name_not_by_substring(self):
+        asked = ["body.a.mass ~ body.b.mass: normal copula 0.5, Spearman 0.48"]
+        self.assertTrue(asked_pair(asked, "body.b.mass", "body.a.mass"))
+        self.assertFalse(asked_pair(asked, "body.a.mas", "body.b.mass"))
 
 
 class Readings(unittest.TestCase):
