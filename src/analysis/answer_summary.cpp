@@ -14,11 +14,15 @@ std::string number(double v, const char* format = "%.6g") {
   return buffer;
 }
 
-// The inputs that matter most: by total Sobol' index (saltelli), else by
-// |Spearman|; at most three.
+// The inputs (a grouped design: the groups) that matter most: by total
+// Sobol' index (saltelli), else by |Spearman|; at most three.
 void print_drivers(std::ostream& out, const EnsembleSpec& spec, const ResponseAnswer& a) {
-  const std::vector<std::string> names = spec.input_names();
+  std::vector<std::string> names = spec.input_names();
   const bool sobol = a.sobol.has_value();
+  if (sobol && spec.grouped) {
+    names.clear();
+    for (const SobolUnit& unit : spec.sobol_units) names.push_back(unit.name);
+  }
   const std::vector<double>& measure = sobol ? a.sobol->total : a.ranks.spearman;
   if (measure.size() != names.size() || names.empty()) return;
   std::vector<std::size_t> order;
@@ -28,7 +32,10 @@ void print_drivers(std::ostream& out, const EnsembleSpec& spec, const ResponseAn
   std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) {
     return std::abs(measure[x]) > std::abs(measure[y]);
   });
-  out << "    drivers (" << (sobol ? "total Sobol' index" : "Spearman rank correlation") << "):";
+  out << "    drivers (" << (sobol && spec.grouped ? "groups, total Sobol' index"
+                          : sobol                ? "total Sobol' index"
+                                                 : "Spearman rank correlation")
+      << "):";
   for (std::size_t k = 0; k < std::min<std::size_t>(order.size(), 3); ++k)
     out << (k ? "," : "") << " " << names[order[k]] << " " << number(measure[order[k]], "%.3g");
   out << "\n";

@@ -144,6 +144,8 @@ std::vector<ResponseAnswer> answer_responses(const EnsembleSpec& spec, const Res
     level_zero.truncate(spec.base_samples);
     return answer_responses(spec, level_zero);
   }
+  if (table.input_count() != spec.input_dimensions())
+    throw std::invalid_argument("answers: the table's inputs are not the ensemble's");
   std::vector<ResponseAnswer> answers;
   for (std::size_t r = 0; r < spec.responses.size(); ++r)
     answers.push_back(answer_response(spec, table, r, table.samples(), true));

@@ -34,7 +34,7 @@ struct Exceedance {
   Interval interval;             // 95 % Wilson
 };
 
-// One row per sample count m = 1, 2, 4, ..., and N (saltelli: m = (D + 2)
+// One row per sample count m = 1, 2, 4, ..., and N (saltelli: m = (U + 2)
 // times 1, 2, 4, ... blocks, and N): the answers from samples 0 .. m-1.
 struct ConvergencePoint {
   std::uint64_t samples = 0;  // m

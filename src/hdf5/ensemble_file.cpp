@@ -117,9 +117,10 @@ EnsembleWriter::EnsembleWriter(const std::filesystem::path& path, const Job& job
   h5::write_attribute(samples_.id(), "description",
                       spec.design == ensemble::Design::saltelli
                           ? std::string("one row per run, by sample index 0 .. samples-1; saltelli: "
-                                        "row j (D + 2) + r is A_j (r = 0), B_j (r = 1), AB_i,j (r = 2 + i: "
-                                        "A_j with input i from B_j); base_samples N and saltelli_block "
-                                        "D + 2 are root attributes")
+                                        "row j (U + 2) + r is A_j (r = 0), B_j (r = 1), AB_u,j (r = 2 + u: "
+                                        "A_j with unit u's inputs from B_j; a unit is one input, or a group "
+                                        "with [[ensemble.group]]); base_samples N and saltelli_block "
+                                        "U + 2 are root attributes")
                           : std::string("one row per sample, by sample index 0 .. samples-1"));
   create_sample_columns();
   create_reductions();

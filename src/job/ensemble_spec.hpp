@@ -48,7 +48,7 @@ struct SobolUnit {
 };
 
 struct EnsembleSpec {
-  std::uint64_t samples = 100;       // runs; for saltelli base_samples * (D + 2)
+  std::uint64_t samples = 100;       // runs; for saltelli base_samples * (U + 2), U = D without groups
   std::uint64_t base_samples = 100;  // `samples` as the job gives it (saltelli: the base size N)
   std::uint64_t seed = 1;
   Design design = Design::monte_carlo;
@@ -64,7 +64,7 @@ struct EnsembleSpec {
   int bootstrap_resamples = 1000;        // for the Sobol' index intervals
   std::optional<StopRule> stop;          // `samples` is then the most the run makes
   std::optional<SubsetSpec> subset;      // design = "subset_simulation": samples = the most runs
-  std::vector<SobolUnit> sobol_units;    // saltelli: the units (read_ensemble fills them)
+  std::vector<SobolUnit> sobol_units;    // Saltelli's units (read_ensemble fills them for every design)
   bool grouped = false;                  // [[ensemble.group]] given: sobol_units are not the inputs
   std::vector<InputCorrelation> correlations;
 

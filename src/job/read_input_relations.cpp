@@ -41,13 +41,18 @@ std::vector<unsigned> dimensions_of(const EnsembleSpec& s, std::size_t p) {
   return out;
 }
 
-// The perturbation whose target is `target`, or the error listing them.
+// The perturbation whose target is `target`, or the error listing them
+// (or saying that two perturbations share it, so the name is ambiguous).
 std::size_t perturbation_named(const TomlView& t, const EnsembleSpec& s, const std::string& target,
                                const toml::node* node) {
   std::vector<std::string_view> targets;
-  for (std::size_t p = 0; p < s.perturbations.size(); ++p) {
-    if (s.perturbations[p].target == target) return p;
-    targets.push_back(s.perturbations[p].target);
+  for (const Perturbation& p : s.perturbations) targets.push_back(p.target);
+  const auto first = std::find(targets.begin(), targets.end(), target);
+  if (first != targets.end()) {
+    if (std::count(targets.begin(), targets.end(), target) > 1)
+      t.fail_at(node, "inputs", "\"" + target + "\" is the target of more than one [[ensemble.perturbation]]; "
+                                "a group cannot tell them apart");
+    return static_cast<std::size_t>(first - targets.begin());
   }
   std::string listed;
   for (auto name : targets) listed += " " + std::string(name);
@@ -114,7 +119,9 @@ void read_groups(const TomlView& t, EnsembleSpec& s) {
     const std::string& name = groups.back().name;
     for (std::size_t k = 0; k + 1 < groups.size(); ++k)
       if (groups[k].name == name) g.fail("name", "group \"" + name + "\" is defined twice; names must be unique");
-    if (std::find(names.begin(), names.end(), name) != names.end())
+    const bool target = std::any_of(s.perturbations.begin(), s.perturbations.end(),
+                                    [&](const Perturbation& p) { return p.target == name; });
+    if (target || std::find(names.begin(), names.end(), name) != names.end())
       g.fail("name", "\"" + name + "\" is the name of an input; give the group a name of its own");
   }
   s.sobol_units = grouped_units(s, std::move(groups), taken);
@@ -127,7 +134,12 @@ namespace {
 unsigned input_named(const TomlView& t, const std::vector<std::string>& names, const std::string& name,
                      const toml::node* node) {
   const auto at = std::find(names.begin(), names.end(), name);
-  if (at != names.end()) return static_cast<unsigned>(at - names.begin());
+  if (at != names.end()) {
+    if (std::count(names.begin(), names.end(), name) > 1)
+      t.fail_at(node, "inputs", "\"" + name + "\" is an input of more than one [[ensemble.perturbation]] (the same "
+                                "target twice); a correlation cannot tell them apart");
+    return static_cast<unsigned>(at - names.begin());
+  }
   std::string listed;
   for (const auto& n : names) listed += " " + n;
   const std::vector<std::string_view> views(names.begin(), names.end());
@@ -163,12 +175,20 @@ std::string describe(const InputCorrelation& c, const std::vector<std::string>& 
 }
 
 // The normal copula's matrix must stay positive definite with entry `c`
-// added: its smallest eigenvalue says.
+// added: the smallest eigenvalue of its correlated inputs' part says (the
+// rest is the identity).
 void check_positive_definite(const TomlView& c, const EnsembleSpec& s) {
   const std::vector<std::string> names = s.input_names();
-  const auto d = static_cast<Eigen::Index>(names.size());
-  Eigen::MatrixXd r = Eigen::MatrixXd::Identity(d, d);
-  for (const InputCorrelation& k : s.correlations) r(k.a, k.b) = r(k.b, k.a) = k.normal_copula;
+  std::vector<unsigned> inputs;
+  for (const InputCorrelation& k : s.correlations) inputs.insert(inputs.end(), {k.a, k.b});
+  std::sort(inputs.begin(), inputs.end());
+  inputs.erase(std::unique(inputs.begin(), inputs.end()), inputs.end());
+  auto at = [&inputs](unsigned d) {
+    return static_cast<Eigen::Index>(std::lower_bound(inputs.begin(), inputs.end(), d) - inputs.begin());
+  };
+  const auto n = static_cast<Eigen::Index>(inputs.size());
+  Eigen::MatrixXd r = Eigen::MatrixXd::Identity(n, n);
+  for (const InputCorrelation& k : s.correlations) r(at(k.a), at(k.b)) = r(at(k.b), at(k.a)) = k.normal_copula;
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(r, Eigen::EigenvaluesOnly);
   const double smallest = eigen.eigenvalues().minCoeff();
   if (smallest > 1e-10) return;

@@ -63,8 +63,8 @@ def sensitivity_figures(f, page):
     names = list(f["sensitivity"].keys())
     inputs = strings(f["sensitivity"][names[0]]["spearman"].attrs["columns"])
     measures = [("Spearman", "spearman", "RdBu_r", -1), ("SRRC", "srrc", "RdBu_r", -1)]
-    if "total_order" in f["sensitivity"][names[0]]:
-        measures.append(("total Sobol'", "total_order", "Oranges", 0))
+    if "total_order" in f["sensitivity"][names[0]] and "group_total_order" not in f["sensitivity"][names[0]]:
+        measures.append(("total Sobol'", "total_order", "Oranges", 0))  # a grouped design's are per group
     fig, axes = plt.subplots(1, len(measures), figsize=(2.2 + 1.6 * len(names) * len(measures),
                                                         1.2 + 0.35 * len(inputs)), squeeze=False,
                              layout="constrained")

@@ -104,7 +104,7 @@ SampleDesign::SampleDesign(Design design, std::uint64_t seed, std::uint64_t samp
   if (unit_of_dimension_.empty())
     for (unsigned d = 0; d < dimensions; ++d) unit_of_dimension_.push_back(d);
   if (unit_of_dimension_.size() != dimensions)
-    throw std::invalid_argument("saltelli design: one unit per input dimension");
+    throw std::invalid_argument("sample design: one Saltelli unit per input dimension");
   units_ = dimensions == 0 ? 0 : *std::max_element(unit_of_dimension_.begin(), unit_of_dimension_.end()) + 1;
   const unsigned sobol_dimensions = design == Design::saltelli ? 2 * dimensions : dimensions;
   const bool uses_sobol = design == Design::sobol || design == Design::saltelli;

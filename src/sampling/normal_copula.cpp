@@ -31,17 +31,17 @@ NormalCopula::NormalCopula(unsigned dimensions, std::span<const InputCorrelation
   const Eigen::LLT<Eigen::MatrixXd> llt(r);
   if (llt.info() != Eigen::Success) throw std::invalid_argument("normal copula: the correlation matrix is not positive definite");
   lower_ = llt.matrixL();
-  z_.resize(n);
 }
 
 void NormalCopula::correlate(std::span<double> u) const {
   const boost::math::normal standard;
   const auto n = static_cast<Eigen::Index>(inputs_.size());
-  for (Eigen::Index k = 0; k < n; ++k) z_[k] = boost::math::quantile(standard, u[inputs_[static_cast<std::size_t>(k)]]);
+  Eigen::VectorXd z(n);  // a few doubles per sample, so that correlate() is safe on any thread
+  for (Eigen::Index k = 0; k < n; ++k) z[k] = boost::math::quantile(standard, u[inputs_[static_cast<std::size_t>(k)]]);
   for (Eigen::Index k = 0; k < n; ++k) {
     const bool unit_row = lower_.row(k).head(k).isZero(0.0);
     if (unit_row) continue;  // z'_k = z_k: the uniform keeps its bits
-    const double correlated = lower_.row(k).head(k + 1).dot(z_.head(k + 1));
+    const double correlated = lower_.row(k).head(k + 1).dot(z.head(k + 1));
     // Phi rounds to 1 beyond z = 8.3: keep u' inside (0, 1), where every
     // quantile function is finite.
     u[inputs_[static_cast<std::size_t>(k)]] = std::clamp(boost::math::cdf(standard, correlated), 0x1p-1000, 1.0 - 0x1p-53);

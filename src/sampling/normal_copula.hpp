@@ -42,7 +42,6 @@ class NormalCopula {
  private:
   std::vector<unsigned> inputs_;  // the correlated input dimensions, ascending
   Eigen::MatrixXd lower_;         // L of R restricted to inputs_
-  mutable Eigen::VectorXd z_;     // workspace
 };
 
 }  // namespace treedyn::ensemble

@@ -194,4 +194,27 @@ TEST(SaltelliDesign, BlocksHoldABAndTheMixedRows) {
   EXPECT_TRUE(nested_prefixes(Design::saltelli));
 }
 
+// With groups ([[ensemble.group]]): 5 inputs in 3 units {0, 3}, {1}, {2, 4}
+// make blocks of 3 + 2 runs; A and B are the ungrouped design's (same 2D
+// Sobol dimensions) and AB_g takes exactly unit g's inputs from B.
+TEST(SaltelliDesign, GroupedBlocksTakeAWholeGroupFromB) {
+  constexpr unsigned D = 5, U = 3;
+  const std::vector<unsigned> unit = {0, 1, 2, 0, 2};
+  const SampleDesign grouped(Design::saltelli, 9, 8 * (U + 2), D, unit), plain(Design::saltelli, 9, 8 * (D + 2), D);
+  for (std::uint64_t j : {0u, 3u, 7u}) {
+    std::vector<double> a(D), b(D), ab(D), plain_a(D), plain_b(D);
+    grouped.point(j * (U + 2), a);
+    grouped.point(j * (U + 2) + 1, b);
+    plain.point(j * (D + 2), plain_a);
+    plain.point(j * (D + 2) + 1, plain_b);
+    EXPECT_EQ(a, plain_a);
+    EXPECT_EQ(b, plain_b);
+    for (unsigned g = 0; g < U; ++g) {
+      grouped.point(j * (U + 2) + 2 + g, ab);
+      for (unsigned d = 0; d < D; ++d) EXPECT_EQ(ab[d], unit[d] == g ? b[d] : a[d]) << "j " << j << " g " << g;
+      EXPECT_EQ(saltelli_place(j * (U + 2) + 2 + g, U).unit, g);
+    }
+  }
+}
+
 }  // namespace

@@ -161,6 +161,12 @@ inputs = ["body.rod.angular_velocity.z", "body.rod.joint_on_child.z"]
   for (double v : read_doubles(f.id(), g + "first_order")) EXPECT_TRUE(std::isnan(v)) << "an input of a group";
   for (double v : read_doubles(f.id(), g + "group_total_order")) EXPECT_TRUE(std::isfinite(v));
   EXPECT_EQ(read_doubles(f.id(), g + "spearman").size(), 5u);
+  // The run's own summary ranks the groups.
+  const auto alone = run_command(TREEDYN_ENSEMBLE_BINARY, {job.string(), "-o", (dir.path() / "alone.h5").string()},
+                                 dir.path() / "capture");
+  ASSERT_EQ(alone.exit_code, 0) << alone.err;
+  EXPECT_NE((alone.out + alone.err).find("drivers (groups, total Sobol' index): "), std::string::npos)
+      << alone.out << alone.err;
   if (!skipped_when_sanitized("grouped indices", true).empty()) return;  // the report's Python: the normal pass
   const std::string page = report_page(out, dir);
   EXPECT_NE(page.find("(groups: the inputs of each taken together)"), std::string::npos);
@@ -266,8 +272,10 @@ TEST(InputRelations, GroupsOutsideSaltelliOrOfUnknownOrRepeatedInputsAreRefused)
   const std::string group = "\n[[ensemble.group]]\nname = \"start\"\ninputs = [\"body.rod.orientation\", \"body.rod.angular_velocity.z\"]\n";
   expect_refused(kSobol, group, {"ensemble.group[1].name: [[ensemble.group]] sets which inputs Saltelli's design "
                                  "moves together; it is only for design = \"saltelli\""});
-  expect_refused(kSaltelli, "\n[[ensemble.group]]\nname = \"start\"\ninputs = [\"body.rod.orientation.x\"]\n",
-                 {"ensemble.group[1].inputs: \"body.rod.orientation.x\" is not the target of an "
+  const std::string unknown = "\n[[ensemble.group]]\nname = \"start\"\ninputs = [\"body.rod.orientation.x\"]\n";
+  expect_refused(kSaltelli, unknown,
+                 {":" + position_of(spherical_job(kSaltelli, unknown), "\"body.rod.orientation.x\"]") +
+                      ": ensemble.group[1].inputs: \"body.rod.orientation.x\" is not the target of an "
                   "[[ensemble.perturbation]]; they are: body.rod.orientation body.rod.angular_velocity.z "
                   "body.rod.joint_on_child.z; did you mean 'body.rod.orientation'?"});
   expect_refused(kSaltelli, group + "\n[[ensemble.group]]\nname = \"spin\"\ninputs = [\"body.rod.angular_velocity.z\"]\n",
