@@ -293,7 +293,7 @@ long restored_count(const std::string& err) {
 
 // Waits until `ranks` ranks hold (their held-rankR files); the run's own
 // messages explain a run that never gets there. The limit only guards
-// against a hang: the sanitized suite on a loaded Debian 13 machine took
+// against a hang: the sanitized suite (ctest -j2) on a fresh Debian 13 took
 // more than 60 s to bring its second rank to 15 samples.
 void await_held(const fs::path& checkpoint, int ranks, const Background& run) {
   ASSERT_TRUE(wait_for([&] { return static_cast<int>(held_ranks(checkpoint).size()) >= ranks; }, 300s))  // under ctest's 600 s
