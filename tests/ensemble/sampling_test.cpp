@@ -475,17 +475,10 @@ TEST(Sampling, PointDependsOnlyOnSeedSampleDimension) {
 using treedyn::ensemble::InputCorrelation;
 using treedyn::ensemble::NormalCopula;
 
-// Spearman's rank correlation of two columns: Pearson's on their ranks.
+// Spearman's rank correlation of two columns: the project's own
+// (analysis/sensitivity.hpp), x as the one input and y as the response.
 double spearman(const std::vector<double>& x, const std::vector<double>& y) {
-  const std::vector<double> rx = treedyn::ensemble::average_ranks(x), ry = treedyn::ensemble::average_ranks(y);
-  const double n = static_cast<double>(x.size()), mean = (n + 1.0) / 2.0;
-  double sxy = 0.0, sxx = 0.0, syy = 0.0;
-  for (std::size_t k = 0; k < x.size(); ++k) {
-    sxy += (rx[k] - mean) * (ry[k] - mean);
-    sxx += (rx[k] - mean) * (rx[k] - mean);
-    syy += (ry[k] - mean) * (ry[k] - mean);
-  }
-  return sxy / std::sqrt(sxx * syy);
+  return treedyn::ensemble::rank_sensitivity(x, 1, y).spearman.at(0);
 }
 
 // Three inputs with normal, uniform and lognormal marginals, correlated

@@ -228,27 +228,12 @@ TEST(EnsembleCommand, SrunTasksWithoutPmiAreRefusedBeforeMpiStarts) {
 // `extra` appended to the job and `ensemble_extra` put inside [ensemble].
 void expect_refused(const std::string& extra, const std::vector<std::string>& words,
                     const std::string& ensemble_extra = "") {
-  TempDir dir("ensemble_command_test");
   std::string text = read_text(std::string(TREEDYN_JOBS_DIR) + "/kapitza.toml");
   if (!ensemble_extra.empty()) {
     const std::size_t at = text.find("[ensemble]\n");
     text.insert(at + 11, ensemble_extra);
   }
-  const fs::path job = dir.path() / "job.toml";
-  write_text(job, text + extra);
-  fs::create_directory(dir.path() / "capture");
-  for (const std::vector<std::string>& args :
-       {std::vector<std::string>{"--check", job.string()},
-        std::vector<std::string>{job.string(), "-o", (dir.path() / "out.h5").string()}}) {
-    const CommandResult r = run_command(TREEDYN_ENSEMBLE_BINARY, args, dir.path() / "capture");
-    EXPECT_EQ(r.exit_code, 2) << r.err;
-    EXPECT_EQ(r.err.rfind("error: " + job.string() + ":", 0), 0u) << r.err;
-    for (const std::string& w : words) EXPECT_NE(r.err.find(w), std::string::npos) << w << "\n" << r.err;
-  }
-  EXPECT_FALSE(fs::exists(dir.path() / "out.h5"));
-  std::size_t files = 0;
-  for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir.path())) ++files;
-  EXPECT_EQ(files, 2u) << "only the job and the capture directory";
+  expect_job_refused(text + extra, words);
 }
 
 const std::string kResponse = "\n[[ensemble.response]]\nname = \"tip_low\"\n";  // the third

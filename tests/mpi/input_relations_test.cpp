@@ -48,16 +48,10 @@ inputs = ["body.rod.orientation.x", "body.rod.angular_velocity.z"]
 normal_copula = -0.5
 )";
 
+// Spearman's rank correlation of two columns: the project's own
+// (analysis/sensitivity.hpp), x as the one input and y as the response.
 double spearman(const std::vector<double>& x, const std::vector<double>& y) {
-  const std::vector<double> rx = treedyn::ensemble::average_ranks(x), ry = treedyn::ensemble::average_ranks(y);
-  const double mean = (static_cast<double>(x.size()) + 1.0) / 2.0;
-  double sxy = 0.0, sxx = 0.0, syy = 0.0;
-  for (std::size_t k = 0; k < x.size(); ++k) {
-    sxy += (rx[k] - mean) * (ry[k] - mean);
-    sxx += (rx[k] - mean) * (rx[k] - mean);
-    syy += (ry[k] - mean) * (ry[k] - mean);
-  }
-  return sxy / std::sqrt(sxx * syy);
+  return treedyn::ensemble::rank_sensitivity(x, 1, y).spearman.at(0);
 }
 
 // Column c of /samples/inputs (rows x 5).
@@ -222,18 +216,7 @@ normal_copula = 0.8
 // Bad input: exit 2, FILE:LINE:COLUMN: FIELD, what was wrong and what is
 // allowed, nothing written.
 void expect_refused(const std::string& ensemble, const std::string& extra, const std::vector<std::string>& words) {
-  TempDir dir("input_relations_test");
-  const fs::path job = dir.path() / "job.toml";
-  write_text(job, spherical_job(ensemble, extra));
-  for (const std::vector<std::string>& args :
-       {std::vector<std::string>{"--check", job.string()},
-        std::vector<std::string>{job.string(), "-o", (dir.path() / "out.h5").string()}}) {
-    const CommandResult r = run_command(TREEDYN_ENSEMBLE_BINARY, args, dir.path() / "capture");
-    EXPECT_EQ(r.exit_code, 2) << r.err;
-    EXPECT_EQ(r.err.rfind("error: " + job.string() + ":", 0), 0u) << r.err;
-    for (const std::string& w : words) EXPECT_NE(r.err.find(w), std::string::npos) << w << "\n" << r.err;
-  }
-  EXPECT_FALSE(fs::exists(dir.path() / "out.h5"));
+  expect_job_refused(spherical_job(ensemble, extra), words);
 }
 
 const std::string kSobol = "samples = 64\nseed = 1\ndesign = \"sobol\"";

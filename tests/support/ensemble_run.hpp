@@ -155,6 +155,27 @@ inline std::string skipped_when_sanitized_as_large(const std::string& what) {
 #endif
 }
 
+// Bad input: `text` as a job is refused by `treedyn-ensemble --check` and by
+// a run alike, with exit 2, "error: FILE:" first and every one of `words` in
+// the message, and nothing written beside the job (only the job file and the
+// capture directory stay in a fresh directory).
+inline void expect_job_refused(const std::string& text, const std::vector<std::string>& words) {
+  TempDir dir("refused_job");
+  const std::filesystem::path job = dir.path() / "job.toml";
+  write_text(job, text);
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{"--check", job.string()},
+        std::vector<std::string>{job.string(), "-o", (dir.path() / "out.h5").string()}}) {
+    const CommandResult r = run_command(TREEDYN_ENSEMBLE_BINARY, args, dir.path() / "capture");
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_EQ(r.err.rfind("error: " + job.string() + ":", 0), 0u) << r.err;
+    for (const std::string& w : words) EXPECT_NE(r.err.find(w), std::string::npos) << w << "\n" << r.err;
+  }
+  std::size_t files = 0;
+  for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(dir.path())) ++files;
+  EXPECT_EQ(files, 2u) << "only the job and the capture directory";
+}
+
 inline std::string describe(int ranks) {
   return ranks == 0 ? std::string("the binary alone") : "mpirun -np " + std::to_string(ranks);
 }
