@@ -122,6 +122,10 @@ void print_ensemble_summary(std::ostream& out, const Job& job, const EnsembleSpe
       out << " per rotation-vector component, rad";
     else if (p.kind == Kind::rotation)
       out << ", rad, composed with the nominal orientation";
+    else if (p.kind == Kind::parameter_list)
+      out << " per entry (" << p.entries << " inputs), "
+          << (p.mode == Mode::scale ? "multiplies" : p.mode == Mode::add ? "is added to" : "replaces")
+          << " each nominal entry";
     else if (p.entries > 1)
       out << (p.mode == Mode::scale ? " multiplies the matrix"
               : p.mode == Mode::add ? " x E is added to the matrix"

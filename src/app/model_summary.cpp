@@ -53,6 +53,31 @@ void draw_tree(std::ostream& out, const Model& m) {
   }
 }
 
+// A sea state's spectra, axis by axis: what the components realise of them.
+void print_sea_state(std::ostream& out, const BaseMotionSpec& base) {
+  const auto* sea = std::get_if<SeaStateBase>(&base);
+  if (!sea) return;
+  static const char* kSpectrum[] = {"JONSWAP", "Pierson-Moskowitz", "tabulated"};
+  for (int axis = 0; axis < 3; ++axis) {
+    if (!sea->axes[axis]) continue;
+    const SeaStateAxis& a = *sea->axes[axis];
+    const SeaStateSummary s = summarize(a);
+    out << "base: sea state along " << "xyz"[axis] << ": " << kSpectrum[static_cast<int>(a.spectrum)];
+    if (a.spectrum != WaveSpectrum::tabulated) out << fmt(", Hs %.6g m, Tp %.6g s", a.significant_height, a.peak_period);
+    if (a.spectrum == WaveSpectrum::jonswap) out << fmt(", gamma %.4g", a.gamma);
+    out << "; " << a.components() << fmt(" components on [%.6g, %.6g] Hz", a.min_frequency, a.max_frequency)
+        << fmt(" (df %.4g Hz: the sea repeats every %.4g s)
+", s.df, 1.0 / s.df);
+    out << fmt("  m0 = %.6g m^2 of the spectrum's %.6g m^2", s.m0_components, s.m0_spectrum)
+        << fmt(" (%.2f %% in the band), Hs = 4 sqrt(m0) = %.6g m", 100.0 * s.m0_components / s.m0_spectrum,
+               4.0 * std::sqrt(s.m0_components));
+    if (!a.rao.empty())
+      out << fmt("; through the RAO the base's variance is %.6g m^2 (std %.4g m)", s.base_variance,
+                 std::sqrt(s.base_variance));
+    out << "\n";
+  }
+}
+
 }  // namespace
 
 void print_model_summary(std::ostream& out, const Job& job) {
@@ -61,6 +86,7 @@ void print_model_summary(std::ostream& out, const Job& job) {
   out << "tree (" << m.n << (m.n == 1 ? " body" : " bodies") << "):\n" << kBaseName << "\n";
   draw_tree(out, m);
   out << fmt("total mass %.6g kg\n", m.total_mass);
+  print_sea_state(out, job.definition.base.kind);
   out << "gravity [" << m.gravity.x() << ", " << m.gravity.y() << ", " << m.gravity.z() << "] m/s^2\n";
   out << "augmented inertia K_i about the inboard joint, body frame (kg m^2):\n";
   for (int u = 0; u < m.n; ++u) {
@@ -90,6 +116,9 @@ void print_parameters(std::ostream& out, const ParameterTable& table, std::size_
     out << "  " << p.name << (p.shape == ParameterShape::vector3 ? ".AXIS" : "") << " = ";
     if (p.shape == ParameterShape::scalar) {
       out << nominal[p.offset];
+    } else if (p.shape == ParameterShape::list && p.size() > 6) {
+      out << "[" << nominal[p.offset] << ", " << nominal[p.offset + 1] << ", ..., " << nominal[p.offset + p.size() - 1]
+          << "] (" << p.size() << " entries)";
     } else {
       out << "[";
       for (int e = 0; e < p.size(); ++e) out << (e ? ", " : "") << nominal[p.offset + e];

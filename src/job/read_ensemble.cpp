@@ -293,6 +293,19 @@ Perturbation read_perturbation(const TomlView& p, const Job& job) {
   Perturbation pert = read_target(p, job.definition);
   if ((pert.kind == Kind::orientation || pert.kind == Kind::rotation) && p.has("mode"))
     p.fail("mode", "not used for this target (a rotation is always composed with the nominal orientation)");
+  if (pert.kind == Kind::parameter_list && pert.mode == Mode::scale)
+    p.fail("mode", "a list of phases is set or added to, not scaled; use \"set\" or \"add\"");
+  if (pert.kind == Kind::parameter_list && !p.has("distribution")) {
+    // Random phases: each uniform on [0, 2 pi), the sea state's own randomness.
+    for (const char* key : {"mean", "std", "lower", "upper", "mu", "sigma", "unit", "mode"})
+      if (p.has(key))
+        p.fail(key, "without 'distribution' every entry is uniform on [0, 2 pi) rad, set; give a distribution "
+                    "(and its unit) to change that");
+    pert.distribution.kind = Distribution::Kind::uniform;
+    pert.distribution.lower = 0.0;
+    pert.distribution.upper = 2.0 * std::numbers::pi;
+    return pert;
+  }
   pert.unit = read_unit(p, pert);
   pert.distribution = read_distribution(p);
   return pert;

@@ -80,16 +80,16 @@ SobolUnit read_group(const TomlView& g, const EnsembleSpec& s, std::vector<std::
   return unit;
 }
 
-// The units of a grouped Saltelli design: the groups, each orientation
-// perturbation no group lists, and every other input alone; in the order of
-// their first input.
+// The units of a grouped Saltelli design: the groups, each multi-input
+// perturbation no group lists (an orientation, a sea state's phases) as one,
+// and every other input alone; in the order of their first input.
 std::vector<SobolUnit> grouped_units(const EnsembleSpec& s, std::vector<SobolUnit> groups,
                                      const std::vector<std::string>& taken) {
   const std::vector<std::string> names = s.input_names();
   for (std::size_t p = 0; p < s.perturbations.size(); ++p) {
     if (!taken[p].empty()) continue;
     const std::vector<unsigned> dims = dimensions_of(s, p);
-    if (s.perturbations[p].kind == Perturbation::Kind::orientation) {
+    if (dims.size() > 1) {
       groups.push_back({s.perturbations[p].target, dims});
     } else {
       for (unsigned d : dims) groups.push_back({names[d], {d}});

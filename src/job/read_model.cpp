@@ -277,9 +277,10 @@ BaseMotionSpec read_base(const TomlView& t) {
     }
     return tab;  // sizes, order and finiteness: BaseMotion validates (reported at [base])
   }
+  if (type == "sea_state") return read_sea_state(t);
   t.fail("type", "\"" + type +
                      "\" is not a base motion; allowed: \"fixed\", \"constant_acceleration\", "
-                     "\"harmonic\", \"tabulated\"");
+                     "\"harmonic\", \"tabulated\", \"sea_state\"");
 }
 
 // The body a [[force]] or [[moment]] acts on must be one of the model's.

@@ -39,6 +39,8 @@ struct ReadBodies {
 ReadBodies read_bodies(const TomlView& root);
 
 BaseMotionSpec read_base(const TomlView& base);
+// [base] type = "sea_state" (read_sea_state.cpp).
+SeaStateBase read_sea_state(const TomlView& base);
 
 
 void read_loads(const TomlView& root, ModelSpec& spec);

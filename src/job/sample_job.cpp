@@ -109,6 +109,12 @@ void apply_sample_section(Job& job) {
       const auto v = e.vec3("value");
       if (!v) e.fail("value", "missing required field: a rotation vector [x, y, z] in rad");
       values.insert(values.end(), {v->x(), v->y(), v->z()});
+    } else if (p.kind == Kind::parameter_list) {
+      const auto v = e.numbers("value");
+      if (!v || static_cast<int>(v->size()) != p.entries)
+        e.fail("value", "expected a list of " + std::to_string(p.entries) + " numbers in " + p.si_unit +
+                            " (one per entry of " + p.target + ")");
+      values.insert(values.end(), v->begin(), v->end());
     } else {
       values.push_back(e.required_number("value"));
     }
@@ -177,9 +183,13 @@ std::string sample_job_text(const Job& job, const EnsembleSpec& spec, std::uint6
   for (const Perturbation& p : spec.perturbations) {
     out << "\n[[sample.input]]\n"
         << "target = " << toml_string(p.target) << "\n";
-    if (p.kind == Kind::parameter || p.kind == Kind::angular_velocity)
+    if (p.kind == Kind::parameter || p.kind == Kind::angular_velocity || p.kind == Kind::parameter_list)
       out << "mode = \"" << name_in(kModeNames, p.mode) << "\"\n";
-    if (p.kind == Kind::orientation) {
+    if (p.kind == Kind::parameter_list) {
+      out << "value = [";
+      for (int e = 0; e < p.entries; ++e) out << (e ? ", " : "") << toml_float(inputs[d + static_cast<std::size_t>(e)]);
+      out << "]  # " << p.si_unit << ", one per entry\n";
+    } else if (p.kind == Kind::orientation) {
       out << "value = [" << toml_float(inputs[d]) << ", " << toml_float(inputs[d + 1]) << ", "
           << toml_float(inputs[d + 2]) << "]  # rotation vector, rad\n";
     } else {

@@ -39,6 +39,24 @@ void validate(const HarmonicBase& b) {
   }
 }
 
+void validate(const SeaStateBase& b) {
+  if (!finite(b.offset)) throw ModelError("base motion 'sea_state': offset must be finite", kBaseName);
+  static const char* axis_name[3] = {"x", "y", "z"};
+  for (int axis = 0; axis < 3; ++axis)
+    if (b.axes[axis]) validate_sea_state(*b.axes[axis], axis_name[axis]);
+}
+
+// The sea state's harmonic sum: its components along each axis.
+HarmonicBase compile(const SeaStateBase& b) {
+  HarmonicBase h;
+  h.offset = b.offset;
+  for (int axis = 0; axis < 3; ++axis)
+    if (b.axes[axis])
+      for (const SeaComponent& c : components(*b.axes[axis]))
+        h.axes[axis].push_back({c.amplitude, c.frequency, c.phase});
+  return h;
+}
+
 void validate(const TabulatedBase& b) {
   if (b.times.size() < 2 || b.times.size() != b.positions.size())
     throw ModelError(
@@ -95,6 +113,8 @@ BaseMotion::BaseMotion(BaseMotionSpec spec) {
     motion_ = *f;
   } else if (auto* c = std::get_if<ConstantAccelerationBase>(&spec)) {
     motion_ = *c;
+  } else if (auto* sea = std::get_if<SeaStateBase>(&spec)) {
+    motion_ = compile(*sea);
   } else {
     motion_ = std::move(std::get<HarmonicBase>(spec));
   }

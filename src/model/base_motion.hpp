@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "common/linalg.hpp"
+#include "model/sea_state.hpp"
 
 namespace treedyn {
 
@@ -51,8 +52,9 @@ struct TabulatedBase {
   std::vector<Vec3> positions;   // one per time
 };
 
+// A sea state (model/sea_state.hpp) is compiled into a HarmonicBase.
 using BaseMotionSpec =
-    std::variant<FixedBase, ConstantAccelerationBase, HarmonicBase, TabulatedBase>;
+    std::variant<FixedBase, ConstantAccelerationBase, HarmonicBase, TabulatedBase, SeaStateBase>;
 
 // A validated base motion, cheap to evaluate (spline coefficients precomputed)
 // and cheap to copy (a table and its spline are shared between copies).

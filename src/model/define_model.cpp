@@ -103,6 +103,35 @@ void add_joint_parameters(ParameterTable& table, const std::string& child_name,
   form.law = j.spring.law;
 }
 
+// A sea state's parameters, axis by axis: base.AXIS.significant_height,
+// .peak_period, .gamma (as its spectrum has them) and .phases.
+void add_sea_state_parameters(ParameterTable& table, const SeaStateBase& sea, BaseForm& form) {
+  form.offset = add(table, "base.offset", "m", Shape::vector3, "mean position of the sea-state base motion", sea.offset);
+  static const char* axis_name[3] = {"x", "y", "z"};
+  for (int axis = 0; axis < 3; ++axis) {
+    if (!sea.axes[axis]) continue;
+    const SeaStateAxis& a = *sea.axes[axis];
+    const std::string name = "base." + std::string(axis_name[axis]) + ".";
+    const std::string along = " of the sea state along " + std::string(axis_name[axis]);
+    SeaAxisForm& f = form.sea[axis];
+    if (a.spectrum != WaveSpectrum::tabulated) {
+      f.significant_height = add(table, name + "significant_height", "m", Shape::scalar,
+                                 "significant wave height Hs = 4 sqrt(m0)" + along, a.significant_height,
+                                 ValidRange::positive());
+      f.peak_period = add(table, name + "peak_period", "s", Shape::scalar,
+                          "peak period Tp" + along + " (the components' frequencies stay the job's)", a.peak_period,
+                          ValidRange::positive());
+    }
+    if (a.spectrum == WaveSpectrum::jonswap)
+      f.gamma = add(table, name + "gamma", "1", Shape::scalar, "JONSWAP peak enhancement" + along, a.gamma,
+                    ValidRange{1.0, false});
+    f.phases = table.add(name + "phases", "rad", Shape::list,
+                         "phases of the " + std::to_string(a.components()) + " wave components" + along +
+                             " (one input each)",
+                         a.phases);
+  }
+}
+
 void add_base_parameters(ParameterTable& table, const BaseMotionSpec& spec, BaseForm& form) {
   form.kind = spec;
   if (const auto* f = std::get_if<FixedBase>(&spec)) {
@@ -133,6 +162,8 @@ void add_base_parameters(ParameterTable& table, const BaseMotionSpec& spec, Base
         form.terms[axis].push_back(offsets);
       }
     }
+  } else if (const auto* sea = std::get_if<SeaStateBase>(&spec)) {
+    add_sea_state_parameters(table, *sea, form);
   } else {
     // A table is data, not parameters: validated and splined once here.
     form.tabulated = BaseMotion(spec);

@@ -47,10 +47,17 @@ struct HarmonicForm {
   int amplitude = -1, frequency = -1, phase = -1;
 };
 
+// One axis of a sea state; -1 where its spectrum has no such parameter.
+struct SeaAxisForm {
+  int significant_height = -1, peak_period = -1, gamma = -1;
+  int phases = -1;  // `components` entries
+};
+
 struct BaseForm {
   BaseMotionSpec kind = FixedBase{};  // which motion and how many terms; its numbers are parameters
   int position = -1, velocity = -1, acceleration = -1, offset = -1;
   std::array<std::vector<HarmonicForm>, 3> terms;
+  std::array<SeaAxisForm, 3> sea;     // a sea state's spectra (its band and RAO are fixed)
   BaseMotion tabulated;               // a tabulated base: its table is fixed, not parameters
 };
 

@@ -1,5 +1,6 @@
 // derive_model: a parameter vector into a Model, with the physical checks and
 // the body-frame constants of section 3 of the theory page.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -155,6 +156,17 @@ BaseMotion derive_base(const BaseForm& f, std::span<const double> p) {
         const HarmonicForm& t = f.terms[axis][k];
         h->axes[axis][k] = Harmonic{p[t.amplitude], p[t.frequency], p[t.phase]};
       }
+  } else if (auto* sea = std::get_if<SeaStateBase>(&spec)) {
+    sea->offset = vec3(p, f.offset);
+    for (int axis = 0; axis < 3; ++axis) {
+      if (!sea->axes[axis]) continue;
+      SeaStateAxis& a = *sea->axes[axis];
+      const SeaAxisForm& form = f.sea[axis];
+      if (form.significant_height >= 0) a.significant_height = p[form.significant_height];
+      if (form.peak_period >= 0) a.peak_period = p[form.peak_period];
+      if (form.gamma >= 0) a.gamma = p[form.gamma];
+      std::copy_n(p.begin() + form.phases, a.phases.size(), a.phases.begin());
+    }
   }
   return BaseMotion(std::move(spec));
 }

@@ -16,6 +16,8 @@ int Parameter::size() const {
       return 3;
     case ParameterShape::matrix3:
       return 9;
+    case ParameterShape::list:
+      return length;
   }
   return 1;
 }
@@ -31,6 +33,8 @@ std::string_view component_name(ParameterShape shape, int component) {
       return kAxes.at(static_cast<std::size_t>(component));
     case ParameterShape::matrix3:
       return kEntries.at(static_cast<std::size_t>(component));
+    case ParameterShape::list:
+      return "";
   }
   return "";
 }
@@ -46,6 +50,7 @@ int ParameterTable::add(std::string name, std::string unit, ParameterShape shape
                         std::string enters, std::span<const double> nominal, ValidRange valid) {
   Parameter p{std::move(name), std::move(unit), std::move(enters), shape,
               static_cast<int>(nominal_.size()), valid};
+  if (shape == ParameterShape::list) p.length = static_cast<int>(nominal.size());
   if (static_cast<int>(nominal.size()) != p.size())
     throw std::logic_error("parameter " + p.name + ": wrong number of nominal entries");
   if (!by_name_.emplace(p.name, parameters_.size()).second)
@@ -72,6 +77,7 @@ const Parameter& ParameterTable::owner(int index) const {
 std::string ParameterTable::entry_name(int index) const {
   const Parameter& p = owner(index);
   if (p.shape == ParameterShape::scalar) return p.name;
+  if (p.shape == ParameterShape::list) return p.name + "[" + std::to_string(index - p.offset + 1) + "]";
   return p.name + "." + std::string(component_name(p.shape, index - p.offset));
 }
 

@@ -19,6 +19,8 @@ enum class ParameterShape {
   scalar,   // 1 entry: target NAME
   vector3,  // 3 entries x, y, z: targets NAME.x, NAME.y, NAME.z
   matrix3,  // 9 entries, row-major: target NAME (the whole matrix)
+  list,     // any number of entries, each its own input: target NAME (all of them, one
+            // input each), entry NAME[K] with K from 1 (a sea state's phases)
 };
 
 // The values the model accepts (derive_model refuses the others): for each
@@ -40,13 +42,15 @@ struct Parameter {
   ParameterShape shape = ParameterShape::scalar;
   int offset = 0;       // first entry in the vector
   ValidRange valid;     // of each entry (matrices: of each eigenvalue)
+  int length = 0;       // entries of a list
   int size() const;
 };
 
 class ParameterTable {
  public:
   // Appends a parameter with its nominal entries (1, 3 or 9, as the shape
-  // says); returns its offset. Names must be unique.
+  // says; a list takes as many as it is given); returns its offset. Names
+  // must be unique.
   int add(std::string name, std::string unit, ParameterShape shape, std::string enters,
           std::span<const double> nominal, ValidRange valid = ValidRange::any());
 
@@ -69,7 +73,8 @@ class ParameterTable {
   std::vector<double> nominal_;
 };
 
-// Component labels of the shapes: "x", "y", "z" and "xx", "xy", ... "zz".
+// Component labels of the shapes: "x", "y", "z" and "xx", "xy", ... "zz"
+// ("" for a scalar or a list, whose entries are NAME[K]).
 std::string_view component_name(ParameterShape shape, int component);
 
 }  // namespace treedyn

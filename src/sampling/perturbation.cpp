@@ -19,6 +19,11 @@ double combine(Perturbation::Mode mode, double nominal, double value) {
 
 std::vector<std::string> Perturbation::input_names() const {
   if (kind == Kind::orientation) return {target + ".x", target + ".y", target + ".z"};
+  if (kind == Kind::parameter_list) {
+    std::vector<std::string> names;
+    for (int k = 1; k <= entries; ++k) names.push_back(target + "[" + std::to_string(k) + "]");
+    return names;
+  }
   return {target};
 }
 
@@ -53,6 +58,10 @@ void Perturbation::apply(std::span<const double> v, std::span<double> parameters
             Eigen::AngleAxisd(angle, rotation_vector / angle).toRotationMatrix() * state.rotation[first];
       return;
     }
+    case Kind::parameter_list:
+      for (int k = 0; k < entries; ++k)
+        parameters[first + k] = combine(mode, parameters[first + k], v[static_cast<std::size_t>(k)] * factor);
+      return;
     case Kind::rotation:
       state.rotation[first] =
           Eigen::AngleAxisd(x, Vec3::Unit(axis)).toRotationMatrix() * state.rotation[first];

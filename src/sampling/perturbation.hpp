@@ -20,6 +20,7 @@ struct Perturbation {
     orientation,       // body.NAME.orientation: a small rotation vector (3 inputs), inertial axes
     rotation,          // body.NAME.rotation.AXIS: an extra rotation about an inertial axis
     angular_velocity,  // body.NAME.angular_velocity.AXIS: an inertial component
+    parameter_list,    // every entry of a list parameter (base.AXIS.phases), one input each
   };
   enum class Mode { set, add, scale };
 
@@ -27,7 +28,8 @@ struct Perturbation {
   Kind kind = Kind::parameter;
   int first = 0;          // parameter: its first entry; otherwise the user index of the body
   int entries = 1;        // parameter entries changed: 1, or 9 for a whole 3x3 matrix
-                          // (set / add: an isotropic value k E; scale: the whole matrix)
+                          // (set / add: an isotropic value k E; scale: the whole matrix);
+                          // parameter_list: the list's length, one input per entry
   double factor = 1.0;    // parameter, set / add: the entry changes by x * factor (a mass
                           // target on a solid given by its density: 1 / nominal volume)
   int axis = 0;           // rotation, angular_velocity: 0, 1, 2 = x, y, z
@@ -37,7 +39,9 @@ struct Perturbation {
   std::string si_unit;    // of the values after `unit`, e.g. "kg", "rad"
   std::string enters;     // where it enters the model, for people
 
-  int dimensions() const { return kind == Kind::orientation ? 3 : 1; }
+  int dimensions() const {
+    return kind == Kind::orientation ? 3 : kind == Kind::parameter_list ? entries : 1;
+  }
   // Column names of the sampled inputs, e.g. "body.rod.orientation.x".
   std::vector<std::string> input_names() const;
   // Physical input values (SI) from uniforms (one per dimension).

@@ -14,7 +14,8 @@ constexpr const char* kPatterns =
     "body.NAME.length, body.NAME.radius, body.NAME.size.AXIS, body.NAME.inertia_scale, "
     "body.NAME.joint_on_child.AXIS, body.NAME.joint_on_parent.AXIS, joint.CHILD.stiffness, "
     "joint.CHILD.damping, gravity.AXIS, base.AXIS[K].amplitude, .frequency, .phase, "
-    "base.acceleration.AXIS, force[K].force.AXIS, ...; `treedyn check --parameters JOB` lists "
+    "base.acceleration.AXIS, base.AXIS.significant_height, .peak_period, .gamma, .phases (a sea state), "
+    "force[K].force.AXIS, ...; `treedyn check --parameters JOB` lists "
     "them) and the initial state (body.NAME.orientation, body.NAME.rotation.AXIS, "
     "body.NAME.angular_velocity.AXIS); AXIS = x, y or z, K counts from 1";
 
@@ -162,6 +163,7 @@ std::string base_type(const ModelDefinition& d) {
   if (std::holds_alternative<FixedBase>(d.base.kind)) return "fixed";
   if (std::holds_alternative<ConstantAccelerationBase>(d.base.kind)) return "constant_acceleration";
   if (std::holds_alternative<HarmonicBase>(d.base.kind)) return "harmonic";
+  if (std::holds_alternative<SeaStateBase>(d.base.kind)) return "sea_state";
   return "tabulated";
 }
 
@@ -181,6 +183,13 @@ std::string why_not_base(const ModelDefinition& d, const std::string& target) {
     hint = " (terms AXIS[K] belong to a harmonic base)";
   else if (target.size() > 6 && target[6] == '[')
     hint = " (K counts from 1 up to the number of terms on that axis)";
+  else if (type == "sea_state" && target.size() > 7 && target[6] == '.')
+    hint = " (a sea state's targets are those of the axes it has a table for; a tabulated spectrum has only "
+           "phases, and only JONSWAP has gamma)";
+  else if (type != "sea_state" && (target.find(".phases") != std::string::npos ||
+                                   target.find(".significant_height") != std::string::npos ||
+                                   target.find(".peak_period") != std::string::npos))
+    hint = " (phases, significant_height and peak_period belong to a [base] of type \"sea_state\")";
   return quoted(target) + " is not a target of this job, whose [base] is " + type + hint + "; its base targets: " +
          (has.empty() ? std::string("none") : has);
 }
@@ -214,6 +223,9 @@ Target resolve_target(const ModelDefinition& d, const std::string& target) {
     if (p->shape == ParameterShape::vector3)
       throw TargetError(quoted(target) + " is a vector: perturb one component, " + target + ".x, " +
                         target + ".y or " + target + ".z");
+    if (p->shape == ParameterShape::list)
+      return Target{.kind = Kind::parameter_list, .first = p->offset, .entries = p->size(), .unit = p->unit,
+                    .enters = p->enters};
     return Target{.first = p->offset, .entries = p->size(), .unit = p->unit, .enters = p->enters};
   }
   if (const auto dot = target.rfind('.'); dot != std::string::npos) {

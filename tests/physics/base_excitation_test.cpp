@@ -190,10 +190,7 @@ Powers powers(const ModelSpec& spec, const Recovered& r) {
 // ~1e-11 relative (the spring test below). Tolerance: 2e-8 of the energy
 // scale; the base work (~3 J) and damper loss (~15 J) are 8-9 orders larger,
 // so any slip in X_1, r0', the base terms or the damper law would show.
-TEST(BaseExcitation, HarmonicWorkBalancesEnergy) {
-  std::mt19937_64 rng(9090);
-  const ModelSpec spec = damped_sprung_tree(rng);
-  const InitialState initial = testing::random_state(rng, 3, 3.0);
+void expect_work_balances_energy(const ModelSpec& spec, const InitialState& initial) {
   const double duration = 4.0;
   const int intervals = 8000;  // 0.5 ms, even, for Simpson
   const std::vector<double> times = grid(duration, intervals);
@@ -229,6 +226,36 @@ TEST(BaseExcitation, HarmonicWorkBalancesEnergy) {
   EXPECT_GT(max_work, 0.05 * scale);
   EXPECT_GT(W_damper, 1e-3 * scale);
   EXPECT_LT(worst / scale, 2e-8);
+}
+
+TEST(BaseExcitation, HarmonicWorkBalancesEnergy) {
+  std::mt19937_64 rng(9090);
+  const ModelSpec spec = damped_sprung_tree(rng);
+  expect_work_balances_energy(spec, testing::random_state(rng, 3, 3.0));
+}
+
+// The same balance under a sea state (model/sea_state.hpp): 64 JONSWAP
+// components of a "sea" at shaker scale (Hs 0.1 m, Tp 1 s: components from
+// 0.5 to 3.5 Hz, the fastest power content at 7 Hz, within the 14 Hz the
+// Simpson bound above allows), along x and z, one of them through an RAO.
+TEST(BaseExcitation, SeaStateWorkBalancesEnergy) {
+  std::mt19937_64 rng(9090);
+  ModelSpec spec = damped_sprung_tree(rng);
+  SeaStateBase sea;
+  sea.offset = Vec3(0.05, 0.0, 0.2);
+  std::uniform_real_distribution<double> phase(0.0, 2.0 * std::numbers::pi);
+  for (int axis : {0, 2}) {
+    SeaStateAxis a;
+    a.significant_height = 0.1;
+    a.peak_period = 1.0;
+    a.min_frequency = 0.5;
+    a.max_frequency = 3.5;
+    for (int k = 0; k < 64; ++k) a.phases.push_back(phase(rng));
+    if (axis == 2) a.rao = {{0.0, 2.0, 4.0}, {1.0, 0.6, 0.2}, {0.0, 0.5, 1.5}};
+    sea.axes[axis] = a;
+  }
+  spec.base_motion = sea;
+  expect_work_balances_energy(spec, testing::random_state(rng, 3, 3.0));
 }
 
 // ---------------------------------------------------------------------------
