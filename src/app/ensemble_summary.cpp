@@ -76,11 +76,19 @@ void print_groups(std::ostream& out, const EnsembleSpec& s) {
       << ", N (G + 2) = " << s.base_samples << " x " << s.saltelli_block() << " = " << s.samples
       << " runs; sample j (G + 2) + r is A_j (r = 0), B_j (r = 1), AB_g,j (r = 2 + g: A_j with group g's "
          "inputs from B_j)\n";
+  // Each input's target: a list's entries (a sea state's phases) print as one, TARGET[1..n].
+  std::vector<std::pair<const Perturbation*, int>> owner;
+  for (const Perturbation& p : s.perturbations)
+    for (int k = 0; k < p.dimensions(); ++k) owner.emplace_back(&p, k);
   const std::vector<std::string> names = s.input_names();
   for (std::size_t g = 0; g < s.sobol_units.size(); ++g) {
     const SobolUnit& unit = s.sobol_units[g];
     out << "    group " << g << " " << unit.name << ":";
-    for (unsigned d : unit.inputs) out << " " << names[d];
+    for (unsigned d : unit.inputs) {
+      const auto [p, k] = owner[d];
+      if (p->kind != Perturbation::Kind::parameter_list) out << " " << names[d];
+      else if (k == 0) out << " " << p->target << "[1.." << p->entries << "]";
+    }
     out << "\n";
   }
 }

@@ -66,8 +66,7 @@ void print_sea_state(std::ostream& out, const BaseMotionSpec& base) {
     if (a.spectrum != WaveSpectrum::tabulated) out << fmt(", Hs %.6g m, Tp %.6g s", a.significant_height, a.peak_period);
     if (a.spectrum == WaveSpectrum::jonswap) out << fmt(", gamma %.4g", a.gamma);
     out << "; " << a.components() << fmt(" components on [%.6g, %.6g] Hz", a.min_frequency, a.max_frequency)
-        << fmt(" (df %.4g Hz: the sea repeats every %.4g s)
-", s.df, 1.0 / s.df);
+        << fmt(" (df %.4g Hz: the sea repeats every %.4g s)\n", s.df, 1.0 / s.df);
     out << fmt("  m0 = %.6g m^2 of the spectrum's %.6g m^2", s.m0_components, s.m0_spectrum)
         << fmt(" (%.2f %% in the band), Hs = 4 sqrt(m0) = %.6g m", 100.0 * s.m0_components / s.m0_spectrum,
                4.0 * std::sqrt(s.m0_components));

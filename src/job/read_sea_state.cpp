@@ -93,7 +93,12 @@ SeaStateAxis read_axis(const TomlView& t, int axis, std::uint64_t seed) {
   try {
     validate_sea_state(a, std::string(1, "xyz"[axis]));
   } catch (const ModelError& e) {
-    t.fail("spectrum", e.what());
+    // At the field the check is about: the RAO's table, the band, or the spectrum.
+    const std::string what = e.what();
+    t.fail(what.find("rao:") != std::string::npos      ? "rao"
+           : what.find("the band") != std::string::npos ? (t.has("max_frequency") ? "max_frequency" : "min_frequency")
+                                                        : "spectrum",
+           what);
   }
   return a;
 }

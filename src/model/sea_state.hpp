@@ -49,7 +49,8 @@ struct SeaStateBase {
 
 // S(f), m^2/Hz. JONSWAP (DNV-RP-C205 3.5.5) with sigma = 0.07 below the peak
 // and 0.09 above, scaled so that its integral over (0, inf) is exactly
-// Hs^2 / 16 (DNV's 1 - 0.287 ln gamma approximates that factor);
+// Hs^2 / 16 (DNV's 1 - 0.287 ln gamma approximates that factor, within 2 %
+// for gamma up to 7);
 // Pierson-Moskowitz is gamma = 1; a table is interpolated linearly and is
 // zero outside its frequencies.
 double spectral_density(const SeaStateAxis& axis, double f);

@@ -3,12 +3,13 @@ probability of exceeding its limit with a verdict on N, the ranked drivers,
 the warnings that matter, input-vs-response scatter plots and the extreme and
 failed samples with the commands that rerun them."""
 import math
+import re
 import shlex
 
 import numpy as np
 
 from page import legend_outside, subplot_grid
-from read import counted_rows, fail_side, strings, text
+from read import counted_rows, fail_side, folded_note, shown_inputs, strings, text
 
 MEAN_PRECISION = 0.05         # "N is enough" for a mean: 95 % half-width within 5 % of |mean|
 PROBABILITY_PRECISION = 0.20  # ... for P(exceeded): 95 % half-width within 20 % of P
@@ -188,16 +189,18 @@ def input_correlations(f, rows):
     inputs = f["samples/inputs"][:][rows]
     ok = (f["samples/status"][:][rows] == 0) & np.all(np.isfinite(inputs), axis=1)
     names = strings(f["samples/inputs"].attrs["columns"])
-    if ok.sum() < 4:
+    shown, _ = shown_inputs(f["samples/inputs"])  # a list's entries (random phases) are not read one by one
+    if ok.sum() < 4 or not shown:
         return {}, names, int(ok.sum())
-    ranked = np.array([ranks(inputs[ok, i]) for i in range(len(names))])
-    rho = np.corrcoef(ranked) if len(names) > 1 else np.ones((1, 1))
+    ranked = np.array([ranks(inputs[ok, i]) for i in shown])
+    rho = np.corrcoef(ranked) if len(shown) > 1 else np.ones((1, 1))
     pairs = {}
-    for i in range(len(names)):
-        for j in range(i + 1, len(names)):
-            if abs(rho[i, j]) >= CORRELATED_INPUTS:
-                pairs.setdefault(i, []).append((j, rho[i, j]))
-                pairs.setdefault(j, []).append((i, rho[i, j]))
+    for a, i in enumerate(shown):
+        for b in range(a + 1, len(shown)):
+            j = shown[b]
+            if abs(rho[a, b]) >= CORRELATED_INPUTS:
+                pairs.setdefault(i, []).append((j, rho[a, b]))
+                pairs.setdefault(j, []).append((i, rho[a, b]))
     return pairs, names, int(ok.sum())
 
 
@@ -206,10 +209,21 @@ def per_input_sobol(s):
     return "total_order" in s and "group_total_order" not in s
 
 
-def driver_order(s):
-    """Inputs ranked by total Sobol' index where there is one per input, else by |SRRC|."""
-    key = s["total_order"][:] if per_input_sobol(s) else np.abs(s["srrc"][:])
-    return np.argsort(-np.nan_to_num(key, nan=-1.0), kind="stable")
+def ranking(s):
+    """The per-input key of the ranking and its name: the total Sobol' index where there is one per input,
+    else |SRRC|, else (more inputs than runs leave the rank regression undetermined) |Spearman|."""
+    if per_input_sobol(s):
+        return s["total_order"][:], "total Sobol' index"
+    if np.isfinite(s["srrc"][:]).any():
+        return np.abs(s["srrc"][:]), "|SRRC|"
+    return np.abs(s["spearman"][:]), "|Spearman|"
+
+
+def driver_order(s, shown=None):
+    """Inputs ranked by ranking(s), only those in `shown` when given."""
+    key, _ = ranking(s)
+    order = np.argsort(-np.nan_to_num(key, nan=-1.0), kind="stable")
+    return order if shown is None else np.array([i for i in order if i in set(shown)], dtype=int)
 
 
 def asked_correlations(f):
@@ -236,8 +250,23 @@ def group_drivers(page, name, s):
         words += f"; {', '.join(weak)} matter little (total Sobol' index below 0.05)"
     page.note(words + " (groups: the inputs of each taken together).", "good")
     page.table(["group", "its inputs", "total Sobol' [95 %]", "first order [95 %]"],
-               [[groups[i], members[i], interval(total[i], s["group_total_order_ci"][i]),
+               [[groups[i], folded_members(members[i]), interval(total[i], s["group_total_order_ci"][i]),
                  interval(first[i], s["group_first_order_ci"][i])] for i in order])
+
+
+def folded_members(members):
+    """'base.z.phases[1], ..., base.z.phases[64]' as 'base.z.phases[1..64]': a list's entries in one name."""
+    out, runs = [], {}
+    for name in members.split(", "):
+        m = re.fullmatch(r"(.*)\[(\d+)\]", name)
+        if m:
+            if m.group(1) not in runs:
+                out.append(m.group(1))
+            runs.setdefault(m.group(1), []).append(int(m.group(2)))
+        else:
+            out.append(name)
+    return ", ".join(f"{n}[{min(runs[n])}..{max(runs[n])}]" if n in runs and len(runs[n]) > 1 else
+                     (f"{n}[{runs[n][0]}]" if n in runs else n) for n in out)
 
 
 def interval(v, ci):
@@ -246,9 +275,7 @@ def interval(v, ci):
 
 def conclusion(name, s, order, names):
     """One sentence: what drives the response, and what does not matter."""
-    sobol = per_input_sobol(s)
-    key = s["total_order"][:] if sobol else np.abs(s["srrc"][:])
-    measure = "total Sobol' index" if sobol else "|SRRC|"
+    key, measure = ranking(s)
     strong = [i for i in order if np.isfinite(key[i]) and key[i] >= 0.05]
     weak = [names[i] for i in order if i not in strong]
     words = f"{name} is driven by " + (", ".join(f"{names[i]} ({measure} {key[i]:.2g})" for i in strong)
@@ -272,10 +299,14 @@ def drivers(f, page, rows):
         page.note("Inputs correlated on purpose by the job ([[ensemble.correlation]], a normal copula on each "
                   "input's own distribution): " + "; ".join(asked) + ". Their Spearman coefficients below mix "
                   "each other's effects; the SRRC separate them.")
+    shown, folded = shown_inputs(f["samples/inputs"])
+    if folded:
+        page.note("Per input below: the inputs one by one. " + folded_note(folded) + " Their effect together is "
+                  "the group's Sobol' index where the job groups them ([[ensemble.group]]).")
     responses = strings(f["samples/responses"].attrs["columns"])
     for name in [r for r in responses if r in f["sensitivity"]]:
         s = f["sensitivity"][name]
-        order = driver_order(s)[:TOP_DRIVERS]
+        order = driver_order(s, shown)[:TOP_DRIVERS]
         sobol = per_input_sobol(s)
         r2 = s.attrs.get("rank_r_squared", float("nan"))
         if "group_total_order" in s:
@@ -297,8 +328,13 @@ def drivers(f, page, rows):
             row += [f"{s['srrc'][i]:.3f}", f"{s['spearman'][i]:.3f}", note]
             table.append(row)
         used = int(s.attrs.get("rank_samples", n))
-        page.paragraph(f"{name}: rank R² = {r2:.2f} over {used} runs (how much of the response's rank variance the "
-                       f"SRRC explain; near 1 the ranking by SRRC is trustworthy).")
+        if np.isfinite(r2):
+            page.paragraph(f"{name}: rank R² = {r2:.2f} over {used} runs (how much of the response's rank variance "
+                           f"the SRRC explain; near 1 the ranking by SRRC is trustworthy).")
+        else:
+            page.paragraph(f"{name}: no rank regression (SRRC, R²): it needs more runs than inputs ({len(names)} "
+                           f"inputs, {used} runs), or an input or the response is constant; the inputs are ranked "
+                           f"by Spearman alone.")
         if r2 < 0.7 and "total_order" not in s:
             page.note(f"{name}: the SRRC explain only {r2:.0%} of its rank variance: the response is not monotone "
                       f"in the inputs or they interact, so this ranking is uncertain; a saltelli design gives "
@@ -323,7 +359,7 @@ def scatter_figures(f, page, rows):
         if name not in f["sensitivity"]:
             continue
         y = values[:, r][rows]
-        order = driver_order(f["sensitivity"][name])[:SCATTER_DRIVERS]
+        order = driver_order(f["sensitivity"][name], shown_inputs(f["samples/inputs"])[0])[:SCATTER_DRIVERS]
         exceeded = exceeded_mask(values, r, y)
         ok = (status == 0) & np.isfinite(y)
         infinite = (status == 0) & ~np.isfinite(y)
@@ -370,8 +406,9 @@ def extreme_samples(f, page, file_name):
     """The top runs of each response towards its limit (every run counts here) and the failed ones."""
     values = f["samples/responses"]
     names = strings(values.attrs["columns"])
-    inputs = f["samples/inputs"][:] if "samples/inputs" in f else np.zeros((values.shape[0], 0))
-    input_names = strings(f["samples/inputs"].attrs["columns"]) if "samples/inputs" in f else []
+    shown, folded = shown_inputs(f["samples/inputs"]) if "samples/inputs" in f else ([], {})
+    inputs = f["samples/inputs"][:][:, shown] if "samples/inputs" in f else np.zeros((values.shape[0], 0))
+    input_names = [strings(f["samples/inputs"].attrs["columns"])[i] for i in shown] if "samples/inputs" in f else []
     status = f["samples/status"][:]
     page.heading("Extreme and failed samples", 3)
     page.paragraph("Every run counts here (for Saltelli designs the AB runs too: each is a real sample). "
@@ -389,6 +426,8 @@ def extreme_samples(f, page, file_name):
         table.append(extreme_row(f, file_name, k, "failed", text(f["samples/reason"][k]), inputs[k]))
     page.table(["sample", "why listed", "value or reason"] + input_names + ["rerun alone", "as a job"], table,
                code_columns=(3 + len(input_names), 4 + len(input_names)))
+    if folded:
+        page.paragraph(folded_note(folded))
 
 
 def extreme_row(f, file_name, k, why, value, inputs):

@@ -6,7 +6,7 @@ import matplotlib.pyplot as plt
 
 from history import histogram
 from page import subplot_grid
-from read import strings, text
+from read import folded_note, shown_inputs, strings, text
 
 MAX_FAILED_ROWS = 50
 
@@ -62,6 +62,10 @@ def sensitivity_figures(f, page):
         return
     names = list(f["sensitivity"].keys())
     inputs = strings(f["sensitivity"][names[0]]["spearman"].attrs["columns"])
+    shown, folded = shown_inputs(f["samples/inputs"]) if "samples/inputs" in f else (list(range(len(inputs))), {})
+    if not shown:
+        return
+    inputs = [inputs[i] for i in shown]
     measures = [("Spearman", "spearman", "RdBu_r", -1), ("SRRC", "srrc", "RdBu_r", -1)]
     if "total_order" in f["sensitivity"][names[0]] and "group_total_order" not in f["sensitivity"][names[0]]:
         measures.append(("total Sobol'", "total_order", "Oranges", 0))  # a grouped design's are per group
@@ -69,7 +73,7 @@ def sensitivity_figures(f, page):
                                                         1.2 + 0.35 * len(inputs)), squeeze=False,
                              layout="constrained")
     for ax, (title, key, cmap, low) in zip(axes[0], measures):
-        v = np.array([f["sensitivity"][n][key][:] for n in names])
+        v = np.array([f["sensitivity"][n][key][:][shown] for n in names])
         image = ax.imshow(v.T, cmap=cmap, vmin=low, vmax=1, aspect="auto")
         ax.set_xticks(range(len(names)), names, rotation=30, ha="right", fontsize=8)
         ax.set_yticks(range(len(inputs)), inputs if ax is axes[0][0] else [""] * len(inputs), fontsize=8)
@@ -81,7 +85,8 @@ def sensitivity_figures(f, page):
                             color="white" if abs(v[i, j]) > 0.6 else "black")
         fig.colorbar(image, ax=ax, shrink=0.8)
     page.figure(fig, "every input (rows) against every response (columns): Spearman rank correlation, standardised "
-                     "rank regression coefficient" + (" and total Sobol' index" if len(measures) > 2 else ""),
+                     "rank regression coefficient" + (" and total Sobol' index" if len(measures) > 2 else "") +
+                     (". " + folded_note(folded) if folded else ""),
                 "sensitivity_measures")
 
 
@@ -93,13 +98,16 @@ def failed_table(f, page):
         return
     reason, reached = f["samples/reason"], f["samples/time_reached"]
     inputs = f["samples/inputs"] if "samples/inputs" in f else None
-    names = strings(inputs.attrs["columns"]) if inputs is not None else []
+    shown, folded = shown_inputs(inputs) if inputs is not None else ([], {})
+    names = [strings(inputs.attrs["columns"])[i] for i in shown] if inputs is not None else []
     rows = []
     for k in failed[:MAX_FAILED_ROWS]:
         row = [int(k), int(status[k]), text(reason[k]), f"{reached[k]:.6g}"]
         if inputs is not None:
-            row += [f"{v:.6g}" for v in inputs[k, :]]
+            row += [f"{v:.6g}" for v in inputs[k, :][shown]]
         rows.append(row)
     page.table(["sample", "status", "reason", "time reached (s)"] + names, rows)
+    if folded:
+        page.paragraph(folded_note(folded))
     if failed.size > MAX_FAILED_ROWS:
         page.paragraph(f"the first {MAX_FAILED_ROWS} shown; all are in /samples/status and /samples/reason")

@@ -35,3 +35,23 @@ def counted_rows(f):
         return rows, (f"the {int(rows.sum())} independent runs of the {n} (the A and B runs of the Saltelli "
                       f"design; its AB runs repeat A's inputs but one){note}")
     return held, f"all {int(held.sum())} samples{note}"
+
+
+LIST_COLUMNS = 4  # a target with this many input columns or more is a list (a sea state's phases)
+
+
+def shown_inputs(inputs):
+    """Indices of the input columns a table or map shows one by one, and the list targets it folds
+    ({target: number of columns}): a sea state's 64 phases are one input to a reader, and one by one
+    they are noise (their effect is in the group's Sobol' index)."""
+    names = strings(inputs.attrs["columns"])
+    targets = strings(inputs.attrs["column_targets"]) if "column_targets" in inputs.attrs else names
+    counts = {t: targets.count(t) for t in targets}
+    folded = {t: c for t, c in counts.items() if c >= LIST_COLUMNS}
+    return [i for i, t in enumerate(targets) if t not in folded], folded
+
+
+def folded_note(folded):
+    return ("Not shown one by one: " + ", ".join(f"{t} ({c} inputs)" for t, c in folded.items()) +
+            "; each sample's values are in /samples/inputs (columns " + ", ".join(f"{t}[1..{c}]" for t, c in
+                                                                                    folded.items()) + ").")

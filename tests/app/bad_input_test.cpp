@@ -306,6 +306,50 @@ TEST(BadInput, TabulatedBaseTimesOutOfOrderPointAtTheBaseTable) {
                    {"base motion 'tabulated'", "strictly increasing", "sample 3"});
 }
 
+// A sea state's fields are checked where they are read, each at its value.
+std::string sea_job(const std::string& axis_z) {
+  return "title = \"sea\"\n\n[base]\ntype = \"sea_state\"\n\n[base.z]\n" + axis_z + "\n" + body("root", "base") +
+         kOutput;
+}
+
+TEST(BadInput, SeaStateFieldsAreRefusedAtTheirValues) {
+  struct Bad {
+    std::string axis, at, field;
+    std::vector<std::string> says;
+  };
+  const std::vector<Bad> cases = {
+      {"spectrum = \"bretschneider\"\nsignificant_height = 2.0\npeak_period = 8.0\n", "spectrum = \"bretschneider\"",
+       "base.z.spectrum", {"not a wave spectrum", "\"jonswap\", \"pierson_moskowitz\", \"tabulated\""}},
+      {"significant_height = -2.0\npeak_period = 8.0\n", "significant_height = -2.0", "base.z.significant_height",
+       {"must be a finite number > 0 m"}},
+      {"significant_height = 2.0\n", "", "base.z.peak_period", {"missing required field"}},
+      {"spectrum = \"pierson_moskowitz\"\nsignificant_height = 2.0\npeak_period = 8.0\ngamma = 3.3\n",
+       "gamma = 3.3", "base.z.gamma", {"Pierson-Moskowitz has no peak enhancement"}},
+      {"significant_height = 2.0\npeak_period = 8.0\ncomponents = 0\n", "components = 0", "base.z.components",
+       {"from 1 to 10000"}},
+      {"spectrum = \"tabulated\"\nfrequencies = [0.1, 0.2]\ndensities = [1.0, 1.0]\npeak_period = 8.0\n",
+       "peak_period = 8.0", "base.z.peak_period", {"a tabulated spectrum is given by frequencies and densities"}},
+      {"significant_height = 2.0\npeak_period = 8.0\n[base.z.rao]\nfrequencies = [0.1, 0.2]\ngains = [1.0, 1.0]\n",
+       "[base.z.rao]", "base.z.rao", {"rao: its frequencies [0.1, 0.2] Hz must cover the band of the components [0.0625, 0.4375] Hz"}},
+      {"significant_height = 2.0\npeak_period = 8.0\nwave_height = 1.0\n", "wave_height = 1.0", "base.z.wave_height",
+       {"unknown key"}},
+      {"significant_height = 2.0\npeak_period = 8.0\nmax_frequency = 0.01\n", "max_frequency = 0.01",
+       "base.z.max_frequency", {"the band [0.0625, 0.01] Hz is not allowed"}},
+  };
+  for (const Bad& b : cases) {
+    const std::string text = sea_job(b.axis);
+    Case c("sea state: " + b.field, text);
+    const std::string where = b.at.empty()      ? position_of(text, "[base.z]")
+                              : b.at[0] == '[' ? position_of(text, b.at)
+                                               : value_position(text, b.at);
+    const std::string prefix = c.job() + ":" + where + ": " + b.field + ": ";
+    EXPECT_EQ(c.result().exit_code, 2) << c.err();
+    EXPECT_EQ(c.err().rfind("error: " + prefix, 0), 0u) << "expected error: " << prefix << "\ngot " << c.err();
+    for (const std::string& part : b.says) EXPECT_NE(c.err().find(part), std::string::npos) << c.err();
+    c.expect_no_output_left();
+  }
+}
+
 TEST(BadInput, CycleBetweenTwoBodiesIsNotATree) {
   // root hangs from the base; a and b name each other as parent.
   const std::string text =

@@ -389,7 +389,7 @@ TEST(Examples, CranePayloadCableCarriesTheWeightAndTheBaseWorks) {
     EXPECT_NEAR(magnitude(r, m), std::hypot(reaction(r, x), reaction(r, y), reaction(r, z)),
                 1e-12 * weight);
   EXPECT_NEAR(mean / weight, 1.0, 0.03);
-  // The base's vertical acceleration (up to ~0.7 m/s^2) modulates the tension.
+  // The base's motion (and the payload's swing) modulates the tension.
   EXPECT_GT(largest - smallest, 0.01 * weight);
 
   const Matrix e = run.dataset("energy");
@@ -399,10 +399,22 @@ TEST(Examples, CranePayloadCableCarriesTheWeightAndTheBaseWorks) {
   std::printf("crane_payload: max |E - E0| / scale %.3e\n", change / scale);
   EXPECT_GT(change / scale, 1e-3) << "the moving base should do work on the tree";
 
-  // The base follows the harmonic motion about [0, 0, 30] m.
+  // The base heaves about [0, 0, 30] m with the sea: `treedyn check` gives its
+  // standard deviation through the RAO as 0.33 m; the nominal sea (phase_seed
+  // 11) reaches 0.77 m in these 60 s. Bounds: the mean of 60 s within 0.2 m of
+  // 30 (the 0.3 m motion has periods of 2-16 s), no excursion beyond 1.5 m
+  // (4.5 standard deviations), and it moves (std above 0.15 m).
   const Matrix base = run.dataset("base");
   const std::size_t bz = run.column("base", "position.z");
-  for (std::size_t r = 0; r < base.rows(); ++r) EXPECT_NEAR(base(r, bz), 30.0, 0.9 + 1e-9);
+  double base_sum = 0.0, base_sum2 = 0.0;
+  for (std::size_t r = 0; r < base.rows(); ++r) {
+    EXPECT_NEAR(base(r, bz), 30.0, 1.5);
+    base_sum += base(r, bz);
+    base_sum2 += base(r, bz) * base(r, bz);
+  }
+  const double base_mean = base_sum / static_cast<double>(base.rows());
+  EXPECT_NEAR(base_mean, 30.0, 0.2);
+  EXPECT_GT(std::sqrt(base_sum2 / static_cast<double>(base.rows()) - base_mean * base_mean), 0.15);
 }
 
 TEST(Examples, KapitzaRodStaysUpright) {

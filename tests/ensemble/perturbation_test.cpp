@@ -392,6 +392,89 @@ mode = "add"
   EXPECT_EQ(model.base_motion.at(2.0).acceleration, Vec3(0.5, 0.0, 1.25));
 }
 
+// A sea state's targets: Hs and Tp are scalars, the phases a list whose
+// entries are inputs one by one (uniform on [0, 2 pi) without a
+// distribution); the derived base motion is the sea state with exactly
+// those values: component by component against components() of the axis
+// built by hand (same frequencies, amplitudes scaled by Hs, phases as set).
+TEST(Perturbation, SeaStateHeightPeriodAndPhases) {
+  const std::string text = R"([base]
+type = "sea_state"
+phase_seed = 5
+
+[base.z]
+significant_height = 2.0
+peak_period = 8.0
+components = 6
+
+[[body]]
+name = "rod"
+shape = "cylinder"
+radius = 0.02
+length = 1.0
+mass = 1.0
+parent = "base"
+joint_on_child = [0.0, 0.0, 0.5]
+
+[output]
+end_time = 0.1
+step = 0.05
+
+[ensemble]
+samples = 4
+
+[[ensemble.perturbation]]
+target = "base.z.significant_height"
+distribution = "uniform"
+lower = 1.0
+upper = 3.0
+
+[[ensemble.perturbation]]
+target = "base.z.phases"
+)";
+  const Job job = parse_job(text, "sea.toml");
+  const EnsembleSpec spec = read_ensemble(job);
+  ASSERT_EQ(spec.perturbations.size(), 2u);
+  EXPECT_EQ(spec.input_dimensions(), 7u);
+  const std::vector<std::string> names = spec.input_names();
+  EXPECT_EQ(names[1], "base.z.phases[1]");
+  EXPECT_EQ(names[6], "base.z.phases[6]");
+  const Perturbation& phases = spec.perturbations[1];
+  EXPECT_EQ(phases.kind, Perturbation::Kind::parameter_list);
+  EXPECT_EQ(phases.distribution.kind, Distribution::Kind::uniform);
+  EXPECT_EQ(phases.distribution.upper, 2.0 * std::numbers::pi);
+  const ParameterTable& table = job.definition.parameters;
+  EXPECT_EQ(table.entry_name(phases.first + 5), "base.z.phases[6]");
+
+  std::vector<double> params(table.nominal().begin(), table.nominal().end());
+  const std::vector<double> nominal_params = params;
+  InitialState s = job.initial;
+  const std::vector<double> values = {2.5, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6};
+  apply_inputs(spec.perturbations, values, job.initial, params, s);
+  for (std::size_t k = 0; k < params.size(); ++k) {
+    const int i = static_cast<int>(k);
+    if (i == index_of(table, "base.z.significant_height")) EXPECT_EQ(params[k], 2.5);
+    else if (i >= phases.first && i < phases.first + 6) EXPECT_EQ(params[k], values[k - phases.first + 1]);
+    else EXPECT_EQ(params[k], nominal_params[k]) << table.entry_name(i);
+  }
+  Model model;
+  derive_model(job.definition, params, model);
+  SeaStateAxis by_hand = *std::get<SeaStateBase>(job.definition.base.kind).axes[2];
+  const SeaStateAxis nominal = by_hand;
+  by_hand.significant_height = 2.5;
+  by_hand.phases = {0.1, 0.2, 0.3, 0.4, 0.5, 0.6};
+  const std::vector<SeaComponent> c = components(by_hand), c0 = components(nominal);
+  for (double t : {0.0, 0.37, 5.0}) {
+    double z = 0.0;
+    for (const SeaComponent& k : c) z += k.amplitude * std::sin(2.0 * std::numbers::pi * k.frequency * t + k.phase);
+    EXPECT_NEAR(model.base_motion.at(t).position.z(), z, 1e-15) << t;
+  }
+  for (std::size_t k = 0; k < c.size(); ++k) {
+    EXPECT_EQ(c[k].frequency, c0[k].frequency);  // the grid stays the job's
+    EXPECT_NEAR(c[k].amplitude, 1.25 * c0[k].amplitude, 1e-15);
+  }
+}
+
 // read_ensemble refuses bad input with a JobError naming the field.
 
 // A one-rod job with a fixed base plus the given [ensemble] text.

@@ -52,7 +52,8 @@ double dnv_jonswap(double hs, double tp, double gamma, double f) {
 // integral is Hs^2/16: checked by a trapezoid rule on 2e6 intervals of
 // (0, 40 fp] plus the f^-5 tail beyond (Hs^2/16 x 5/4 (1/40)^4 = 4e-7 of
 // m0, added in closed form). Tolerance 1e-6 of m0 (the trapezoid's error
-// on this grid is ~1e-9); DNV's own factor is within 1.5 % of exact.
+// on this grid is ~1e-9); DNV's own factor is within 2 % of exact for gamma
+// up to 7 (measured: +0.2 % at 2, -0.24 % at 3.3, +1.8 % at 7).
 TEST(SeaState, SpectraMatchTheirClosedFormsAndIntegrals) {
   const double hs = 2.5, tp = 9.0, fp = 1.0 / tp;
   SeaStateAxis pm = jonswap(hs, tp, 8, 1);
@@ -71,7 +72,7 @@ TEST(SeaState, SpectraMatchTheirClosedFormsAndIntegrals) {
     const double ratio = spectral_density(a, fp) / dnv_jonswap(hs, tp, gamma, fp);
     for (double x : {0.7, 0.95, 1.05, 1.5, 3.0})
       EXPECT_NEAR(spectral_density(a, x * fp) / dnv_jonswap(hs, tp, gamma, x * fp), ratio, 1e-12 * ratio);
-    EXPECT_NEAR(ratio, 1.0, 0.015) << "gamma " << gamma;
+    EXPECT_NEAR(ratio, 1.0, 0.02) << "gamma " << gamma;
     std::printf("gamma %.1f: exact scaling / DNV's (1 - 0.287 ln gamma) = %.5f\n", gamma, ratio);
   }
 }
@@ -108,22 +109,26 @@ TEST(SeaState, TimeVarianceIsM0) {
   EXPECT_GT(summary.m0_components / summary.m0_spectrum, 0.98);
 }
 
-// Welch's estimate (Hann window, segments of 1/8 of the record with 50 %
-// overlap, one-sided density) of the realised heave over one repeat period
-// of 1024 components, against S(f) at every Welch frequency inside the
-// central 80 % of the spectrum's energy (10 % to 90 % of its cumulative m0).
-// A segment resolves 8 component spacings, narrow against the JONSWAP peak
-// (0.07 fp; the window smears it by ~ 0.02 fp), so the estimate should sit
-// within a few per cent of S; the issue asks 10 %.
+// Welch's estimate (Hann window, one-sided density) of the realised heave of
+// 1024 components, against S(f) at every Welch frequency inside the central
+// 80 % of the spectrum's energy (10 % to 90 % of the components' cumulative
+// m0). Segments are 1/8 of the repeat period T = 1/df (resolution 8 df,
+// narrow against the JONSWAP peak's 0.07 fp = 24 df), 64 of them, started
+// T/64 apart (87.5 % overlap). With fewer segments the cross terms of the
+// lines inside one window (random phases, 32 lines in the Hann main lobe) do
+// not average out and the estimate scatters by +-20 % (measured with 15
+// segments at 50 % overlap); with starts T/64 apart over one period, every
+// cross term of lines less than 64 df apart cancels, and what is left is S
+// smoothed by the window: a bias of about -(1/2)(w/sigma)^2 ~ -2 % at the
+// peak. The issue asks 10 %.
 TEST(SeaState, WelchSpectrumMatchesTheTarget) {
   const double hs = 2.0, tp = 8.0;
   const SeaStateAxis a = jonswap(hs, tp, 1024, 11);
   const BaseMotion motion = heave(a);
-  const double df = summarize(a).df, dt = 0.25;
-  const int n = static_cast<int>(std::lround(1.0 / (df * dt)));
-  std::vector<double> z(static_cast<std::size_t>(n));
-  for (int i = 0; i < n; ++i) z[static_cast<std::size_t>(i)] = motion.at(i * dt).position.z();
-  const int length = n / 8, step = length / 2;
+  const int n = 8192, length = n / 8, step = n / 64, segments = 64;  // n points per period T
+  const double dt = 1.0 / (summarize(a).df * n);
+  std::vector<double> z(static_cast<std::size_t>(n + length));
+  for (std::size_t i = 0; i < z.size(); ++i) z[i] = motion.at(static_cast<double>(i) * dt).position.z();
   std::vector<double> window(static_cast<std::size_t>(length));
   double window_power = 0.0;
   for (int i = 0; i < length; ++i) {
@@ -147,15 +152,13 @@ TEST(SeaState, WelchSpectrumMatchesTheTarget) {
     const double c = cumulative(f);
     if (c < 0.1 || c > 0.9) continue;
     double density = 0.0;
-    int segments = 0;
-    for (int start = 0; start + length <= n; start += step, ++segments) {
+    for (int s = 0; s < segments; ++s) {
       std::complex<double> sum = 0.0;
       for (int i = 0; i < length; ++i)
-        sum += window[static_cast<std::size_t>(i)] * z[static_cast<std::size_t>(start + i)] *
+        sum += window[static_cast<std::size_t>(i)] * z[static_cast<std::size_t>(s * step + i)] *
                std::polar(1.0, -2.0 * kPi * bin * i / length);
-      density += 2.0 * dt * std::norm(sum) / window_power;
+      density += 2.0 * dt * std::norm(sum) / window_power / segments;
     }
-    density /= segments;
     const double target = spectral_density(a, f);
     worst = std::max(worst, std::abs(density / target - 1.0));
     EXPECT_NEAR(density / target, 1.0, 0.10) << "f = " << f << " Hz";
