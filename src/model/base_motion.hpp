@@ -2,6 +2,7 @@
 #pragma once
 
 #include <array>
+#include <complex>
 #include <memory>
 #include <variant>
 #include <vector>
@@ -72,7 +73,25 @@ class BaseMotion {
     TabulatedBase table;
     std::vector<Vec3> moments;  // second derivatives at the knots
   };
-  std::variant<FixedBase, ConstantAccelerationBase, HarmonicBase, std::shared_ptr<const Spline>>
+  // A sea state's components on each axis, equally spaced in frequency:
+  // sum_k Im(c_k e^{i (w0 + k dw) t}) with c_k = a_k e^{i phi_k}. One sincos
+  // per axis and a complex product per component (e^{i k dw t} by
+  // recurrence), not a sincos per component.
+  struct EquispacedHarmonics {
+    double w0 = 0.0, dw = 0.0;  // rad/s
+    std::vector<std::complex<double>> c;
+  };
+  struct SeaMotion {
+    Vec3 offset = Vec3::Zero();
+    std::array<EquispacedHarmonics, 3> axes;
+  };
+  static SeaMotion compile(const SeaStateBase& sea);
+  static BaseKinematics kinematics(const FixedBase& b, double t);
+  static BaseKinematics kinematics(const ConstantAccelerationBase& b, double t);
+  static BaseKinematics kinematics(const HarmonicBase& b, double t);
+  static BaseKinematics kinematics(const SeaMotion& b, double t);
+  static BaseKinematics kinematics(const std::shared_ptr<const Spline>& b, double t);
+  std::variant<FixedBase, ConstantAccelerationBase, HarmonicBase, SeaMotion, std::shared_ptr<const Spline>>
       motion_ = FixedBase{};
 };
 

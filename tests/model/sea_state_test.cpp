@@ -197,6 +197,40 @@ TEST(SeaState, VelocityAndAccelerationAreTheDerivatives) {
   EXPECT_FALSE(motion.is_fixed());
 }
 
+// The base motion sums the components by a complex recurrence (one sincos
+// per axis, model/base_motion.cpp); against the plain sum of sines, cosines
+// and their derivatives of components(), 200 components over an hour. Both
+// round: the recurrence by ~k/4 ulp at component k, the reference through
+// its arguments w t + phi, which reach 8000 rad (ulp 9e-13) at t = 1 h.
+// Measured 5.6e-13 m against a sum of amplitudes of 10.7 m (and 1.8e-14 m
+// for 64 components over the first 2 minutes); tolerance 1e-12 of the sum.
+TEST(SeaState, RecurrenceEqualsTheSumOfSines) {
+  const SeaStateAxis a = jonswap(3.0, 10.0, 200, 9);
+  const BaseMotion motion = heave(a);
+  const std::vector<SeaComponent> parts = components(a);
+  double scale = 0.0;
+  for (const SeaComponent& c : parts) scale += c.amplitude;
+  double worst[3] = {0.0, 0.0, 0.0};
+  for (double t = -10.0; t < 3600.0; t += 3.7) {
+    double p = 0.0, v = 0.0, acc = 0.0;
+    for (const SeaComponent& c : parts) {
+      const double w = 2.0 * kPi * c.frequency;
+      p += c.amplitude * std::sin(w * t + c.phase);
+      v += c.amplitude * w * std::cos(w * t + c.phase);
+      acc -= c.amplitude * w * w * std::sin(w * t + c.phase);
+    }
+    const BaseKinematics k = motion.at(t);
+    worst[0] = std::max(worst[0], std::abs(k.position.z() - p));
+    worst[1] = std::max(worst[1], std::abs(k.velocity.z() - v));
+    worst[2] = std::max(worst[2], std::abs(k.acceleration.z() - acc));
+  }
+  std::printf("recurrence vs sum of sines: %.2e m, %.2e m/s, %.2e m/s^2 (sum of amplitudes %.3f m)\n", worst[0],
+              worst[1], worst[2], scale);
+  EXPECT_LT(worst[0], 1e-12 * scale);
+  EXPECT_LT(worst[1], 1e-12 * scale * 2.0 * kPi * a.max_frequency);
+  EXPECT_LT(worst[2], 1e-12 * scale * std::pow(2.0 * kPi * a.max_frequency, 2));
+}
+
 // An RAO multiplies each component by G(f) and shifts it by theta(f):
 // component by component against the elevation without one.
 TEST(SeaState, ResponseAmplitudeOperatorScalesAndShiftsEachComponent) {
