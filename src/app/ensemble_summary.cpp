@@ -70,6 +70,34 @@ void print_stop_rule(std::ostream& out, const EnsembleSpec& s) {
   out << " (at most " << s.samples << " runs)\n";
 }
 
+// A sea state's band is the job's, whatever Tp a sample draws: the share of
+// the spectrum's m0 its components keep at the 0.1 % and 99.9 % quantiles of
+// a sampled peak period (a peak near the band's edge loses energy silently).
+void print_band_share(std::ostream& out, const Perturbation& p, const ModelDefinition& d) {
+  const auto* sea = std::get_if<SeaStateBase>(&d.base.kind);
+  if (!sea || p.kind != Perturbation::Kind::parameter) return;
+  for (int axis = 0; axis < 3; ++axis) {
+    if (d.base.sea[axis].peak_period < 0 || p.first != d.base.sea[axis].peak_period) continue;
+    SeaStateAxis a = *sea->axes[axis];
+    const double nominal = d.parameters.nominal()[p.first];
+    double worst = 1.0;
+    out << "      the components' band keeps";
+    for (double q : {0.001, 0.999}) {
+      const double x = p.distribution.quantile(q) * p.unit;
+      a.peak_period = p.mode == Perturbation::Mode::scale ? nominal * x : p.mode == Perturbation::Mode::add ? nominal + x : x;
+      if (!(a.peak_period > 0.0)) continue;
+      const SeaStateSummary share = summarize(a);
+      worst = std::min(worst, share.m0_components / share.m0_spectrum);
+      out << (q < 0.5 ? " " : ", ") << format_digits(100.0 * share.m0_components / share.m0_spectrum, 4)
+          << " % of m0 at Tp = " << format_digits(a.peak_period, 4) << " s";
+    }
+    out << " (the 0.1 % and 99.9 % quantiles)\n";
+    if (worst < 0.97)
+      out << "      warning: below 97 %: widen [base." << "xyz"[axis]
+          << "] min_frequency and max_frequency to hold the spectrum at these periods\n";
+  }
+}
+
 // A grouped Saltelli design: the run count and what each group holds.
 void print_groups(std::ostream& out, const EnsembleSpec& s) {
   out << "  saltelli with " << s.unit_count() << " groups: base size N = " << s.base_samples
@@ -131,8 +159,7 @@ void print_ensemble_summary(std::ostream& out, const Job& job, const EnsembleSpe
     else if (p.kind == Kind::rotation)
       out << ", rad, composed with the nominal orientation";
     else if (p.kind == Kind::parameter_list)
-      out << " per entry (" << p.entries << " inputs), "
-          << (p.mode == Mode::scale ? "multiplies" : p.mode == Mode::add ? "is added to" : "replaces")
+      out << " per entry (" << p.entries << " inputs), " << (p.mode == Mode::add ? "is added to" : "replaces")
           << " each nominal entry";
     else if (p.entries > 1)
       out << (p.mode == Mode::scale ? " multiplies the matrix"
@@ -146,6 +173,7 @@ void print_ensemble_summary(std::ostream& out, const Job& job, const EnsembleSpe
           << " " << p.si_unit;
     out << "\n      " << p.enters << "\n";
     print_invalid_mass(out, p, job.definition);
+    print_band_share(out, p, job.definition);
   }
   out << "statistics: quantiles";
   for (double q : s.quantiles) out << " " << format_number(q);

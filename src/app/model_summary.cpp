@@ -54,7 +54,7 @@ void draw_tree(std::ostream& out, const Model& m) {
 }
 
 // A sea state's spectra, axis by axis: what the components realise of them.
-void print_sea_state(std::ostream& out, const BaseMotionSpec& base) {
+void print_sea_state(std::ostream& out, const BaseMotionSpec& base, double end_time) {
   const auto* sea = std::get_if<SeaStateBase>(&base);
   if (!sea) return;
   static const char* kSpectrum[] = {"JONSWAP", "Pierson-Moskowitz", "tabulated"};
@@ -62,18 +62,27 @@ void print_sea_state(std::ostream& out, const BaseMotionSpec& base) {
     if (!sea->axes[axis]) continue;
     const SeaStateAxis& a = *sea->axes[axis];
     const SeaStateSummary s = summarize(a);
-    out << "base: sea state along " << "xyz"[axis] << ": " << kSpectrum[static_cast<int>(a.spectrum)];
+    out << "base: sea state along " << "xyz"[axis] << ": ";
+    if (a.wave_of >= 0) {
+      out << "the waves of " << "xyz"[a.wave_of] << fmt(" through its own RAO: the base's variance is %.6g m^2", s.base_variance)
+          << fmt(" (std %.4g m)\n", std::sqrt(s.base_variance));
+      continue;
+    }
+    out << kSpectrum[static_cast<int>(a.spectrum)];
     if (a.spectrum != WaveSpectrum::tabulated) out << fmt(", Hs %.6g m, Tp %.6g s", a.significant_height, a.peak_period);
     if (a.spectrum == WaveSpectrum::jonswap) out << fmt(", gamma %.4g", a.gamma);
     out << "; " << a.components() << fmt(" components on [%.6g, %.6g] Hz", a.min_frequency, a.max_frequency)
         << fmt(" (df %.4g Hz: the sea repeats every %.4g s)\n", s.df, 1.0 / s.df);
-    out << fmt("  m0 = %.6g m^2 of the spectrum's %.6g m^2", s.m0_components, s.m0_spectrum)
-        << fmt(" (%.2f %% in the band), Hs = 4 sqrt(m0) = %.6g m", 100.0 * s.m0_components / s.m0_spectrum,
+    out << fmt("  m0 = %.6g m^2 of the components, %.6g m^2 of the spectrum", s.m0_components, s.m0_spectrum)
+        << fmt(" (ratio %.4f), Hs = 4 sqrt(m0) = %.6g m", s.m0_components / s.m0_spectrum,
                4.0 * std::sqrt(s.m0_components));
     if (!a.rao.empty())
       out << fmt("; through the RAO the base's variance is %.6g m^2 (std %.4g m)", s.base_variance,
                  std::sqrt(s.base_variance));
     out << "\n";
+    if (end_time > 1.0 / s.df)
+      out << fmt("  warning: the run (%.6g s) is longer than the sea's repeat period", end_time)
+          << fmt(" (%.4g s): its motion repeats; more components over the band lengthen the period\n", 1.0 / s.df);
   }
 }
 
@@ -85,7 +94,7 @@ void print_model_summary(std::ostream& out, const Job& job) {
   out << "tree (" << m.n << (m.n == 1 ? " body" : " bodies") << "):\n" << kBaseName << "\n";
   draw_tree(out, m);
   out << fmt("total mass %.6g kg\n", m.total_mass);
-  print_sea_state(out, job.definition.base.kind);
+  print_sea_state(out, job.definition.base.kind, job.request.output_times.back());
   out << "gravity [" << m.gravity.x() << ", " << m.gravity.y() << ", " << m.gravity.z() << "] m/s^2\n";
   out << "augmented inertia K_i about the inboard joint, body frame (kg m^2):\n";
   for (int u = 0; u < m.n; ++u) {

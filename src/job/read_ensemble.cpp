@@ -306,6 +306,10 @@ Perturbation read_perturbation(const TomlView& p, const Job& job) {
     pert.distribution.upper = 2.0 * std::numbers::pi;
     return pert;
   }
+  if (pert.kind == Kind::parameter_list && !p.has("mode"))
+    p.fail("distribution", "with a distribution, say what it does to each phase: mode = \"add\" (a spread about the "
+                           "nominal phases) or \"set\" (every phase drawn from it: a narrow one makes the components "
+                           "add up in phase, one freak wave)");
   pert.unit = read_unit(p, pert);
   pert.distribution = read_distribution(p);
   return pert;
@@ -320,7 +324,9 @@ void count_runs(const TomlView& t, EnsembleSpec& s) {
   if (s.design == Design::saltelli) {
     const unsigned d = s.input_dimensions();
     if (d == 0) t.fail("design", "saltelli needs at least one [[ensemble.perturbation]] (the inputs to rank)");
-    if (2 * d > 1000) t.fail("perturbation", "saltelli supports at most 500 input dimensions (2D Sobol dimensions)");
+    if (2 * d > 1000)
+      t.fail("perturbation", "saltelli supports at most 500 input dimensions (2D Sobol dimensions); this job has " +
+                                 std::to_string(d) + " (a sea state's phases count one per component)");
     const std::string block = s.grouped ? "(G + 2)" : "(D + 2)";
     if (s.base_samples > kMaxRuns / s.saltelli_block())
       t.fail("samples", "saltelli makes samples x " + block + " = " + std::to_string(s.base_samples) + " x " +

@@ -110,6 +110,7 @@ void apply_sample_section(Job& job) {
       if (!v) e.fail("value", "missing required field: a rotation vector [x, y, z] in rad");
       values.insert(values.end(), {v->x(), v->y(), v->z()});
     } else if (p.kind == Kind::parameter_list) {
+      if (p.mode == Mode::scale) e.fail("mode", "a list of phases is set or added to, not scaled; use \"set\" or \"add\"");
       const auto v = e.numbers("value");
       if (!v || static_cast<int>(v->size()) != p.entries)
         e.fail("value", "expected a list of " + std::to_string(p.entries) + " numbers in " + p.si_unit +

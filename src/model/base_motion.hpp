@@ -53,7 +53,8 @@ struct TabulatedBase {
   std::vector<Vec3> positions;   // one per time
 };
 
-// A sea state (model/sea_state.hpp) is compiled into a HarmonicBase.
+// A sea state (model/sea_state.hpp) is compiled into its components'
+// complex amplitudes (BaseMotion::SeaMotion).
 using BaseMotionSpec =
     std::variant<FixedBase, ConstantAccelerationBase, HarmonicBase, TabulatedBase, SeaStateBase>;
 

@@ -109,7 +109,7 @@ void add_sea_state_parameters(ParameterTable& table, const SeaStateBase& sea, Ba
   form.offset = add(table, "base.offset", "m", Shape::vector3, "mean position of the sea-state base motion", sea.offset);
   static const char* axis_name[3] = {"x", "y", "z"};
   for (int axis = 0; axis < 3; ++axis) {
-    if (!sea.axes[axis]) continue;
+    if (!sea.axes[axis] || sea.axes[axis]->wave_of >= 0) continue;  // a follower's wave is its source's
     const SeaStateAxis& a = *sea.axes[axis];
     const std::string name = "base." + std::string(axis_name[axis]) + ".";
     const std::string along = " of the sea state along " + std::string(axis_name[axis]);

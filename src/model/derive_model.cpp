@@ -159,7 +159,7 @@ BaseMotion derive_base(const BaseForm& f, std::span<const double> p) {
   } else if (auto* sea = std::get_if<SeaStateBase>(&spec)) {
     sea->offset = vec3(p, f.offset);
     for (int axis = 0; axis < 3; ++axis) {
-      if (!sea->axes[axis]) continue;
+      if (!sea->axes[axis] || sea->axes[axis]->wave_of >= 0) continue;
       SeaStateAxis& a = *sea->axes[axis];
       const SeaAxisForm& form = f.sea[axis];
       if (form.significant_height >= 0) a.significant_height = p[form.significant_height];
@@ -167,6 +167,7 @@ BaseMotion derive_base(const BaseForm& f, std::span<const double> p) {
       if (form.gamma >= 0) a.gamma = p[form.gamma];
       std::copy_n(p.begin() + form.phases, a.phases.size(), a.phases.begin());
     }
+    share_waves(sea->axes);
   }
   return BaseMotion(std::move(spec));
 }

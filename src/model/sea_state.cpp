@@ -102,6 +102,26 @@ void require_table(const std::vector<double>& xs, const std::vector<double>& ys,
   }
 }
 
+// The band: ordered, inside a table's frequencies, and holding some energy.
+void validate_band(const SeaStateAxis& a, const std::string& axis_name) {
+  const std::string band = "[" + format_number(a.min_frequency) + ", " + format_number(a.max_frequency) + "] Hz";
+  if (!(std::isfinite(a.min_frequency) && std::isfinite(a.max_frequency) && a.min_frequency >= 0.0 &&
+        a.max_frequency > a.min_frequency))
+    refuse(axis_name, "the band " + band + " is not allowed; need 0 <= min_frequency < max_frequency");
+  if (a.spectrum == WaveSpectrum::tabulated &&
+      (a.min_frequency < a.table_frequencies.front() || a.max_frequency > a.table_frequencies.back()))
+    refuse(axis_name, "the band " + band + " reaches outside the tabulated spectrum's frequencies [" +
+                          format_number(a.table_frequencies.front()) + ", " +
+                          format_number(a.table_frequencies.back()) + "] Hz");
+  SeaStateAxis no_rao = a;
+  no_rao.rao = {};
+  double m0 = 0.0;
+  for (const SeaComponent& c : components(no_rao)) m0 += c.amplitude * c.amplitude;
+  if (!(m0 > 0.0))
+    refuse(axis_name, "the spectrum has no energy at the components' frequencies in the band " + band +
+                          "; give a band where its density is positive");
+}
+
 void validate_parametric(const SeaStateAxis& a, const std::string& axis_name) {
   if (!(std::isfinite(a.significant_height) && a.significant_height > 0.0))
     refuse(axis_name, "significant_height = " + format_number(a.significant_height) + " m; it must be finite and > 0");
@@ -138,6 +158,17 @@ std::vector<SeaComponent> components(const SeaStateAxis& a) {
   return out;
 }
 
+void share_waves(std::array<std::optional<SeaStateAxis>, 3>& axes) {
+  for (auto& follower : axes) {
+    if (!follower || follower->wave_of < 0) continue;
+    const SeaStateAxis& wave = *axes[static_cast<std::size_t>(follower->wave_of)];
+    SeaStateAxis shared = wave;
+    shared.rao = std::move(follower->rao);
+    shared.wave_of = follower->wave_of;
+    *follower = std::move(shared);
+  }
+}
+
 SeaStateSummary summarize(const SeaStateAxis& a) {
   SeaStateSummary s;
   s.df = bin_width(a);
@@ -158,14 +189,13 @@ void validate_sea_state(const SeaStateAxis& a, const std::string& axis_name) {
     validate_parametric(a, axis_name);
   if (a.components() < 1 || a.components() > 10000)
     refuse(axis_name, "components = " + std::to_string(a.components()) + "; allowed: 1 to 10000");
+  validate_band(a, axis_name);
   for (double phi : a.phases)
     if (!std::isfinite(phi)) refuse(axis_name, "every phase must be finite");
-  if (!(std::isfinite(a.min_frequency) && std::isfinite(a.max_frequency) && a.min_frequency >= 0.0 &&
-        a.max_frequency > a.min_frequency))
-    refuse(axis_name, "the band [" + format_number(a.min_frequency) + ", " + format_number(a.max_frequency) +
-                              "] Hz is not allowed; need 0 <= min_frequency < max_frequency");
   if (!a.rao.empty()) {
     require_table(a.rao.frequencies, a.rao.gains, "rao", axis_name, true);
+    for (double theta : a.rao.phases)
+      if (!std::isfinite(theta)) refuse(axis_name, "rao: every phase must be finite");
     if (a.rao.phases.size() != a.rao.frequencies.size())
       refuse(axis_name, "rao: need one phase per frequency (got " + std::to_string(a.rao.phases.size()) + " and " +
                             std::to_string(a.rao.frequencies.size()) + ")");

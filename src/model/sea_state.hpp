@@ -39,8 +39,16 @@ struct SeaStateAxis {
   double min_frequency = 0.0, max_frequency = 0.0;         // Hz, the band of the components
   std::vector<double> phases;                               // phi_k, rad; one per component
   ResponseAmplitudeOperator rao;
+  // -1: this axis has waves of its own. 0, 1, 2: it moves with the waves of
+  // that axis (the same spectrum, Hs, Tp and phases, so the two motions are
+  // coherent) through its own RAO; the reader and derive_model copy them.
+  int wave_of = -1;
   int components() const { return static_cast<int>(phases.size()); }
 };
+
+// Copies the wave (spectrum, its parameters, band and phases) of the axis
+// each follower follows into the follower, keeping the follower's RAO.
+void share_waves(std::array<std::optional<SeaStateAxis>, 3>& axes);
 
 struct SeaStateBase {
   Vec3 offset = Vec3::Zero();                     // m, mean position of the base point
@@ -57,21 +65,23 @@ double spectral_density(const SeaStateAxis& axis, double f);
 
 // Default band for a parametric spectrum of peak period tp: [0.5, 3.5] / tp
 // (a Pierson-Moskowitz spectrum keeps 99.2 % of its m0 there); a table's
-// band is its own frequency range.
+// band is its own frequency range (a band must lie inside it).
 std::array<double, 2> default_band(const SeaStateAxis& axis);
 
 // What `treedyn check` prints about one axis, and what the tests compare to.
 struct SeaStateSummary {
   double m0_components = 0.0;  // sum a_k^2 / 2: the variance of the realised elevation, m^2
+                               // (a midpoint rule of m0 over the band: it may exceed the
+                               // spectrum's own m0 when few components resolve a sharp peak)
   double m0_spectrum = 0.0;    // integral of S over (0, inf) (Hs^2/16 for a parametric one), m^2
   double base_variance = 0.0;  // sum (G a_k)^2 / 2: the variance of the base motion, m^2
   double df = 0.0;             // bin width, Hz; the sum repeats every 1/df s
 };
 SeaStateSummary summarize(const SeaStateAxis& axis);
 
-// Checks one axis (finite, positive Hs and Tp, gamma >= 1, a band inside a
-// table's and an RAO's frequencies, ...); throws ModelError saying which axis
-// and what is allowed.
+// Checks one axis (finite, positive Hs and Tp, 1 <= gamma <= 20, a band
+// inside a table's and an RAO's frequencies, some energy in the band, ...);
+// throws ModelError saying which axis and what is allowed.
 void validate_sea_state(const SeaStateAxis& axis, const std::string& axis_name);
 
 // Amplitude, frequency and phase of component k: what the base moves by.

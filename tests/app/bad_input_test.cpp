@@ -16,6 +16,7 @@
 #include <functional>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "support/command.hpp"
@@ -335,6 +336,16 @@ TEST(BadInput, SeaStateFieldsAreRefusedAtTheirValues) {
        {"unknown key"}},
       {"significant_height = 2.0\npeak_period = 8.0\nmax_frequency = 0.01\n", "max_frequency = 0.01",
        "base.z.max_frequency", {"the band [0.0625, 0.01] Hz is not allowed"}},
+      {"significant_height = 2.0\npeak_period = 8.0\ngamma = 0.5\n", "gamma = 0.5", "base.z.gamma",
+       {"must be from 1 (Pierson-Moskowitz) to 20"}},
+      {"spectrum = \"tabulated\"\nfrequencies = [0.1, 0.2]\ndensities = [1.0, 1.0]\nmin_frequency = 0.05\n",
+       "min_frequency = 0.05", "base.z.min_frequency", {"reaches outside the tabulated spectrum's frequencies [0.1, 0.2]"}},
+      {"spectrum = \"tabulated\"\nfrequencies = [0.1, 0.2]\ndensities = [0.0, 0.0]\n", "densities = [0.0, 0.0]",
+       "base.z.densities", {"no energy"}},
+      {"spectrum = \"tabulated\"\nfrequencies = [0.1, 0.2]\ndensities = [1.0, -1.0]\n", "densities = [1.0, -1.0]",
+       "base.z.densities", {"value >= 0"}},
+      {"significant_height = 2.0\npeak_period = 8.0\n[base.z.rao]\nfrequencies = [0.0, 1.0]\ngains = [1.0, 1.0]\n"
+       "unit = \"deg\"\n", "unit = \"deg\"", "base.z.rao.unit", {"it has no phases"}},
   };
   for (const Bad& b : cases) {
     const std::string text = sea_job(b.axis);
@@ -346,6 +357,22 @@ TEST(BadInput, SeaStateFieldsAreRefusedAtTheirValues) {
     EXPECT_EQ(c.result().exit_code, 2) << c.err();
     EXPECT_EQ(c.err().rfind("error: " + prefix, 0), 0u) << "expected error: " << prefix << "\ngot " << c.err();
     for (const std::string& part : b.says) EXPECT_NE(c.err().find(part), std::string::npos) << c.err();
+    c.expect_no_output_left();
+  }
+}
+
+TEST(BadInput, AnAxisFollowingWavesNeedsAnAxisWithWavesAndAnRao) {
+  const std::string own = "significant_height = 2.0\npeak_period = 8.0\n\n";
+  for (const auto& [y, at, says] : std::vector<std::tuple<std::string, std::string, std::string>>{
+           {"wave = \"x\"\n[base.y.rao]\nfrequencies = [0.0, 1.0]\ngains = [1.0, 1.0]\n", "wave = \"x\"",
+            "not an axis with waves of its own"},
+           {"wave = \"z\"\n", "wave = \"z\"", "needs its own [base.AXIS.rao]"},
+           {"wave = \"z\"\nsignificant_height = 1.0\n", "significant_height = 1.0", "unknown key"}}) {
+    const std::string text = sea_job(own + "[base.y]\n" + y);
+    Case c("sea state follower", text);
+    EXPECT_EQ(c.result().exit_code, 2) << c.err();
+    EXPECT_EQ(c.err().rfind("error: " + c.job() + ":" + value_position(text, at) + ": base.y.", 0), 0u) << c.err();
+    EXPECT_NE(c.err().find(says), std::string::npos) << c.err();
     c.expect_no_output_left();
   }
 }

@@ -19,6 +19,7 @@
 #include <functional>
 #include <numbers>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "common/error.hpp"
@@ -474,6 +475,25 @@ target = "base.z.phases"
   for (std::size_t k = 0; k < c.size(); ++k) {
     EXPECT_EQ(c[k].frequency, c0[k].frequency);  // the grid stays the job's
     EXPECT_NEAR(c[k].amplitude, 1.25 * c0[k].amplitude, 1e-15);
+  }
+  EXPECT_EQ(phases.mode, Perturbation::Mode::set);
+
+  // With a distribution a list needs its mode said, and is never scaled; without
+  // one, no distribution field may stand alone.
+  const std::string phase_entry = "[[ensemble.perturbation]]\ntarget = \"base.z.phases\"\n";
+  for (const auto& [extra, field, says] : std::vector<std::tuple<std::string, std::string, std::string>>{
+           {"distribution = \"normal\"\nstd = 5.0\nunit = \"deg\"\n", "distribution", "say what it does to each phase"},
+           {"distribution = \"normal\"\nstd = 0.1\nmode = \"scale\"\n", "mode", "not scaled"},
+           {"std = 0.1\n", "std", "without 'distribution' every entry is uniform on [0, 2 pi)"}}) {
+    std::string bad = text;
+    bad.replace(bad.find(phase_entry), phase_entry.size(), phase_entry + extra);
+    try {
+      read_ensemble(parse_job(bad, "sea.toml"));
+      ADD_FAILURE() << "accepted:\n" << extra;
+    } catch (const JobError& e) {
+      EXPECT_EQ(e.field(), "ensemble.perturbation[2]." + field) << e.what();
+      EXPECT_NE(std::string(e.what()).find(says), std::string::npos) << e.what();
+    }
   }
 }
 

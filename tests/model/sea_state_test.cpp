@@ -249,22 +249,57 @@ TEST(SeaState, ResponseAmplitudeOperatorScalesAndShiftsEachComponent) {
 }
 
 // A tabulated spectrum is interpolated linearly and realised on its own
-// range: a flat 0.5 m^2/Hz over [0.1, 0.3] Hz has m0 = 0.1 m^2, every
-// component amplitude sqrt(2 x 0.5 x df).
+// range: 0.2, 0.6, 0.4 m^2/Hz at 0.1, 0.2, 0.3 Hz has m0 = 0.09 m^2 (the
+// trapezoids), and component k's amplitude is sqrt(2 S(f_k) df) with S the
+// straight line through its two neighbouring rows (20 components: df 0.01 Hz,
+// midpoint rule exact on straight lines, so the components' m0 is 0.09 too).
 TEST(SeaState, TabulatedSpectrumIsRealisedOnItsRange) {
   SeaStateAxis a;
   a.spectrum = WaveSpectrum::tabulated;
   a.table_frequencies = {0.1, 0.2, 0.3};
-  a.table_densities = {0.5, 0.5, 0.5};
+  a.table_densities = {0.2, 0.6, 0.4};
   const auto band = default_band(a);
   a.min_frequency = band[0];
   a.max_frequency = band[1];
   a.phases.assign(20, 0.0);
   const SeaStateSummary s = summarize(a);
-  EXPECT_NEAR(s.m0_spectrum, 0.1, 1e-15);
-  EXPECT_NEAR(s.m0_components, 0.1, 1e-14);
-  for (const SeaComponent& c : components(a)) EXPECT_NEAR(c.amplitude, std::sqrt(2.0 * 0.5 * 0.01), 1e-15);
+  EXPECT_NEAR(s.m0_spectrum, 0.09, 1e-15);
+  EXPECT_NEAR(s.m0_components, 0.09, 1e-14);
+  for (const SeaComponent& c : components(a)) {
+    const double f = c.frequency;
+    const double density = f < 0.2 ? 0.2 + (f - 0.1) / 0.1 * 0.4 : 0.6 - (f - 0.2) / 0.1 * 0.2;
+    EXPECT_NEAR(c.amplitude, std::sqrt(2.0 * density * 0.01), 1e-14) << f;
+  }
   EXPECT_DOUBLE_EQ(spectral_density(a, 0.35), 0.0);
+  EXPECT_DOUBLE_EQ(spectral_density(a, 0.25), 0.5);
+}
+
+// An axis that follows another's waves moves with the same components through
+// its own RAO: with G = 1, theta = 0 it is the other axis's motion bit for
+// bit; with G = 0.5, theta = pi/2 it is half of it, a quarter period ahead.
+TEST(SeaState, AnAxisFollowingAnothersWavesIsCoherentWithIt) {
+  SeaStateBase sea;
+  sea.axes[2] = jonswap(2.0, 8.0, 64, 21);
+  SeaStateAxis follower;
+  follower.wave_of = 2;
+  follower.rao = {{0.0, 1.0}, {1.0, 1.0}, {0.0, 0.0}};
+  sea.axes[1] = follower;
+  follower.rao = {{0.0, 1.0}, {0.5, 0.5}, {kPi / 2, kPi / 2}};
+  sea.axes[0] = follower;
+  share_waves(sea.axes);
+  EXPECT_EQ(sea.axes[1]->phases, sea.axes[2]->phases);
+  const BaseMotion motion(sea);
+  double worst = 0.0;
+  for (double t = 0.0; t < 200.0; t += 0.37) {
+    const BaseKinematics k = motion.at(t);
+    EXPECT_EQ(k.position.y(), k.position.z()) << t;
+    // sin(x + pi/2) = cos(x): the x axis is half the z axis's velocity / w, term by term.
+    double expected = 0.0;
+    for (const SeaComponent& c : components(*sea.axes[2]))
+      expected += 0.5 * c.amplitude * std::cos(2.0 * kPi * c.frequency * t + c.phase);
+    worst = std::max(worst, std::abs(k.position.x() - expected));
+  }
+  EXPECT_LT(worst, 1e-13);
 }
 
 TEST(SeaState, RefusesWhatIsNotASea) {
