@@ -351,12 +351,10 @@ TEST(Perturbation, ChangesExactlyItsEntries) {
 }
 
 // base.acceleration.AXIS on a constant_acceleration base.
-TEST(Perturbation, BaseAcceleration) {
-  const std::string text = R"([base]
-type = "constant_acceleration"
-acceleration = [0.5, 0.0, 1.0]
-
-[[body]]
+// A one-rod job plus the given text: its [ensemble] (and a [base], which
+// TOML lets stand after [output]; without one the base is fixed).
+std::string rod_job(const std::string& ensemble) {
+  return R"([[body]]
 name = "rod"
 shape = "cylinder"
 radius = 0.02
@@ -369,6 +367,14 @@ joint_on_child = [0.0, 0.0, 0.5]
 end_time = 0.1
 step = 0.05
 
+)" + ensemble;
+}
+
+TEST(Perturbation, BaseAcceleration) {
+  const std::string text = rod_job(R"([base]
+type = "constant_acceleration"
+acceleration = [0.5, 0.0, 1.0]
+
 [ensemble]
 samples = 2
 
@@ -377,7 +383,7 @@ target = "base.acceleration.z"
 distribution = "normal"
 std = 0.1
 mode = "add"
-)";
+)");
   const Job job = parse_job(text, "accel.toml");
   const EnsembleSpec spec = read_ensemble(job);
   ASSERT_EQ(spec.perturbations.size(), 1u);
@@ -399,7 +405,7 @@ mode = "add"
 // those values: against the sum of sines of components() of the axis built
 // by hand (same frequencies, amplitudes scaled by Hs, phases as set).
 TEST(Perturbation, SeaStateHeightPeriodAndPhases) {
-  const std::string text = R"([base]
+  const std::string text = rod_job(R"([base]
 type = "sea_state"
 phase_seed = 5
 
@@ -407,19 +413,6 @@ phase_seed = 5
 significant_height = 2.0
 peak_period = 8.0
 components = 6
-
-[[body]]
-name = "rod"
-shape = "cylinder"
-radius = 0.02
-length = 1.0
-mass = 1.0
-parent = "base"
-joint_on_child = [0.0, 0.0, 0.5]
-
-[output]
-end_time = 0.1
-step = 0.05
 
 [ensemble]
 samples = 4
@@ -432,7 +425,7 @@ upper = 3.0
 
 [[ensemble.perturbation]]
 target = "base.z.phases"
-)";
+)");
   const Job job = parse_job(text, "sea.toml");
   const EnsembleSpec spec = read_ensemble(job);
   ASSERT_EQ(spec.perturbations.size(), 2u);
@@ -499,23 +492,6 @@ target = "base.z.phases"
 
 // read_ensemble refuses bad input with a JobError naming the field.
 
-// A one-rod job with a fixed base plus the given [ensemble] text.
-std::string rod_job(const std::string& ensemble) {
-  return R"([[body]]
-name = "rod"
-shape = "cylinder"
-radius = 0.02
-length = 1.0
-mass = 1.0
-parent = "base"
-joint_on_child = [0.0, 0.0, 0.5]
-
-[output]
-end_time = 0.1
-step = 0.05
-
-)" + ensemble;
-}
 
 struct Refusal {
   std::string name;
