@@ -22,7 +22,8 @@
 //   taskset -c 0 ./build/bench/throughput_benchmark [SAMPLES [JOB ...]]
 //
 // SAMPLES defaults to 32 (two blocks of the statistics); JOB names limit
-// the table to those rows (for a profile of one job).
+// the table to those rows (for a profile of one job), and NAME=PATH adds a
+// row for any job file (an integrator or output setting tried out).
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -132,9 +133,16 @@ int main(int argc, char** argv) {
   std::printf("| job | bodies | rhs/sample | t_rhs (us) | integration (ms) | sample (ms) | samples/s | statistics "
               "(%% of sample) | recording (%% of sample) | F_int | F_ens |\n"
               "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
-  const std::vector<std::string> only(argv + std::min(argc, 2), argv + argc);
-  for (const auto& [name, path] : cases) {
-    if (!only.empty() && std::find(only.begin(), only.end(), name) == only.end()) continue;
+  std::vector<std::pair<std::string, std::string>> rows;
+  for (int i = 2; i < argc; ++i) {  // NAME (a row above) or NAME=PATH (any job file)
+    const std::string arg = argv[i];
+    const auto eq = arg.find('=');
+    if (eq != std::string::npos) rows.emplace_back(arg.substr(0, eq), arg.substr(eq + 1));
+    for (const auto& c : cases)
+      if (c.first == arg) rows.push_back(c);
+  }
+  if (argc <= 2) rows.assign(std::begin(cases), std::end(cases));
+  for (const auto& [name, path] : rows) {
     const Row r = measure(name, path, samples);
     std::printf("| %s | %d | %.0f | %.3f | %.3f | %.3f | %.0f | %.1f | %.1f | %.2f | %.2f |\n", r.name.c_str(), r.bodies,
                 r.rhs, 1e6 * r.t_rhs, 1e3 * r.integration, 1e3 * r.sample, 1.0 / r.sample,

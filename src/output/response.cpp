@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 
 namespace treedyn::ensemble {
@@ -9,17 +10,30 @@ namespace treedyn::ensemble {
 namespace {
 
 // For every column, the first output time at which it is smallest
-// (`minimum`) or largest: one pass over the rows in memory order.
-void first_extremes(std::span<const double> trajectory, std::size_t times, std::size_t columns, bool minimum,
-                    std::vector<std::size_t>& best) {
+// (`minimum`) or largest: one pass over the rows in memory order, keeping
+// each column's best value beside its row (no dependent load per element;
+// the comparison is hoisted, so the compiler vectorises the row's loop).
+template <class Better>
+void first_extremes(std::span<const double> trajectory, std::size_t times, std::size_t columns, Better better,
+                    std::vector<std::size_t>& best, std::vector<double>& value) {
   best.assign(columns, 0);
+  value.assign(trajectory.begin(), trajectory.begin() + static_cast<std::ptrdiff_t>(columns));
   for (std::size_t k = 1; k < times; ++k) {
     const double* row = trajectory.data() + k * columns;
     for (std::size_t c = 0; c < columns; ++c) {
-      const double v = row[c], b = trajectory[best[c] * columns + c];
-      if (minimum ? v < b : v > b) best[c] = k;
+      const bool b = better(row[c], value[c]);
+      value[c] = b ? row[c] : value[c];
+      best[c] = b ? k : best[c];
     }
   }
+}
+
+void first_extremes(std::span<const double> trajectory, std::size_t times, std::size_t columns, bool minimum,
+                    std::vector<std::size_t>& best, std::vector<double>& value) {
+  if (minimum)
+    first_extremes(trajectory, times, columns, std::less<>{}, best, value);
+  else
+    first_extremes(trajectory, times, columns, std::greater<>{}, best, value);
 }
 
 }  // namespace
@@ -28,6 +42,7 @@ void reduce_columns(std::span<const double> trajectory, std::span<const double> 
                     std::size_t columns, std::span<const Reduction> which, std::vector<double>& out) {
   const std::size_t T = times.size();
   std::vector<std::size_t> best[2];  // [0] minima, [1] maxima, found once each
+  std::vector<double> scratch;  // the best values while searching
   for (Reduction r : which) {
     if (r == Reduction::final) {
       out.insert(out.end(), trajectory.begin() + static_cast<std::ptrdiff_t>((T - 1) * columns),
@@ -36,7 +51,7 @@ void reduce_columns(std::span<const double> trajectory, std::span<const double> 
     }
     const bool minimum = r == Reduction::min || r == Reduction::argmin_time;
     std::vector<std::size_t>& at = best[minimum ? 0 : 1];
-    if (at.empty()) first_extremes(trajectory, T, columns, minimum, at);
+    if (at.empty()) first_extremes(trajectory, T, columns, minimum, at, scratch);
     const bool value = r == Reduction::min || r == Reduction::max;
     for (std::size_t c = 0; c < columns; ++c) out.push_back(value ? trajectory[at[c] * columns + c] : times[at[c]]);
   }

@@ -68,23 +68,6 @@ std::size_t block_for(std::size_t entries) {
 }
 }  // namespace
 
-wide round_to_wide(double x) {
-  const double a = std::abs(x);
-  if (a < 0x1p52) {
-    // a + 2^52 has no fraction bits left: the addition rounds a to an
-    // integer, to nearest with ties to even; subtracting 2^52 is exact.
-    const auto i = static_cast<std::int64_t>((a + 0x1p52) - 0x1p52);
-    return x < 0.0 ? -wide{i} : wide{i};
-  }
-  if (a < 0x1p63) return static_cast<std::int64_t>(x);  // an integer already
-  // An integer m 2^k with k >= 11: the mantissa's bits, shifted.
-  const auto bits = std::bit_cast<std::uint64_t>(a);
-  const int shift = static_cast<int>(bits >> 52) - 1075;
-  const std::uint64_t mantissa = (bits & ((std::uint64_t{1} << 52) - 1)) | (std::uint64_t{1} << 52);
-  const wide magnitude = static_cast<wide>(mantissa) << shift;
-  return x < 0.0 ? -magnitude : magnitude;
-}
-
 EnsembleStatistics::EnsembleStatistics(std::size_t times, std::size_t columns, int bins,
                                        Calibration calibration)
     : times_(times), columns_(columns), bins_(bins), calibration_(std::move(calibration)) {
@@ -119,16 +102,26 @@ void EnsembleStatistics::add_sample(std::span<const double> trajectory) {
 
 void EnsembleStatistics::fold_pending() const {
   if (pending_samples_ == 0) return;
-  for (std::size_t e = 0; e < entries(); ++e) fold_entry(e);
+  // An entry's histogram was last touched a block ago, far out of cache:
+  // its lines are fetched a few entries ahead, so that the misses overlap.
+  constexpr std::size_t ahead = 4;
+  const std::size_t line = 64 / sizeof(std::uint32_t), stride = static_cast<std::size_t>(bins_ + 2);
+  for (std::size_t e = 0; e < entries(); ++e) {
+    if (e + ahead < entries())
+      for (std::size_t k = 0; k < stride; k += line) __builtin_prefetch(counts_.data() + (e + ahead) * stride + k, 1);
+    fold_entry(e);
+  }
   pending_samples_ = 0;
 }
 
 // The pending samples' values of one entry, in locals, then into the
-// accumulators. The divisions come first, over the whole block (the
-// compiler does them several at a time), then the exact integer updates.
+// accumulators: the divisions over the whole block (the compiler does them
+// several at a time), the exact sums branch-free, then the extremes and
+// the histogram.
 void EnsembleStatistics::fold_entry(std::size_t e) const {
   constexpr double sum_unit = 0x1p62, square_unit = 0x1p60;  // 2^kSumBits, 2^kSquareBits
-  static_assert(kSumBits == 62 && kSquareBits == 60);
+  static_assert(kSumBits == 62 && kSquareBits == 60 && kMaxScaledDeviation <= 0x1p20 && kMaxBlock <= 4096,
+                "RoundedSum's range: |v| <= 2^100, at most 2^12 values");
   const std::size_t n = entries(), count = pending_samples_;
   const double center = calibration_.center[e], scale = calibration_.scale[e];
   const double low = calibration_.low[e], width = calibration_.width[e];
@@ -140,35 +133,35 @@ void EnsembleStatistics::fold_entry(std::size_t e) const {
     scaled[b] = (value[b] - center) / scale;
     position[b] = (value[b] - low) / width;
   }
+  // Rounded to the nearest unit of the fixed point: unbiased. Scaling by a
+  // power of two is exact. A value beyond the range (or not finite, which
+  // no successful run gives) is left out of the sums.
+  RoundedSum sum, square;
+  std::uint64_t summed = 0;
+  for (std::size_t b = 0; b < count; ++b) {
+    const bool in_range = std::abs(scaled[b]) <= kMaxScaledDeviation;
+    const double s = in_range ? scaled[b] : 0.0;
+    sum.add(s * sum_unit);
+    square.add(s * s * square_unit);
+    summed += in_range ? 1 : 0;
+  }
   std::uint32_t* counts = counts_.data() + e * static_cast<std::size_t>(bins_ + 2);
+  const int overflow_bin = bins_ + 1;  // a local: the counts' stores could alias the member
+  const double bins = bins_;
   double lo = min_[e], hi = max_[e];
-  wide sum = 0, square = 0;
-  std::uint64_t out = 0;
   for (std::size_t b = 0; b < count; ++b) {
     const double x = value[b];
-    if (!std::isfinite(x)) {  // never from a successful run; kept out of everything
-      ++out;
-      continue;
-    }
+    if (!std::isfinite(x)) continue;  // kept out of everything
     lo = std::min(lo, x);
     hi = std::max(hi, x);
-    if (std::abs(scaled[b]) <= kMaxScaledDeviation) {
-      // Rounded to the nearest unit of the fixed point: unbiased. Scaling
-      // by a power of two is exact (std::ldexp's result).
-      sum += round_to_wide(scaled[b] * sum_unit);
-      square += round_to_wide(scaled[b] * scaled[b] * square_unit);
-    } else {
-      ++out;
-    }
     const double p = position[b];
-    const int bin = p < 0.0 ? 0 : p >= bins_ ? bins_ + 1 : 1 + static_cast<int>(p);
-    ++counts[bin];
+    ++counts[p < 0.0 ? 0 : p >= bins ? overflow_bin : 1 + static_cast<int>(p)];
   }
   min_[e] = lo;
   max_[e] = hi;
-  sum_[e] += sum;
-  square_sum_[e] += square;
-  out_of_range_[e] += out;
+  sum_[e] += sum.total();
+  square_sum_[e] += square.total();
+  out_of_range_[e] += count - summed;
 }
 
 void EnsembleStatistics::merge(const EnsembleStatistics& o) {

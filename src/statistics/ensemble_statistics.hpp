@@ -22,6 +22,7 @@
 // access; the ensemble's RankResults holds a lock around both.
 #pragma once
 
+#include <bit>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -116,10 +117,30 @@ class EnsembleStatistics {
   mutable std::size_t pending_samples_ = 0;
 };
 
-// x rounded to the nearest integer (ties to even, as std::nearbyint in the
-// default rounding mode) as a 128-bit integer; |x| < 2^126. Exact, without
-// libm's nearbyint nor libgcc's soft double -> __int128 conversion, which
-// cost more than all the rest of a statistics update.
-wide round_to_wide(double x);
+// The sum of a block's values, each rounded to the nearest integer (ties to
+// even, as std::nearbyint in the default rounding mode), exactly, for
+// |v| <= 2^100 and at most 2^12 values. Branch-free and in 64-bit integer
+// lanes, so the compiler vectorises a block's loop: a value straddling 2^52
+// or 2^63 at random costs no misprediction, and there is no libm nearbyint
+// nor libgcc's soft double -> __int128 conversion.
+//
+// v = h 2^50 + r with h = rne(v / 2^50) (|h| <= 2^50) and r = v - h 2^50,
+// exact by Sterbenz's lemma (|r| <= 2^49, and r = v when h = 0). h 2^50 is
+// an even integer, so rne(v) = h 2^50 + rne(r). Each rne(y), |y| <= 2^51,
+// is y + 1.5 2^52, whose ulp is 1: the addition rounds y, and the sum's bit
+// pattern minus the constant's is rne(y) as an integer.
+struct RoundedSum {
+  std::int64_t high = 0;  // sum of h
+  std::int64_t low = 0;   // sum of rne(r)
+
+  void add(double v) {
+    constexpr double magic = 0x1.8p52;
+    const double shifted = v * 0x1p-50 + magic;  // rne(v / 2^50) in its low bits
+    const double r = v - (shifted - magic) * 0x1p50;
+    high += std::bit_cast<std::int64_t>(shifted) - std::bit_cast<std::int64_t>(magic);
+    low += std::bit_cast<std::int64_t>(r + magic) - std::bit_cast<std::int64_t>(magic);
+  }
+  wide total() const { return wide{high} * (wide{1} << 50) + low; }
+};
 
 }  // namespace treedyn::ensemble

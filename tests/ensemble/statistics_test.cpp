@@ -640,24 +640,45 @@ TEST(Statistics, BlocksFoldToTheBitsOfOneSampleAtATime) {
   }
 }
 
-// round_to_wide against what it replaces, std::nearbyint (ties to even)
-// and the compiler's double -> __int128 conversion: every power of two and
-// its neighbours up to 2^100, halves (ties) around the 2^52 and 2^63
-// switches, and a million random values of every magnitude. Exact.
-TEST(Statistics, RoundToWideIsNearbyintThenConversion) {
+// RoundedSum against what it replaces, std::nearbyint (ties to even) and
+// the compiler's double -> __int128 conversion: every power of two and its
+// neighbours up to 2^100 (the square's limit), halves (ties) around 2^50,
+// 2^52 and 2^63, and a million random values of every magnitude, each alone
+// and in blocks of 32 (the statistics' block) summed in every order the
+// split could get wrong. Exact.
+TEST(Statistics, RoundedSumIsNearbyintThenConversionSummed) {
   const auto reference = [](double x) { return static_cast<wide>(std::nearbyint(x)); };
   std::vector<double> values = {0.0, -0.0, 0.5, -0.5, 1.5, -1.5, 2.5, -2.5, 0x1p52 - 0.5, 0x1p52 - 1.5,
-                                -(0x1p52 - 0.5), 0x1p52, 0x1p52 + 1, 0x1p63, -0x1p63, 0x1p82, -0x1p82};
+                                -(0x1p52 - 0.5), 0x1p52, 0x1p52 + 1, 0x1p63, -0x1p63, 0x1p82, -0x1p82,
+                                0x1p100, -0x1p100, 0x1p49 + 0.5, 0x1p50 - 0.5, 0x1p50 + 0.5, -(0x1p51 + 0.5)};
   for (int k = -60; k <= 100; ++k)
     for (double f : {1.0, -1.0}) {
       const double p = f * std::ldexp(1.0, k);
-      values.insert(values.end(), {p, std::nextafter(p, 0.0), std::nextafter(p, 2 * p), p + 0.5 * f, p - 0.5 * f});
+      values.insert(values.end(), {p, std::nextafter(p, 0.0), p + 0.5 * f, p - 0.5 * f});
+      if (k < 100) values.push_back(std::nextafter(p, 2 * p));
     }
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
   std::uniform_int_distribution<int> exponent(-70, 100);
   for (int k = 0; k < 1000000; ++k) values.push_back(std::ldexp(unit(rng), exponent(rng)));
-  for (double x : values) ASSERT_TRUE(round_to_wide(x) == reference(x)) << std::hexfloat << x;
+  for (double x : values) {
+    RoundedSum one;
+    one.add(x);
+    ASSERT_TRUE(one.total() == reference(x)) << std::hexfloat << x;
+  }
+  std::shuffle(values.begin(), values.end(), rng);
+  for (std::size_t start = 0; start + 32 <= values.size(); start += 32) {
+    RoundedSum block;
+    wide expected = 0;
+    for (std::size_t i = start; i < start + 32; ++i) {
+      block.add(values[i]);
+      expected += reference(values[i]);
+    }
+    ASSERT_TRUE(block.total() == expected) << "block at " << start;
+  }
+  RoundedSum extreme;  // the largest block sums the split allows
+  for (int i = 0; i < 32; ++i) extreme.add(0x1p100);
+  ASSERT_TRUE(extreme.total() == static_cast<wide>(32) * (static_cast<wide>(1) << 100));
 }
 
 }  // namespace
