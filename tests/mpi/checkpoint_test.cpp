@@ -168,15 +168,25 @@ bool wait_for(Pred pred, std::chrono::milliseconds limit = 60s) {
   return false;
 }
 
+// The command line of a /proc entry, or "" for a process that ended while
+// it was read: its cmdline then fails with ESRCH, which libstdc++'s filebuf
+// throws as std::ios_base::failure (seen on a loaded CI machine).
+std::string command_line(const fs::path& process) {
+  try {
+    std::ifstream cmd(process / "cmdline");
+    return {std::istreambuf_iterator<char>(cmd), std::istreambuf_iterator<char>()};
+  } catch (const std::ios_base::failure&) {
+    return {};
+  }
+}
+
 // No process of ours mentions `out` any more (orphaned ranks of a killed
 // mpirun finish dying).
 bool no_process_writes(const fs::path& out) {
   for (const auto& entry : fs::directory_iterator("/proc")) {
     const std::string name = entry.path().filename().string();
     if (name.find_first_not_of("0123456789") != std::string::npos) continue;
-    std::ifstream cmd(entry.path() / "cmdline");
-    std::string text((std::istreambuf_iterator<char>(cmd)), std::istreambuf_iterator<char>());
-    if (text.find(out.string()) != std::string::npos) return false;
+    if (command_line(entry.path()).find(out.string()) != std::string::npos) return false;
   }
   return true;
 }
