@@ -10,7 +10,8 @@
 //                statistics' update and the record's encoding
 //   statistics   EnsembleStatistics::add_sample alone (part of `sample`),
 //                the mean over the samples measured: it folds a block of
-//                samples every 16 calls and only copies in the others
+//                samples every block_samples() calls (up to 32) and only
+//                copies in the others
 //   recording    run() minus the integration alone: recording, reductions,
 //                responses, the final state (part of `sample`)
 //   F_int = integration / (rhs/sample x t_rhs), F_ens = sample / integration
@@ -21,7 +22,7 @@
 //
 //   taskset -c 0 ./build/bench/throughput_benchmark [SAMPLES [JOB ...]]
 //
-// SAMPLES defaults to 32 (two blocks of the statistics); JOB names limit
+// SAMPLES defaults to 32 (one block of the statistics); JOB names limit
 // the table to those rows (for a profile of one job), and NAME=PATH adds a
 // row for any job file (an integrator or output setting tried out).
 #include <algorithm>

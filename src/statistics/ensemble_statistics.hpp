@@ -129,6 +129,9 @@ class EnsembleStatistics {
 // an even integer, so rne(v) = h 2^50 + rne(r). Each rne(y), |y| <= 2^51,
 // is y + 1.5 2^52, whose ulp is 1: the addition rounds y, and the sum's bit
 // pattern minus the constant's is rne(y) as an integer.
+#if defined(__FAST_MATH__)
+#error "RoundedSum needs IEEE arithmetic as written: -ffast-math would reassociate (x + 1.5 2^52) - 1.5 2^52 away"
+#endif
 struct RoundedSum {
   std::int64_t high = 0;  // sum of h
   std::int64_t low = 0;   // sum of rne(r)

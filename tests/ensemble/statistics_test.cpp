@@ -642,15 +642,17 @@ TEST(Statistics, BlocksFoldToTheBitsOfOneSampleAtATime) {
 
 // RoundedSum against what it replaces, std::nearbyint (ties to even) and
 // the compiler's double -> __int128 conversion: every power of two and its
-// neighbours up to 2^100 (the square's limit), halves (ties) around 2^50,
-// 2^52 and 2^63, and a million random values of every magnitude, each alone
-// and in blocks of 32 (the statistics' block) summed in every order the
-// split could get wrong. Exact.
+// neighbours up to 2^100 (the square's limit), halves (ties) below and
+// around 2^50 and 2^52, values so small that v / 2^50 underflows, and a
+// million random values of every magnitude (a sixth of them at 2^95-2^100,
+// where v / 2^50 itself is often a tie), each alone and in shuffled blocks
+// of 32 (the statistics' block). Exact.
 TEST(Statistics, RoundedSumIsNearbyintThenConversionSummed) {
   const auto reference = [](double x) { return static_cast<wide>(std::nearbyint(x)); };
   std::vector<double> values = {0.0, -0.0, 0.5, -0.5, 1.5, -1.5, 2.5, -2.5, 0x1p52 - 0.5, 0x1p52 - 1.5,
                                 -(0x1p52 - 0.5), 0x1p52, 0x1p52 + 1, 0x1p63, -0x1p63, 0x1p82, -0x1p82,
-                                0x1p100, -0x1p100, 0x1p49 + 0.5, 0x1p50 - 0.5, 0x1p50 + 0.5, -(0x1p51 + 0.5)};
+                                0x1p100, -0x1p100, 0x1p49 + 0.5, 0x1p50 - 0.5, 0x1p50 + 0.5, -(0x1p51 + 0.5),
+                                0x1p-1000, -0x1p-1070, std::numeric_limits<double>::denorm_min(), 1e-300};
   for (int k = -60; k <= 100; ++k)
     for (double f : {1.0, -1.0}) {
       const double p = f * std::ldexp(1.0, k);
