@@ -35,6 +35,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <deque>
+#include <exception>
 #include <memory>
 #include <span>
 #include <string>
@@ -112,25 +113,20 @@ struct Outcome {
   bool ok = true, needs_chart_change = false;
 };
 
-void check(int flag, const char* what) {
-  if (flag < 0) {
-    std::fprintf(stderr, "batch_benchmark: %s failed (%d)\n", what, flag);
-    std::exit(1);
-  }
-}
+using treedyn::sundials::check;  // throws sundials::SetupError with the call's name
 
 // CVODE for the whole batch, with the job's settings.
 void* create_cvode(Batch& batch, const SimulationRequest& request, N_Vector y, SUNContext context,
                    SUNNonlinearSolver& solver) {
   const IntegratorSettings& s = request.settings;
-  void* memory = CVodeCreate(CV_ADAMS, context);
+  void* memory = treedyn::sundials::check_created(CVodeCreate(CV_ADAMS, context), "CVodeCreate");
   check(CVodeInit(memory, batch_rhs, request.start_time, y), "CVodeInit");
   check(CVodeSStolerances(memory, s.relative_tolerance, s.absolute_tolerance), "CVodeSStolerances");
   check(CVodeSetUserData(memory, &batch), "CVodeSetUserData");
   check(CVodeSetMaxNumSteps(memory, s.max_steps), "CVodeSetMaxNumSteps");
   if (s.max_step > 0.0) check(CVodeSetMaxStep(memory, s.max_step), "CVodeSetMaxStep");
   if (s.initial_step > 0.0) check(CVodeSetInitStep(memory, s.initial_step), "CVodeSetInitStep");
-  solver = SUNNonlinSol_FixedPoint(y, 0, context);
+  solver = treedyn::sundials::check_created(SUNNonlinSol_FixedPoint(y, 0, context), "SUNNonlinSol_FixedPoint");
   check(CVodeSetNonlinearSolver(memory, solver), "CVodeSetNonlinearSolver");
   return memory;
 }
@@ -322,7 +318,12 @@ int main(int argc, char** argv) {
                            "heterogeneous\n", name.c_str());
       return 2;
     }
-  for (const auto& [name, path] : cases)
-    if (only.empty() || std::find(only.begin(), only.end(), name) != only.end()) measure(name, path, samples);
+  try {
+    for (const auto& [name, path] : cases)
+      if (only.empty() || std::find(only.begin(), only.end(), name) != only.end()) measure(name, path, samples);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "batch_benchmark: %s\n", e.what());
+    return 1;
+  }
   return 0;
 }

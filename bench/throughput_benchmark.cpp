@@ -29,6 +29,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <exception>
 #include <limits>
 #include <string>
 #include <vector>
@@ -144,7 +145,13 @@ int main(int argc, char** argv) {
   }
   if (argc <= 2) rows.assign(std::begin(cases), std::end(cases));
   for (const auto& [name, path] : rows) {
-    const Row r = measure(name, path, samples);
+    Row r;
+    try {
+      r = measure(name, path, samples);
+    } catch (const std::exception& e) {  // a job that cannot be read, or a set-up failure
+      std::fprintf(stderr, "throughput_benchmark: %s: %s\n", path.c_str(), e.what());
+      return 1;
+    }
     std::printf("| %s | %d | %.0f | %.3f | %.3f | %.3f | %.0f | %.1f | %.1f | %.2f | %.2f |\n", r.name.c_str(), r.bodies,
                 r.rhs, 1e6 * r.t_rhs, 1e3 * r.integration, 1e3 * r.sample, 1.0 / r.sample,
                 100.0 * r.statistics / r.sample, 100.0 * r.recording / r.sample, r.integration / (r.rhs * r.t_rhs),

@@ -14,6 +14,7 @@
 #include "job/job.hpp"
 #include "model/initial_state.hpp"
 #include "model/model.hpp"
+#include "output/response.hpp"
 #include "output/sample_record.hpp"
 #include "output/recorder.hpp"
 #include "persistence/checkpoint.hpp"
@@ -80,6 +81,7 @@ class SampleRunner {
   InitialState state_;              // this sample's initial state
   Model model_;                     // derived from parameters_ (storage reused)
   Recorder recorder_;
+  ReductionScratch reduction_scratch_;  // reused by every sample's reductions
   SimulationRequest request_;  // the job's, with what recorder_ needs at output times
 };
 

@@ -40,9 +40,15 @@ void first_extremes(std::span<const double> trajectory, std::size_t times, std::
 
 void reduce_columns(std::span<const double> trajectory, std::span<const double> times,
                     std::size_t columns, std::span<const Reduction> which, std::vector<double>& out) {
+  ReductionScratch scratch;
+  reduce_columns(trajectory, times, columns, which, out, scratch);
+}
+
+void reduce_columns(std::span<const double> trajectory, std::span<const double> times,
+                    std::size_t columns, std::span<const Reduction> which, std::vector<double>& out,
+                    ReductionScratch& scratch) {
   const std::size_t T = times.size();
-  std::vector<std::size_t> best[2];  // [0] minima, [1] maxima, found once each
-  std::vector<double> scratch;  // the best values while searching
+  bool found[2] = {false, false};  // minima, maxima: each searched once
   for (Reduction r : which) {
     if (r == Reduction::final) {
       out.insert(out.end(), trajectory.begin() + static_cast<std::ptrdiff_t>((T - 1) * columns),
@@ -50,8 +56,10 @@ void reduce_columns(std::span<const double> trajectory, std::span<const double> 
       continue;
     }
     const bool minimum = r == Reduction::min || r == Reduction::argmin_time;
-    std::vector<std::size_t>& at = best[minimum ? 0 : 1];
-    if (at.empty()) first_extremes(trajectory, T, columns, minimum, at, scratch);
+    const int slot = minimum ? 0 : 1;
+    std::vector<std::size_t>& at = scratch.best[slot];
+    if (!found[slot]) first_extremes(trajectory, T, columns, minimum, at, scratch.value);
+    found[slot] = true;
     const bool value = r == Reduction::min || r == Reduction::max;
     for (std::size_t c = 0; c < columns; ++c) out.push_back(value ? trajectory[at[c] * columns + c] : times[at[c]]);
   }

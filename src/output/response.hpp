@@ -30,6 +30,16 @@ inline std::string_view name(Reduction r) { return name_in(kReductionNames, r); 
 void reduce_columns(std::span<const double> trajectory, std::span<const double> times,
                     std::size_t columns, std::span<const Reduction> which, std::vector<double>& out);
 
+// What reduce_columns works in: kept by a caller that reduces every sample,
+// so that a sample allocates nothing once the first has sized it.
+struct ReductionScratch {
+  std::vector<std::size_t> best[2];  // per column, the row of [0] the minimum, [1] the maximum
+  std::vector<double> value;         // per column, the best value while searching
+};
+void reduce_columns(std::span<const double> trajectory, std::span<const double> times,
+                    std::size_t columns, std::span<const Reduction> which, std::vector<double>& out,
+                    ReductionScratch& scratch);
+
 struct Response {
   enum class Reduce { final, min, max, mean, rms, at_time, first_time_above, first_time_below };
   enum class FailIf { none, above, below };

@@ -105,7 +105,7 @@ void EnsembleStatistics::fold_pending() const {
   // An entry's histogram was last touched a block ago, far out of cache:
   // its lines are fetched a few entries ahead, so that the misses overlap.
   constexpr std::size_t ahead = 4;
-  const std::size_t line = 64 / sizeof(std::uint32_t), stride = static_cast<std::size_t>(bins_ + 2);
+  const std::size_t line = 64 / sizeof(std::uint32_t), stride = counters_per_entry();
   for (std::size_t e = 0; e < entries(); ++e) {
     if (e + ahead < entries())
       for (std::size_t k = 0; k < stride; k += line) __builtin_prefetch(counts_.data() + (e + ahead) * stride + k, 1);
@@ -145,7 +145,7 @@ void EnsembleStatistics::fold_entry(std::size_t e) const {
     square.add(s * s * square_unit);
     summed += in_range ? 1 : 0;
   }
-  std::uint32_t* counts = counts_.data() + e * static_cast<std::size_t>(bins_ + 2);
+  std::uint32_t* counts = counts_.data() + e * counters_per_entry();
   const int overflow_bin = bins_ + 1;  // a local: the counts' stores could alias the member
   const double bins = bins_;
   double lo = min_[e], hi = max_[e];
@@ -205,7 +205,7 @@ void EnsembleStatistics::write_state_piece(std::size_t piece, ByteWriter& out) c
   const std::size_t per = entries_per_piece(bins_);
   const std::size_t first = (piece - 1) * per, end = std::min(entries(), first + per);
   if (first >= end) throw std::out_of_range("no such statistics piece");
-  const std::size_t n = end - first, stride = static_cast<std::size_t>(bins_ + 2);
+  const std::size_t n = end - first, stride = counters_per_entry();
   out.put_vector(std::span<const wide>(sum_).subspan(first, n));
   out.put_vector(std::span<const wide>(square_sum_).subspan(first, n));
   out.put_vector(std::span<const double>(min_).subspan(first, n));
@@ -226,7 +226,7 @@ void EnsembleStatistics::add_state_piece(std::size_t piece, ByteReader& in) {
   const std::size_t per = entries_per_piece(bins_);
   const std::size_t first = (piece - 1) * per, end = std::min(entries(), first + per);
   if (first >= end) in.fail("a statistics piece beyond its entries");
-  const std::size_t n = end - first, stride = static_cast<std::size_t>(bins_ + 2);
+  const std::size_t n = end - first, stride = counters_per_entry();
   const auto sum = [](auto a, auto b) { return a + b; };
   add_vector(std::span<wide>(sum_).subspan(first, n), in, sum);
   add_vector(std::span<wide>(square_sum_).subspan(first, n), in, sum);
@@ -283,7 +283,7 @@ double EnsembleStatistics::std_dev(std::size_t e) const {
 
 std::span<const std::uint32_t> EnsembleStatistics::histogram(std::size_t e) const {
   fold_pending();
-  const auto stride = static_cast<std::size_t>(bins_ + 2);
+  const auto stride = counters_per_entry();
   return {counts_.data() + e * stride, stride};
 }
 

@@ -103,6 +103,8 @@ class EnsembleStatistics {
   // a read returns is the same before and after).
   void fold_pending() const;
   void fold_entry(std::size_t entry) const;
+  // Counters per entry: the bins, an underflow and an overflow bin.
+  std::size_t counters_per_entry() const { return static_cast<std::size_t>(bins_ + 2); }
 
   std::size_t times_, columns_;
   int bins_;
@@ -117,6 +119,10 @@ class EnsembleStatistics {
   mutable std::size_t pending_samples_ = 0;
 };
 
+#if defined(__FAST_MATH__)
+#error "RoundedSum needs IEEE arithmetic as written: -ffast-math would reassociate (x + 1.5 2^52) - 1.5 2^52 away"
+#endif
+
 // The sum of a block's values, each rounded to the nearest integer (ties to
 // even, as std::nearbyint in the default rounding mode), exactly, for
 // |v| <= 2^100 and at most 2^12 values. Branch-free and in 64-bit integer
@@ -129,9 +135,6 @@ class EnsembleStatistics {
 // an even integer, so rne(v) = h 2^50 + rne(r). Each rne(y), |y| <= 2^51,
 // is y + 1.5 2^52, whose ulp is 1: the addition rounds y, and the sum's bit
 // pattern minus the constant's is rne(y) as an integer.
-#if defined(__FAST_MATH__)
-#error "RoundedSum needs IEEE arithmetic as written: -ffast-math would reassociate (x + 1.5 2^52) - 1.5 2^52 away"
-#endif
 struct RoundedSum {
   std::int64_t high = 0;  // sum of h
   std::int64_t low = 0;   // sum of rne(r)

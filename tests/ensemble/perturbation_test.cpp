@@ -350,7 +350,6 @@ TEST(Perturbation, ChangesExactlyItsEntries) {
   }
 }
 
-// base.acceleration.AXIS on a constant_acceleration base.
 // A one-rod job plus the given text: its [ensemble] (and a [base], which
 // TOML lets stand after [output]; without one the base is fixed).
 std::string rod_job(const std::string& ensemble) {
@@ -370,6 +369,7 @@ step = 0.05
 )" + ensemble;
 }
 
+// base.acceleration.AXIS on a constant_acceleration base.
 TEST(Perturbation, BaseAcceleration) {
   const std::string text = rod_job(R"([base]
 type = "constant_acceleration"
@@ -491,7 +491,6 @@ target = "base.z.phases"
 }
 
 // read_ensemble refuses bad input with a JobError naming the field.
-
 
 struct Refusal {
   std::string name;
