@@ -33,8 +33,10 @@ void reduce_columns(std::span<const double> trajectory, std::span<const double> 
 // What reduce_columns works in: kept by a caller that reduces every sample,
 // so that a sample allocates nothing once the first has sized it.
 struct ReductionScratch {
-  std::vector<std::size_t> best[2];  // per column, the row of [0] the minimum, [1] the maximum
-  std::vector<double> value;         // per column, the best value while searching
+  // Per column, [0] the minimum and [1] the maximum, and the row where each
+  // is first reached (a double, exact below 2^53 rows, so that the search
+  // selects values and rows with the same mask).
+  std::vector<double> value[2], row[2];
 };
 void reduce_columns(std::span<const double> trajectory, std::span<const double> times,
                     std::size_t columns, std::span<const Reduction> which, std::vector<double>& out,

@@ -3,8 +3,11 @@
 // with failed samples, and the layout of Saltelli's design.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include "analysis/answers.hpp"
@@ -77,6 +80,46 @@ TEST(Response, ColumnReductionsOfEveryColumnAreThoseOfTheColumnAlone) {
     for (std::size_t k = 0; k < T; ++k) column.push_back(x[k * columns + c]);
     reduce_columns(column, kTimes, 1, which, alone);
     for (std::size_t r = 0; r < which.size(); ++r) EXPECT_EQ(out[r * columns + c], alone[r]) << "column " << c;
+  }
+}
+
+// Against a search written out differently: each column on its own, the
+// extreme over the values that are not NaN, then the first row holding it
+// (a NaN at the start stays, as nothing compares below or above it).
+// Small integers make ties common; 7 columns exercise the paired columns
+// and the odd one; exact, as min and max only select.
+TEST(Response, ColumnExtremesAreTheFirstRowOfTheColumnsExtreme) {
+  const std::size_t columns = 7, T = 60;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::vector<double> x(T * columns), times(T);
+  std::uint64_t state = 12345;
+  for (std::size_t k = 0; k < T; ++k) times[k] = 0.5 * static_cast<double>(k);
+  for (double& v : x) {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    const auto r = static_cast<int>(state >> 59);  // 0 .. 31
+    v = r == 31 ? nan : r == 30 ? -0.0 : static_cast<double>(r % 9) - 4.0;
+  }
+  x[3] = nan;  // column 3 starts with a NaN
+  const std::vector<Reduction> which{Reduction::min, Reduction::max, Reduction::argmin_time, Reduction::argmax_time};
+  std::vector<double> out;
+  reduce_columns(x, times, columns, which, out);
+  for (std::size_t c = 0; c < columns; ++c) {
+    std::vector<double> column;
+    for (std::size_t k = 0; k < T; ++k) column.push_back(x[k * columns + c]);
+    for (int side = 0; side < 2; ++side) {
+      double best = column[0];
+      std::size_t at = 0;
+      if (!std::isnan(best)) {
+        for (double v : column)
+          if (!std::isnan(v)) best = side == 0 ? std::min(best, v) : std::max(best, v);
+        while (column[at] != best) ++at;
+      }
+      SCOPED_TRACE("column " + std::to_string(c) + (side == 0 ? " min" : " max"));
+      const double value = out[static_cast<std::size_t>(side) * columns + c];
+      if (std::isnan(best)) EXPECT_TRUE(std::isnan(value));
+      else EXPECT_EQ(value, best);
+      EXPECT_EQ(out[(2 + static_cast<std::size_t>(side)) * columns + c], times[at]);
+    }
   }
 }
 
