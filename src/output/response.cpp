@@ -19,7 +19,7 @@ using Lanes = double __attribute__((vector_size(16)));
 // extremes so far: T is double or Lanes. Strict comparisons keep the
 // first row of a tie; a NaN compares false, so it is never an extreme.
 template <class T>
-void keep_extremes(const double* row, std::size_t c, T at, ReductionScratch& s) {
+void keep_extremes(const double* row, std::size_t c, const T& at, ReductionScratch& s) {
   T v, lo, hi, lo_at, hi_at;
   std::memcpy(&v, row + c, sizeof v);
   std::memcpy(&lo, s.value[0].data() + c, sizeof v);

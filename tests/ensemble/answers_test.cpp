@@ -6,8 +6,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "analysis/answers.hpp"
@@ -83,44 +85,59 @@ TEST(Response, ColumnReductionsOfEveryColumnAreThoseOfTheColumnAlone) {
   }
 }
 
+// Columns of small integers (ties are common), NaNs and zeros of both
+// signs; the last column holds only zeros (so a zero is its extreme), and
+// `nan_start` starts with a NaN.
+std::vector<double> extremes_trajectory(std::size_t T, std::size_t columns, std::size_t nan_start) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::vector<double> x(T * columns);
+  std::uint64_t state = 12345 + T * columns;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    const auto r = static_cast<int>(state >> 59);  // 0 .. 31
+    const bool zeros = i % columns == columns - 1;
+    x[i] = r == 31 ? nan : r >= 29 || zeros ? (r % 2 == 0 ? 0.0 : -0.0) : static_cast<double>(r % 9) - 4.0;
+  }
+  if (nan_start < columns) x[nan_start] = nan;
+  return x;
+}
+
+// The same bits, a signed zero's sign included: == would not tell them.
+bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
 // Against a search written out differently: each column on its own, the
 // extreme over the values that are not NaN, then the first row holding it
 // (a NaN at the start stays, as nothing compares below or above it).
-// Small integers make ties common; 7 columns exercise the paired columns
-// and the odd one; exact, as min and max only select.
+// Column counts 1, 2 and 7 give the scalar, the paired and both paths (a
+// NaN first in a paired column and in the odd one); a single row; one
+// scratch reused by every call. Exact, as min and max only select.
 TEST(Response, ColumnExtremesAreTheFirstRowOfTheColumnsExtreme) {
-  const std::size_t columns = 7, T = 60;
-  const double nan = std::numeric_limits<double>::quiet_NaN();
-  std::vector<double> x(T * columns), times(T);
-  std::uint64_t state = 12345;
-  for (std::size_t k = 0; k < T; ++k) times[k] = 0.5 * static_cast<double>(k);
-  for (double& v : x) {
-    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
-    const auto r = static_cast<int>(state >> 59);  // 0 .. 31
-    v = r == 31 ? nan : r == 30 ? -0.0 : static_cast<double>(r % 9) - 4.0;
-  }
-  x[3] = nan;  // column 3 starts with a NaN
   const std::vector<Reduction> which{Reduction::min, Reduction::max, Reduction::argmin_time, Reduction::argmax_time};
-  std::vector<double> out;
-  reduce_columns(x, times, columns, which, out);
-  for (std::size_t c = 0; c < columns; ++c) {
-    std::vector<double> column;
-    for (std::size_t k = 0; k < T; ++k) column.push_back(x[k * columns + c]);
-    for (int side = 0; side < 2; ++side) {
-      double best = column[0];
-      std::size_t at = 0;
-      if (!std::isnan(best)) {
-        for (double v : column)
-          if (!std::isnan(v)) best = side == 0 ? std::min(best, v) : std::max(best, v);
-        while (column[at] != best) ++at;
-      }
-      SCOPED_TRACE("column " + std::to_string(c) + (side == 0 ? " min" : " max"));
-      const double value = out[static_cast<std::size_t>(side) * columns + c];
-      if (std::isnan(best)) EXPECT_TRUE(std::isnan(value));
-      else EXPECT_EQ(value, best);
-      EXPECT_EQ(out[(2 + static_cast<std::size_t>(side)) * columns + c], times[at]);
+  ReductionScratch scratch;
+  for (std::size_t T : {std::size_t{1}, std::size_t{60}})
+    for (auto [columns, nan_start] : {std::pair<std::size_t, std::size_t>{1, 9}, {2, 1}, {7, 3}, {7, 6}}) {
+      SCOPED_TRACE(std::to_string(T) + " rows, " + std::to_string(columns) + " columns");
+      const std::vector<double> x = extremes_trajectory(T, columns, nan_start);
+      std::vector<double> times(T), out;
+      for (std::size_t k = 0; k < T; ++k) times[k] = 0.5 * static_cast<double>(k);
+      reduce_columns(x, times, columns, which, out, scratch);
+      ASSERT_EQ(out.size(), which.size() * columns);
+      for (std::size_t c = 0; c < columns; ++c)
+        for (int side = 0; side < 2; ++side) {
+          std::vector<double> column;
+          for (std::size_t k = 0; k < T; ++k) column.push_back(x[k * columns + c]);
+          double best = column[0];
+          std::size_t at = 0;
+          if (!std::isnan(best)) {
+            for (double v : column)
+              if (!std::isnan(v)) best = side == 0 ? std::min(best, v) : std::max(best, v);
+            while (column[at] != best) ++at;
+          }
+          SCOPED_TRACE("column " + std::to_string(c) + (side == 0 ? " min" : " max"));
+          EXPECT_TRUE(same_bits(out[static_cast<std::size_t>(side) * columns + c], column[at]));
+          EXPECT_EQ(out[(2 + static_cast<std::size_t>(side)) * columns + c], times[at]);
+        }
     }
-  }
 }
 
 TEST(Response, LimitStatesAreStrict) {
