@@ -9,6 +9,15 @@ constexpr int kTagRecords = 1;
 constexpr int kTagDone = 2;
 constexpr std::size_t kMaxPendingSends = 2;  // batches in flight per rank
 constexpr auto kPollInterval = std::chrono::milliseconds(2);
+constexpr std::size_t kWriteBatchBytes = std::size_t{4} << 20;  // rank 0's records held before a write
+constexpr std::size_t kWriteBatchRecords = 4096;
+
+// What a record holds in memory, roughly: its numbers and its reason.
+std::size_t record_bytes(const ensemble::SampleRecord& r) {
+  const std::size_t numbers =
+      r.inputs.size() + r.reductions.size() + r.responses.size() + r.final_state.size() + r.trajectory.size();
+  return sizeof r + r.reason.size() + numbers * sizeof(double);
+}
 
 }  // namespace
 
@@ -31,29 +40,39 @@ void RecordWriter::flush() {
   drain(false);
 }
 
+// Every record of the wave is in the file (or collected) when this returns.
 void RecordWriter::end_wave() {
   flush();
   while (finished_ranks_ < ranks_ - 1) drain(true);
   finished_ranks_ = 0;
+  write_batch();
 }
 
 void RecordWriter::write(std::vector<ensemble::SampleRecord> records) {
-  for (const auto& r : records) {
+  for (auto& r : records) {
     ++done_;
     if (r.status != ensemble::SampleStatus::ok) ++failed_;
     if (table_) table_->add(r);
+    if (!io_error_.empty()) continue;  // nothing more goes to a file that failed
+    batch_bytes_ += record_bytes(r);
+    batch_.push_back(std::move(r));
   }
-  if (io_error_.empty()) {
-    try {
-      if (collected_)
-        for (auto& r : records) collected_->push_back(std::move(r));
-      else
-        writer_->write_records(std::move(records));
-    } catch (const std::exception& e) {
-      io_error_ = e.what();  // keep receiving: the other ranks must not block
-    }
-  }
+  if (batch_bytes_ >= kWriteBatchBytes || batch_.size() >= kWriteBatchRecords) write_batch();
   progress_.update(done_, failed_);
+}
+
+void RecordWriter::write_batch() {
+  if (batch_.empty()) return;
+  try {
+    if (collected_)
+      for (auto& r : batch_) collected_->push_back(std::move(r));
+    else
+      writer_->write_records(std::move(batch_));
+  } catch (const std::exception& e) {
+    io_error_ = e.what();  // keep receiving: the other ranks must not block
+  }
+  batch_.clear();
+  batch_bytes_ = 0;
 }
 
 // Receives what has arrived (blocking for one message if `wait`).

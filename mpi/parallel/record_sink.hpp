@@ -40,6 +40,11 @@ class RecordSink {
 
 // Rank 0. An error while writing (I/O, or memory) is kept, the run goes on
 // so no rank waits for rank 0 forever, and it is reported at the end (exit 4).
+// Records are counted (progress, `table`) as they arrive but go to the file
+// in batches of up to kWriteBatchBytes: every write touches each of the
+// /samples datasets once (more than 70 for a job recording every quantity),
+// so a few rows at a time would cost rank 0 more than its own samples'
+// statistics. The batch is bounded, so memory does not grow with N.
 class RecordWriter final : public RecordSink {
  public:
   // Every record also goes into `table` (status, inputs, responses), if
@@ -62,6 +67,7 @@ class RecordWriter final : public RecordSink {
   void make_progress() override { drain(false); }
   void drain(bool wait);
   void write(std::vector<ensemble::SampleRecord> records);
+  void write_batch();
 
   MPI_Comm comm_;
   int ranks_;
@@ -70,6 +76,8 @@ class RecordWriter final : public RecordSink {
   ensemble::ResponseTable* table_;
   std::vector<ensemble::SampleRecord>* collected_;
   std::vector<ensemble::SampleRecord> local_;
+  std::vector<ensemble::SampleRecord> batch_;  // counted, not yet in the file
+  std::size_t batch_bytes_ = 0;
   int finished_ranks_ = 0;
   std::uint64_t done_ = 0, failed_ = 0;
   std::string io_error_;
