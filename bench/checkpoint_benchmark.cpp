@@ -63,6 +63,7 @@ int main(int argc, char** argv) {
       sample_times.push_back(seconds_since(t0));
     }
     const double t_sample = median(sample_times);
+    const std::vector<double> stored = trajectory;  // what a sample below store_trajectories carries
     const std::size_t columns = runner.layout().columns, entries = nominal.size();
     std::vector<double> scale(columns, 1.0), zero(entries, 0.0);
     ensemble::EnsembleStatistics stats(runner.times(), columns, spec.histogram_bins,
@@ -87,9 +88,13 @@ int main(int argc, char** argv) {
       (k % 2 == 0 ? fixed : unflushed).push_back(seconds_since(t0));
     }
     const double state_bytes = static_cast<double>(fs::file_size(dir / "part-0-rank0.state"));
+    // As in a run: only samples below store_trajectories carry their
+    // trajectory (the crane's 6 of them are 350 KB each).
     const auto t0 = Clock::now();
     for (int k = 0; k < kSamples; ++k) {
       record.index = static_cast<std::uint64_t>(k);
+      if (record.index < spec.store_trajectories) record.trajectory = stored;
+      else record.trajectory.clear();
       checkpoint.add(record);
     }
     checkpoint.save(stats);

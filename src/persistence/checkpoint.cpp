@@ -3,6 +3,8 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cstring>
+#include <span>
 
 #include "common/hash.hpp"
 #include "persistence/record_codec.hpp"
@@ -21,13 +23,16 @@ std::string base_stem(std::uint64_t generation) { return "base-" + std::to_strin
 
 // --- Records files: frames of [bytes u64][hash u64][records] ---------------
 
-std::vector<char> frame(const std::vector<char>& records) {
-  std::vector<char> bytes;
-  ByteWriter out(bytes);
-  out.put(static_cast<std::uint64_t>(records.size()));
-  out.put(hash64(records));
-  out.put_bytes(records);
-  return bytes;
+// A frame is built in place, so that a checkpoint never copies its records:
+// open_frame leaves room for the header, seal_frame fills it in.
+constexpr std::size_t kFrameHeader = 2 * sizeof(std::uint64_t);
+
+void open_frame(std::vector<char>& frame) { frame.assign(kFrameHeader, '\0'); }
+
+void seal_frame(std::vector<char>& frame) {
+  const std::span<const char> records(frame.data() + kFrameHeader, frame.size() - kFrameHeader);
+  const std::uint64_t header[2] = {records.size(), hash64(records)};
+  std::memcpy(frame.data(), header, kFrameHeader);
 }
 
 // The records in the first `bytes` bytes of a records file.
@@ -163,6 +168,7 @@ RankCheckpoint::RankCheckpoint(fs::path dir, RunIdentity id, std::uint64_t gener
     : dir_(std::move(dir)), id_(std::move(id)), generation_(generation), name_(name) {}
 
 void RankCheckpoint::add(const SampleRecord& record) {
+  if (pending_records_ == 0) open_frame(pending_);
   append_record(record, pending_);
   ++pending_records_;
 }
@@ -170,10 +176,10 @@ void RankCheckpoint::add(const SampleRecord& record) {
 void RankCheckpoint::save(const EnsembleStatistics& stats, AtomicFile::Sync sync) {
   if (saved_once_ && pending_records_ == 0) return;  // the state on disk is this one
   const std::string stem = part_stem(generation_, name_);
-  if (!pending_.empty()) {
-    const std::vector<char> bytes = frame(pending_);
-    process::append_to_file(records_path(dir_, stem), bytes, sync);
-    saved_bytes_ += bytes.size();
+  if (pending_records_ > 0) {
+    seal_frame(pending_);
+    process::append_to_file(records_path(dir_, stem), pending_, sync);
+    saved_bytes_ += pending_.size();
     saved_records_ += pending_records_;
     pending_.clear();
     pending_records_ = 0;
@@ -222,12 +228,13 @@ std::optional<RestoredRun> load_checkpoint(const fs::path& dir, const RunIdentit
 std::uint64_t consolidate_checkpoint(const fs::path& dir, const RunIdentity& id, const RestoredRun& restored) {
   const std::uint64_t next = restored.generation + 1;
   const std::string stem = base_stem(next);
-  std::vector<char> records;
-  for (const SampleRecord& r : restored.records) append_record(r, records);
+  std::vector<char> framed;
+  open_frame(framed);
+  for (const SampleRecord& r : restored.records) append_record(r, framed);
   // Records first, then the state that refers to them; each atomically.
   std::uint64_t bytes = 0;
-  if (!records.empty()) {
-    const std::vector<char> framed = frame(records);
+  if (!restored.records.empty()) {
+    seal_frame(framed);
     process::write_file_atomically(records_path(dir, stem), framed);
     bytes = framed.size();
   }

@@ -60,7 +60,7 @@ class RankCheckpoint {
   RunIdentity id_;
   std::uint64_t generation_;
   std::string name_;
-  std::vector<char> pending_;  // encoded records not yet in the records file
+  std::vector<char> pending_;  // one frame: the encoded records not yet in the records file
   std::uint64_t pending_records_ = 0, saved_records_ = 0, saved_bytes_ = 0;
   bool saved_once_ = false;
 };

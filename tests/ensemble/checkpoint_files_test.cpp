@@ -1,0 +1,141 @@
+// The checkpoint files on their own (src/persistence/checkpoint.hpp), without
+// MPI: what a rank saves in several frames comes back record for record,
+// through a resume's consolidation too, and a damaged frame is refused. The
+// frames are built in place (a header filled in at save), so these check
+// that header against the reader's own framing.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "persistence/checkpoint.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using namespace treedyn::ensemble;
+
+constexpr std::size_t kTimes = 3, kColumns = 2, kSamples = 7;
+constexpr int kBins = 4;
+
+// Sample k: sample 3 failed (a reason, no statistics), the others are ok.
+SampleRecord record(std::uint64_t k) {
+  SampleRecord r;
+  r.index = k;
+  r.time_reached = k == 3 ? 0.25 : 1.0;
+  r.inputs = {0.5 + static_cast<double>(k), -1.0};
+  r.reductions = {1.0 * static_cast<double>(k), 2.0, -3.0, 4.5};
+  r.final_state = {1.0, 0.0, 0.0, 0.0, 0.1, 0.2, static_cast<double>(k)};
+  if (k == 3) {
+    r.status = SampleStatus::integration_failed;
+    r.reason = "step size too small";
+  }
+  return r;
+}
+
+std::vector<double> trajectory(std::uint64_t k) {
+  std::vector<double> t(kTimes * kColumns);
+  for (std::size_t e = 0; e < t.size(); ++e) t[e] = static_cast<double>(e) + 0.125 * static_cast<double>(k);
+  return t;
+}
+
+class CheckpointFiles : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("treedyn_checkpoint_files_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    const std::vector<double> nominal = trajectory(0), zero(nominal.size(), 0.0), scale(kColumns, 1.0);
+    calibration_ = calibrate(nominal, zero, zero, scale, kColumns, kBins);
+    write_checkpoint_common(dir_, id_, nominal, calibration_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  // Samples 0..kSamples-1 kept and saved in three frames (after 2, 5 and 7).
+  void save_in_three_frames() {
+    RankCheckpoint checkpoint(dir_, id_, 0, "rank0");
+    EnsembleStatistics stats(kTimes, kColumns, kBins, calibration_);
+    for (std::uint64_t k = 0; k < kSamples; ++k) {
+      const SampleRecord r = record(k);
+      if (r.status == SampleStatus::ok) stats.add_sample(trajectory(k));
+      checkpoint.add(r);
+      if (k == 1 || k == 4 || k == kSamples - 1) checkpoint.save(stats);
+    }
+    EXPECT_EQ(checkpoint.saved_records(), kSamples);
+    EXPECT_FALSE(checkpoint.has_unsaved());
+  }
+
+  std::optional<RestoredRun> load() {
+    RecordShape shape;
+    shape.end = kSamples;
+    shape.inputs = 2;
+    shape.reductions = 4;
+    shape.final_state = 7;
+    return load_checkpoint(dir_, id_, {kTimes, kColumns, kBins}, shape);
+  }
+
+  static void expect_every_record(const RestoredRun& restored) {
+    ASSERT_EQ(restored.records.size(), kSamples);
+    for (std::uint64_t k = 0; k < kSamples; ++k) {
+      const SampleRecord& got = restored.records[k];
+      const SampleRecord want = record(k);
+      EXPECT_EQ(got.index, want.index);
+      EXPECT_EQ(got.status, want.status);
+      EXPECT_EQ(got.reason, want.reason);
+      EXPECT_EQ(got.time_reached, want.time_reached);
+      EXPECT_EQ(got.inputs, want.inputs);
+      EXPECT_EQ(got.reductions, want.reductions);
+      EXPECT_EQ(got.final_state, want.final_state);
+    }
+    ASSERT_TRUE(restored.statistics.has_value());
+    EXPECT_EQ(restored.statistics->samples(), kSamples - 1);  // sample 3 failed
+  }
+
+  fs::path dir_;
+  RunIdentity id_ = run_identity("title = \"checkpoint files\"\n", "test build");
+  Calibration calibration_;
+};
+
+TEST_F(CheckpointFiles, RecordsSavedInSeveralFramesComeBackAndSurviveAConsolidation) {
+  save_in_three_frames();
+  const std::optional<RestoredRun> restored = load();
+  ASSERT_TRUE(restored.has_value());
+  EXPECT_EQ(restored->generation, 0u);
+  expect_every_record(*restored);
+
+  // A resume folds everything into base-1 (one frame of all the records).
+  EXPECT_EQ(consolidate_checkpoint(dir_, id_, *restored), 1u);
+  EXPECT_FALSE(fs::exists(dir_ / "part-0-rank0.records"));
+  const std::optional<RestoredRun> again = load();
+  ASSERT_TRUE(again.has_value());
+  EXPECT_EQ(again->generation, 1u);
+  expect_every_record(*again);
+}
+
+TEST_F(CheckpointFiles, AFrameWithADamagedByteIsRefused) {
+  save_in_three_frames();
+  const fs::path records = dir_ / "part-0-rank0.records";
+  const auto size = fs::file_size(records);
+  ASSERT_GT(size, 64u);
+  {
+    std::fstream file(records, std::ios::in | std::ios::out | std::ios::binary);
+    file.seekg(static_cast<std::streamoff>(size / 2));
+    char byte = 0;
+    file.read(&byte, 1);
+    file.seekp(static_cast<std::streamoff>(size / 2));
+    byte = static_cast<char>(byte ^ 0x10);
+    file.write(&byte, 1);
+  }
+  try {
+    load();
+    FAIL() << "a damaged records file was loaded";
+  } catch (const CheckpointError& e) {
+    EXPECT_NE(std::string(e.what()).find("damaged"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
