@@ -7,7 +7,12 @@ namespace {
 
 constexpr int kTagRecords = 1;
 constexpr int kTagDone = 2;
-constexpr std::size_t kMaxPendingSends = 2;  // batches in flight per rank
+// Batches in flight per rank. A batch above Open MPI's eager limit (4 KiB
+// in shared memory) is sent only once rank 0 receives it, and rank 0 does
+// not receive while it writes a batch of records (tens of ms): the other
+// ranks go on integrating as long as they may keep this much in flight.
+constexpr std::size_t kMaxPendingSends = 64;
+constexpr std::size_t kMaxPendingBytes = std::size_t{8} << 20;
 constexpr auto kPollInterval = std::chrono::milliseconds(2);
 constexpr std::size_t kWriteBatchBytes = std::size_t{4} << 20;  // rank 0's records held before a write
 constexpr std::size_t kWriteBatchRecords = 4096;
@@ -104,10 +109,13 @@ void RecordSender::add(ensemble::SampleRecord record) { ensemble::append_record(
 
 void RecordSender::flush() {
   if (batch_.empty()) return;
-  while (pending_.size() >= kMaxPendingSends) {
+  while (!pending_.empty() &&
+         (pending_.size() >= kMaxPendingSends || pending_bytes_ + batch_.size() > kMaxPendingBytes)) {
     MPI_Wait(&pending_.front().first, MPI_STATUS_IGNORE);
+    pending_bytes_ -= pending_.front().second.size();
     pending_.pop_front();
   }
+  pending_bytes_ += batch_.size();
   pending_.emplace_back(MPI_REQUEST_NULL, std::move(batch_));
   batch_.clear();
   auto& [request, buffer] = pending_.back();
@@ -118,6 +126,7 @@ void RecordSender::end_wave() {
   flush();
   for (auto& p : pending_) MPI_Wait(&p.first, MPI_STATUS_IGNORE);
   pending_.clear();
+  pending_bytes_ = 0;
   MPI_Send(nullptr, 0, MPI_BYTE, 0, kTagDone, comm_);
 }
 
@@ -128,6 +137,7 @@ void RecordSender::make_progress() {
     int done = 0;
     MPI_Test(&pending_.front().first, &done, MPI_STATUS_IGNORE);
     if (!done) return;
+    pending_bytes_ -= pending_.front().second.size();
     pending_.pop_front();
   }
 }

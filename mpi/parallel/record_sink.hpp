@@ -97,6 +97,7 @@ class RecordSender final : public RecordSink {
   MPI_Comm comm_;
   std::vector<char> batch_;
   std::deque<std::pair<MPI_Request, std::vector<char>>> pending_;
+  std::size_t pending_bytes_ = 0;  // of the batches in `pending_`
 };
 
 }  // namespace treedyn::parallel
