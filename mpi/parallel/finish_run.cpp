@@ -112,7 +112,8 @@ std::string stop_reason_of(const EnsembleRun& run, const rare_event::SubsetResul
   return "no target of [ensemble.stop] held: stopped at the most samples, " + std::to_string(run.spec.samples);
 }
 
-// Rank 0, a whole ensemble: the records are in the file already; the rest
+// Rank 0, a whole ensemble: the records are in the file already (a write
+// error among them is reported before anything else is written); the rest
 // goes the same way as a merge's (EnsembleWriter::complete).
 int write_ensemble(EnsembleRun& run, const ensemble::EnsembleStatistics& stats, EnsembleSummary summary,
                    const RunProvenance& provenance) {
@@ -120,10 +121,7 @@ int write_ensemble(EnsembleRun& run, const ensemble::EnsembleStatistics& stats, 
   summary.failed = run.records->failed();
   summary.ok = run.records->done() - summary.failed;
   summary.samples_used = run.samples_used;
-  if (run.samples_used < run.spec.samples) {
-    if (run.table) run.table->truncate(run.samples_used);
-    run.writer->keep_samples(run.samples_used);
-  }
+  if (run.samples_used < run.spec.samples && run.table) run.table->truncate(run.samples_used);
   std::optional<rare_event::SubsetResult> rare;
   if (run.spec.subset && run.table)
     rare = ensemble::replay_subset(run.spec, *run.table, run.spec.subset->max_levels).result();
@@ -132,6 +130,7 @@ int write_ensemble(EnsembleRun& run, const ensemble::EnsembleStatistics& stats, 
       run.table ? ensemble::answer_responses(run.spec, *run.table) : std::vector<ensemble::ResponseAnswer>{};
   try {
     if (!run.records->io_error().empty()) throw process::FileError(run.records->io_error());
+    if (run.samples_used < run.spec.samples) run.writer->keep_samples(run.samples_used);
     if (rare) run.writer->write_rare_event(ensemble::subset_settings(run.spec), *rare, run.samples_used);
     run.writer->complete(run.nominal, stats, answers, summary, provenance);
   } catch (const process::FileError& e) {
@@ -161,6 +160,7 @@ int finish_run(EnsembleRun& run) {
   int code = kExitOk;
   if (run.rank == 0) {
     run.records->finish_progress();
+    run.records->write_held();
     code = run.options.part() ? write_part(run, stats) : write_ensemble(run, stats, summary, provenance);
     if (code == kExitOk) {
       ensemble::remove_checkpoint(run.checkpoint_dir);

@@ -45,12 +45,14 @@ void RecordWriter::flush() {
   drain(false);
 }
 
-// Every record of the wave is in the file (or collected) when this returns.
+// Every record of the wave has arrived (counted, in the table) when this
+// returns; those held stay held: a stopped run would only write them into
+// the output it is about to delete, inside the launcher's SIGTERM-to-SIGKILL
+// window. finish_run writes them (write_held) once the run is complete.
 void RecordWriter::end_wave() {
   flush();
   while (finished_ranks_ < ranks_ - 1) drain(true);
   finished_ranks_ = 0;
-  write_batch();
 }
 
 void RecordWriter::write(std::vector<ensemble::SampleRecord> records) {
@@ -62,11 +64,11 @@ void RecordWriter::write(std::vector<ensemble::SampleRecord> records) {
     batch_bytes_ += record_bytes(r);
     batch_.push_back(std::move(r));
   }
-  if (batch_bytes_ >= kWriteBatchBytes || batch_.size() >= kWriteBatchRecords) write_batch();
+  if (batch_bytes_ >= kWriteBatchBytes || batch_.size() >= kWriteBatchRecords) write_held();
   progress_.update(done_, failed_);
 }
 
-void RecordWriter::write_batch() {
+void RecordWriter::write_held() {
   if (batch_.empty()) return;
   try {
     if (collected_)

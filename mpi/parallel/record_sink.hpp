@@ -38,13 +38,15 @@ class RecordSink {
   std::chrono::steady_clock::time_point last_poll_{};
 };
 
-// Rank 0. An error while writing (I/O, or memory) is kept, the run goes on
-// so no rank waits for rank 0 forever, and it is reported at the end (exit 4).
-// Records are counted (progress, `table`) as they arrive but go to the file
-// in batches of up to kWriteBatchBytes: every write touches each of the
-// /samples datasets once (86 for the spherical pendulum's 16 quantities),
-// and a few rows at a time cost rank 0 about 30 us per record, time in
-// which it runs no sample. The batch is bounded: memory does not grow with N.
+// Rank 0. An error while writing (I/O, or HDF5's memory) is kept, the run
+// goes on so no rank waits for rank 0 forever, and it is reported at the end
+// (exit 4). Records are counted (progress, `table`) as they arrive but go to
+// the file in batches, once those held pass 4 MiB or 4096 records (checked
+// after each message, so a batch may pass them by one message): every write
+// touches each of the /samples datasets once (86 for the spherical
+// pendulum's 16 quantities), and a few rows at a time cost rank 0 about
+// 30 us per record, time in which it runs no sample. The batch is bounded:
+// memory does not grow with N.
 class RecordWriter final : public RecordSink {
  public:
   // Every record also goes into `table` (status, inputs, responses), if
@@ -59,6 +61,9 @@ class RecordWriter final : public RecordSink {
   void finish_progress() { progress_.finish(done_, failed_); }
   // Records of a resumed run's checkpoint, written as if they had arrived.
   void restore(std::vector<ensemble::SampleRecord> records) { write(std::move(records)); }
+  // The records held, into the file (or collected): after the last wave,
+  // before the output is completed.
+  void write_held();
   std::uint64_t done() const { return done_; }
   std::uint64_t failed() const { return failed_; }
   const std::string& io_error() const { return io_error_; }
@@ -67,7 +72,6 @@ class RecordWriter final : public RecordSink {
   void make_progress() override { drain(false); }
   void drain(bool wait);
   void write(std::vector<ensemble::SampleRecord> records);
-  void write_batch();
 
   MPI_Comm comm_;
   int ranks_;

@@ -169,7 +169,13 @@ RankCheckpoint::RankCheckpoint(fs::path dir, RunIdentity id, std::uint64_t gener
 
 void RankCheckpoint::add(const SampleRecord& record) {
   if (pending_records_ == 0) open_frame(pending_);
-  append_record(record, pending_);
+  const std::size_t before = pending_.size();
+  try {
+    append_record(record, pending_);
+  } catch (...) {
+    pending_.resize(before);  // no half record for a later save to seal into the frame
+    throw;
+  }
   ++pending_records_;
 }
 
