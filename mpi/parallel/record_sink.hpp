@@ -7,7 +7,7 @@
 
 #include <mpi.h>
 
-#include <chrono>
+#include <cstdint>
 #include <deque>
 #include <string>
 #include <vector>
@@ -35,7 +35,7 @@ class RecordSink {
   virtual void make_progress() = 0;
 
  private:
-  std::chrono::steady_clock::time_point last_poll_{};
+  std::int64_t last_poll_ns_ = 0;  // CLOCK_MONOTONIC_COARSE
 };
 
 // Rank 0. An error while writing (I/O, or HDF5's memory) is kept, the run

@@ -19,7 +19,14 @@ bool RankResults::keep(const SampleRecord& record, std::span<const double> traje
   std::lock_guard<std::mutex> guard(lock_);
   if (stopped_ || finished_) return false;
   if (stats_ && record.status == SampleStatus::ok && !trajectory.empty()) stats_->add_sample(trajectory);
-  if (checkpoint_) checkpoint_->add(record);
+  if (checkpoint_) {
+    try {
+      checkpoint_->add(record);
+    } catch (const process::FileError& e) {  // a spill of the held records failed
+      std::cerr << "warning: " << e.what() << "; checkpoints are off for this rank\n";
+      checkpoint_.reset();
+    }
+  }
   return true;
 }
 

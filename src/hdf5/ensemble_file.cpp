@@ -126,33 +126,31 @@ EnsembleWriter::EnsembleWriter(const std::filesystem::path& path, const Job& job
   create_reductions();
   if (!spec.responses.empty()) {
     responses_ = h5::create_rows(samples_.id(), "responses", H5T_NATIVE_DOUBLE, spec.samples,
-                                 spec.responses.size(), chunk_rows());
+                                 spec.responses.size());
     describe_responses(responses_.id(), spec.responses);
   }
   if (spec.store_trajectories > 0) create_trajectories();
 }
 
-std::size_t EnsembleWriter::chunk_rows() const { return std::max<std::size_t>(spec_.block_size * 16, 64); }
-
 void EnsembleWriter::create_sample_columns() {
   const hid_t g = samples_.id();
-  const std::size_t n = spec_.samples, chunk = chunk_rows(), d = spec_.input_dimensions();
+  const std::size_t n = spec_.samples, d = spec_.input_dimensions();
   if (d > 0) {
-    inputs_ = h5::create_rows(g, "inputs", H5T_NATIVE_DOUBLE, n, d, chunk);
+    inputs_ = h5::create_rows(g, "inputs", H5T_NATIVE_DOUBLE, n, d);
     describe_inputs(inputs_.id(), spec_);
   }
-  status_ = h5::create_rows(g, "status", H5T_NATIVE_INT32, n, 0, chunk);
+  status_ = h5::create_rows(g, "status", H5T_NATIVE_INT32, n, 0);
   describe(status_.id(), "1",
            "0 ok, 1 integration failed, 2 invalid model (perturbed input refused), 3 not run (a merge of an "
            "incomplete set of parts: see the root attribute held_samples)",
            {});
-  reason_ = h5::create_string_rows(g, "reason", n, chunk);
+  reason_ = h5::create_string_rows(g, "reason", n);
   describe(reason_.id(), "1", "why the sample failed; empty when ok", {});
-  time_reached_ = h5::create_rows(g, "time_reached", H5T_NATIVE_DOUBLE, n, 0, chunk);
+  time_reached_ = h5::create_rows(g, "time_reached", H5T_NATIVE_DOUBLE, n, 0);
   describe(time_reached_.id(), "s", "time the integration reached (the end time when ok)", {});
-  integrator_stats_ = h5::create_rows(g, "integrator_stats", H5T_NATIVE_INT64, n, kIntegratorStatFields.size(), chunk);
+  integrator_stats_ = h5::create_rows(g, "integrator_stats", H5T_NATIVE_INT64, n, kIntegratorStatFields.size());
   describe(integrator_stats_.id(), "1", "integrator statistics per sample", integrator_stat_columns());
-  final_state_ = h5::create_rows(g, "final_state", H5T_NATIVE_DOUBLE, n, final_size_, chunk);
+  final_state_ = h5::create_rows(g, "final_state", H5T_NATIVE_DOUBLE, n, final_size_);
   describe(final_state_.id(), "1, rad/s",
            "state at the last output time: per body the orientation quaternion (q0 >= 0) and "
            "the inertial angular velocity; NaN for failed samples",
@@ -170,8 +168,7 @@ void EnsembleWriter::create_reductions() {
     reductions_.emplace_back();
     for (std::size_t q = 0; q < layout_.quantity.size(); ++q) {
       reductions_.back().push_back(h5::create_rows(reduction_groups_.back().id(), layout_.quantity[q],
-                                                   H5T_NATIVE_DOUBLE, spec_.samples, layout_.names[q].size(),
-                                                   chunk_rows()));
+                                                   H5T_NATIVE_DOUBLE, spec_.samples, layout_.names[q].size()));
       describe(reductions_.back().back().id(), time ? "s" : std::string(layout_.info[q]->units),
                about + " of " + layout_.quantity[q], layout_.names[q]);
       if (!time) write_column_units(reductions_.back().back().id(), layout_, q);

@@ -50,7 +50,6 @@ class EnsembleWriter {
                 const RunProvenance& run);
 
  private:
-  std::size_t chunk_rows() const;
   void create_sample_columns();
   void create_reductions();
   void create_trajectories();

@@ -88,8 +88,9 @@ Handle write_scalar(hid_t parent, const std::string& name, double value);
 Handle write_scalar(hid_t parent, const std::string& name, std::uint64_t value);
 // A rows x columns dataset created empty (HDF5's default fill, zero), filled
 // later block by block with write_rows: for records that arrive out of order.
+// Chunks of about 64 KiB, deflated.
 Handle create_rows(hid_t parent, const std::string& name, hid_t type, std::size_t rows,
-                   std::size_t columns, std::size_t chunk_rows);
+                   std::size_t columns);
 void write_rows(hid_t dataset, hid_t type, std::size_t first_row, std::size_t rows,
                 std::size_t columns, const void* data, hid_t transfer = H5P_DEFAULT);
 // The same with rows of any shape: (rows, row_shape...), e.g. one
@@ -101,8 +102,7 @@ void write_row_block(hid_t dataset, hid_t type, std::size_t first_row, std::size
                      const void* data);
 // Strings, one per row, filled later. Every string this layer writes
 // (datasets and attributes) is variable-length UTF-8: h5py gives `str`.
-Handle create_string_rows(hid_t parent, const std::string& name, std::size_t rows,
-                          std::size_t chunk_rows);
+Handle create_string_rows(hid_t parent, const std::string& name, std::size_t rows);
 void write_string_rows(hid_t dataset, std::size_t first_row, const std::vector<std::string>& rows);
 
 void write_attribute(hid_t object, const std::string& name, const std::string& value);

@@ -177,20 +177,29 @@ void RankCheckpoint::add(const SampleRecord& record) {
     throw;
   }
   ++pending_records_;
+  if (pending_.size() >= kSpillBytes) append_pending(AtomicFile::Sync::no);
+}
+
+// A failed append may leave part of the frame in the file, past every
+// offset a state names; the caller turns this rank's checkpoints off.
+void RankCheckpoint::append_pending(AtomicFile::Sync sync) {
+  seal_frame(pending_);
+  process::append_to_file(records_path(dir_, part_stem(generation_, name_)), pending_, sync);
+  appended_bytes_ += pending_.size();
+  appended_records_ += pending_records_;
+  pending_.clear();
+  pending_records_ = 0;
 }
 
 void RankCheckpoint::save(const EnsembleStatistics& stats, AtomicFile::Sync sync) {
-  if (saved_once_ && pending_records_ == 0) return;  // the state on disk is this one
-  const std::string stem = part_stem(generation_, name_);
-  if (pending_records_ > 0) {
-    seal_frame(pending_);
-    process::append_to_file(records_path(dir_, stem), pending_, sync);
-    saved_bytes_ += pending_.size();
-    saved_records_ += pending_records_;
-    pending_.clear();
-    pending_records_ = 0;
-  }
-  write_part_state(state_path(dir_, stem), id_, generation_, saved_bytes_, saved_records_, stats, sync);
+  if (saved_once_ && !has_unsaved()) return;  // the state on disk is this one
+  if (pending_records_ > 0) append_pending(sync);
+  else if (sync == AtomicFile::Sync::yes && appended_bytes_ > saved_bytes_)
+    process::append_to_file(records_path(dir_, part_stem(generation_, name_)), {}, sync);  // fsyncs the spills
+  write_part_state(state_path(dir_, part_stem(generation_, name_)), id_, generation_, appended_bytes_,
+                   appended_records_, stats, sync);
+  saved_bytes_ = appended_bytes_;
+  saved_records_ = appended_records_;
   saved_once_ = true;
 }
 

@@ -49,19 +49,30 @@ void write_checkpoint_common(const std::filesystem::path& dir, const RunIdentity
 class RankCheckpoint {
  public:
   RankCheckpoint(std::filesystem::path dir, RunIdentity id, std::uint64_t generation, const std::string& name);
+  // Once the records held pass kSpillBytes they are appended to the records
+  // file as a frame (no fsync), so a rank's memory does not grow with the
+  // samples it runs between two saves; a frame past the saved state's end
+  // is ignored by load_checkpoint until a save covers it. Throws
+  // process::FileError (the run goes on without checkpoints).
   void add(const SampleRecord& record);
+  static constexpr std::size_t kSpillBytes = std::size_t{4} << 20;
   // Throws process::FileError (the run goes on without checkpoints).
   void save(const EnsembleStatistics& stats, process::AtomicFile::Sync sync = process::AtomicFile::Sync::yes);
   std::uint64_t saved_records() const { return saved_records_; }
-  bool has_unsaved() const { return pending_records_ > 0; }
+  bool has_unsaved() const { return pending_records_ > 0 || appended_records_ > saved_records_; }
+  std::size_t held_bytes() const { return pending_.size(); }
 
  private:
+  void append_pending(process::AtomicFile::Sync sync);
+
   std::filesystem::path dir_;
   RunIdentity id_;
   std::uint64_t generation_;
   std::string name_;
   std::vector<char> pending_;  // one frame: the encoded records not yet in the records file
-  std::uint64_t pending_records_ = 0, saved_records_ = 0, saved_bytes_ = 0;
+  std::uint64_t pending_records_ = 0;
+  std::uint64_t appended_records_ = 0, appended_bytes_ = 0;  // in the records file
+  std::uint64_t saved_records_ = 0, saved_bytes_ = 0;        // of those, covered by the state file
   bool saved_once_ = false;
 };
 

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "ensemble/rank_results.hpp"
 #include "persistence/checkpoint.hpp"
 
 namespace {
@@ -69,9 +70,9 @@ class CheckpointFiles : public ::testing::Test {
     EXPECT_FALSE(checkpoint.has_unsaved());
   }
 
-  std::optional<RestoredRun> load() {
+  std::optional<RestoredRun> load(std::uint64_t samples = kSamples) {
     RecordShape shape;
-    shape.end = kSamples;
+    shape.end = samples;
     shape.inputs = 2;
     shape.reductions = 4;
     shape.final_state = 7;
@@ -136,6 +137,77 @@ TEST_F(CheckpointFiles, AFrameWithADamagedByteIsRefused) {
   } catch (const CheckpointError& e) {
     EXPECT_NE(std::string(e.what()).find("damaged"), std::string::npos) << e.what();
   }
+}
+
+// Records past kSpillBytes go to the records file before any save, so a
+// rank's memory stays bounded between saves (300 s apart by default); what
+// was spilled counts only once a save's state covers it.
+TEST_F(CheckpointFiles, HeldRecordsSpillToTheFileAndCountOnceASaveCoversThem) {
+  const std::uint64_t many = 3 * RankCheckpoint::kSpillBytes / 100;  // a record here encodes to > 100 bytes
+  RankCheckpoint checkpoint(dir_, id_, 0, "rank0");
+  EnsembleStatistics stats(kTimes, kColumns, kBins, calibration_);
+  const auto keep = [&](std::uint64_t k) {
+    SampleRecord r = record(k);
+    if (k != 3) r.reason.clear(), r.status = SampleStatus::ok, r.time_reached = 1.0;
+    if (r.status == SampleStatus::ok) stats.add_sample(trajectory(k));
+    checkpoint.add(r);
+    EXPECT_LT(checkpoint.held_bytes(), RankCheckpoint::kSpillBytes + 4096) << "sample " << k;
+  };
+  for (std::uint64_t k = 0; k < many; ++k) keep(k);
+  const fs::path records = dir_ / "part-0-rank0.records";
+  ASSERT_TRUE(fs::exists(records)) << "nothing spilled after " << many << " records";
+  EXPECT_GE(fs::file_size(records), 2 * RankCheckpoint::kSpillBytes);
+  EXPECT_TRUE(checkpoint.has_unsaved());
+  EXPECT_EQ(load(many)->records.size(), 0u) << "spilled records counted before a save";
+
+  checkpoint.save(stats);
+  EXPECT_FALSE(checkpoint.has_unsaved());
+  EXPECT_EQ(checkpoint.saved_records(), many);
+  std::optional<RestoredRun> restored = load(many);
+  ASSERT_TRUE(restored.has_value());
+  ASSERT_EQ(restored->records.size(), many);
+  for (std::uint64_t k = 0; k < many; k += 997) EXPECT_EQ(restored->records[k].inputs, record(k).inputs) << k;
+  EXPECT_EQ(restored->statistics->samples(), many - 1);
+
+  // More spills and no save (a SIGKILL): the file grows, the state does not.
+  const auto saved_size = fs::file_size(records);
+  for (std::uint64_t k = many; k < 2 * many; ++k) keep(k);
+  EXPECT_GT(fs::file_size(records), saved_size);
+  restored = load(2 * many);
+  ASSERT_TRUE(restored.has_value());
+  EXPECT_EQ(restored->records.size(), many);
+  EXPECT_EQ(restored->statistics->samples(), many - 1);
+}
+
+// A spill that cannot be written (here the records file's name is taken by
+// a directory) throws; RankResults then turns this rank's checkpoints off
+// with a warning and goes on keeping samples.
+TEST_F(CheckpointFiles, ASpillThatFailsTurnsTheRanksCheckpointsOff) {
+  fs::create_directories(dir_ / "part-0-rank0.records");
+  const std::uint64_t many = 2 * RankCheckpoint::kSpillBytes / 100;
+  {
+    RankCheckpoint checkpoint(dir_, id_, 0, "rank0");
+    bool thrown = false;
+    for (std::uint64_t k = 0; k < many && !thrown; ++k) {
+      try {
+        checkpoint.add(record(k % kSamples));
+      } catch (const treedyn::process::FileError& e) {
+        thrown = true;
+        EXPECT_NE(std::string(e.what()).find("part-0-rank0.records"), std::string::npos) << e.what();
+      }
+    }
+    EXPECT_TRUE(thrown) << "no spill failed";
+  }
+  RankResults results;
+  results.start_statistics(EnsembleStatistics(kTimes, kColumns, kBins, calibration_));
+  results.use_checkpoint(std::make_unique<RankCheckpoint>(dir_, id_, 0, "rank0"), 300.0);
+  ::testing::internal::CaptureStderr();
+  for (std::uint64_t k = 0; k < many; ++k) EXPECT_TRUE(results.keep(record(k % kSamples), {})) << k;
+  const std::string err = ::testing::internal::GetCapturedStderr();
+  EXPECT_FALSE(results.checkpointing());
+  EXPECT_NE(err.find("checkpoints are off for this rank"), std::string::npos) << err;
+  EXPECT_FALSE(results.save());
+  EXPECT_FALSE(fs::exists(dir_ / "part-0-rank0.state"));
 }
 
 }  // namespace

@@ -215,6 +215,59 @@ TEST(EnsembleMpi, RecordsWrittenInSeveralBatchesAllReachTheFile) {
   expect_identical_datasets(alone.id(), "alone", two.id(), "2 ranks", {"/samples", "/trajectories", "/stats"});
 }
 
+// The chunk (first extent) of a chunked dataset, and its type's size.
+std::pair<hsize_t, std::size_t> chunk_rows_and_type_size(hid_t file, const std::string& path) {
+  Hid set(H5Dopen2(file, path.c_str(), H5P_DEFAULT), H5Dclose);
+  Hid plist(H5Dget_create_plist(set.get()), H5Pclose);
+  Hid type(H5Dget_type(set.get()), H5Tclose);
+  hsize_t chunk[2] = {0, 0};
+  if (H5Pget_chunk(plist.get(), 2, chunk) < 0) ADD_FAILURE() << path << " is not chunked";
+  return {chunk[0], H5Tget_size(type.get())};
+}
+
+// 20,000 short samples: every /samples dataset spans several chunks of
+// about 64 KiB, and rank 0 writes its rows in about ten batches, so most
+// chunks receive rows in more than one write, from both ranks, out of
+// order. Every row must hold its sample, the same bytes alone and on two
+// ranks, and the chunks must be the size that keeps deflate's fixed cost
+// per chunk small (a chunk of 64 rows cost rank 0 twice the time).
+TEST(EnsembleMpi, ManyRowsWrittenInPiecesFillEveryChunk) {
+  TempDir dir("ensemble_mpi_chunks");
+  const fs::path job = dir.path() / "spherical.toml";
+  constexpr std::size_t kSamples = 20000;
+  write_text(job, edited_job_text("spherical_pendulum.toml",
+                                  {{"samples = 64", "samples = 20000\nblock_size = 16"}, {"end_time = 10.0", "end_time = 0.02"}}));
+  std::vector<fs::path> outputs;
+  for (int ranks : {0, 2}) {
+    outputs.push_back(dir.path() / ("out_" + std::to_string(ranks) + ".h5"));
+    const auto r = run_ensemble(ranks, job, outputs.back(), dir.path() / "capture");
+    SCOPED_TRACE(describe(ranks));
+    expect_success(r, outputs.back());
+  }
+  H5File alone(outputs[0]), two(outputs[1]);
+  ASSERT_TRUE(alone.ok() && two.ok());
+  EXPECT_EQ(read_integers(two.id(), "/samples/status"), std::vector<long long>(kSamples, 0));
+  EXPECT_EQ(read_doubles(two.id(), "/samples/time_reached"), std::vector<double>(kSamples, 0.02));
+  const std::vector<long long> stats = read_integers(two.id(), "/samples/integrator_stats");
+  ASSERT_EQ(stats.size() % kSamples, 0u);
+  for (std::size_t k = 0; k < kSamples; ++k)
+    if (stats[k * (stats.size() / kSamples)] <= 0) {
+      ADD_FAILURE() << "sample " << k << " has no steps: its row was not written";
+      break;
+    }
+  for (const std::string path : {"/samples/status", "/samples/time_reached", "/samples/inputs",
+                                 "/samples/final_state", "/samples/max/energy", "/samples/reason"}) {
+    const auto [rows, type_size] = chunk_rows_and_type_size(two.id(), path);
+    const std::vector<hsize_t> dims = shape(two.id(), path);
+    ASSERT_FALSE(dims.empty()) << path;
+    const std::size_t row_bytes = type_size * (dims.size() > 1 ? dims[1] : 1);
+    EXPECT_LE(rows * row_bytes, 65536u) << path;
+    EXPECT_GT(rows * row_bytes, 32768u) << path << ": " << rows << " rows a chunk";
+    EXPECT_LT(rows, kSamples) << path << ": one chunk would not test rows written in pieces";
+  }
+  expect_identical_datasets(alone.id(), "alone", two.id(), "2 ranks", {"/samples", "/stats"});
+}
+
 // ---------------------------------------------------------------------------
 // 2. Failed samples
 
