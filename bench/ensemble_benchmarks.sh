@@ -22,7 +22,7 @@ echo "## Memory per rank (bench/jobs/memory.toml, 2 ranks)"
 echo
 echo "| samples | peak RSS rank 0 (MiB) | peak RSS rank 1 (MiB) | wall (s) |"
 echo "|---:|---:|---:|---:|"
-for n in 200 2000; do
+for n in 2000 20000; do
   with_samples bench/jobs/memory.toml "$n" "$work/memory_$n.toml"
   mpirun -np 2 --oversubscribe "$ensemble" "$work/memory_$n.toml" -o "$work/memory_$n.h5" -q > /dev/null 2>&1
   rss=$(attribute "$work/memory_$n.h5" peak_rss_mib_per_rank)
