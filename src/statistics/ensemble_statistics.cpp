@@ -4,6 +4,7 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <stdexcept>
 
@@ -136,14 +137,21 @@ void EnsembleStatistics::fold_entry(std::size_t e) const {
   // Rounded to the nearest unit of the fixed point: unbiased. Scaling by a
   // power of two is exact. A value beyond the range (or not finite, which
   // no successful run gives) is left out of the sums.
-  RoundedSum sum, square;
-  std::uint64_t summed = 0;
-  for (std::size_t b = 0; b < count; ++b) {
-    const bool in_range = std::abs(scaled[b]) <= kMaxScaledDeviation;
-    const double s = in_range ? scaled[b] : 0.0;
+  // Two values at a time; a NaN pads an odd block (out of range, like a
+  // value beyond kMaxScaledDeviation: +0.0 into the sums, not counted).
+  if (count % 2 != 0) scaled[count] = std::numeric_limits<double>::quiet_NaN();
+  RoundedPairSum sum, square;
+  PairBits summed{};
+  const Pair limit = {kMaxScaledDeviation, kMaxScaledDeviation};
+  const PairBits magnitude_bits = {INT64_MAX, INT64_MAX};
+  for (std::size_t b = 0; b < count; b += 2) {
+    Pair v;
+    std::memcpy(&v, scaled.data() + b, sizeof v);
+    const PairBits in_range = std::bit_cast<Pair>(std::bit_cast<PairBits>(v) & magnitude_bits) <= limit;
+    const Pair s = std::bit_cast<Pair>(std::bit_cast<PairBits>(v) & in_range);
     sum.add(s * sum_unit);
     square.add(s * s * square_unit);
-    summed += in_range ? 1 : 0;
+    summed -= in_range;
   }
   std::uint32_t* counts = counts_.data() + e * counters_per_entry();
   const int overflow_bin = bins_ + 1;  // a local: the counts' stores could alias the member
@@ -161,7 +169,7 @@ void EnsembleStatistics::fold_entry(std::size_t e) const {
   max_[e] = hi;
   sum_[e] += sum.total();
   square_sum_[e] += square.total();
-  out_of_range_[e] += count - summed;
+  out_of_range_[e] += count - static_cast<std::uint64_t>(summed[0] + summed[1]);
 }
 
 void EnsembleStatistics::merge(const EnsembleStatistics& o) {

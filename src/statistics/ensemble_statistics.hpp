@@ -149,4 +149,26 @@ struct RoundedSum {
   wide total() const { return wide{high} * (wide{1} << 50) + low; }
 };
 
+// Two values at once (GCC's and Clang's vector extension: SSE2 on x86-64):
+// a pair of doubles, and a pair of int64 that is -1 where a comparison held.
+using Pair = double __attribute__((vector_size(16)));
+using PairBits = std::int64_t __attribute__((vector_size(16)));
+
+// RoundedSum on a pair of values: the same operations lane by lane, so the
+// same sums. GCC 12 does not vectorise a loop of RoundedSum::add.
+struct RoundedPairSum {
+  PairBits high{}, low{};
+
+  void add(Pair v) {
+    constexpr double magic = 0x1.8p52;
+    const Pair magics = {magic, magic};
+    const PairBits magic_bits = std::bit_cast<PairBits>(magics);
+    const Pair shifted = v * 0x1p-50 + magics;
+    const Pair r = v - (shifted - magics) * 0x1p50;
+    high += std::bit_cast<PairBits>(shifted) - magic_bits;
+    low += std::bit_cast<PairBits>(r + magics) - magic_bits;
+  }
+  wide total() const { return wide{high[0] + high[1]} * (wide{1} << 50) + (low[0] + low[1]); }
+};
+
 }  // namespace treedyn::ensemble

@@ -681,6 +681,22 @@ TEST(Statistics, RoundedSumIsNearbyintThenConversionSummed) {
   RoundedSum extreme;  // the largest block sums the split allows
   for (int i = 0; i < 32; ++i) extreme.add(0x1p100);
   ASSERT_TRUE(extreme.total() == static_cast<wide>(32) * (static_cast<wide>(1) << 100));
+
+  // The fold adds two values at a time (RoundedPairSum): the same sums as
+  // RoundedSum on every block above, the largest included.
+  for (std::size_t start = 0; start + 32 <= values.size(); start += 32) {
+    RoundedSum one;
+    RoundedPairSum pairs;
+    for (std::size_t i = start; i < start + 32; i += 2) {
+      one.add(values[i]);
+      one.add(values[i + 1]);
+      pairs.add(Pair{values[i], values[i + 1]});
+    }
+    ASSERT_TRUE(pairs.total() == one.total()) << "block at " << start;
+  }
+  RoundedPairSum extreme_pairs;
+  for (int i = 0; i < 16; ++i) extreme_pairs.add(Pair{0x1p100, 0x1p100});
+  ASSERT_TRUE(extreme_pairs.total() == extreme.total());
 }
 
 }  // namespace
