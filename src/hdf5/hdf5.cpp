@@ -43,9 +43,9 @@ std::vector<const char*> pointers_to(const std::vector<std::string>& values) {
 // About 64 KiB a chunk, whole rows. deflate pays a fixed cost per chunk (the
 // library sets up and clears its tables, a few hundred KiB, every time):
 // chunks of a few rows spent more of rank 0's time on that than on
-// compressing, and compressed worse. 64 KiB stays well inside HDF5's
-// default chunk cache (1 MiB a dataset), which keeps a chunk whose rows
-// arrive in several writes until it is whole.
+// compressing, and compressed worse. The row datasets' chunk cache
+// (rows_cache) keeps 4 of them, so a chunk whose rows arrive in several
+// writes stays until it is whole.
 hsize_t rows_per_chunk(hsize_t row_bytes, hsize_t rows) {
   return std::clamp<hsize_t>(65536 / std::max<hsize_t>(row_bytes, 1), 1, std::max<hsize_t>(rows, 1));
 }
@@ -63,6 +63,18 @@ Handle rows_cache() {
   Handle access(H5Pcreate(H5P_DATASET_ACCESS), H5Pclose, "creating dataset access properties");
   check(H5Pset_chunk_cache(access.id(), 101, 4 * 65536, 1.0), "setting the chunk cache");
   return access;
+}
+
+// Bytes one value of `type` takes in a chunk: a variable-length string is
+// a 16-byte reference into the file's heap there, though H5Tget_size gives
+// the size of the pointer in memory.
+hsize_t stored_bytes(hid_t type) {
+  const htri_t variable = H5Tis_variable_str(type);
+  check(variable, "inspecting a datatype");
+  if (variable > 0) return 16;
+  const std::size_t size = H5Tget_size(type);
+  if (size == 0) throw IoError("HDF5: getting a datatype's size failed");
+  return size;
 }
 
 Handle simple_space(std::span<const hsize_t> dims) {
@@ -208,7 +220,7 @@ Handle create_rows(hid_t parent, const std::string& name, hid_t type, std::size_
   Handle space = simple_space(std::span<const hsize_t>(dims, rank));
   Handle plist(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, "creating dataset properties");
   if (rows > 0) {
-    const hsize_t chunk[2] = {rows_per_chunk(dims[1] * H5Tget_size(type), rows), dims[1]};
+    const hsize_t chunk[2] = {rows_per_chunk(dims[1] * stored_bytes(type), rows), dims[1]};
     check(H5Pset_chunk(plist.id(), static_cast<int>(rank), chunk), "setting chunks");
     check(H5Pset_deflate(plist.id(), kRowsDeflateLevel), "setting deflate compression");
   }
@@ -253,7 +265,8 @@ Handle create_row_array(hid_t parent, const std::string& name, hid_t type, std::
     check(H5Pset_chunk(plist.id(), static_cast<int>(dims.size()), chunk.data()), "setting chunks");
     check(H5Pset_deflate(plist.id(), kRowsDeflateLevel), "setting deflate compression");
   }
-  return Handle(H5Dcreate2(parent, name.c_str(), type, space.id(), H5P_DEFAULT, plist.id(), H5P_DEFAULT),
+  Handle access = rows_cache();
+  return Handle(H5Dcreate2(parent, name.c_str(), type, space.id(), H5P_DEFAULT, plist.id(), access.id()),
                 H5Dclose, "creating dataset " + name);
 }
 

@@ -35,10 +35,11 @@ void seal_frame(std::vector<char>& frame) {
   std::memcpy(frame.data(), header, kFrameHeader);
 }
 
-// The records in the first `bytes` bytes of a records file.
+// The records in the first `bytes` bytes of a records file (frames spilled
+// after the last state are not read).
 std::vector<SampleRecord> read_frames(const fs::path& path, std::uint64_t bytes) {
   if (bytes == 0) return {};
-  const std::vector<char> all = process::read_file(path);
+  const std::vector<char> all = process::read_file_prefix(path, bytes);
   std::vector<SampleRecord> out;
   try {
     if (all.size() < bytes) throw DecodeError(path.string() + " is damaged (truncated)");
@@ -181,10 +182,23 @@ void RankCheckpoint::add(const SampleRecord& record) {
 }
 
 // A failed append may leave part of the frame in the file, past every
-// offset a state names; the caller turns this rank's checkpoints off.
+// offset a state names: it is cut off again where it can be, and this
+// checkpoint refuses any further write (a frame after the torn one would
+// sit at an offset the states do not know). The caller turns this rank's
+// checkpoints off.
 void RankCheckpoint::append_pending(AtomicFile::Sync sync) {
+  if (failed_) throw process::FileError(records_path(dir_, part_stem(generation_, name_)).string() +
+                                        ": an earlier write failed; this rank checkpoints no more");
   seal_frame(pending_);
-  process::append_to_file(records_path(dir_, part_stem(generation_, name_)), pending_, sync);
+  const fs::path path = records_path(dir_, part_stem(generation_, name_));
+  try {
+    process::append_to_file(path, pending_, sync);
+  } catch (const process::FileError&) {
+    failed_ = true;
+    std::error_code ignored;
+    if (fs::is_regular_file(path, ignored)) fs::resize_file(path, appended_bytes_, ignored);
+    throw;
+  }
   appended_bytes_ += pending_.size();
   appended_records_ += pending_records_;
   pending_.clear();
@@ -192,6 +206,8 @@ void RankCheckpoint::append_pending(AtomicFile::Sync sync) {
 }
 
 void RankCheckpoint::save(const EnsembleStatistics& stats, AtomicFile::Sync sync) {
+  if (failed_) throw process::FileError(state_path(dir_, part_stem(generation_, name_)).string() +
+                                        ": an earlier write failed; this rank checkpoints no more");
   if (saved_once_ && !has_unsaved()) return;  // the state on disk is this one
   if (pending_records_ > 0) append_pending(sync);
   else if (sync == AtomicFile::Sync::yes && appended_bytes_ > saved_bytes_)

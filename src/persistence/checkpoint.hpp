@@ -52,8 +52,10 @@ class RankCheckpoint {
   // Once the records held pass kSpillBytes they are appended to the records
   // file as a frame (no fsync), so a rank's memory does not grow with the
   // samples it runs between two saves; a frame past the saved state's end
-  // is ignored by load_checkpoint until a save covers it. Throws
-  // process::FileError (the run goes on without checkpoints).
+  // is ignored by load_checkpoint until a save covers it. The caller holds
+  // its lock through the write (RankResults: a signal's save waits for it,
+  // a few ms on a local disk). Throws process::FileError (the run goes on
+  // without checkpoints), and so does every later add or save.
   void add(const SampleRecord& record);
   static constexpr std::size_t kSpillBytes = std::size_t{4} << 20;
   // Throws process::FileError (the run goes on without checkpoints).
@@ -74,6 +76,7 @@ class RankCheckpoint {
   std::uint64_t appended_records_ = 0, appended_bytes_ = 0;  // in the records file
   std::uint64_t saved_records_ = 0, saved_bytes_ = 0;        // of those, covered by the state file
   bool saved_once_ = false;
+  bool failed_ = false;  // an append failed: no further write
 };
 
 // What every record of a job must look like: loading refuses any other (a

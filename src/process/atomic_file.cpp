@@ -4,6 +4,7 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -116,6 +117,17 @@ std::vector<char> read_file(const fs::path& path) {
   std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (in.bad()) throw FileError(path.string() + ": reading failed");
   return bytes;
+}
+
+std::vector<char> read_file_prefix(const fs::path& path, std::uint64_t bytes) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw FileError(path.string() + ": cannot open for reading (" + why() + ")");
+  std::error_code ec;
+  const std::uintmax_t size = fs::file_size(path, ec);
+  std::vector<char> out(static_cast<std::size_t>(std::min<std::uintmax_t>(bytes, ec ? 0 : size)));
+  in.read(out.data(), static_cast<std::streamsize>(out.size()));
+  if (in.bad() || static_cast<std::size_t>(in.gcount()) != out.size()) throw FileError(path.string() + ": reading failed");
+  return out;
 }
 
 namespace {

@@ -6,6 +6,7 @@
 // can leave one behind: remove_stale_temporaries() finds those later.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <span>
 #include <stdexcept>
@@ -71,6 +72,8 @@ void append_to_file(const std::filesystem::path& path, std::span<const char> byt
 
 // The whole file. Throws FileError.
 std::vector<char> read_file(const std::filesystem::path& path);
+// At most the first `bytes` bytes (fewer when the file is shorter).
+std::vector<char> read_file_prefix(const std::filesystem::path& path, std::uint64_t bytes);
 
 // Temporary files `<name>.tmp-PID` in `dir` (any name when `name` is empty)
 // whose process no longer runs: removed, and their paths returned. Only

@@ -123,6 +123,7 @@ void EnsembleStatistics::fold_entry(std::size_t e) const {
   constexpr double sum_unit = 0x1p62, square_unit = 0x1p60;  // 2^kSumBits, 2^kSquareBits
   static_assert(kSumBits == 62 && kSquareBits == 60 && kMaxScaledDeviation <= 0x1p20 && kMaxBlock <= 4096,
                 "RoundedSum's range: |v| <= 2^100, at most 2^12 values");
+  static_assert(kMaxBlock % 2 == 0, "an odd block's pad (scaled[count]) must fit");
   const std::size_t n = entries(), count = pending_samples_;
   const double center = calibration_.center[e], scale = calibration_.scale[e];
   const double low = calibration_.low[e], width = calibration_.width[e];
@@ -141,14 +142,14 @@ void EnsembleStatistics::fold_entry(std::size_t e) const {
   // value beyond kMaxScaledDeviation: +0.0 into the sums, not counted).
   if (count % 2 != 0) scaled[count] = std::numeric_limits<double>::quiet_NaN();
   RoundedPairSum sum, square;
-  PairBits summed{};
-  const Pair limit = {kMaxScaledDeviation, kMaxScaledDeviation};
-  const PairBits magnitude_bits = {INT64_MAX, INT64_MAX};
+  TwoInt64 summed{};
+  const TwoDoubles limit = {kMaxScaledDeviation, kMaxScaledDeviation};
+  const TwoInt64 magnitude_bits = {INT64_MAX, INT64_MAX};
   for (std::size_t b = 0; b < count; b += 2) {
-    Pair v;
+    TwoDoubles v;
     std::memcpy(&v, scaled.data() + b, sizeof v);
-    const PairBits in_range = std::bit_cast<Pair>(std::bit_cast<PairBits>(v) & magnitude_bits) <= limit;
-    const Pair s = std::bit_cast<Pair>(std::bit_cast<PairBits>(v) & in_range);
+    const TwoInt64 in_range = std::bit_cast<TwoDoubles>(std::bit_cast<TwoInt64>(v) & magnitude_bits) <= limit;
+    const TwoDoubles s = std::bit_cast<TwoDoubles>(std::bit_cast<TwoInt64>(v) & in_range);
     sum.add(s * sum_unit);
     square.add(s * s * square_unit);
     summed -= in_range;

@@ -126,9 +126,9 @@ class EnsembleStatistics {
 // The sum of a block's values, each rounded to the nearest integer (ties to
 // even, as std::nearbyint in the default rounding mode), exactly, for
 // |v| <= 2^100 and at most 2^12 values. Branch-free and in 64-bit integer
-// lanes, so the compiler vectorises a block's loop: a value straddling 2^52
-// or 2^63 at random costs no misprediction, and there is no libm nearbyint
-// nor libgcc's soft double -> __int128 conversion.
+// lanes (RoundedPairSum below does two values at once): a value straddling
+// 2^52 or 2^63 at random costs no misprediction, and there is no libm
+// nearbyint nor libgcc's soft double -> __int128 conversion.
 //
 // v = h 2^50 + r with h = rne(v / 2^50) (|h| <= 2^50) and r = v - h 2^50,
 // exact by Sterbenz's lemma (|r| <= 2^49, and r = v when h = 0). h 2^50 is
@@ -151,22 +151,22 @@ struct RoundedSum {
 
 // Two values at once (GCC's and Clang's vector extension: SSE2 on x86-64):
 // a pair of doubles, and a pair of int64 that is -1 where a comparison held.
-using Pair = double __attribute__((vector_size(16)));
-using PairBits = std::int64_t __attribute__((vector_size(16)));
+using TwoDoubles = double __attribute__((vector_size(16)));
+using TwoInt64 = std::int64_t __attribute__((vector_size(16)));
 
 // RoundedSum on a pair of values: the same operations lane by lane, so the
 // same sums. GCC 12 does not vectorise a loop of RoundedSum::add.
 struct RoundedPairSum {
-  PairBits high{}, low{};
+  TwoInt64 high{}, low{};
 
-  void add(Pair v) {
+  void add(TwoDoubles v) {
     constexpr double magic = 0x1.8p52;
-    const Pair magics = {magic, magic};
-    const PairBits magic_bits = std::bit_cast<PairBits>(magics);
-    const Pair shifted = v * 0x1p-50 + magics;
-    const Pair r = v - (shifted - magics) * 0x1p50;
-    high += std::bit_cast<PairBits>(shifted) - magic_bits;
-    low += std::bit_cast<PairBits>(r + magics) - magic_bits;
+    const TwoDoubles magics = {magic, magic};
+    const TwoInt64 magic_bits = std::bit_cast<TwoInt64>(magics);
+    const TwoDoubles shifted = v * 0x1p-50 + magics;
+    const TwoDoubles r = v - (shifted - magics) * 0x1p50;
+    high += std::bit_cast<TwoInt64>(shifted) - magic_bits;
+    low += std::bit_cast<TwoInt64>(r + magics) - magic_bits;
   }
   wide total() const { return wide{high[0] + high[1]} * (wide{1} << 50) + (low[0] + low[1]); }
 };

@@ -197,6 +197,10 @@ TEST_F(CheckpointFiles, ASpillThatFailsTurnsTheRanksCheckpointsOff) {
       }
     }
     EXPECT_TRUE(thrown) << "no spill failed";
+    // Once an append failed, a save must not write a state after it.
+    EnsembleStatistics stats(kTimes, kColumns, kBins, calibration_);
+    EXPECT_THROW(checkpoint.save(stats), treedyn::process::FileError);
+    EXPECT_FALSE(fs::exists(dir_ / "part-0-rank0.state"));
   }
   RankResults results;
   results.start_statistics(EnsembleStatistics(kTimes, kColumns, kBins, calibration_));

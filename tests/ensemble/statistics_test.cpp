@@ -640,6 +640,41 @@ TEST(Statistics, BlocksFoldToTheBitsOfOneSampleAtATime) {
   }
 }
 
+// The fold takes its values two at a time and pads an odd block with a
+// NaN: that pad must not count. Blocks of 1, 3 and 5 values (folded by a
+// read) with a value beyond the fixed-point range, a NaN and infinities:
+// the ones not finite are kept out of everything, the finite one beyond
+// the range out of the sums only.
+TEST(Statistics, OddBlocksAndValuesThatAreNotFinite) {
+  const Calibration cal = calibrate(std::vector<double>{0.0}, std::vector<double>{-1.0}, std::vector<double>{1.0},
+                                    std::vector<double>{1.0}, 1, 8);
+  const double beyond = 2.0 * EnsembleStatistics::kMaxScaledDeviation, inf = std::numeric_limits<double>::infinity();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  EnsembleStatistics one(1, 1, 8, cal);
+  one.add_sample(std::vector<double>{0.5});
+  EXPECT_EQ(one.out_of_range(0), 0u);
+  EXPECT_EQ(one.count(0), 1u);
+  EXPECT_EQ(one.mean(0), 0.5);
+  EnsembleStatistics three(1, 1, 8, cal);
+  for (double v : {0.5, nan, 1.0}) three.add_sample(std::vector<double>{v});
+  EXPECT_EQ(three.out_of_range(0), 1u);
+  EXPECT_EQ(three.count(0), 2u);
+  EXPECT_EQ(three.mean(0), 0.75);
+  EXPECT_EQ(three.min(0), 0.5);
+  EXPECT_EQ(three.max(0), 1.0);
+  EnsembleStatistics five(1, 1, 8, cal);
+  for (double v : {0.5, -inf, beyond, 1.0, inf}) five.add_sample(std::vector<double>{v});
+  EXPECT_EQ(five.out_of_range(0), 3u);
+  EXPECT_EQ(five.count(0), 2u);
+  EXPECT_EQ(five.mean(0), 0.75);
+  EXPECT_EQ(five.std_dev(0), std::sqrt(0.125));
+  EXPECT_EQ(five.min(0), 0.5);
+  EXPECT_EQ(five.max(0), beyond);
+  std::uint64_t total = 0;
+  for (std::uint32_t c : five.histogram(0)) total += c;
+  EXPECT_EQ(total, 3u);  // 0.5, 1.0 and the finite one beyond the range
+}
+
 // RoundedSum against what it replaces, std::nearbyint (ties to even) and
 // the compiler's double -> __int128 conversion: every power of two and its
 // neighbours up to 2^100 (the square's limit), halves (ties) below and
@@ -690,12 +725,12 @@ TEST(Statistics, RoundedSumIsNearbyintThenConversionSummed) {
     for (std::size_t i = start; i < start + 32; i += 2) {
       one.add(values[i]);
       one.add(values[i + 1]);
-      pairs.add(Pair{values[i], values[i + 1]});
+      pairs.add(TwoDoubles{values[i], values[i + 1]});
     }
     ASSERT_TRUE(pairs.total() == one.total()) << "block at " << start;
   }
   RoundedPairSum extreme_pairs;
-  for (int i = 0; i < 16; ++i) extreme_pairs.add(Pair{0x1p100, 0x1p100});
+  for (int i = 0; i < 16; ++i) extreme_pairs.add(TwoDoubles{0x1p100, 0x1p100});
   ASSERT_TRUE(extreme_pairs.total() == extreme.total());
 }
 

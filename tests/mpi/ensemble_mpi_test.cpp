@@ -215,18 +215,34 @@ TEST(EnsembleMpi, RecordsWrittenInSeveralBatchesAllReachTheFile) {
   expect_identical_datasets(alone.id(), "alone", two.id(), "2 ranks", {"/samples", "/trajectories", "/stats"});
 }
 
-// The chunk (first extent) of a chunked dataset, and its type's size.
-std::pair<hsize_t, std::size_t> chunk_rows_and_type_size(hid_t file, const std::string& path) {
+// The rows in a chunk of a chunked dataset, and the bytes a chunk of it
+// takes on disk before compression (read from a dataset stored raw: HDF5
+// says what it allocated, whatever the type; a variable-length string is a
+// 16-byte heap reference there).
+std::pair<hsize_t, double> chunk_rows_and_bytes(hid_t file, const std::string& path, const fs::path& scratch_file) {
   Hid set(H5Dopen2(file, path.c_str(), H5P_DEFAULT), H5Dclose);
   Hid plist(H5Dget_create_plist(set.get()), H5Pclose);
   Hid type(H5Dget_type(set.get()), H5Tclose);
+  Hid space(H5Dget_space(set.get()), H5Sclose);
   hsize_t chunk[2] = {0, 0};
-  if (H5Pget_chunk(plist.get(), 2, chunk) < 0) ADD_FAILURE() << path << " is not chunked";
-  return {chunk[0], H5Tget_size(type.get())};
+  const int rank = H5Pget_chunk(plist.get(), 2, chunk);
+  if (rank < 0) ADD_FAILURE() << path << " is not chunked";
+  hsize_t dims[2] = {0, 1};
+  H5Sget_simple_extent_dims(space.get(), dims, nullptr);
+  // The same dataset uncompressed, one chunk long, in a scratch file.
+  Hid scratch(H5Fcreate(scratch_file.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
+  Hid raw_plist(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
+  H5Pset_chunk(raw_plist.get(), rank, chunk);
+  H5Pset_alloc_time(raw_plist.get(), H5D_ALLOC_TIME_EARLY);
+  const hsize_t one_chunk[2] = {chunk[0], dims[1]};
+  Hid raw_space(H5Screate_simple(rank, one_chunk, nullptr), H5Sclose);
+  Hid raw(H5Dcreate2(scratch.get(), "probe", type.get(), raw_space.get(), H5P_DEFAULT, raw_plist.get(), H5P_DEFAULT),
+          H5Dclose);
+  return {chunk[0], static_cast<double>(H5Dget_storage_size(raw.get()))};
 }
 
 // 20,000 short samples: every /samples dataset spans several chunks of
-// about 64 KiB, and rank 0 writes its rows in about ten batches, so most
+// about 64 KiB, and rank 0 writes its rows in about five batches, so most
 // chunks receive rows in more than one write, from both ranks, out of
 // order. Every row must hold its sample, the same bytes alone and on two
 // ranks, and the chunks must be the size that keeps deflate's fixed cost
@@ -257,12 +273,9 @@ TEST(EnsembleMpi, ManyRowsWrittenInPiecesFillEveryChunk) {
     }
   for (const std::string path : {"/samples/status", "/samples/time_reached", "/samples/inputs",
                                  "/samples/final_state", "/samples/max/energy", "/samples/reason"}) {
-    const auto [rows, type_size] = chunk_rows_and_type_size(two.id(), path);
-    const std::vector<hsize_t> dims = shape(two.id(), path);
-    ASSERT_FALSE(dims.empty()) << path;
-    const std::size_t row_bytes = type_size * (dims.size() > 1 ? dims[1] : 1);
-    EXPECT_LE(rows * row_bytes, 65536u) << path;
-    EXPECT_GT(rows * row_bytes, 32768u) << path << ": " << rows << " rows a chunk";
+    const auto [rows, bytes] = chunk_rows_and_bytes(two.id(), path, dir.path() / "chunk_probe.h5");
+    EXPECT_LE(bytes, 65536.0) << path << ": " << rows << " rows a chunk";
+    EXPECT_GT(bytes, 32768.0) << path << ": " << rows << " rows a chunk";
     EXPECT_LT(rows, kSamples) << path << ": one chunk would not test rows written in pieces";
   }
   expect_identical_datasets(alone.id(), "alone", two.id(), "2 ranks", {"/samples", "/stats"});
