@@ -181,22 +181,27 @@ void RankCheckpoint::add(const SampleRecord& record) {
   if (pending_.size() >= kSpillBytes) append_pending(AtomicFile::Sync::no);
 }
 
+fs::path RankCheckpoint::records_file() const { return records_path(dir_, part_stem(generation_, name_)); }
+fs::path RankCheckpoint::state_file() const { return state_path(dir_, part_stem(generation_, name_)); }
+
+void RankCheckpoint::refuse_after_failure() const {
+  if (failed_) throw process::FileError(records_file().string() + ": an earlier write failed; this rank checkpoints no more");
+}
+
 // A failed append may leave part of the frame in the file, past every
 // offset a state names: it is cut off again where it can be, and this
 // checkpoint refuses any further write (a frame after the torn one would
 // sit at an offset the states do not know). The caller turns this rank's
 // checkpoints off.
 void RankCheckpoint::append_pending(AtomicFile::Sync sync) {
-  if (failed_) throw process::FileError(records_path(dir_, part_stem(generation_, name_)).string() +
-                                        ": an earlier write failed; this rank checkpoints no more");
+  refuse_after_failure();
   seal_frame(pending_);
-  const fs::path path = records_path(dir_, part_stem(generation_, name_));
   try {
-    process::append_to_file(path, pending_, sync);
+    process::append_to_file(records_file(), pending_, sync);
   } catch (const process::FileError&) {
     failed_ = true;
     std::error_code ignored;
-    if (fs::is_regular_file(path, ignored)) fs::resize_file(path, appended_bytes_, ignored);
+    if (fs::is_regular_file(records_file(), ignored)) fs::resize_file(records_file(), appended_bytes_, ignored);
     throw;
   }
   appended_bytes_ += pending_.size();
@@ -206,14 +211,13 @@ void RankCheckpoint::append_pending(AtomicFile::Sync sync) {
 }
 
 void RankCheckpoint::save(const EnsembleStatistics& stats, AtomicFile::Sync sync) {
-  if (failed_) throw process::FileError(state_path(dir_, part_stem(generation_, name_)).string() +
-                                        ": an earlier write failed; this rank checkpoints no more");
+  refuse_after_failure();
   if (saved_once_ && !has_unsaved()) return;  // the state on disk is this one
-  if (pending_records_ > 0) append_pending(sync);
+  if (pending_records_ > 0)
+    append_pending(sync);
   else if (sync == AtomicFile::Sync::yes && appended_bytes_ > saved_bytes_)
-    process::append_to_file(records_path(dir_, part_stem(generation_, name_)), {}, sync);  // fsyncs the spills
-  write_part_state(state_path(dir_, part_stem(generation_, name_)), id_, generation_, appended_bytes_,
-                   appended_records_, stats, sync);
+    process::append_to_file(records_file(), {}, sync);  // flushes the spills
+  write_part_state(state_file(), id_, generation_, appended_bytes_, appended_records_, stats, sync);
   saved_bytes_ = appended_bytes_;
   saved_records_ = appended_records_;
   saved_once_ = true;

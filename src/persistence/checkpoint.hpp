@@ -66,6 +66,9 @@ class RankCheckpoint {
 
  private:
   void append_pending(process::AtomicFile::Sync sync);
+  void refuse_after_failure() const;
+  std::filesystem::path records_file() const;
+  std::filesystem::path state_file() const;
 
   std::filesystem::path dir_;
   RunIdentity id_;
