@@ -139,7 +139,9 @@ void EnsembleWriter::create_sample_columns() {
     inputs_ = h5::create_rows(g, "inputs", H5T_NATIVE_DOUBLE, n, d);
     describe_inputs(inputs_.id(), spec_);
   }
-  status_ = h5::create_rows(g, "status", H5T_NATIVE_INT32, n, 0);
+  // A row no record reached reads as "not run", not as the fill's 0 (ok).
+  const auto not_run = static_cast<std::int32_t>(ensemble::SampleStatus::not_run);
+  status_ = h5::create_rows(g, "status", H5T_NATIVE_INT32, n, 0, &not_run);
   describe(status_.id(), "1",
            "0 ok, 1 integration failed, 2 invalid model (perturbed input refused), 3 not run (a merge of an "
            "incomplete set of parts: see the root attribute held_samples)",

@@ -214,11 +214,12 @@ Handle write_scalar(hid_t parent, const std::string& name, std::uint64_t value) 
 }
 
 Handle create_rows(hid_t parent, const std::string& name, hid_t type, std::size_t rows,
-                   std::size_t columns) {
+                   std::size_t columns, const void* fill) {
   const hsize_t dims[2] = {rows, std::max<std::size_t>(columns, 1)};
   const std::size_t rank = columns == 0 ? 1 : 2;
   Handle space = simple_space(std::span<const hsize_t>(dims, rank));
   Handle plist(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, "creating dataset properties");
+  if (fill) check(H5Pset_fill_value(plist.id(), type, fill), "setting a fill value");
   if (rows > 0) {
     const hsize_t chunk[2] = {rows_per_chunk(dims[1] * stored_bytes(type), rows), dims[1]};
     check(H5Pset_chunk(plist.id(), static_cast<int>(rank), chunk), "setting chunks");

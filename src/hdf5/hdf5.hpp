@@ -88,9 +88,10 @@ Handle write_scalar(hid_t parent, const std::string& name, double value);
 Handle write_scalar(hid_t parent, const std::string& name, std::uint64_t value);
 // A rows x columns dataset created empty (HDF5's default fill, zero), filled
 // later block by block with write_rows: for records that arrive out of order.
-// Chunks of about 64 KiB, deflated.
+// Chunks of about 64 KiB, deflated. `fill` (one value of `type`) is what a
+// row never written reads as; HDF5's default is zero.
 Handle create_rows(hid_t parent, const std::string& name, hid_t type, std::size_t rows,
-                   std::size_t columns);
+                   std::size_t columns, const void* fill = nullptr);
 void write_rows(hid_t dataset, hid_t type, std::size_t first_row, std::size_t rows,
                 std::size_t columns, const void* data, hid_t transfer = H5P_DEFAULT);
 // The same with rows of any shape: (rows, row_shape...), e.g. one

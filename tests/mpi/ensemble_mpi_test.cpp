@@ -199,8 +199,9 @@ TEST(EnsembleMpi, RecordsWrittenInSeveralBatchesAllReachTheFile) {
   }
   H5File alone(outputs[0]), two(outputs[1]);
   ASSERT_TRUE(alone.ok() && two.ok());
-  // A row never written reads as the datasets' fill (zeros), so check
-  // what every written row has: status ok, the end time reached, steps.
+  // A row never written reads as the datasets' fill (status 3, zeros
+  // elsewhere), so check what every written row has: status ok, the end
+  // time reached, steps.
   const std::vector<long long> status = read_integers(two.id(), "/samples/status");
   EXPECT_EQ(status, std::vector<long long>(50, 0));
   EXPECT_EQ(read_doubles(two.id(), "/samples/time_reached"), std::vector<double>(50, 10.0));
@@ -279,6 +280,12 @@ TEST(EnsembleMpi, ManyRowsWrittenInPiecesFillEveryChunk) {
     EXPECT_LT(rows, kSamples) << path << ": one chunk would not test rows written in pieces";
   }
   expect_identical_datasets(alone.id(), "alone", two.id(), "2 ranks", {"/samples", "/stats"});
+  // A row no record reached would read as status 3 (not run), not as 0 (ok).
+  Hid status(H5Dopen2(two.id(), "/samples/status", H5P_DEFAULT), H5Dclose);
+  Hid plist(H5Dget_create_plist(status.get()), H5Pclose);
+  std::int32_t fill = 0;
+  ASSERT_GE(H5Pget_fill_value(plist.get(), H5T_NATIVE_INT32, &fill), 0);
+  EXPECT_EQ(fill, 3);
 }
 
 // ---------------------------------------------------------------------------
