@@ -23,8 +23,7 @@ bool RankResults::keep(const SampleRecord& record, std::span<const double> traje
     try {
       checkpoint_->add(record);
     } catch (const process::FileError& e) {  // a spill of the held records failed
-      std::cerr << "warning: " << e.what() << "; checkpoints are off for this rank\n";
-      checkpoint_.reset();
+      drop_checkpoint_after(e);
     }
   }
   return true;
@@ -47,8 +46,6 @@ void RankResults::stop() {
   save_locked(process::AtomicFile::Sync::no);
 }
 
-// A failure (a full disk, or no memory for the buffers) is reported once and
-// turns checkpoints off on this rank.
 bool RankResults::save_locked(process::AtomicFile::Sync sync) {
   if (!checkpoint_ || !stats_ || finished_) return false;
   try {
@@ -56,10 +53,14 @@ bool RankResults::save_locked(process::AtomicFile::Sync sync) {
     last_save_ = std::chrono::steady_clock::now();
     return true;
   } catch (const std::exception& e) {
-    std::cerr << "warning: " << e.what() << "; checkpoints are off for this rank\n";
-    checkpoint_.reset();
+    drop_checkpoint_after(e);
     return false;
   }
+}
+
+void RankResults::drop_checkpoint_after(const std::exception& failure) {
+  std::cerr << "warning: " << failure.what() << "; checkpoints are off for this rank\n";
+  checkpoint_.reset();
 }
 
 EnsembleStatistics RankResults::finish() {

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <chrono>
+#include <exception>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -57,6 +58,9 @@ class RankResults {
 
  private:
   bool save_locked(process::AtomicFile::Sync sync);
+  // A failed write (a full disk, or no memory for the buffers) is reported
+  // once and turns checkpoints off on this rank. Under the lock.
+  void drop_checkpoint_after(const std::exception& failure);
 
   mutable std::mutex lock_;
   std::optional<EnsembleStatistics> stats_;

@@ -215,10 +215,9 @@ void RankCheckpoint::save(const EnsembleStatistics& stats, AtomicFile::Sync sync
   if (saved_once_ && !has_unsaved()) return;  // the state on disk is this one
   if (pending_records_ > 0)
     append_pending(sync);
-  else if (sync == AtomicFile::Sync::yes && appended_bytes_ > saved_bytes_)
+  else if (sync == AtomicFile::Sync::yes && appended_records_ > saved_records_)
     process::append_to_file(records_file(), {}, sync);  // flushes the spills
   write_part_state(state_file(), id_, generation_, appended_bytes_, appended_records_, stats, sync);
-  saved_bytes_ = appended_bytes_;
   saved_records_ = appended_records_;
   saved_once_ = true;
 }

@@ -77,7 +77,7 @@ class RankCheckpoint {
   std::vector<char> pending_;  // one frame: the encoded records not yet in the records file
   std::uint64_t pending_records_ = 0;
   std::uint64_t appended_records_ = 0, appended_bytes_ = 0;  // in the records file
-  std::uint64_t saved_records_ = 0, saved_bytes_ = 0;        // of those, covered by the state file
+  std::uint64_t saved_records_ = 0;  // of those, covered by the state file
   bool saved_once_ = false;
   bool failed_ = false;  // an append failed: no further write
 };

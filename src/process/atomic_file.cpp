@@ -124,7 +124,9 @@ std::vector<char> read_file_prefix(const fs::path& path, std::uint64_t bytes) {
   if (!in) throw FileError(path.string() + ": cannot open for reading (" + why() + ")");
   std::error_code ec;
   const std::uintmax_t size = fs::file_size(path, ec);
-  std::vector<char> out(static_cast<std::size_t>(std::min<std::uintmax_t>(bytes, ec ? 0 : size)));
+  if (ec) throw FileError(path.string() + ": cannot read its size (" + ec.message() + ")");
+  // The file's size bounds the buffer, whatever `bytes` a damaged state claims.
+  std::vector<char> out(static_cast<std::size_t>(std::min<std::uintmax_t>(bytes, size)));
   in.read(out.data(), static_cast<std::streamsize>(out.size()));
   if (in.bad() || static_cast<std::size_t>(in.gcount()) != out.size()) throw FileError(path.string() + ": reading failed");
   return out;

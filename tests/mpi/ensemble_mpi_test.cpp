@@ -179,6 +179,34 @@ TEST(EnsembleMpi, SameNumbersAloneAndOnOneTwoAndThreeRanks) {
   }
 }
 
+// The job run alone (no mpirun) and on 2 ranks, each successful: the two
+// outputs.
+std::pair<fs::path, fs::path> run_alone_and_on_two_ranks(const TempDir& dir, const fs::path& job) {
+  std::vector<fs::path> outputs;
+  for (int ranks : {0, 2}) {
+    outputs.push_back(dir.path() / ("out_" + std::to_string(ranks) + ".h5"));
+    const auto r = run_ensemble(ranks, job, outputs.back(), dir.path() / "capture");
+    SCOPED_TRACE(describe(ranks));
+    expect_success(r, outputs.back());
+  }
+  return {outputs[0], outputs[1]};
+}
+
+// A row never written reads as the datasets' fill (status 3, zeros
+// elsewhere), so check what every written row of `samples` successful
+// samples has: status ok, the end time reached, steps.
+void expect_every_row_written(hid_t file, std::size_t samples, double end_time) {
+  EXPECT_EQ(read_integers(file, "/samples/status"), std::vector<long long>(samples, 0));
+  EXPECT_EQ(read_doubles(file, "/samples/time_reached"), std::vector<double>(samples, end_time));
+  const std::vector<long long> stats = read_integers(file, "/samples/integrator_stats");
+  ASSERT_EQ(stats.size() % samples, 0u);
+  for (std::size_t k = 0; k < samples; ++k)
+    if (stats[k * (stats.size() / samples)] <= 0) {
+      ADD_FAILURE() << "sample " << k << " has no steps: its row was not written";
+      break;
+    }
+}
+
 // Rank 0 holds the records that arrive and writes them in batches once
 // 4 MiB are held, the last ones when the run is complete
 // (mpi/parallel/record_sink.hpp). 50 spherical-pendulum samples carrying
@@ -190,24 +218,10 @@ TEST(EnsembleMpi, RecordsWrittenInSeveralBatchesAllReachTheFile) {
   const fs::path job = dir.path() / "spherical.toml";
   write_text(job, edited_job_text("spherical_pendulum.toml",
                                   {{"samples = 64", "samples = 50\nstore_trajectories = 50\nblock_size = 2"}}));
-  std::vector<fs::path> outputs;
-  for (int ranks : {0, 2}) {
-    outputs.push_back(dir.path() / ("out_" + std::to_string(ranks) + ".h5"));
-    const auto r = run_ensemble(ranks, job, outputs.back(), dir.path() / "capture");
-    SCOPED_TRACE(describe(ranks));
-    expect_success(r, outputs.back());
-  }
-  H5File alone(outputs[0]), two(outputs[1]);
+  const auto [alone_path, two_path] = run_alone_and_on_two_ranks(dir, job);
+  H5File alone(alone_path), two(two_path);
   ASSERT_TRUE(alone.ok() && two.ok());
-  // A row never written reads as the datasets' fill (status 3, zeros
-  // elsewhere), so check what every written row has: status ok, the end
-  // time reached, steps.
-  const std::vector<long long> status = read_integers(two.id(), "/samples/status");
-  EXPECT_EQ(status, std::vector<long long>(50, 0));
-  EXPECT_EQ(read_doubles(two.id(), "/samples/time_reached"), std::vector<double>(50, 10.0));
-  const std::vector<long long> stats = read_integers(two.id(), "/samples/integrator_stats");
-  ASSERT_EQ(stats.size() % 50, 0u);
-  for (std::size_t k = 0; k < 50; ++k) EXPECT_GT(stats[k * (stats.size() / 50)], 0) << "sample " << k;
+  expect_every_row_written(two.id(), 50, 10.0);
   const std::vector<double> tip = read_doubles(two.id(), "/trajectories/point_position");
   ASSERT_EQ(tip.size(), 50u * 1001u * 3u);
   EXPECT_TRUE(std::all_of(tip.begin(), tip.end(), [](double x) { return std::isfinite(x); }))
@@ -254,24 +268,10 @@ TEST(EnsembleMpi, ManyRowsWrittenInPiecesFillEveryChunk) {
   constexpr std::size_t kSamples = 20000;
   write_text(job, edited_job_text("spherical_pendulum.toml",
                                   {{"samples = 64", "samples = 20000\nblock_size = 16"}, {"end_time = 10.0", "end_time = 0.02"}}));
-  std::vector<fs::path> outputs;
-  for (int ranks : {0, 2}) {
-    outputs.push_back(dir.path() / ("out_" + std::to_string(ranks) + ".h5"));
-    const auto r = run_ensemble(ranks, job, outputs.back(), dir.path() / "capture");
-    SCOPED_TRACE(describe(ranks));
-    expect_success(r, outputs.back());
-  }
-  H5File alone(outputs[0]), two(outputs[1]);
+  const auto [alone_path, two_path] = run_alone_and_on_two_ranks(dir, job);
+  H5File alone(alone_path), two(two_path);
   ASSERT_TRUE(alone.ok() && two.ok());
-  EXPECT_EQ(read_integers(two.id(), "/samples/status"), std::vector<long long>(kSamples, 0));
-  EXPECT_EQ(read_doubles(two.id(), "/samples/time_reached"), std::vector<double>(kSamples, 0.02));
-  const std::vector<long long> stats = read_integers(two.id(), "/samples/integrator_stats");
-  ASSERT_EQ(stats.size() % kSamples, 0u);
-  for (std::size_t k = 0; k < kSamples; ++k)
-    if (stats[k * (stats.size() / kSamples)] <= 0) {
-      ADD_FAILURE() << "sample " << k << " has no steps: its row was not written";
-      break;
-    }
+  expect_every_row_written(two.id(), kSamples, 0.02);
   for (const std::string path : {"/samples/status", "/samples/time_reached", "/samples/inputs",
                                  "/samples/final_state", "/samples/max/energy", "/samples/reason"}) {
     const auto [rows, bytes] = chunk_rows_and_bytes(two.id(), path, dir.path() / "chunk_probe.h5");
