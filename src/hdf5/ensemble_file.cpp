@@ -144,7 +144,8 @@ void EnsembleWriter::create_sample_columns() {
   status_ = h5::create_rows(g, "status", H5T_NATIVE_INT32, n, 0, &not_run);
   describe(status_.id(), "1",
            "0 ok, 1 integration failed, 2 invalid model (perturbed input refused), 3 not run (a merge of an "
-           "incomplete set of parts: see the root attribute held_samples)",
+           "incomplete set of parts: see the root attribute held_samples; also what a row that no record "
+           "reached reads as)",
            {});
   reason_ = h5::create_string_rows(g, "reason", n);
   describe(reason_.id(), "1", "why the sample failed; empty when ok", {});
