@@ -10,7 +10,7 @@
 //                statistics' update and the record's encoding
 //   statistics   EnsembleStatistics::add_sample alone (part of `sample`),
 //                the mean over the samples measured: it folds a block of
-//                samples every block_samples() calls (up to 32) and only
+//                samples every block_samples() calls (up to 64) and only
 //                copies in the others
 //   recording    run() minus the integration alone: recording, reductions,
 //                responses, the final state (part of `sample`)
@@ -22,9 +22,11 @@
 //
 //   taskset -c 0 ./build/bench/throughput_benchmark [SAMPLES [JOB ...]]
 //
-// SAMPLES defaults to 32 (one block of the statistics); JOB names limit
-// the table to those rows (for a profile of one job), and NAME=PATH adds a
-// row for any job file (an integrator or output setting tried out).
+// SAMPLES defaults to 32; JOB names limit the table to those rows (for a
+// profile of one job), and NAME=PATH adds a row for any job file (an
+// integrator or output setting tried out). FOLD_LANES=2 (or 4, 8) in the
+// environment folds the statistics that many values at a time instead of
+// the widest this CPU runs (block_fold.hpp): the same bits, another speed.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -85,11 +87,12 @@ ensemble::EnsembleStatistics calibrated(ensemble::SampleRunner& runner, const en
       ensemble::calibrate(nominal, low, high, ensemble::column_scales(nominal, columns), columns, spec.histogram_bins));
 }
 
-Row measure(const std::string& name, const std::string& path, int samples) {
+Row measure(const std::string& name, const std::string& path, int samples, int fold_lanes) {
   const auto [job, spec] = ensemble::read_ensemble_job(JobDocument::read(path));
   ensemble::SampleRunner runner(job, spec);
   std::vector<double> nominal, trajectory;
   ensemble::EnsembleStatistics stats = calibrated(runner, spec, nominal);
+  if (fold_lanes != 0) stats.use_fold_lanes(fold_lanes);
   std::vector<double> rhs, integration, run, statistics, encoding;
   std::vector<char> encoded;
   SimulationRequest bare = job.request;  // nothing observed: no dynamics at the output times
@@ -127,6 +130,14 @@ Row measure(const std::string& name, const std::string& path, int samples) {
 int main(int argc, char** argv) {
   const int samples = argc > 1 ? std::max(1, std::atoi(argv[1])) : 32;
   const std::string jobs = TREEDYN_JOBS_DIR, bench = TREEDYN_BENCH_JOBS_DIR;
+  const char* lanes = std::getenv("FOLD_LANES");
+  const int fold_lanes = lanes != nullptr ? std::atoi(lanes) : 0;
+  if (fold_lanes != 0 && !ensemble::runs_fold_lanes(fold_lanes)) {
+    std::fprintf(stderr, "throughput_benchmark: FOLD_LANES=%s: this CPU folds %d lanes at most (2, 4 or 8)\n", lanes,
+                 ensemble::widest_fold_lanes());
+    return 2;
+  }
+  std::printf("The statistics' fold: %d lanes.\n\n", fold_lanes != 0 ? fold_lanes : ensemble::widest_fold_lanes());
   const std::pair<std::string, std::string> cases[] = {
       {"spherical_pendulum", jobs + "/spherical_pendulum.toml"}, {"double_pendulum", jobs + "/double_pendulum.toml"},
       {"kapitza", jobs + "/kapitza.toml"},                       {"chain10", jobs + "/chain10.toml"},
@@ -147,7 +158,7 @@ int main(int argc, char** argv) {
   for (const auto& [name, path] : rows) {
     Row r;
     try {
-      r = measure(name, path, samples);
+      r = measure(name, path, samples, fold_lanes);
     } catch (const std::exception& e) {  // a job that cannot be read, or a set-up failure
       std::fprintf(stderr, "throughput_benchmark: %s: %s\n", path.c_str(), e.what());
       return 1;

@@ -1,10 +1,7 @@
 #include "statistics/ensemble_statistics.hpp"
 
 #include <algorithm>
-#include <array>
-#include <bit>
 #include <cmath>
-#include <cstring>
 #include <limits>
 #include <stdexcept>
 
@@ -101,76 +98,25 @@ void EnsembleStatistics::add_sample(std::span<const double> trajectory) {
   if (pending_samples_ == block_) fold_pending();
 }
 
-void EnsembleStatistics::fold_pending() const {
-  if (pending_samples_ == 0) return;
-  // An entry's histogram was last touched a block ago, far out of cache:
-  // its lines are fetched a few entries ahead, so that the misses overlap.
-  constexpr std::size_t ahead = 4;
-  const std::size_t line = 64 / sizeof(std::uint32_t), stride = counters_per_entry();
-  for (std::size_t e = 0; e < entries(); ++e) {
-    if (e + ahead < entries())
-      for (std::size_t k = 0; k < stride; k += line) __builtin_prefetch(counts_.data() + (e + ahead) * stride + k, 1);
-    fold_entry(e);
-  }
-  pending_samples_ = 0;
+void EnsembleStatistics::use_fold_lanes(int lanes) {
+  if (!runs_fold_lanes(lanes)) throw std::invalid_argument("this CPU does not fold " + std::to_string(lanes) + " lanes");
+  lanes_ = lanes;
 }
 
-// The pending samples' values of one entry, in locals, then into the
-// accumulators: the divisions over the whole block (the compiler does them
-// several at a time), the exact sums branch-free, then the extremes and
-// the histogram.
-void EnsembleStatistics::fold_entry(std::size_t e) const {
-  constexpr double sum_unit = 0x1p62, square_unit = 0x1p60;  // 2^kSumBits, 2^kSquareBits
-  static_assert(kSumBits == 62 && kSquareBits == 60 && kMaxScaledDeviation <= 0x1p20 && kMaxBlock <= 4096,
-                "RoundedSum's range: |v| <= 2^100, at most 2^12 values");
-  static_assert(kMaxBlock % 2 == 0, "an odd block's pad (scaled[count]) must fit");
-  const std::size_t n = entries(), count = pending_samples_;
-  const double center = calibration_.center[e], scale = calibration_.scale[e];
-  const double low = calibration_.low[e], width = calibration_.width[e];
-  std::array<double, kMaxBlock> value, scaled, position;
-  for (std::size_t b = 0; b < count; ++b) {
-    // + 0.0 turns -0.0 into +0.0: min and max of signed zeros would otherwise
-    // depend on which zero came first.
-    value[b] = pending_[b * n + e] + 0.0;
-    scaled[b] = (value[b] - center) / scale;
-    position[b] = (value[b] - low) / width;
-  }
-  // Rounded to the nearest unit of the fixed point: unbiased. Scaling by a
-  // power of two is exact. A value beyond the range (or not finite, which
-  // no successful run gives) is left out of the sums.
-  // Two values at a time; a NaN pads an odd block (out of range, like a
-  // value beyond kMaxScaledDeviation: +0.0 into the sums, not counted).
-  if (count % 2 != 0) scaled[count] = std::numeric_limits<double>::quiet_NaN();
-  RoundedPairSum sum, square;
-  TwoInt64 summed{};
-  const TwoDoubles limit = {kMaxScaledDeviation, kMaxScaledDeviation};
-  const TwoInt64 magnitude_bits = {INT64_MAX, INT64_MAX};
-  for (std::size_t b = 0; b < count; b += 2) {
-    TwoDoubles v;
-    std::memcpy(&v, scaled.data() + b, sizeof v);
-    const TwoInt64 in_range = std::bit_cast<TwoDoubles>(std::bit_cast<TwoInt64>(v) & magnitude_bits) <= limit;
-    const TwoDoubles s = std::bit_cast<TwoDoubles>(std::bit_cast<TwoInt64>(v) & in_range);
-    sum.add(s * sum_unit);
-    square.add(s * s * square_unit);
-    summed -= in_range;
-  }
-  std::uint32_t* counts = counts_.data() + e * counters_per_entry();
-  const int overflow_bin = bins_ + 1;  // a local: the counts' stores could alias the member
-  const double bins = bins_;
-  double lo = min_[e], hi = max_[e];
-  for (std::size_t b = 0; b < count; ++b) {
-    const double x = value[b];
-    if (!std::isfinite(x)) continue;  // kept out of everything
-    lo = std::min(lo, x);
-    hi = std::max(hi, x);
-    const double p = position[b];
-    ++counts[p < 0.0 ? 0 : p >= bins ? overflow_bin : 1 + static_cast<int>(p)];
-  }
-  min_[e] = lo;
-  max_[e] = hi;
-  sum_[e] += sum.total();
-  square_sum_[e] += square.total();
-  out_of_range_[e] += count - static_cast<std::uint64_t>(summed[0] + summed[1]);
+// The pending block, entry by entry (block_fold.hpp).
+void EnsembleStatistics::fold_pending() const {
+  if (pending_samples_ == 0) return;
+  const FoldBlock block{pending_.data(),
+                        entries(),
+                        pending_samples_,
+                        calibration_.center.data(),
+                        calibration_.scale.data(),
+                        calibration_.low.data(),
+                        calibration_.width.data(),
+                        bins_};
+  const FoldTotals totals{sum_.data(), square_sum_.data(), min_.data(), max_.data(), counts_.data(), out_of_range_.data()};
+  fold_block(block, totals, lanes_);
+  pending_samples_ = 0;
 }
 
 void EnsembleStatistics::merge(const EnsembleStatistics& o) {

@@ -13,36 +13,35 @@
 // Memory is fixed by (times x columns x bins), never by the number of samples.
 //
 // Samples are folded in blocks: add_sample copies the trajectory aside, and
-// a full block (or any read) is folded entry by entry, so that an entry's
-// sums, extremes and histogram stay in cache for all the block's samples
-// instead of one histogram cache line per entry and sample. Every update is
-// an exact integer addition, a minimum or a maximum: the bits are those of
-// folding each sample at once. Reads fold what is pending (the members it
+// a full block (or any read) is folded a few entries at a time, each in a
+// vector lane (block_fold.hpp), so that an entry's sums, extremes and
+// histogram stay in cache for all the block's samples instead of one
+// histogram cache line per entry and sample. Every update is an exact
+// integer addition, a minimum or a maximum: the bits are those of folding
+// each sample at once, at any lane width. Reads fold what is pending (the members it
 // touches are mutable): a read is not safe alongside another thread's
 // access; the ensemble's RankResults holds a lock around both.
 #pragma once
 
-#include <bit>
 #include <cstdint>
 #include <span>
 #include <string>
 #include <vector>
 
 #include "common/bytes.hpp"
+#include "statistics/block_fold.hpp"
 #include "statistics/calibration.hpp"
 
 namespace treedyn::ensemble {
-
-__extension__ typedef __int128 wide;  // GCC/Clang 128-bit integer
 
 class EnsembleStatistics {
  public:
   // Fixed-point fraction bits of d / S and of (d / S)^2, and the largest
   // |d| / S accepted (beyond it a value is counted as out of range). At the
   // limit a square is 2^100 units, so 2^26 samples fit in 127 bits.
-  static constexpr int kSumBits = 62;
-  static constexpr int kSquareBits = 60;
-  static constexpr double kMaxScaledDeviation = 1048576.0;  // 2^20
+  static constexpr int kSumBits = FoldLimits::kSumBits;
+  static constexpr int kSquareBits = FoldLimits::kSquareBits;
+  static constexpr double kMaxScaledDeviation = FoldLimits::kMaxScaledDeviation;  // 2^20
   // So the sums cannot overflow, an ensemble has at most 2^26 samples
   // (read_ensemble refuses more).
   static constexpr std::uint64_t kMaxSamples = std::uint64_t{1} << 26;
@@ -57,8 +56,12 @@ class EnsembleStatistics {
   void add_sample(std::span<const double> trajectory);
   // Samples a block holds: up to kMaxBlock, fewer when a block would exceed
   // 16 MiB.
-  static constexpr std::size_t kMaxBlock = 32;
+  static constexpr std::size_t kMaxBlock = FoldLimits::kMaxBlock;
   std::size_t block_samples() const { return block_; }
+  // Values folded at once: the widest this CPU runs (block_fold.hpp), or
+  // another width it runs (for tests and benchmarks; the same bits).
+  int fold_lanes() const { return lanes_; }
+  void use_fold_lanes(int lanes);
 
   // Merges another accumulator (same calibration): exact, order-independent.
   void merge(const EnsembleStatistics& other);
@@ -102,7 +105,6 @@ class EnsembleStatistics {
   // Folds the pending samples into the accumulators (logically const: what
   // a read returns is the same before and after).
   void fold_pending() const;
-  void fold_entry(std::size_t entry) const;
   // Counters per entry: the bins, an underflow and an overflow bin.
   std::size_t counters_per_entry() const { return static_cast<std::size_t>(bins_ + 2); }
 
@@ -111,64 +113,13 @@ class EnsembleStatistics {
   Calibration calibration_;
   std::uint64_t samples_ = 0;  // pending ones included
   std::size_t block_ = 1;      // samples per block
+  int lanes_ = widest_fold_lanes();
   mutable std::vector<wide> sum_, square_sum_;
   mutable std::vector<double> min_, max_;
   mutable std::vector<std::uint32_t> counts_;        // entries x (bins + 2)
   mutable std::vector<std::uint64_t> out_of_range_;  // values left out of the sums
   mutable std::vector<double> pending_;              // block_ x entries, sample-major
   mutable std::size_t pending_samples_ = 0;
-};
-
-#if defined(__FAST_MATH__)
-#error "RoundedSum needs IEEE arithmetic as written: -ffast-math would reassociate (x + 1.5 2^52) - 1.5 2^52 away"
-#endif
-
-// The sum of a block's values, each rounded to the nearest integer (ties to
-// even, as std::nearbyint in the default rounding mode), exactly, for
-// |v| <= 2^100 and at most 2^12 values. Branch-free and in 64-bit integer
-// lanes (RoundedPairSum below does two values at once): a value straddling
-// 2^52 or 2^63 at random costs no misprediction, and there is no libm
-// nearbyint nor libgcc's soft double -> __int128 conversion.
-//
-// v = h 2^50 + r with h = rne(v / 2^50) (|h| <= 2^50) and r = v - h 2^50,
-// exact by Sterbenz's lemma (|r| <= 2^49, and r = v when h = 0). h 2^50 is
-// an even integer, so rne(v) = h 2^50 + rne(r). Each rne(y), |y| <= 2^51,
-// is y + 1.5 2^52, whose ulp is 1: the addition rounds y, and the sum's bit
-// pattern minus the constant's is rne(y) as an integer.
-struct RoundedSum {
-  std::int64_t high = 0;  // sum of h
-  std::int64_t low = 0;   // sum of rne(r)
-
-  void add(double v) {
-    constexpr double magic = 0x1.8p52;
-    const double shifted = v * 0x1p-50 + magic;  // rne(v / 2^50) in its low bits
-    const double r = v - (shifted - magic) * 0x1p50;
-    high += std::bit_cast<std::int64_t>(shifted) - std::bit_cast<std::int64_t>(magic);
-    low += std::bit_cast<std::int64_t>(r + magic) - std::bit_cast<std::int64_t>(magic);
-  }
-  wide total() const { return wide{high} * (wide{1} << 50) + low; }
-};
-
-// Two values at once (GCC's and Clang's vector extension: SSE2 on x86-64):
-// a pair of doubles, and a pair of int64 that is -1 where a comparison held.
-using TwoDoubles = double __attribute__((vector_size(16)));
-using TwoInt64 = std::int64_t __attribute__((vector_size(16)));
-
-// RoundedSum on a pair of values: the same operations lane by lane, so the
-// same sums. GCC 12 does not vectorise a loop of RoundedSum::add.
-struct RoundedPairSum {
-  TwoInt64 high{}, low{};
-
-  void add(TwoDoubles v) {
-    constexpr double magic = 0x1.8p52;
-    const TwoDoubles magics = {magic, magic};
-    const TwoInt64 magic_bits = std::bit_cast<TwoInt64>(magics);
-    const TwoDoubles shifted = v * 0x1p-50 + magics;
-    const TwoDoubles r = v - (shifted - magics) * 0x1p50;
-    high += std::bit_cast<TwoInt64>(shifted) - magic_bits;
-    low += std::bit_cast<TwoInt64>(r + magics) - magic_bits;
-  }
-  wide total() const { return wide{high[0] + high[1]} * (wide{1} << 50) + (low[0] + low[1]); }
 };
 
 }  // namespace treedyn::ensemble

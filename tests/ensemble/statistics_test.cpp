@@ -640,39 +640,110 @@ TEST(Statistics, BlocksFoldToTheBitsOfOneSampleAtATime) {
   }
 }
 
-// The fold takes its values two at a time and pads an odd block with a
-// NaN: that pad must not count. Blocks of 1, 3 and 5 values (folded by a
-// read) with a value beyond the fixed-point range, a NaN and infinities:
-// the ones not finite are kept out of everything, the finite one beyond
-// the range out of the sums only.
+// The fold takes its values 2, 4 or 8 at a time and pads a block to a
+// whole number of lanes with NaN: the pad must not count. Blocks of 1, 3
+// and 5 values (folded by a read) with a value beyond the fixed-point
+// range, a NaN and infinities, at every lane width this CPU runs: the ones
+// not finite are kept out of everything, the finite one beyond the range
+// out of the sums only.
 TEST(Statistics, OddBlocksAndValuesThatAreNotFinite) {
   const Calibration cal = calibrate(std::vector<double>{0.0}, std::vector<double>{-1.0}, std::vector<double>{1.0},
                                     std::vector<double>{1.0}, 1, 8);
   const double beyond = 2.0 * EnsembleStatistics::kMaxScaledDeviation, inf = std::numeric_limits<double>::infinity();
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  EnsembleStatistics one(1, 1, 8, cal);
-  one.add_sample(std::vector<double>{0.5});
-  EXPECT_EQ(one.out_of_range(0), 0u);
-  EXPECT_EQ(one.count(0), 1u);
-  EXPECT_EQ(one.mean(0), 0.5);
-  EnsembleStatistics three(1, 1, 8, cal);
-  for (double v : {0.5, nan, 1.0}) three.add_sample(std::vector<double>{v});
-  EXPECT_EQ(three.out_of_range(0), 1u);
-  EXPECT_EQ(three.count(0), 2u);
-  EXPECT_EQ(three.mean(0), 0.75);
-  EXPECT_EQ(three.min(0), 0.5);
-  EXPECT_EQ(three.max(0), 1.0);
-  EnsembleStatistics five(1, 1, 8, cal);
-  for (double v : {0.5, -inf, beyond, 1.0, inf}) five.add_sample(std::vector<double>{v});
-  EXPECT_EQ(five.out_of_range(0), 3u);
-  EXPECT_EQ(five.count(0), 2u);
-  EXPECT_EQ(five.mean(0), 0.75);
-  EXPECT_EQ(five.std_dev(0), std::sqrt(0.125));
-  EXPECT_EQ(five.min(0), 0.5);
-  EXPECT_EQ(five.max(0), beyond);
-  std::uint64_t total = 0;
-  for (std::uint32_t c : five.histogram(0)) total += c;
-  EXPECT_EQ(total, 3u);  // 0.5, 1.0 and the finite one beyond the range
+  for (int lanes : {2, 4, 8}) {
+    if (!runs_fold_lanes(lanes)) continue;
+    SCOPED_TRACE(std::to_string(lanes) + " lanes");
+    EnsembleStatistics one(1, 1, 8, cal);
+    one.use_fold_lanes(lanes);
+    one.add_sample(std::vector<double>{0.5});
+    EXPECT_EQ(one.out_of_range(0), 0u);
+    EXPECT_EQ(one.count(0), 1u);
+    EXPECT_EQ(one.mean(0), 0.5);
+    EnsembleStatistics three(1, 1, 8, cal);
+    three.use_fold_lanes(lanes);
+    for (double v : {0.5, nan, 1.0}) three.add_sample(std::vector<double>{v});
+    EXPECT_EQ(three.out_of_range(0), 1u);
+    EXPECT_EQ(three.count(0), 2u);
+    EXPECT_EQ(three.mean(0), 0.75);
+    EXPECT_EQ(three.min(0), 0.5);
+    EXPECT_EQ(three.max(0), 1.0);
+    EnsembleStatistics five(1, 1, 8, cal);
+    five.use_fold_lanes(lanes);
+    for (double v : {0.5, -inf, beyond, 1.0, inf}) five.add_sample(std::vector<double>{v});
+    EXPECT_EQ(five.out_of_range(0), 3u);
+    EXPECT_EQ(five.count(0), 2u);
+    EXPECT_EQ(five.mean(0), 0.75);
+    EXPECT_EQ(five.std_dev(0), std::sqrt(0.125));
+    EXPECT_EQ(five.min(0), 0.5);
+    EXPECT_EQ(five.max(0), beyond);
+    std::uint64_t total = 0;
+    for (std::uint32_t c : five.histogram(0)) total += c;
+    EXPECT_EQ(total, 3u);  // 0.5, 1.0 and the finite one beyond the range
+  }
+}
+
+// The fold at every lane width this CPU runs (2 on every x86-64; 4 with
+// AVX2, 8 with AVX-512F) must give the same bits (memcmp of the states),
+// on the real ensemble and on hostile values: every bin edge and its
+// neighbours, values below and above the histogram, beyond the fixed-point
+// range, signed zeros, NaN and infinities, in blocks of 1, 2, 3, ...
+// samples (each read folds a partial block), over entries that are not a
+// whole number of 8 lanes (the last ones folded as a padded tail). The
+// widest fold the CPU runs is checked against a direct computation by
+// RealEnsembleMatchesDirectComputation.
+TEST(Statistics, EveryLaneWidthFoldsToTheSameBits) {
+  EXPECT_THROW(EnsembleStatistics(1, 1, 8, calibrate(std::vector<double>{0.0}, std::vector<double>{-1.0},
+                                                     std::vector<double>{1.0}, std::vector<double>{1.0}, 1, 8))
+                   .use_fold_lanes(3),
+               std::invalid_argument);
+  const RealEnsemble& r = real_ensemble();
+  const std::size_t entries = r.times * r.columns;
+  ASSERT_NE(entries % 8, 0u) << "a tail of entries";
+  std::vector<std::vector<double>> samples = r.trajectories;
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  const double inf = std::numeric_limits<double>::infinity(), nan = std::numeric_limits<double>::quiet_NaN();
+  for (int k = 0; k < 200; ++k) {
+    std::vector<double> s(entries);
+    for (std::size_t e = 0; e < entries; ++e) {
+      const double low = r.calibration.low[e], width = r.calibration.width[e];
+      const int edge = static_cast<int>(rng() % static_cast<unsigned>(r.spec.histogram_bins + 3)) - 1;
+      const double at_edge = low + edge * width;
+      switch (rng() % 8) {
+        case 0: s[e] = at_edge; break;
+        case 1: s[e] = std::nextafter(at_edge, -inf); break;
+        case 2: s[e] = std::nextafter(at_edge, inf); break;
+        case 3: s[e] = r.calibration.center[e] + unit(rng) * 4.0 * EnsembleStatistics::kMaxScaledDeviation * r.calibration.scale[e]; break;
+        case 4: s[e] = (rng() % 2 ? 0.0 : -0.0); break;
+        case 5: s[e] = (rng() % 64 == 0 ? (rng() % 2 ? nan : (rng() % 2 ? inf : -inf)) : unit(rng)); break;
+        default: s[e] = low + (unit(rng) + 0.5) * r.spec.histogram_bins * width * 1.5; break;
+      }
+    }
+    samples.push_back(std::move(s));
+  }
+  std::vector<char> two_lanes;
+  int widths = 0;
+  for (int lanes : {2, 4, 8}) {
+    if (!runs_fold_lanes(lanes)) continue;
+    ++widths;
+    EnsembleStatistics stats(r.times, r.columns, r.spec.histogram_bins, r.calibration);
+    stats.use_fold_lanes(lanes);
+    std::size_t next_read = 1, block = 1;
+    for (std::size_t i = 0; i < samples.size(); ++i) {
+      stats.add_sample(samples[i]);
+      if (i + 1 == next_read) {  // partial blocks of 1, 2, 3, ... samples
+        (void)stats.min(0);
+        block = block % EnsembleStatistics::kMaxBlock + 1;
+        next_read += block;
+      }
+    }
+    if (lanes == 2)
+      two_lanes = stats.state();
+    else
+      EXPECT_TRUE(same_bits(two_lanes, stats.state())) << lanes << " lanes against 2";
+  }
+  std::printf("[          ] lane widths compared on this CPU: %d (widest %d)\n", widths, widest_fold_lanes());
 }
 
 // RoundedSum against what it replaces, std::nearbyint (ties to even) and
@@ -717,21 +788,20 @@ TEST(Statistics, RoundedSumIsNearbyintThenConversionSummed) {
   for (int i = 0; i < 32; ++i) extreme.add(0x1p100);
   ASSERT_TRUE(extreme.total() == static_cast<wide>(32) * (static_cast<wide>(1) << 100));
 
-  // The fold adds two values at a time (RoundedPairSum): the same sums as
-  // RoundedSum on every block above, the largest included.
-  for (std::size_t start = 0; start + 32 <= values.size(); start += 32) {
-    RoundedSum one;
-    RoundedPairSum pairs;
-    for (std::size_t i = start; i < start + 32; i += 2) {
-      one.add(values[i]);
-      one.add(values[i + 1]);
-      pairs.add(TwoDoubles{values[i], values[i + 1]});
+  // The fold adds 2, 4 or 8 values at a time (block_fold_lanes.inc), at
+  // every width this CPU runs: the same sums as RoundedSum on every block
+  // above, the largest included.
+  const std::vector<double> largest(32, 0x1p100);
+  for (int lanes : {2, 4, 8}) {
+    if (!runs_fold_lanes(lanes)) continue;
+    for (std::size_t start = 0; start + 32 <= values.size(); start += 32) {
+      RoundedSum one;
+      for (std::size_t i = start; i < start + 32; ++i) one.add(values[i]);
+      const std::span<const double> block(values.data() + start, 32);
+      ASSERT_TRUE(rounded_sum_in_lanes(block, lanes) == one.total()) << lanes << " lanes, block at " << start;
     }
-    ASSERT_TRUE(pairs.total() == one.total()) << "block at " << start;
+    ASSERT_TRUE(rounded_sum_in_lanes(largest, lanes) == extreme.total()) << lanes << " lanes";
   }
-  RoundedPairSum extreme_pairs;
-  for (int i = 0; i < 16; ++i) extreme_pairs.add(TwoDoubles{0x1p100, 0x1p100});
-  ASSERT_TRUE(extreme_pairs.total() == extreme.total());
 }
 
 }  // namespace
