@@ -8,7 +8,7 @@
 //   sample       what a rank does per sample: SampleRunner::run (set-up,
 //                integration, recording, reductions, responses), the
 //                statistics' update and the record's encoding
-//   statistics   EnsembleStatistics::add_sample alone (part of `sample`),
+//   statistics   EnsembleStatistics::take_sample alone (part of `sample`),
 //                the mean over the samples measured: it folds a block of
 //                samples every block_samples() calls (up to 64) and only
 //                copies in the others
@@ -109,7 +109,7 @@ Row measure(const std::string& name, const std::string& path, int samples, int f
     const ensemble::SampleRecord record = runner.run(k, false, trajectory);
     run.push_back(seconds_since(t0));
     t0 = Clock::now();
-    if (record.status == ensemble::SampleStatus::ok) stats.add_sample(trajectory);
+    if (record.status == ensemble::SampleStatus::ok) stats.take_sample(trajectory);  // as RankResults::keep
     if (i + 1 == samples) (void)stats.mean(0);  // folds the last, partial block
     statistics.push_back(seconds_since(t0));
     t0 = Clock::now();

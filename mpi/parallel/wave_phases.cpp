@@ -53,7 +53,7 @@ std::optional<SampleRecord> run_sample(EnsembleRun& run, std::uint64_t k, std::v
 
 // Into this rank's results (the statistics' update) and checkpoint, and on
 // to rank 0. Counted as busy: it is the sample's own work, not waiting.
-void keep(EnsembleRun& run, SampleRecord record, std::span<const double> trajectory) {
+void keep(EnsembleRun& run, SampleRecord record, std::vector<double>* trajectory) {
   const auto start = std::chrono::steady_clock::now();
   if (run.results.keep(record, trajectory)) {
     run.sink->add(std::move(record));
@@ -65,8 +65,9 @@ void keep(EnsembleRun& run, SampleRecord record, std::span<const double> traject
 void hold_if_asked(EnsembleRun& run);
 
 // A run after the pilot: kept (into the statistics when `trajectory` is
-// given), counted, and the test hold honoured.
-void keep_after_pilot(EnsembleRun& run, SampleRecord record, std::span<const double> trajectory) {
+// given: its storage is taken, storage of the same size given back),
+// counted, and the test hold honoured.
+void keep_after_pilot(EnsembleRun& run, SampleRecord record, std::vector<double>* trajectory) {
   keep(run, std::move(record), trajectory);
   ++run.kept_after_pilot;
   hold_if_asked(run);
@@ -137,7 +138,7 @@ bool run_pilot_wave(EnsembleRun& run, std::uint64_t pilot_end) {
           high[e] = std::max(high[e], trajectory[e] - run.nominal[e]);
         }
         if (!run.owns(k)) continue;
-        keep(run, std::move(*r), {});
+        keep(run, std::move(*r), nullptr);
         if (ok) kept.push_back(std::move(trajectory));
       }
       run.sink->flush();
@@ -186,7 +187,7 @@ bool run_wave(EnsembleRun& run, std::uint64_t from, std::uint64_t to) {
       if (stopped || run.finished.contains(k)) continue;
       std::optional<SampleRecord> r = run_sample(run, k, trajectory);
       if (r)
-        keep_after_pilot(run, std::move(*r), trajectory);
+        keep_after_pilot(run, std::move(*r), &trajectory);
       else
         stopped = true;
     }
@@ -216,7 +217,7 @@ void run_chain(EnsembleRun& run, WorkQueue& queue, const rare_event::LevelStart&
     std::optional<SampleRecord> r = run_sample(run, k, trajectory, uniforms);
     if (!r) throw ChainStopped{};
     const double g = ensemble::subset_response(run.spec, *r);
-    if (!run.finished.contains(k)) keep_after_pilot(run, std::move(*r), {});  // not into /stats: level 0 alone is one
+    if (!run.finished.contains(k)) keep_after_pilot(run, std::move(*r), nullptr);  // not into /stats: level 0 alone is one
     return g;
   };
   rare_event::run_chain(ensemble::subset_settings(run.spec), start.level, c, start.threshold, start.spread,

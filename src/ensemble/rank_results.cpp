@@ -15,10 +15,11 @@ void RankResults::start_statistics(EnsembleStatistics stats) {
   stats_.emplace(std::move(stats));
 }
 
-bool RankResults::keep(const SampleRecord& record, std::span<const double> trajectory) {
+bool RankResults::keep(const SampleRecord& record, std::vector<double>* trajectory) {
   std::lock_guard<std::mutex> guard(lock_);
   if (stopped_ || finished_) return false;
-  if (stats_ && record.status == SampleStatus::ok && !trajectory.empty()) stats_->add_sample(trajectory);
+  if (stats_ && record.status == SampleStatus::ok && trajectory != nullptr && !trajectory->empty())
+    stats_->take_sample(*trajectory);
   if (checkpoint_) {
     try {
       checkpoint_->add(record);

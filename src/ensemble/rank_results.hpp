@@ -29,11 +29,12 @@ class RankResults {
   bool has_statistics() const { return stats_.has_value(); }
 
   // A finished sample: its record into the checkpoint and, when it succeeded
-  // and the statistics exist, its trajectory into them (an empty trajectory
-  // stays out: a subset simulation's chain runs are not a Monte-Carlo
-  // sample). False once stopped: the sample is not kept (a resumed run runs
-  // it again).
-  bool keep(const SampleRecord& record, std::span<const double> trajectory);
+  // and the statistics exist, its trajectory into them, without a copy
+  // (EnsembleStatistics::take_sample: `trajectory` gets storage of the same
+  // size back). No trajectory (nullptr, or empty) stays out: a subset
+  // simulation's chain runs are not a Monte-Carlo sample. False once
+  // stopped: the sample is not kept (a resumed run runs it again).
+  bool keep(const SampleRecord& record, std::vector<double>* trajectory);
 
   // Main thread: saves when the interval has passed (flushed to the disk).
   void save_if_due();

@@ -50,11 +50,11 @@ struct RoundedSum {
   wide total() const { return wide{high} * (wide{1} << 50) + low; }
 };
 
-// A block of pending samples and what they are folded with: samples x
-// entries, sample-major, and per entry the calibration (center c, scale S,
-// histogram low edge and bin width).
+// A block of pending samples and what they are folded with: sample b's
+// value of entry e at rows[b][e], and per entry the calibration (center c,
+// scale S, histogram low edge and bin width).
 struct FoldBlock {
-  const double* values;
+  const double* const* rows;
   std::size_t entries, samples;
   const double *center, *scale, *low, *width;
   int bins;

@@ -78,7 +78,8 @@ EnsembleStatistics::EnsembleStatistics(std::size_t times, std::size_t columns, i
   max_.assign(n, -std::numeric_limits<double>::infinity());
   counts_.assign(n * static_cast<std::size_t>(bins + 2), 0);
   out_of_range_.assign(n, 0);
-  pending_.assign(block_ * n, 0.0);
+  rows_.assign(block_, std::vector<double>(n, 0.0));
+  row_pointers_.resize(block_);
 }
 
 double EnsembleStatistics::memory_bytes(double entries, int bins) {
@@ -92,7 +93,15 @@ double EnsembleStatistics::memory_bytes(double entries, int bins) {
 void EnsembleStatistics::add_sample(std::span<const double> trajectory) {
   const std::size_t n = entries();
   if (trajectory.size() != n) throw std::invalid_argument("trajectory size mismatch");
-  std::copy(trajectory.begin(), trajectory.end(), pending_.begin() + static_cast<std::ptrdiff_t>(pending_samples_ * n));
+  std::copy(trajectory.begin(), trajectory.end(), rows_[pending_samples_].begin());
+  ++pending_samples_;
+  ++samples_;
+  if (pending_samples_ == block_) fold_pending();
+}
+
+void EnsembleStatistics::take_sample(std::vector<double>& trajectory) {
+  if (trajectory.size() != entries()) throw std::invalid_argument("trajectory size mismatch");
+  rows_[pending_samples_].swap(trajectory);
   ++pending_samples_;
   ++samples_;
   if (pending_samples_ == block_) fold_pending();
@@ -106,7 +115,8 @@ void EnsembleStatistics::use_fold_lanes(int lanes) {
 // The pending block, entry by entry (block_fold.hpp).
 void EnsembleStatistics::fold_pending() const {
   if (pending_samples_ == 0) return;
-  const FoldBlock block{pending_.data(),
+  for (std::size_t b = 0; b < pending_samples_; ++b) row_pointers_[b] = rows_[b].data();
+  const FoldBlock block{row_pointers_.data(),
                         entries(),
                         pending_samples_,
                         calibration_.center.data(),

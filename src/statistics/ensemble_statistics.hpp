@@ -54,6 +54,10 @@ class EnsembleStatistics {
 
   // One successful sample's trajectory: times x columns, row-major.
   void add_sample(std::span<const double> trajectory);
+  // The same without a copy: takes the trajectory's storage into the block
+  // and gives back storage of the same size (its values unspecified) for
+  // the next sample.
+  void take_sample(std::vector<double>& trajectory);
   // Samples a block holds: up to kMaxBlock, fewer when a block would exceed
   // 16 MiB.
   static constexpr std::size_t kMaxBlock = FoldLimits::kMaxBlock;
@@ -118,7 +122,8 @@ class EnsembleStatistics {
   mutable std::vector<double> min_, max_;
   mutable std::vector<std::uint32_t> counts_;        // entries x (bins + 2)
   mutable std::vector<std::uint64_t> out_of_range_;  // values left out of the sums
-  mutable std::vector<double> pending_;              // block_ x entries, sample-major
+  mutable std::vector<std::vector<double>> rows_;    // block_ rows of entries
+  mutable std::vector<const double*> row_pointers_;  // rows_[b].data(), for the fold
   mutable std::size_t pending_samples_ = 0;
 };
 

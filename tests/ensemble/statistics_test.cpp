@@ -640,6 +640,32 @@ TEST(Statistics, BlocksFoldToTheBitsOfOneSampleAtATime) {
   }
 }
 
+// take_sample moves a trajectory's storage into the block instead of
+// copying it: the same bits as add_sample (memcmp of the states, partial
+// blocks included), and the caller gets storage of the same size back, a
+// block's row it can reuse (every row handed back is distinct from the
+// ones the block still holds).
+TEST(Statistics, TakenSamplesFoldToTheBitsOfCopiedOnes) {
+  const RealEnsemble& r = real_ensemble();
+  EnsembleStatistics copied(r.times, r.columns, r.spec.histogram_bins, r.calibration);
+  EnsembleStatistics taken(r.times, r.columns, r.spec.histogram_bins, r.calibration);
+  std::vector<double> buffer;
+  for (std::size_t i = 0; i < r.trajectories.size(); ++i) {
+    copied.add_sample(r.trajectories[i]);
+    buffer = r.trajectories[i];
+    const double* given = buffer.data();
+    taken.take_sample(buffer);
+    ASSERT_EQ(buffer.size(), r.trajectories[i].size());
+    ASSERT_NE(buffer.data(), given) << "the storage was taken, not copied";
+    if (i % 7 == 3) (void)taken.min(0);  // a partial block folded
+    if (i % 7 == 3) (void)copied.min(0);
+  }
+  expect_identical(copied, taken, "copied / taken");
+  std::vector<double> wrong(3);
+  EXPECT_THROW(taken.take_sample(wrong), std::invalid_argument);
+  EXPECT_EQ(wrong.size(), 3u);
+}
+
 // The fold takes its values 2, 4 or 8 at a time and pads a block to a
 // whole number of lanes with NaN: the pad must not count. Blocks of 1, 3
 // and 5 values (folded by a read) with a value beyond the fixed-point
