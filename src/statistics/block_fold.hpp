@@ -7,8 +7,8 @@
 // bits do not depend on the lane width: 2 lanes (SSE2, every x86-64), 4
 // (AVX2) or 8 (AVX-512F, DQ and VL), chosen once from what the CPU has. The
 // wider versions are compiled from the same source (block_fold_lanes.inc)
-// under a target pragma, without FMA (no contraction), so that one binary
-// runs everywhere.
+// under a target pragma, with no contraction into FMA (-ffp-contract=off),
+// so that one binary runs everywhere with the same bits.
 #pragma once
 
 #include <bit>

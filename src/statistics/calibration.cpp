@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "common/hash.hpp"
 
@@ -17,11 +18,18 @@ Calibration Calibration::read(ByteReader& in, std::size_t entries) {
     *v = in.get_vector<double>();
     if (v->size() != entries) in.fail("a calibration of another shape");
   }
-  for (std::size_t e = 0; e < entries; ++e)
-    if (!std::isfinite(c.center[e]) || !std::isfinite(c.low[e]) || !(c.scale[e] > 0.0) ||
-        !std::isfinite(c.scale[e]) || !(c.width[e] > 0.0) || !std::isfinite(c.width[e]))
-      in.fail("its calibration is not usable");
+  if (!c.usable()) in.fail("its calibration is not usable");
   return c;
+}
+
+bool Calibration::usable() const {
+  const std::size_t n = center.size();
+  if (scale.size() != n || low.size() != n || width.size() != n) return false;
+  for (std::size_t e = 0; e < n; ++e)
+    if (!std::isfinite(center[e]) || !std::isfinite(low[e]) || !(scale[e] > 0.0) || !std::isfinite(scale[e]) ||
+        !(width[e] > 0.0) || !std::isfinite(width[e]))
+      return false;
+  return true;
 }
 
 std::uint64_t Calibration::hash() const {
@@ -65,6 +73,14 @@ Calibration calibrate(std::span<const double> nominal, std::span<const double> l
     high += margin;
     c.low[e] = low;
     c.width[e] = (high - low) / bins;
+    if (!std::isfinite(low) || !std::isfinite(c.width[e])) {
+      // A pilot spread near the largest double: the range overflowed. The
+      // histogram then spans every double (finite edges), so that no
+      // position (x - low) / width is NaN.
+      constexpr double largest_double = std::numeric_limits<double>::max();
+      c.low[e] = -largest_double;
+      c.width[e] = largest_double / bins * 2.0;
+    }
     if (!(c.width[e] > 0.0)) c.width[e] = std::max(std::abs(low), 1.0) * 1e-12;
   }
   return c;

@@ -21,9 +21,11 @@ struct Calibration {
   std::size_t entries() const { return center.size(); }
   bool operator==(const Calibration&) const = default;
   void write(ByteWriter& out) const;
-  // Reads one written by write() and checks it: `entries` of each, finite,
-  // positive scales and widths. Throws DecodeError.
+  // Reads one written by write() and checks it (usable). Throws DecodeError.
   static Calibration read(ByteReader& in, std::size_t entries);
+  // The same number of each, all finite, scales and widths positive: then a
+  // finite value's histogram position (x - low) / width is never NaN.
+  bool usable() const;
   // Names this calibration in a statistics state (to refuse adding states
   // of different calibrations).
   std::uint64_t hash() const;

@@ -71,6 +71,8 @@ EnsembleStatistics::EnsembleStatistics(std::size_t times, std::size_t columns, i
     : times_(times), columns_(columns), bins_(bins), calibration_(std::move(calibration)) {
   const std::size_t n = entries();
   if (calibration_.center.size() != n) throw std::invalid_argument("calibration size mismatch");
+  // The fold's bins need finite edges and positive widths (block_fold.hpp).
+  if (!calibration_.usable()) throw std::invalid_argument("a calibration that is not usable");
   block_ = block_for(n);
   sum_.assign(n, 0);
   square_sum_.assign(n, 0);

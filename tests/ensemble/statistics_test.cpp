@@ -600,6 +600,42 @@ TEST(Statistics, EdgeDeviationsBeyondTheFixedPointRange) {
   EXPECT_DOUBLE_EQ(s.mean(0), (0.5 - 0.25 + limit + 1.0 + 0.75) / 5.0);
 }
 
+// Pilot deviations near the largest double overflow the histogram's range
+// ((high - low) / bins = inf). The calibration must still be usable
+// (finite edges, positive widths): with an infinite width the position
+// (x - low) / width of a finite value is NaN, and its bin index was out of
+// the counters (a heap overflow under ASan before this was fixed). Every
+// finite value is then counted once, in the bins or the under/overflow.
+// A calibration that is not usable is refused by the statistics.
+TEST(Statistics, EdgeAPilotSpreadThatOverflowsStillGivesFiniteBins) {
+  const double big = 1.5e308, largest = std::numeric_limits<double>::max();
+  const Calibration cal = calibrate(std::vector<double>{0.0, 1.0}, std::vector<double>{-big, -big},
+                                    std::vector<double>{big, 0.5}, std::vector<double>{1.0, 1.0}, 2, 8);
+  ASSERT_TRUE(cal.usable());
+  for (int lanes : {2, 4, 8}) {
+    if (!runs_fold_lanes(lanes)) continue;
+    SCOPED_TRACE(std::to_string(lanes) + " lanes");
+    EnsembleStatistics s(1, 2, 8, cal);
+    s.use_fold_lanes(lanes);
+    const std::vector<double> values = {largest, -largest, 0.0, 1e300, -1e-300};
+    for (double v : values) s.add_sample(std::vector<double>{v, v});
+    for (std::size_t e = 0; e < 2; ++e) {
+      std::uint64_t total = 0;
+      for (std::uint32_t c : s.histogram(e)) total += c;
+      EXPECT_EQ(total, values.size()) << "entry " << e;
+      EXPECT_EQ(s.min(e), -largest);
+      EXPECT_EQ(s.max(e), largest);
+    }
+  }
+  Calibration unusable = cal;
+  unusable.width[1] = std::numeric_limits<double>::infinity();
+  EXPECT_FALSE(unusable.usable());
+  EXPECT_THROW(EnsembleStatistics(1, 2, 8, unusable), std::invalid_argument);
+  unusable = cal;
+  unusable.low.pop_back();
+  EXPECT_THROW(EnsembleStatistics(1, 2, 8, unusable), std::invalid_argument);
+}
+
 // Bitwise order independence of min and max when an entry holds both +0.0
 // and -0.0 (a component that is exactly zero, computed as -(0) in some
 // samples): the stored minimum's sign bit must not depend on the order the
