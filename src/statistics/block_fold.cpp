@@ -10,7 +10,7 @@ namespace treedyn::ensemble {
 
 static_assert(FoldLimits::kSumBits == 62 && FoldLimits::kSquareBits == 60 &&
                   FoldLimits::kMaxScaledDeviation <= 0x1p20 && FoldLimits::kMaxBlock <= 4096,
-              "RoundedSum's range: |v| <= 2^100, at most 2^12 values");
+              "RoundedLaneSum's range: |v| <= 2^100, at most 2^12 values");
 
 // The widths other than 2 need GCC's target pragma (Clang spells it
 // differently): elsewhere only 2 lanes, in the same bits.

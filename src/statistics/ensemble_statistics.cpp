@@ -81,7 +81,6 @@ EnsembleStatistics::EnsembleStatistics(std::size_t times, std::size_t columns, i
   counts_.assign(n * static_cast<std::size_t>(bins + 2), 0);
   out_of_range_.assign(n, 0);
   rows_.assign(block_, std::vector<double>(n, 0.0));
-  row_pointers_.resize(block_);
 }
 
 double EnsembleStatistics::memory_bytes(double entries, int bins) {
@@ -117,8 +116,7 @@ void EnsembleStatistics::use_fold_lanes(int lanes) {
 // The pending block, entry by entry (block_fold.hpp).
 void EnsembleStatistics::fold_pending() const {
   if (pending_samples_ == 0) return;
-  for (std::size_t b = 0; b < pending_samples_; ++b) row_pointers_[b] = rows_[b].data();
-  const FoldBlock block{row_pointers_.data(),
+  const FoldBlock block{rows_.data(),
                         entries(),
                         pending_samples_,
                         calibration_.center.data(),

@@ -122,8 +122,7 @@ class EnsembleStatistics {
   mutable std::vector<double> min_, max_;
   mutable std::vector<std::uint32_t> counts_;        // entries x (bins + 2)
   mutable std::vector<std::uint64_t> out_of_range_;  // values left out of the sums
-  mutable std::vector<std::vector<double>> rows_;    // block_ rows of entries
-  mutable std::vector<const double*> row_pointers_;  // rows_[b].data(), for the fold
+  mutable std::vector<std::vector<double>> rows_;  // block_ rows of entries
   mutable std::size_t pending_samples_ = 0;
 };
 
