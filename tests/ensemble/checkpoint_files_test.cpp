@@ -14,6 +14,7 @@
 
 #include "ensemble/rank_results.hpp"
 #include "persistence/checkpoint.hpp"
+#include "process/atomic_file.hpp"
 
 namespace {
 
@@ -206,12 +207,31 @@ TEST_F(CheckpointFiles, ASpillThatFailsTurnsTheRanksCheckpointsOff) {
   results.start_statistics(EnsembleStatistics(kTimes, kColumns, kBins, calibration_));
   results.use_checkpoint(std::make_unique<RankCheckpoint>(dir_, id_, 0, "rank0"), 300.0);
   ::testing::internal::CaptureStderr();
-  for (std::uint64_t k = 0; k < many; ++k) EXPECT_TRUE(results.keep(record(k % kSamples), {})) << k;
+  for (std::uint64_t k = 0; k < many; ++k) EXPECT_TRUE(results.keep(record(k % kSamples), nullptr)) << k;
   const std::string err = ::testing::internal::GetCapturedStderr();
   EXPECT_FALSE(results.checkpointing());
   EXPECT_NE(err.find("checkpoints are off for this rank"), std::string::npos) << err;
   EXPECT_FALSE(results.save());
   EXPECT_FALSE(fs::exists(dir_ / "part-0-rank0.state"));
+}
+
+// load_checkpoint reads only the bytes a state names (read_file_prefix):
+// at most the file, whatever a damaged state claims (no terabyte buffer),
+// and a file it cannot read is an error that names it.
+TEST_F(CheckpointFiles, AFilePrefixIsAtMostTheFileAndAnUnreadableFileIsNamed) {
+  const fs::path file = dir_ / "ten.bytes";
+  std::ofstream(file, std::ios::binary) << "0123456789";
+  EXPECT_EQ(treedyn::process::read_file_prefix(file, 4), (std::vector<char>{'0', '1', '2', '3'}));
+  EXPECT_EQ(treedyn::process::read_file_prefix(file, 0).size(), 0u);
+  EXPECT_EQ(treedyn::process::read_file_prefix(file, std::uint64_t{1} << 40).size(), 10u);
+  for (const fs::path& bad : {dir_ / "missing.records", dir_}) {
+    try {
+      (void)treedyn::process::read_file_prefix(bad, 4);
+      ADD_FAILURE() << bad << ": no error";
+    } catch (const treedyn::process::FileError& e) {
+      EXPECT_NE(std::string(e.what()).find(bad.string()), std::string::npos) << e.what();
+    }
+  }
 }
 
 }  // namespace
