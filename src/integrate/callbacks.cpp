@@ -50,8 +50,11 @@ void apply_settings(const PackageCalls& c, void* m, TreeOde& ode, const Integrat
   if (s.initial_step > 0.0) sundials::check(c.set_init_step(m, s.initial_step), (p + " initial_step").c_str());
 }
 
+// Runs at every output time inside a step: the call's name is composed
+// only when it failed (it was a heap allocation per output time).
 void interpolate_with(const PackageCalls& c, void* m, double t, N_Vector y) {
-  sundials::check(c.get_dky(m, t, 0, y), (std::string(c.package) + " dense output").c_str());
+  const int flag = c.get_dky(m, t, 0, y);
+  if (flag < 0) sundials::check(flag, (std::string(c.package) + " dense output").c_str());
 }
 
 double current_time_of(const PackageCalls& c, void* m) {

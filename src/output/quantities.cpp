@@ -1,15 +1,23 @@
 #include "output/quantities.hpp"
 
+#include <algorithm>
 #include <array>
 #include <stdexcept>
 
 namespace treedyn {
 namespace {
 
-void append(std::vector<double>& row, const Vec3& v) { row.insert(row.end(), {v.x(), v.y(), v.z()}); }
+// Writes v's components at `out` and returns the place after them.
+double* put(double* out, const Vec3& v) {
+  out[0] = v.x();
+  out[1] = v.y();
+  out[2] = v.z();
+  return out + 3;
+}
 
-void append_each(std::vector<double>& row, const std::vector<Vec3>& values) {
-  for (const Vec3& v : values) append(row, v);
+double* put_each(double* out, const std::vector<Vec3>& values) {
+  for (const Vec3& v : values) out = put(out, v);
+  return out;
 }
 
 std::vector<std::string> per_body(const Model& model, std::initializer_list<const char*> suffixes) {
@@ -23,8 +31,8 @@ std::vector<std::string> body_xyz(const Model& m, const OutputSpec&) { return pe
 
 // A per-body vector quantity: one member of Recovered.
 template <std::vector<Vec3> Recovered::*member>
-void body_vectors(const Recovered& s, const OutputSpec&, std::vector<double>& row) {
-  append_each(row, s.*member);
+void body_vectors(const Recovered& s, const OutputSpec&, double* out) {
+  put_each(out, s.*member);
 }
 
 constexpr std::array<QuantityInfo, 16> kCatalogue{{
@@ -32,10 +40,11 @@ constexpr std::array<QuantityInfo, 16> kCatalogue{{
      "orientation of each body as a unit quaternion (q0 scalar first, q0 >= 0), rotating "
      "body-frame components into the inertial frame",
      [](const Model& m, const OutputSpec&) { return per_body(m, {"q0", "q1", "q2", "q3"}); },
-     [](const Recovered& s, const OutputSpec&, std::vector<double>& row) {
+     [](const Recovered& s, const OutputSpec&, double* out) {
        for (const Mat3& A : s.rotation) {
          const Quat q = canonical_quaternion(A);
-         row.insert(row.end(), {q.w(), q.x(), q.y(), q.z()});
+         *out++ = q.w();
+         out = put(out, q.vec());
        }
      }},
     {"angular_velocity", "rad/s", "absolute angular velocity of each body, inertial-frame components",
@@ -59,16 +68,16 @@ constexpr std::array<QuantityInfo, 16> kCatalogue{{
      "magnitude of each joint's constraint force (joint_reaction): a cable's or link's tension "
      "at its upper joint",
      [](const Model& m, const OutputSpec&) { return per_body(m, {"magnitude"}); },
-     [](const Recovered& s, const OutputSpec&, std::vector<double>& row) {
-       for (const Vec3& f : s.joint_reaction) row.push_back(f.norm());
+     [](const Recovered& s, const OutputSpec&, double* out) {
+       for (const Vec3& f : s.joint_reaction) *out++ = f.norm();
      },
      kRecoverAccelerations},
     {"joint_angle", "rad",
      "rotation angle of each joint: child relative to parent (to the inertial frame for the "
      "joint on the base), in [0, pi]",
      [](const Model& m, const OutputSpec&) { return per_body(m, {"angle"}); },
-     [](const Recovered& s, const OutputSpec&, std::vector<double>& row) {
-       row.insert(row.end(), s.joint_angle.begin(), s.joint_angle.end());
+     [](const Recovered& s, const OutputSpec&, double* out) {
+       std::copy(s.joint_angle.begin(), s.joint_angle.end(), out);
      },
      kRecoverJointAngles},
     {"joint_axis", "1",
@@ -82,16 +91,17 @@ constexpr std::array<QuantityInfo, 16> kCatalogue{{
      [](const Model&, const OutputSpec&) {
        return std::vector<std::string>{"kinetic", "potential", "spring", "total"};
      },
-     [](const Recovered& s, const OutputSpec&, std::vector<double>& row) {
-       row.insert(row.end(), {s.energy.kinetic, s.energy.potential, s.energy.spring, s.energy.total()});
+     [](const Recovered& s, const OutputSpec&, double* out) {
+       out[0] = s.energy.kinetic;
+       out[1] = s.energy.potential;
+       out[2] = s.energy.spring;
+       out[3] = s.energy.total();
      },
      kRecoverEnergy},
     {"angular_momentum", "kg m^2/s",
      "angular momentum of the whole tree about the base point, inertial frame",
      [](const Model&, const OutputSpec&) { return std::vector<std::string>{"x", "y", "z"}; },
-     [](const Recovered& s, const OutputSpec&, std::vector<double>& row) {
-       append(row, s.angular_momentum_about_base);
-     },
+     [](const Recovered& s, const OutputSpec&, double* out) { put(out, s.angular_momentum_about_base); },
      kRecoverAngularMomentum},
     {"base", "m, m/s, m/s^2", "base point position, velocity and acceleration r0, r0', r0''",
      [](const Model&, const OutputSpec&) {
@@ -99,10 +109,8 @@ constexpr std::array<QuantityInfo, 16> kCatalogue{{
                                        "velocity.x",     "velocity.y",     "velocity.z",
                                        "acceleration.x", "acceleration.y", "acceleration.z"};
      },
-     [](const Recovered& s, const OutputSpec&, std::vector<double>& row) {
-       append(row, s.base.position);
-       append(row, s.base.velocity);
-       append(row, s.base.acceleration);
+     [](const Recovered& s, const OutputSpec&, double* out) {
+       put(put(put(out, s.base.position), s.base.velocity), s.base.acceleration);
      }},
     {"point_position", "m",
      "position of each requested body point ([[output.point]]), inertial frame",
@@ -112,8 +120,8 @@ constexpr std::array<QuantityInfo, 16> kCatalogue{{
          for (const char* s : {"x", "y", "z"}) out.push_back(p.name + "." + s);
        return out;
      },
-     [](const Recovered& s, const OutputSpec& output, std::vector<double>& row) {
-       for (const OutputPoint& p : output.points) append(row, body_point_position(s, p.body_index, p.point));
+     [](const Recovered& s, const OutputSpec& output, double* out) {
+       for (const OutputPoint& p : output.points) out = put(out, body_point_position(s, p.body_index, p.point));
      }},
 }};
 

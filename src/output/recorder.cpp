@@ -20,7 +20,10 @@ void Recorder::record(const Model& model, const Data& data) {
   recover(model, data, state_, parts_);
   if (times_.empty()) first_energy_ = state_.energy;
   times_.push_back(state_.time);
-  for (const QuantityInfo* q : layout_.info) q->extract(state_, output_, values_);
+  const std::size_t row = values_.size();
+  values_.resize(row + layout_.columns);
+  for (std::size_t q = 0; q < layout_.info.size(); ++q)
+    layout_.info[q]->extract(state_, output_, values_.data() + row + layout_.offset[q]);
   if (parts_ & kRecoverEnergy)
     max_energy_change_ = std::max(max_energy_change_, std::abs(state_.energy.total() - first_energy_.total()));
 }
