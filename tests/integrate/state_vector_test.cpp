@@ -53,6 +53,26 @@ TEST_F(StateVector, ClonesCarryTheOperations) {
   EXPECT_NE(v->ops->nvlinearsum, Vector(N_VNew_Serial(kLength, context_))->ops->nvlinearsum);
 }
 
+// The data start on a cache line, in the vector and in its clones (and
+// their clones), each their own, of the vector's length; N_VDestroy frees
+// them (the sanitizer pass would see a wrong free).
+TEST_F(StateVector, DataStartOnACacheLineInTheVectorAndItsClones) {
+  const auto line_aligned = [](N_Vector v) { return reinterpret_cast<std::uintptr_t>(NV_DATA_S(v)) % 64 == 0; };
+  for (const sunindextype n : {sunindextype{1}, sunindextype{7}, kLength, sunindextype{700}}) {
+    Vector v = new_state_vector(n, context_);
+    Vector clone(N_VClone(v.get()));
+    Vector clone_of_clone(N_VClone(clone.get()));
+    for (N_Vector w : {v.get(), clone.get(), clone_of_clone.get()}) {
+      EXPECT_TRUE(line_aligned(w)) << "length " << n;
+      EXPECT_EQ(N_VGetLength(w), n);
+      EXPECT_EQ(NV_OWN_DATA_S(w), SUNTRUE);
+    }
+    EXPECT_NE(NV_DATA_S(clone.get()), NV_DATA_S(v.get()));
+    N_VConst(2.0, clone.get());  // every element writable
+    EXPECT_EQ(NV_Ith_S(clone.get(), n - 1), 2.0);
+  }
+}
+
 TEST_F(StateVector, LinearSumMatchesEveryCaseAndAliasOfTheSerialVector) {
   const double special[] = {1.0, -1.0, 0.0, 0.37, -0.37, 2.5};
   for (double a : special)
