@@ -212,7 +212,7 @@ sunrealtype* array(N_Vector v) { return NV_DATA_S(v); }
 // aligned, anywhere in a line) moved a build's speed by a few per cent
 // (BENCHMARKS.md, "No allocation per output time"). False when out of memory.
 bool own_aligned_data(N_Vector v) {
-  const std::size_t bytes = (static_cast<std::size_t>(NV_LENGTH_S(v)) * sizeof(double) + 63) / 64 * 64;
+  const std::size_t bytes = (static_cast<std::size_t>(NV_LENGTH_S(v)) * sizeof(sunrealtype) + 63) / 64 * 64;
   void* p = std::aligned_alloc(64, bytes == 0 ? 64 : bytes);
   if (p == nullptr) return false;
   NV_DATA_S(v) = static_cast<sunrealtype*>(p);

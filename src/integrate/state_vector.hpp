@@ -1,7 +1,9 @@
-// The integrator's state vector: SUNDIALS' serial N_Vector (its content,
-// ID and clone, so the dense linear solver still accepts it) with its
-// arithmetic operations replaced by treedyn's own, compiled with the
-// project's optimisation.
+// The integrator's state vector: SUNDIALS' serial N_Vector (its content
+// and ID, so the dense linear solver still accepts it) with its arithmetic
+// operations replaced by treedyn's own, compiled with the project's
+// optimisation, and its data on whole cache lines of their own (the
+// vector's and every clone's: 64-byte aligned, owned, freed by
+// N_VDestroy_Serial).
 //
 // Why: Debian 12's and 13's libsundials are built without optimisation
 // (-O0: every loop index lives in memory), and on the shipped examples the
@@ -22,8 +24,9 @@ namespace treedyn::sundials {
 // A serial vector of `length` numbers with treedyn's operations.
 Vector new_state_vector(sunindextype length, SUNContext context);
 
-// Replaces the arithmetic operations of an existing serial vector `v`
-// (exposed for the test that compares them with N_VSerial's own).
+// Replaces the arithmetic operations and the clone of an existing serial
+// vector `v` (its own data stay as they are; its clones get aligned data).
+// Exposed for the test that compares them with N_VSerial's own.
 void use_compiled_operations(N_Vector v);
 
 }  // namespace treedyn::sundials

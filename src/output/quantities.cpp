@@ -31,8 +31,8 @@ std::vector<std::string> body_xyz(const Model& m, const OutputSpec&) { return pe
 
 // A per-body vector quantity: one member of Recovered.
 template <std::vector<Vec3> Recovered::*member>
-void body_vectors(const Recovered& s, const OutputSpec&, double* out) {
-  put_each(out, s.*member);
+double* body_vectors(const Recovered& s, const OutputSpec&, double* out) {
+  return put_each(out, s.*member);
 }
 
 constexpr std::array<QuantityInfo, 16> kCatalogue{{
@@ -46,6 +46,7 @@ constexpr std::array<QuantityInfo, 16> kCatalogue{{
          *out++ = q.w();
          out = put(out, q.vec());
        }
+       return out;
      }},
     {"angular_velocity", "rad/s", "absolute angular velocity of each body, inertial-frame components",
      body_xyz, body_vectors<&Recovered::angular_velocity>},
@@ -70,6 +71,7 @@ constexpr std::array<QuantityInfo, 16> kCatalogue{{
      [](const Model& m, const OutputSpec&) { return per_body(m, {"magnitude"}); },
      [](const Recovered& s, const OutputSpec&, double* out) {
        for (const Vec3& f : s.joint_reaction) *out++ = f.norm();
+       return out;
      },
      kRecoverAccelerations},
     {"joint_angle", "rad",
@@ -77,7 +79,7 @@ constexpr std::array<QuantityInfo, 16> kCatalogue{{
      "joint on the base), in [0, pi]",
      [](const Model& m, const OutputSpec&) { return per_body(m, {"angle"}); },
      [](const Recovered& s, const OutputSpec&, double* out) {
-       std::copy(s.joint_angle.begin(), s.joint_angle.end(), out);
+       return std::copy(s.joint_angle.begin(), s.joint_angle.end(), out);
      },
      kRecoverJointAngles},
     {"joint_axis", "1",
@@ -96,12 +98,13 @@ constexpr std::array<QuantityInfo, 16> kCatalogue{{
        out[1] = s.energy.potential;
        out[2] = s.energy.spring;
        out[3] = s.energy.total();
+       return out + 4;
      },
      kRecoverEnergy},
     {"angular_momentum", "kg m^2/s",
      "angular momentum of the whole tree about the base point, inertial frame",
      [](const Model&, const OutputSpec&) { return std::vector<std::string>{"x", "y", "z"}; },
-     [](const Recovered& s, const OutputSpec&, double* out) { put(out, s.angular_momentum_about_base); },
+     [](const Recovered& s, const OutputSpec&, double* out) { return put(out, s.angular_momentum_about_base); },
      kRecoverAngularMomentum},
     {"base", "m, m/s, m/s^2", "base point position, velocity and acceleration r0, r0', r0''",
      [](const Model&, const OutputSpec&) {
@@ -110,7 +113,7 @@ constexpr std::array<QuantityInfo, 16> kCatalogue{{
                                        "acceleration.x", "acceleration.y", "acceleration.z"};
      },
      [](const Recovered& s, const OutputSpec&, double* out) {
-       put(put(put(out, s.base.position), s.base.velocity), s.base.acceleration);
+       return put(put(put(out, s.base.position), s.base.velocity), s.base.acceleration);
      }},
     {"point_position", "m",
      "position of each requested body point ([[output.point]]), inertial frame",
@@ -122,6 +125,7 @@ constexpr std::array<QuantityInfo, 16> kCatalogue{{
      },
      [](const Recovered& s, const OutputSpec& output, double* out) {
        for (const OutputPoint& p : output.points) out = put(out, body_point_position(s, p.body_index, p.point));
+       return out;
      }},
 }};
 

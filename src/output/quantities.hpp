@@ -21,9 +21,10 @@ struct QuantityInfo {
   // Column labels for this model, e.g. "arm.x" (bodies in the user's order).
   std::vector<std::string> (*columns)(const Model& model, const OutputSpec& output);
   // Writes this instant's values, one per column, at `out` (as many as
-  // `columns` names): the recorder's row has its place already, so a
-  // quantity neither checks nor grows storage.
-  void (*extract)(const Recovered& state, const OutputSpec& output, double* out);
+  // `columns` names) and returns the place after the last: the recorder's
+  // row has its place already, so a quantity neither checks nor grows
+  // storage; the recorder checks the count it wrote.
+  double* (*extract)(const Recovered& state, const OutputSpec& output, double* out);
   // The parts of Recovered beyond the always-recovered ones it reads
   // (RecoveredPart flags, dynamics/recovered.hpp).
   unsigned needs = 0;

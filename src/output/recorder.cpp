@@ -2,12 +2,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace treedyn {
 
 Recorder::Recorder(const Model& model, const OutputSpec& output, EnergyTracking energy)
     : output_(output),
       layout_(column_layout(model, output)),
+      bodies_(model.n),
       parts_(layout_.needs | (energy == EnergyTracking::on ? kRecoverEnergy : 0u)) {}
 
 void Recorder::clear() {
@@ -17,13 +20,23 @@ void Recorder::clear() {
 }
 
 void Recorder::record(const Model& model, const Data& data) {
+  if (model.n != bodies_)
+    throw std::invalid_argument("recorder: a model of " + std::to_string(model.n) + " bodies, the columns are for " +
+                                std::to_string(bodies_));
   recover(model, data, state_, parts_);
   if (times_.empty()) first_energy_ = state_.energy;
   times_.push_back(state_.time);
-  const std::size_t row = values_.size();
-  values_.resize(row + layout_.columns);
-  for (std::size_t q = 0; q < layout_.info.size(); ++q)
-    layout_.info[q]->extract(state_, output_, values_.data() + row + layout_.offset[q]);
+  const std::size_t at = values_.size();
+  values_.resize(at + layout_.columns);
+  double* const row = values_.data() + at;
+  for (std::size_t q = 0; q < layout_.info.size(); ++q) {
+    double* const place = row + layout_.offset[q];
+    // A quantity that wrote another count than it names would shift or
+    // overrun the row: a programming error, stopped at its first row.
+    if (layout_.info[q]->extract(state_, output_, place) != place + layout_.names[q].size())
+      throw std::logic_error("recorder: quantity " + layout_.quantity[q] + " wrote another number of values than " +
+                             std::to_string(layout_.names[q].size()) + " columns");
+  }
   if (parts_ & kRecoverEnergy)
     max_energy_change_ = std::max(max_energy_change_, std::abs(state_.energy.total() - first_energy_.total()));
 }

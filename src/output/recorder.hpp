@@ -30,6 +30,7 @@ class Recorder {
   // Forgets the recorded trajectory (keeping its storage) before a new one.
   void clear();
   // The OutputObserver of simulate(): recovers the state and appends a row.
+  // Throws std::invalid_argument for a model of another number of bodies.
   void record(const Model& model, const Data& data);
 
   const ColumnLayout& layout() const { return layout_; }
@@ -50,6 +51,7 @@ class Recorder {
  private:
   const OutputSpec& output_;
   ColumnLayout layout_;
+  int bodies_;      // of the model the columns were named for
   unsigned parts_;  // RecoveredPart flags recover() computes
   std::vector<double> times_, values_;
   Recovered state_;  // reused at every output time

@@ -36,136 +36,11 @@
 #include "model/model.hpp"
 #include "support/random_tree.hpp"
 
-// ---------------------------------------------------------------------------
-// Allocation counting.
-//
-// Every replaceable global operator new / new[] (plain, nothrow, aligned) is
-// replaced below and counts its calls; that catches the standard library.
-// Eigen's dynamic matrices do NOT go through operator new: Eigen's
-// aligned_malloc calls std::malloc directly (Eigen/src/Core/util/Memory.h).
-// So on glibc we also interpose malloc, calloc, realloc and the aligned
-// allocators in this executable (glibc documents replacing malloc this way;
-// the replacements forward to glibc's own __libc_* allocator, so memory from
-// either side can be freed by either side). Not done under a sanitizer, which
-// owns malloc itself; there the operator new counter alone is checked.
-// ---------------------------------------------------------------------------
-namespace {
-std::atomic<long> g_new_calls{0};
-std::atomic<long> g_malloc_calls{0};
-}  // namespace
-
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-#define TREEDYN_NE_SANITIZER 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) || \
-    __has_feature(memory_sanitizer)
-#define TREEDYN_NE_SANITIZER 1
-#endif
-#endif
-
-#if defined(__GLIBC__) && !defined(TREEDYN_NE_SANITIZER)
-#define TREEDYN_NE_COUNT_MALLOC 1
-extern "C" {
-void* __libc_malloc(std::size_t size);
-void* __libc_calloc(std::size_t count, std::size_t size);
-void* __libc_realloc(void* p, std::size_t size);
-void* __libc_memalign(std::size_t alignment, std::size_t size);
-void __libc_free(void* p);
-
-void* malloc(std::size_t size) noexcept {
-  g_malloc_calls.fetch_add(1, std::memory_order_relaxed);
-  return __libc_malloc(size);
-}
-void* calloc(std::size_t count, std::size_t size) noexcept {
-  g_malloc_calls.fetch_add(1, std::memory_order_relaxed);
-  return __libc_calloc(count, size);
-}
-void* realloc(void* p, std::size_t size) noexcept {
-  g_malloc_calls.fetch_add(1, std::memory_order_relaxed);
-  return __libc_realloc(p, size);
-}
-void free(void* p) noexcept { __libc_free(p); }
-void* memalign(std::size_t alignment, std::size_t size) noexcept {
-  g_malloc_calls.fetch_add(1, std::memory_order_relaxed);
-  return __libc_memalign(alignment, size);
-}
-void* aligned_alloc(std::size_t alignment, std::size_t size) noexcept {
-  g_malloc_calls.fetch_add(1, std::memory_order_relaxed);
-  return __libc_memalign(alignment, size);
-}
-int posix_memalign(void** out, std::size_t alignment, std::size_t size) noexcept {
-  g_malloc_calls.fetch_add(1, std::memory_order_relaxed);
-  if (alignment % sizeof(void*) != 0 || (alignment & (alignment - 1)) != 0) return EINVAL;
-  void* p = __libc_memalign(alignment, size);
-  if (p == nullptr && size != 0) return ENOMEM;
-  *out = p;
-  return 0;
-}
-}  // extern "C"
-#endif
-
-namespace {
-void* counted_new(std::size_t size) {
-  g_new_calls.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-  return nullptr;
-}
-void* counted_aligned_new(std::size_t size, std::align_val_t alignment) {
-  g_new_calls.fetch_add(1, std::memory_order_relaxed);
-  std::size_t a = static_cast<std::size_t>(alignment);
-  if (a < sizeof(void*)) a = sizeof(void*);
-  void* p = nullptr;
-  if (posix_memalign(&p, a, size == 0 ? 1 : size) != 0) return nullptr;
-  return p;
-}
-}  // namespace
-
-void* operator new(std::size_t size) {
-  if (void* p = counted_new(size)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t size) {
-  if (void* p = counted_new(size)) return p;
-  throw std::bad_alloc();
-}
-void* operator new(std::size_t size, const std::nothrow_t&) noexcept { return counted_new(size); }
-void* operator new[](std::size_t size, const std::nothrow_t&) noexcept { return counted_new(size); }
-void* operator new(std::size_t size, std::align_val_t a) {
-  if (void* p = counted_aligned_new(size, a)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t size, std::align_val_t a) {
-  if (void* p = counted_aligned_new(size, a)) return p;
-  throw std::bad_alloc();
-}
-void* operator new(std::size_t size, std::align_val_t a, const std::nothrow_t&) noexcept {
-  return counted_aligned_new(size, a);
-}
-void* operator new[](std::size_t size, std::align_val_t a, const std::nothrow_t&) noexcept {
-  return counted_aligned_new(size, a);
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
-void operator delete(void* p, const std::nothrow_t&) noexcept { std::free(p); }
-void operator delete[](void* p, const std::nothrow_t&) noexcept { std::free(p); }
-void operator delete(void* p, std::align_val_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::align_val_t) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
-void operator delete(void* p, std::align_val_t, const std::nothrow_t&) noexcept { std::free(p); }
-void operator delete[](void* p, std::align_val_t, const std::nothrow_t&) noexcept { std::free(p); }
+#include "support/allocation_counting.inc"
 
 namespace treedyn {
 namespace {
 
-// Snapshot of both counters; read it before and after the code under test and
-// only then call any gtest macro (which may allocate).
-struct AllocationCount {
-  long news = g_new_calls.load(std::memory_order_relaxed);
-  long mallocs = g_malloc_calls.load(std::memory_order_relaxed);
-};
 
 // ---------------------------------------------------------------------------
 // The oracle.
@@ -793,7 +668,7 @@ TEST(NewtonEuler, HotPathDoesNotAllocate) {
     const AllocationCount after;
     EXPECT_GT(after.news, before.news) << "operator new replacement not active";
   }
-#if defined(TREEDYN_NE_COUNT_MALLOC)
+#if defined(TREEDYN_COUNTS_MALLOC)
   {
     const AllocationCount before;
     Eigen::VectorXd x = Eigen::VectorXd::Random(64);

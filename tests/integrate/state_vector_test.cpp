@@ -53,23 +53,31 @@ TEST_F(StateVector, ClonesCarryTheOperations) {
   EXPECT_NE(v->ops->nvlinearsum, Vector(N_VNew_Serial(kLength, context_))->ops->nvlinearsum);
 }
 
-// The data start on a cache line, in the vector and in its clones (and
-// their clones), each their own, of the vector's length; N_VDestroy frees
-// them (the sanitizer pass would see a wrong free).
+// The data start on a cache line, in the vector, its clones (one by one
+// and as an array) and their clones, each their own, of the vector's
+// length, every element writable; N_VDestroy frees them (the sanitizer
+// pass would see a wrong free). Length 0 too.
 TEST_F(StateVector, DataStartOnACacheLineInTheVectorAndItsClones) {
   const auto line_aligned = [](N_Vector v) { return reinterpret_cast<std::uintptr_t>(NV_DATA_S(v)) % 64 == 0; };
-  for (const sunindextype n : {sunindextype{1}, sunindextype{7}, kLength, sunindextype{700}}) {
+  for (const sunindextype n : {sunindextype{0}, sunindextype{1}, sunindextype{7}, kLength, sunindextype{700}}) {
     Vector v = new_state_vector(n, context_);
     Vector clone(N_VClone(v.get()));
     Vector clone_of_clone(N_VClone(clone.get()));
-    for (N_Vector w : {v.get(), clone.get(), clone_of_clone.get()}) {
-      EXPECT_TRUE(line_aligned(w)) << "length " << n;
+    N_Vector* array = N_VCloneVectorArray(2, v.get());
+    ASSERT_NE(array, nullptr);
+    std::vector<N_Vector> all{v.get(), clone.get(), clone_of_clone.get(), array[0], array[1]};
+    for (std::size_t k = 0; k < all.size(); ++k) {
+      N_Vector w = all[k];
+      EXPECT_TRUE(line_aligned(w)) << "length " << n << ", vector " << k;
       EXPECT_EQ(N_VGetLength(w), n);
       EXPECT_EQ(NV_OWN_DATA_S(w), SUNTRUE);
+      for (std::size_t j = 0; j < k; ++j) EXPECT_NE(NV_DATA_S(w), NV_DATA_S(all[j])) << "shared data";
+      N_VConst(static_cast<double>(k), w);  // every element writable
+      if (n > 0) {
+        EXPECT_EQ(NV_Ith_S(w, n - 1), static_cast<double>(k));
+      }
     }
-    EXPECT_NE(NV_DATA_S(clone.get()), NV_DATA_S(v.get()));
-    N_VConst(2.0, clone.get());  // every element writable
-    EXPECT_EQ(NV_Ith_S(clone.get(), n - 1), 2.0);
+    N_VDestroyVectorArray(array, 2);
   }
 }
 

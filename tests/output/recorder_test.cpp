@@ -1,16 +1,20 @@
 // The recorder's row: every quantity of the catalogue writes exactly its
 // columns, at its place in the row (output/quantities.hpp, recorder.hpp).
-// Checked on a random tree whose bodies are listed out of the regular order
-// (so user and regular indices differ), with springs and two output points,
-// against the recovered state itself: the row holds the same bits as the
-// Recovered members it is read from (==, the same operations on the same
-// numbers), and a quantity that wrote a column too few or too many would
-// leave a sentinel or overwrite its neighbour's.
+// On a random tree whose bodies are listed out of the regular order (so
+// user and regular indices differ), with springs and two output points:
+//  * the row holds the same bits as the Recovered members each column is
+//    read from (==, the same operations on the same numbers). The base is
+//    fixed, so its nine columns are zeros here: their places are checked by
+//    the count alone;
+//  * each extract alone, into a row of NaN sentinels, writes its count
+//    exactly and says where it ended; the recorder refuses a quantity that
+//    says otherwise, and a model of another number of bodies.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
 #include <random>
+#include <stdexcept>
 #include <vector>
 
 #include "dynamics/recovered.hpp"
@@ -116,10 +120,29 @@ TEST(Recorder, EachExtractFillsExactlyItsColumns) {
   for (const QuantityInfo& q : quantity_catalogue()) {
     const std::size_t n = q.columns(r.model, r.output).size();
     std::vector<double> row(n + 8, std::numeric_limits<double>::quiet_NaN());
-    q.extract(s, r.output, row.data());
+    EXPECT_EQ(q.extract(s, r.output, row.data()), row.data() + n) << q.name << ": the end it returns";
     for (std::size_t c = 0; c < n; ++c) EXPECT_TRUE(std::isfinite(row[c])) << q.name << " column " << c;
     for (std::size_t c = n; c < row.size(); ++c) EXPECT_TRUE(std::isnan(row[c])) << q.name << " wrote past its columns";
   }
+}
+
+TEST(Recorder, RefusesAModelOfAnotherNumberOfBodies) {
+  std::mt19937_64 rng(11);
+  testing::RandomTreeOptions three, four;
+  three.bodies = 3;
+  four.bodies = 4;
+  const Model named_for = build_model(testing::random_tree(rng, three));
+  const Model other = build_model(testing::random_tree(rng, four));
+  const OutputSpec output{{"com_position", "joint_angle"}, {}};
+  Recorder recorder(named_for, output);
+  Data data(other, AccelerationSolver::recursive);
+  try {
+    recorder.record(other, data);
+    ADD_FAILURE() << "no exception";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "recorder: a model of 4 bodies, the columns are for 3");
+  }
+  EXPECT_TRUE(recorder.empty()) << "nothing recorded";
 }
 
 }  // namespace
