@@ -42,19 +42,16 @@ void Stepper::record_error(int, const char* module, const char* function, char* 
 #endif
 
 void apply_settings(const PackageCalls& c, void* m, TreeOde& ode, const IntegratorSettings& s) {
-  const std::string p = c.package;
-  sundials::check(c.set_tolerances(m, s.relative_tolerance, s.absolute_tolerance), (p + " tolerances").c_str());
-  sundials::check(c.set_user_data(m, &ode), (p + " user data").c_str());
-  sundials::check(c.set_max_num_steps(m, s.max_steps), (p + " max_steps").c_str());
-  if (s.max_step > 0.0) sundials::check(c.set_max_step(m, s.max_step), (p + " max_step").c_str());
-  if (s.initial_step > 0.0) sundials::check(c.set_init_step(m, s.initial_step), (p + " initial_step").c_str());
+  const std::string_view p = c.package;
+  sundials::check(c.set_tolerances(m, s.relative_tolerance, s.absolute_tolerance), p, " tolerances");
+  sundials::check(c.set_user_data(m, &ode), p, " user data");
+  sundials::check(c.set_max_num_steps(m, s.max_steps), p, " max_steps");
+  if (s.max_step > 0.0) sundials::check(c.set_max_step(m, s.max_step), p, " max_step");
+  if (s.initial_step > 0.0) sundials::check(c.set_init_step(m, s.initial_step), p, " initial_step");
 }
 
-// Runs at every output time inside a step: the call's name is composed
-// only when it failed (it was a heap allocation per output time).
 void interpolate_with(const PackageCalls& c, void* m, double t, N_Vector y) {
-  const int flag = c.get_dky(m, t, 0, y);
-  if (flag < 0) sundials::check(flag, (std::string(c.package) + " dense output").c_str());
+  sundials::check(c.get_dky(m, t, 0, y), c.package, " dense output");
 }
 
 double current_time_of(const PackageCalls& c, void* m) {

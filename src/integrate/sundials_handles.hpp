@@ -13,6 +13,8 @@
 
 #include <memory>
 #include <stdexcept>
+#include <string>
+#include <string_view>
 #include <type_traits>
 
 namespace treedyn::sundials {
@@ -27,6 +29,12 @@ class SetupError : public std::runtime_error {
 inline void check(int flag, const char* call) {
   if (flag < 0) throw SetupError(std::string("SUNDIALS call ") + call + " failed with flag " +
                                  std::to_string(flag));
+}
+// The same for a call named in two parts ("CVODE", " dense output"),
+// joined only when it failed: a check at every output time or in every
+// sample's set-up allocates nothing.
+inline void check(int flag, std::string_view package, std::string_view call) {
+  if (flag < 0) check(flag, (std::string(package) + std::string(call)).c_str());
 }
 template <class T>
 T* check_created(T* p, const char* call) {
