@@ -23,7 +23,7 @@ struct QuantityInfo {
   // Writes this instant's values, one per column, at `out` (as many as
   // `columns` names) and returns the place after the last: the recorder's
   // row has its place already, so a quantity neither checks nor grows
-  // storage; the recorder checks the count it wrote.
+  // storage; the recorder checks the row's length.
   double* (*extract)(const Recovered& state, const OutputSpec& output, double* out);
   // The parts of Recovered beyond the always-recovered ones it reads
   // (RecoveredPart flags, dynamics/recovered.hpp).

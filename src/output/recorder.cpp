@@ -11,9 +11,7 @@ Recorder::Recorder(const Model& model, const OutputSpec& output, EnergyTracking 
     : output_(output),
       layout_(column_layout(model, output)),
       bodies_(model.n),
-      parts_(layout_.needs | (energy == EnergyTracking::on ? kRecoverEnergy : 0u)) {
-  for (std::size_t q = 0; q < layout_.info.size(); ++q) ends_.push_back(layout_.offset[q] + layout_.names[q].size());
-}
+      parts_(layout_.needs | (energy == EnergyTracking::on ? kRecoverEnergy : 0u)) {}
 
 void Recorder::clear() {
   times_.clear();
@@ -21,9 +19,9 @@ void Recorder::clear() {
   max_energy_change_ = 0.0;
 }
 
-void Recorder::wrong_count(std::size_t q) const {
-  throw std::logic_error("recorder: quantity " + layout_.quantity[q] + " wrote another number of values than " +
-                         std::to_string(layout_.names[q].size()) + " columns");
+void Recorder::wrong_count(std::size_t written) const {
+  throw std::logic_error("recorder: the quantities wrote " + std::to_string(written) + " values for the " +
+                         std::to_string(layout_.columns) + " columns they name");
 }
 
 void Recorder::wrong_model(const Model& model) const {
@@ -38,11 +36,13 @@ void Recorder::record(const Model& model, const Data& data) {
   times_.push_back(state_.time);
   const std::size_t at = values_.size();
   values_.resize(at + layout_.columns);
+  // Each quantity writes after the one before (the layout's order). A row
+  // of another length would shift or overrun the trajectory: a programming
+  // error (each quantity's own count is tested), stopped at its first row.
   double* const row = values_.data() + at;
-  // A quantity that wrote another count than it names would shift or
-  // overrun the row: a programming error, stopped at its first row.
-  for (std::size_t q = 0; q < layout_.info.size(); ++q)
-    if (layout_.info[q]->extract(state_, output_, row + layout_.offset[q]) != row + ends_[q]) wrong_count(q);
+  double* out = row;
+  for (const QuantityInfo* q : layout_.info) out = q->extract(state_, output_, out);
+  if (out != row + layout_.columns) wrong_count(static_cast<std::size_t>(out - row));
   if (parts_ & kRecoverEnergy)
     max_energy_change_ = std::max(max_energy_change_, std::abs(state_.energy.total() - first_energy_.total()));
 }

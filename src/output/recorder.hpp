@@ -51,12 +51,11 @@ class Recorder {
  private:
   const OutputSpec& output_;
   // Out of line and cold: record() runs at every output time.
-  [[noreturn, gnu::cold, gnu::noinline]] void wrong_count(std::size_t quantity) const;
+  [[noreturn, gnu::cold, gnu::noinline]] void wrong_count(std::size_t written) const;
   [[noreturn, gnu::cold, gnu::noinline]] void wrong_model(const Model& model) const;
 
   ColumnLayout layout_;
-  std::vector<std::size_t> ends_;  // each quantity's column after its last
-  int bodies_;                     // of the model the columns were named for
+  int bodies_;  // of the model the columns were named for
   unsigned parts_;  // RecoveredPart flags recover() computes
   std::vector<double> times_, values_;
   Recovered state_;  // reused at every output time
