@@ -125,8 +125,8 @@ EnsembleWriter::EnsembleWriter(const std::filesystem::path& path, const Job& job
   create_sample_columns();
   create_reductions();
   if (!spec.responses.empty()) {
-    responses_ = h5::create_rows(samples_.id(), "responses", H5T_NATIVE_DOUBLE, spec.samples,
-                                 spec.responses.size());
+    const hsize_t columns[1] = {spec.responses.size()};
+    responses_ = h5::RowDataset(samples_.id(), "responses", H5T_NATIVE_DOUBLE, spec.samples, columns);
     describe_responses(responses_.id(), spec.responses);
   }
   if (spec.store_trajectories > 0) create_trajectories();
@@ -136,12 +136,13 @@ void EnsembleWriter::create_sample_columns() {
   const hid_t g = samples_.id();
   const std::size_t n = spec_.samples, d = spec_.input_dimensions();
   if (d > 0) {
-    inputs_ = h5::create_rows(g, "inputs", H5T_NATIVE_DOUBLE, n, d);
+    const hsize_t columns[1] = {d};
+    inputs_ = h5::RowDataset(g, "inputs", H5T_NATIVE_DOUBLE, n, columns);
     describe_inputs(inputs_.id(), spec_);
   }
   // A row no record reached reads as "not run", not as the fill's 0 (ok).
   const auto not_run = static_cast<std::int32_t>(ensemble::SampleStatus::not_run);
-  status_ = h5::create_rows(g, "status", H5T_NATIVE_INT32, n, 0, &not_run);
+  status_ = h5::RowDataset(g, "status", H5T_NATIVE_INT32, n, {}, 0, &not_run);
   describe(status_.id(), "1",
            "0 ok, 1 integration failed, 2 invalid model (perturbed input refused), 3 not run (a merge of an "
            "incomplete set of parts: see the root attribute held_samples; also what a row that no record "
@@ -149,11 +150,12 @@ void EnsembleWriter::create_sample_columns() {
            {});
   reason_ = h5::create_string_rows(g, "reason", n);
   describe(reason_.id(), "1", "why the sample failed; empty when ok", {});
-  time_reached_ = h5::create_rows(g, "time_reached", H5T_NATIVE_DOUBLE, n, 0);
+  time_reached_ = h5::RowDataset(g, "time_reached", H5T_NATIVE_DOUBLE, n, {});
   describe(time_reached_.id(), "s", "time the integration reached (the end time when ok)", {});
-  integrator_stats_ = h5::create_rows(g, "integrator_stats", H5T_NATIVE_INT64, n, kIntegratorStatFields.size());
+  const hsize_t stat_columns[1] = {kIntegratorStatFields.size()}, final_columns[1] = {final_size_};
+  integrator_stats_ = h5::RowDataset(g, "integrator_stats", H5T_NATIVE_INT64, n, stat_columns);
   describe(integrator_stats_.id(), "1", "integrator statistics per sample", integrator_stat_columns());
-  final_state_ = h5::create_rows(g, "final_state", H5T_NATIVE_DOUBLE, n, final_size_);
+  final_state_ = h5::RowDataset(g, "final_state", H5T_NATIVE_DOUBLE, n, final_columns);
   describe(final_state_.id(), "1, rad/s",
            "state at the last output time: per body the orientation quaternion (q0 >= 0) and "
            "the inertial angular velocity; NaN for failed samples",
@@ -170,8 +172,9 @@ void EnsembleWriter::create_reductions() {
                             " of every column of every recorded quantity; NaN when the sample failed");
     reductions_.emplace_back();
     for (std::size_t q = 0; q < layout_.quantity.size(); ++q) {
-      reductions_.back().push_back(h5::create_rows(reduction_groups_.back().id(), layout_.quantity[q],
-                                                   H5T_NATIVE_DOUBLE, spec_.samples, layout_.names[q].size()));
+      const hsize_t columns[1] = {layout_.names[q].size()};
+      reductions_.back().emplace_back(reduction_groups_.back().id(), layout_.quantity[q], H5T_NATIVE_DOUBLE,
+                                      spec_.samples, columns);
       describe(reductions_.back().back().id(), time ? "s" : std::string(layout_.info[q]->units),
                about + " of " + layout_.quantity[q], layout_.names[q]);
       if (!time) write_column_units(reductions_.back().back().id(), layout_, q);
@@ -187,21 +190,27 @@ void EnsembleWriter::create_trajectories() {
   const hsize_t times = job_.request.output_times.size();
   for (std::size_t q = 0; q < layout_.quantity.size(); ++q) {
     const hsize_t shape[2] = {times, layout_.names[q].size()};
-    trajectories_.push_back(h5::create_row_array(trajectory_group_.id(), layout_.quantity[q], H5T_NATIVE_DOUBLE,
-                                                 spec_.store_trajectories, shape, 1));
+    trajectories_.emplace_back(trajectory_group_.id(), layout_.quantity[q], H5T_NATIVE_DOUBLE,
+                               spec_.store_trajectories, shape, 1);
     describe(trajectories_.back().id(), std::string(layout_.info[q]->units),
              std::string(layout_.info[q]->description) + "; sample x time (/stats/time) x column", layout_.names[q]);
     write_column_units(trajectories_.back().id(), layout_, q);
   }
 }
 
+std::vector<h5::RowDataset*> EnsembleWriter::row_datasets() {
+  std::vector<h5::RowDataset*> out;
+  for (h5::RowDataset* d : {&inputs_, &status_, &time_reached_, &integrator_stats_, &final_state_, &responses_})
+    if (d->exists()) out.push_back(d);
+  for (auto& quantities : reductions_)
+    for (h5::RowDataset& d : quantities) out.push_back(&d);
+  for (h5::RowDataset& d : trajectories_) out.push_back(&d);
+  return out;
+}
+
 void EnsembleWriter::keep_samples(std::size_t rows) {
-  for (const h5::Handle* d : {&inputs_, &status_, &reason_, &time_reached_, &integrator_stats_, &final_state_,
-                              &responses_})
-    if (d->id() != H5I_INVALID_HID) h5::keep_rows(d->id(), rows);
-  for (const auto& quantities : reductions_)
-    for (const h5::Handle& d : quantities) h5::keep_rows(d.id(), rows);
-  for (const h5::Handle& d : trajectories_) h5::keep_rows(d.id(), rows);
+  h5::keep_rows(reason_.id(), rows);
+  for (h5::RowDataset* d : row_datasets()) d->keep_rows(rows);
 }
 
 void EnsembleWriter::write_records(std::vector<SampleRecord> records) {
@@ -235,13 +244,12 @@ void EnsembleWriter::write_run(const std::vector<SampleRecord>& run) {
     reasons.push_back(r.reason);
     finals.insert(finals.end(), r.final_state.begin(), r.final_state.end());
   }
-  if (d > 0) h5::write_rows(inputs_.id(), H5T_NATIVE_DOUBLE, first, rows, d, inputs.data());
-  h5::write_rows(status_.id(), H5T_NATIVE_INT32, first, rows, 0, status.data());
+  if (d > 0) inputs_.write(first, rows, inputs.data());
+  status_.write(first, rows, status.data());
   h5::write_string_rows(reason_.id(), first, reasons);
-  h5::write_rows(time_reached_.id(), H5T_NATIVE_DOUBLE, first, rows, 0, times.data());
-  h5::write_rows(integrator_stats_.id(), H5T_NATIVE_INT64, first, rows, kIntegratorStatFields.size(),
-                 stats.data());
-  h5::write_rows(final_state_.id(), H5T_NATIVE_DOUBLE, first, rows, final_size_, finals.data());
+  time_reached_.write(first, rows, times.data());
+  integrator_stats_.write(first, rows, stats.data());
+  final_state_.write(first, rows, finals.data());
   const std::size_t columns = layout_.columns;
   std::vector<double> block;
   for (std::size_t r = 0; r < spec_.per_sample.size(); ++r)
@@ -252,12 +260,12 @@ void EnsembleWriter::write_run(const std::vector<SampleRecord>& run) {
         const auto begin = record.reductions.begin() + static_cast<long>(r * columns + layout_.offset[q]);
         block.insert(block.end(), begin, begin + static_cast<long>(cols));
       }
-      h5::write_rows(reductions_[r][q].id(), H5T_NATIVE_DOUBLE, first, rows, cols, block.data());
+      reductions_[r][q].write(first, rows, block.data());
     }
   if (!spec_.responses.empty()) {
     block.clear();
     for (const SampleRecord& record : run) block.insert(block.end(), record.responses.begin(), record.responses.end());
-    h5::write_rows(responses_.id(), H5T_NATIVE_DOUBLE, first, rows, spec_.responses.size(), block.data());
+    responses_.write(first, rows, block.data());
   }
   // Stored trajectories: one row per sample below M (NaN when it failed).
   const std::size_t T = job_.request.output_times.size();
@@ -270,7 +278,7 @@ void EnsembleWriter::write_run(const std::vector<SampleRecord>& run) {
         for (std::size_t k = 0; k < T; ++k)
           std::copy_n(record.trajectory.begin() + static_cast<long>(k * columns + layout_.offset[q]), cols,
                       block.begin() + static_cast<long>(k * cols));
-      h5::write_row_block(trajectories_[q].id(), H5T_NATIVE_DOUBLE, record.index, 1, block.data());
+      trajectories_[q].write(record.index, 1, block.data());
     }
   }
 }
@@ -653,6 +661,7 @@ void EnsembleWriter::write_levels(hid_t g, const rare_event::SubsetResult& resul
 void EnsembleWriter::complete(const std::vector<double>& nominal, const ensemble::EnsembleStatistics& stats,
                               const std::vector<ensemble::ResponseAnswer>& answers, const EnsembleSummary& summary,
                               const RunProvenance& run) {
+  for (h5::RowDataset* d : row_datasets()) d->flush();
   write_nominal(nominal);
   write_statistics(stats);
   write_answers(answers);
@@ -689,9 +698,9 @@ void EnsembleWriter::finish(const EnsembleSummary& summary, const RunProvenance&
   reductions_.clear();
   reduction_groups_.clear();
   trajectories_.clear();
-  for (h5::Handle* h : {&inputs_, &status_, &reason_, &time_reached_, &integrator_stats_,
-                        &final_state_, &responses_, &trajectory_group_, &samples_})
-    h->reset();
+  for (h5::RowDataset* d : {&inputs_, &status_, &time_reached_, &integrator_stats_, &final_state_, &responses_})
+    *d = h5::RowDataset();
+  for (h5::Handle* h : {&reason_, &trajectory_group_, &samples_}) h->reset();
   file_.commit();
 }
 

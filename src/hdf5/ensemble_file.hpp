@@ -15,6 +15,7 @@
 #include "statistics/ensemble_statistics.hpp"
 #include "hdf5/hdf5.hpp"
 #include "hdf5/provenance.hpp"
+#include "hdf5/row_dataset.hpp"
 
 namespace treedyn {
 
@@ -54,6 +55,8 @@ class EnsembleWriter {
   void create_reductions();
   void create_trajectories();
   void write_run(const std::vector<ensemble::SampleRecord>& run);
+  // Every row dataset with a chunk still held (hdf5/row_dataset.hpp).
+  std::vector<h5::RowDataset*> row_datasets();
   void write_nominal(const std::vector<double>& trajectory);
   void write_statistics(const ensemble::EnsembleStatistics& stats);
   void write_quantity_statistics(hid_t group, std::size_t quantity, const ensemble::EnsembleStatistics& stats);
@@ -71,12 +74,12 @@ class EnsembleWriter {
   const ColumnLayout& layout_;
   std::size_t final_size_;
   h5::File file_;
-  h5::Handle samples_, inputs_, status_, reason_, time_reached_, integrator_stats_, final_state_;
-  h5::Handle responses_;
-  std::vector<h5::Handle> reduction_groups_;         // /samples/<reduction>
-  std::vector<std::vector<h5::Handle>> reductions_;  // [reduction][quantity]
+  h5::Handle samples_, reason_;
+  h5::RowDataset inputs_, status_, time_reached_, integrator_stats_, final_state_, responses_;
+  std::vector<h5::Handle> reduction_groups_;             // /samples/<reduction>
+  std::vector<std::vector<h5::RowDataset>> reductions_;  // [reduction][quantity]
   h5::Handle trajectory_group_;
-  std::vector<h5::Handle> trajectories_;             // [quantity], (M, T, columns)
+  std::vector<h5::RowDataset> trajectories_;             // [quantity], (M, T, columns)
 };
 
 }  // namespace treedyn

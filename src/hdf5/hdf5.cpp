@@ -22,9 +22,6 @@ void silence_hdf5() {
   (void)done;
 }
 
-void check(herr_t status, const std::string& what) {
-  if (status < 0) throw IoError("HDF5: " + what + " failed");
-}
 
 // Variable-length UTF-8: what h5py reads as `str` and MATLAB as a string.
 Handle text_type() {
@@ -40,20 +37,16 @@ std::vector<const char*> pointers_to(const std::vector<std::string>& values) {
   return out;
 }
 
-// About 64 KiB a chunk, whole rows. deflate pays a fixed cost per chunk (the
-// library sets up and clears its tables, a few hundred KiB, every time):
-// chunks of a few rows spent more of rank 0's time on that than on
-// compressing, and compressed worse. The row datasets' chunk cache
-// (rows_cache) keeps 4 of them, so a chunk whose rows arrive in several
-// writes stays until it is whole.
+// About 64 KiB a chunk, whole rows. Each chunk costs a fixed amount (zlib
+// set up and cleared its tables, a few hundred KiB, for every one; HDF5
+// indexes and writes each): chunks of a few rows spent more of rank 0's
+// time on that than on compressing, and compressed worse. A chunk whose
+// rows arrive in several writes waits in memory until it is whole: the
+// numbers' in RowDataset (row_dataset.hpp), the strings' in the chunk cache
+// (rows_cache).
 hsize_t rows_per_chunk(hsize_t row_bytes, hsize_t rows) {
   return std::clamp<hsize_t>(65536 / std::max<hsize_t>(row_bytes, 1), 1, std::max<hsize_t>(rows, 1));
 }
-
-// Rows are written while the samples run, by rank 0, which integrates too:
-// deflate level 1 compresses the per-sample rows 28 % faster than level 4,
-// for a file 2 % larger (131,072 spherical-pendulum samples).
-constexpr int kRowsDeflateLevel = 1;
 
 // A row dataset's chunk cache: 4 chunks, the ones whose rows are still
 // arriving (the records of other ranks' samples in flight), not HDF5's
@@ -115,6 +108,10 @@ void attribute(hid_t object, const std::string& name, hid_t type, hid_t space, c
 }  // namespace
 
 void quiet_errors() { silence_hdf5(); }
+
+void check(herr_t status, const std::string& what) {
+  if (status < 0) throw IoError("HDF5: " + what + " failed");
+}
 
 Handle::Handle(hid_t id, Closer close, const std::string& what) : id_(id), close_(close) {
   silence_hdf5();
@@ -214,33 +211,26 @@ Handle write_scalar(hid_t parent, const std::string& name, std::uint64_t value) 
 }
 
 Handle create_rows(hid_t parent, const std::string& name, hid_t type, std::size_t rows,
-                   std::size_t columns, const void* fill) {
-  const hsize_t dims[2] = {rows, std::max<std::size_t>(columns, 1)};
-  const std::size_t rank = columns == 0 ? 1 : 2;
-  Handle space = simple_space(std::span<const hsize_t>(dims, rank));
+                   std::span<const hsize_t> row_shape, std::size_t chunk_rows, const void* fill) {
+  std::vector<hsize_t> dims{rows}, chunk{1};
+  hsize_t row_bytes = stored_bytes(type);
+  for (hsize_t extent : row_shape) {
+    dims.push_back(extent);
+    chunk.push_back(std::max<hsize_t>(extent, 1));
+    row_bytes *= std::max<hsize_t>(extent, 1);
+  }
+  chunk[0] = chunk_rows > 0 ? std::clamp<hsize_t>(chunk_rows, 1, std::max<hsize_t>(rows, 1))
+                            : rows_per_chunk(row_bytes, rows);
+  Handle space = simple_space(dims);
   Handle plist(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, "creating dataset properties");
   if (fill) check(H5Pset_fill_value(plist.id(), type, fill), "setting a fill value");
   if (rows > 0) {
-    const hsize_t chunk[2] = {rows_per_chunk(dims[1] * stored_bytes(type), rows), dims[1]};
-    check(H5Pset_chunk(plist.id(), static_cast<int>(rank), chunk), "setting chunks");
+    check(H5Pset_chunk(plist.id(), static_cast<int>(dims.size()), chunk.data()), "setting chunks");
     check(H5Pset_deflate(plist.id(), kRowsDeflateLevel), "setting deflate compression");
   }
   Handle access = rows_cache();
   return Handle(H5Dcreate2(parent, name.c_str(), type, space.id(), H5P_DEFAULT, plist.id(), access.id()),
                 H5Dclose, "creating dataset " + name);
-}
-
-void write_rows(hid_t dataset, hid_t type, std::size_t first_row, std::size_t rows,
-                std::size_t columns, const void* data, hid_t transfer) {
-  if (rows == 0) return;
-  Handle file_space(H5Dget_space(dataset), H5Sclose, "getting a dataspace");
-  const int rank = H5Sget_simple_extent_ndims(file_space.id());
-  const hsize_t start[2] = {first_row, 0};
-  const hsize_t count[2] = {rows, std::max<std::size_t>(columns, 1)};
-  check(H5Sselect_hyperslab(file_space.id(), H5S_SELECT_SET, start, nullptr, count, nullptr),
-        "selecting rows");
-  Handle memory_space = simple_space(std::span<const hsize_t>(count, static_cast<std::size_t>(rank)));
-  check(H5Dwrite(dataset, type, memory_space.id(), file_space.id(), transfer, data), "writing rows");
 }
 
 void keep_rows(hid_t dataset, std::size_t rows) {
@@ -253,42 +243,21 @@ void keep_rows(hid_t dataset, std::size_t rows) {
   check(H5Dset_extent(dataset, dims.data()), "cutting a dataset to the samples used");
 }
 
-Handle create_row_array(hid_t parent, const std::string& name, hid_t type, std::size_t rows,
-                        std::span<const hsize_t> row_shape, std::size_t chunk_rows) {
-  std::vector<hsize_t> dims{rows}, chunk{std::clamp<hsize_t>(chunk_rows, 1, std::max<hsize_t>(rows, 1))};
-  for (hsize_t extent : row_shape) {
-    dims.push_back(extent);
-    chunk.push_back(std::max<hsize_t>(extent, 1));
-  }
-  Handle space = simple_space(dims);
-  Handle plist(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, "creating dataset properties");
-  if (rows > 0) {
-    check(H5Pset_chunk(plist.id(), static_cast<int>(dims.size()), chunk.data()), "setting chunks");
-    check(H5Pset_deflate(plist.id(), kRowsDeflateLevel), "setting deflate compression");
-  }
-  Handle access = rows_cache();
-  return Handle(H5Dcreate2(parent, name.c_str(), type, space.id(), H5P_DEFAULT, plist.id(), access.id()),
-                H5Dclose, "creating dataset " + name);
-}
-
-void write_row_block(hid_t dataset, hid_t type, std::size_t first_row, std::size_t rows,
-                     const void* data) {
+namespace {
+void write_rows(hid_t dataset, hid_t type, std::size_t first_row, std::size_t rows, const void* data,
+                hid_t transfer) {
   if (rows == 0) return;
   Handle file_space(H5Dget_space(dataset), H5Sclose, "getting a dataspace");
-  const int rank = H5Sget_simple_extent_ndims(file_space.id());
-  std::vector<hsize_t> extent(static_cast<std::size_t>(rank)), start(extent.size(), 0);
-  H5Sget_simple_extent_dims(file_space.id(), extent.data(), nullptr);
-  extent[0] = rows;
-  start[0] = first_row;
-  check(H5Sselect_hyperslab(file_space.id(), H5S_SELECT_SET, start.data(), nullptr, extent.data(), nullptr),
-        "selecting rows");
-  Handle memory_space = simple_space(extent);
-  check(H5Dwrite(dataset, type, memory_space.id(), file_space.id(), H5P_DEFAULT, data), "writing rows");
+  const hsize_t start[1] = {first_row}, count[1] = {rows};
+  check(H5Sselect_hyperslab(file_space.id(), H5S_SELECT_SET, start, nullptr, count, nullptr), "selecting rows");
+  Handle memory_space = simple_space(count);
+  check(H5Dwrite(dataset, type, memory_space.id(), file_space.id(), transfer, data), "writing rows");
 }
+}  // namespace
 
 Handle create_string_rows(hid_t parent, const std::string& name, std::size_t rows) {
   Handle type = text_type();
-  return create_rows(parent, name, type.id(), rows, 0);
+  return create_rows(parent, name, type.id(), rows, {});
 }
 
 void write_string_rows(hid_t dataset, std::size_t first_row, const std::vector<std::string>& rows) {
@@ -301,7 +270,7 @@ void write_string_rows(hid_t dataset, std::size_t first_row, const std::vector<s
   Handle transfer(H5Pcreate(H5P_DATASET_XFER), H5Pclose, "creating transfer properties");
   check(H5Pset_buffer(transfer.id(), std::max<std::size_t>(4096, 64 * rows.size()), nullptr, nullptr),
         "sizing the conversion buffer");
-  write_rows(dataset, type.id(), first_row, rows.size(), 0, pointers.data(), transfer.id());
+  write_rows(dataset, type.id(), first_row, rows.size(), pointers.data(), transfer.id());
 }
 
 Handle write_vector(hid_t parent, const std::string& name, std::span<const double> data) {

@@ -3,6 +3,7 @@
 #include "common/hash.hpp"
 
 #include <sundials/sundials_config.h>
+#include <libdeflate.h>
 #include <unistd.h>
 
 #include <Eigen/Core>
@@ -84,6 +85,7 @@ void write_provenance(hid_t root, const RunProvenance& run) {
   H5get_libversion(&major, &minor, &release);
   h5::write_attribute(root, "hdf5_version",
                       std::to_string(major) + "." + std::to_string(minor) + "." + std::to_string(release));
+  h5::write_attribute(root, "libdeflate_version", std::string(LIBDEFLATE_VERSION_STRING));
   h5::write_attribute(root, "eigen_version", number(EIGEN_WORLD_VERSION) + "." + number(EIGEN_MAJOR_VERSION) +
                                                  "." + number(EIGEN_MINOR_VERSION));
   h5::write_attribute(root, "tomlplusplus_version",

@@ -55,7 +55,7 @@ from xdmf import write_xdmf  # noqa: E402
 
 
 PROVENANCE = ["start_utc", "end_utc", "host", "command_line", "job_path", "treedyn_version", "git_commit",
-              "build_type", "compiler", "sundials_version", "hdf5_version", "eigen_version",
+              "build_type", "compiler", "sundials_version", "hdf5_version", "libdeflate_version", "eigen_version",
               "tomlplusplus_version", "mpi_library", "ranks", "rank_hosts"]
 
 

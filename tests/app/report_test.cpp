@@ -318,7 +318,7 @@ TEST(Provenance, EveryAttributeIsThereAndNotEmpty) {
     ASSERT_TRUE(f.ok());
     for (const char* name : {"start_utc", "end_utc", "host", "command_line", "job_path", "treedyn_version",
                              "git_commit", "build_type", "compiler", "sundials_version", "hdf5_version",
-                             "eigen_version", "tomlplusplus_version", "mpi_library"}) {
+                             "libdeflate_version", "eigen_version", "tomlplusplus_version", "mpi_library"}) {
       ASSERT_TRUE(has_attribute(f.id(), name)) << name;
       EXPECT_NE(read_single_string_attribute(f.id(), name), "") << name;
     }

@@ -1,0 +1,66 @@
+// A dataset of per-sample rows of one fixed-size number type, filled as the
+// records arrive (any order, any batches): each chunk is assembled here and
+// written once, whole, when its last row is in, compressed by libdeflate
+// (deflate.hpp) and stored with H5Dwrite_chunk, HDF5's direct chunk write.
+//
+// Why: rank 0 writes every rank's records while it runs samples of its
+// own. Through H5Dwrite, HDF5 compressed each chunk with zlib, and again
+// each time a chunk left its cache with rows still to come; the selection
+// and the cache cost on top. Readers see an ordinary deflated dataset.
+#pragma once
+
+#include <cstddef>
+#include <map>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "hdf5/hdf5.hpp"
+
+namespace treedyn::h5 {
+
+class RowDataset {
+ public:
+  RowDataset() = default;
+  // Creates (rows, row_shape...) of `type` (a native number type) in
+  // `parent`, as create_rows (hdf5.hpp) does.
+  RowDataset(hid_t parent, const std::string& name, hid_t type, std::size_t rows,
+             std::span<const hsize_t> row_shape, std::size_t chunk_rows = 0, const void* fill = nullptr);
+  hid_t id() const { return set_.id(); }
+  bool exists() const { return set_.id() != H5I_INVALID_HID; }
+
+  // Rows first_row .. first_row + rows - 1, their values contiguous.
+  void write(std::size_t first_row, std::size_t rows, const void* data);
+  // Every chunk still missing rows into the file, those rows as the fill:
+  // before the file is completed. A row written later still lands.
+  void flush();
+  // Keeps rows 0 .. rows-1 (a run that ended early); flushes first.
+  void keep_rows(std::size_t rows);
+
+  // Chunks held at most, their rows still arriving (other ranks' samples in
+  // flight): beyond that the oldest is stored as it is and read back when
+  // its rows come. HDF5's cache held as many.
+  static constexpr std::size_t kHeldChunks = 4;
+  std::size_t chunks_held() const { return held_.size(); }
+
+ private:
+  struct Chunk {
+    std::vector<unsigned char> bytes;  // chunk_rows_ rows, the fill where none was written
+    std::vector<bool> written;         // which of its rows were
+    std::size_t count = 0;             // how many
+  };
+  std::size_t rows_in(std::size_t c) const;
+  Chunk& held(std::size_t c);
+  void load(std::size_t c, Chunk& chunk);
+  void store(std::size_t c, const Chunk& chunk);
+
+  Handle set_;
+  std::size_t rows_ = 0, row_bytes_ = 0, chunk_rows_ = 1, rank_ = 1;
+  std::vector<unsigned char> fill_row_;
+  std::map<std::size_t, Chunk> held_;                      // by chunk index
+  std::map<std::size_t, std::vector<bool>> stored_partly_;  // stored with rows missing: which were written
+  std::vector<bool> stored_;                               // by chunk index
+  std::vector<unsigned char> stream_;                      // the compressed chunk, reused
+};
+
+}  // namespace treedyn::h5

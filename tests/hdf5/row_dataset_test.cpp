@@ -1,0 +1,203 @@
+// RowDataset assembles chunks of rows arriving in any order and stores each
+// with H5Dwrite_chunk, compressed by libdeflate. Read back here through
+// HDF5's own deflate filter (zlib), and chunk by chunk with zlib's
+// `uncompress`: what h5py, MATLAB and h5dump do.
+#include "hdf5/row_dataset.hpp"
+
+#include <zlib.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <limits>
+#include <numeric>
+#include <random>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+namespace treedyn {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr std::size_t kColumns = 3, kChunkRows = 64;
+constexpr double kFill = -7.5;  // what a row never written reads as
+
+// Row r: a smooth column, a noisy one, a constant (rows like the per-sample ones).
+std::vector<double> row_values(std::size_t first, std::size_t rows) {
+  std::vector<double> v;
+  for (std::size_t r = first; r < first + rows; ++r) {
+    v.push_back(std::sin(0.01 * static_cast<double>(r)));
+    v.push_back(static_cast<double>((r * 2654435761u) % 1000003) / 1000003.0);
+    v.push_back(static_cast<double>(r));
+  }
+  return v;
+}
+
+class RowDatasetTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    h5::quiet_errors();
+    path_ = fs::temp_directory_path() / (std::string("treedyn_rows_") +
+                                         ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".h5");
+    file_ = h5::Handle(H5Fcreate(path_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose, "creating");
+  }
+  void TearDown() override {
+    file_.reset();
+    fs::remove(path_);
+  }
+  h5::RowDataset make(std::size_t rows, const char* name = "rows") {
+    const hsize_t shape[1] = {kColumns};
+    return h5::RowDataset(file_.id(), name, H5T_NATIVE_DOUBLE, rows, shape, kChunkRows, &kFill);
+  }
+  // The whole dataset, read through HDF5 (its deflate filter: zlib).
+  static std::vector<double> read_all(hid_t set, std::size_t rows) {
+    std::vector<double> v(rows * kColumns, std::numeric_limits<double>::quiet_NaN());
+    EXPECT_GE(H5Dread(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()), 0);
+    return v;
+  }
+  // What rows 0 .. rows-1 hold when `written` ones were written.
+  static std::vector<double> expected(std::size_t rows, const std::vector<bool>& written) {
+    std::vector<double> v = row_values(0, rows);
+    for (std::size_t r = 0; r < rows; ++r)
+      if (!written[r]) std::fill_n(v.begin() + static_cast<long>(r * kColumns), kColumns, kFill);
+    return v;
+  }
+
+  fs::path path_;
+  h5::Handle file_;
+};
+
+// Blocks of 1-40 rows in a shuffled order (other ranks' blocks arrive late),
+// some rows written twice, some never: many chunks wait at once, more than
+// are held (memory stays bounded), so some are stored with rows missing and
+// read back later.
+TEST_F(RowDatasetTest, RowsInAnyOrderReadBackAsWritten) {
+  const std::size_t rows = 2000;
+  h5::RowDataset set = make(rows);
+  std::vector<std::pair<std::size_t, std::size_t>> blocks;
+  std::mt19937 random(2026);
+  for (std::size_t first = 0; first < rows;) {
+    const std::size_t n = std::min<std::size_t>(1 + random() % 40, rows - first);
+    blocks.emplace_back(first, n);
+    first += n;
+  }
+  std::shuffle(blocks.begin(), blocks.end(), random);
+  std::vector<bool> written(rows, false);
+  for (std::size_t b = 0; b < blocks.size(); ++b) {
+    const auto [first, n] = blocks[b];
+    if (b % 17 == 5) continue;  // never written: reads as the fill
+    set.write(first, n, row_values(first, n).data());
+    std::fill_n(written.begin() + static_cast<long>(first), n, true);
+    if (b % 13 == 0) set.write(first, n, row_values(first, n).data());  // the same rows again
+    ASSERT_LE(set.chunks_held(), h5::RowDataset::kHeldChunks);
+  }
+  set.flush();
+  EXPECT_EQ(read_all(set.id(), rows), expected(rows, written));
+}
+
+// Rows that come after a flush land too (the chunk is read back, completed
+// and stored again).
+TEST_F(RowDatasetTest, RowsAfterAFlushLand) {
+  const std::size_t rows = 300;
+  h5::RowDataset set = make(rows);
+  std::vector<bool> written(rows, false);
+  for (std::size_t first = 0; first < rows; first += 20) {
+    set.write(first, 10, row_values(first, 10).data());
+    std::fill_n(written.begin() + static_cast<long>(first), 10, true);
+  }
+  set.flush();
+  EXPECT_EQ(read_all(set.id(), rows), expected(rows, written));
+  for (std::size_t first = 10; first < rows; first += 40) {
+    set.write(first, 10, row_values(first, 10).data());
+    std::fill_n(written.begin() + static_cast<long>(first), 10, true);
+  }
+  set.flush();
+  EXPECT_EQ(read_all(set.id(), rows), expected(rows, written));
+}
+
+// Every stored chunk, as h5py or MATLAB would find it: deflate applied
+// (filter mask 0), smaller than its rows, and zlib's own `uncompress` gives
+// its rows back (the last chunk padded with the fill).
+TEST_F(RowDatasetTest, EveryStoredChunkIsAZlibStreamOfItsRows) {
+  const std::size_t rows = 1000, chunks = (rows + kChunkRows - 1) / kChunkRows;
+  h5::RowDataset set = make(rows);
+  for (std::size_t first = rows; first > 0;) {  // last rows first
+    const std::size_t n = std::min<std::size_t>(first, 37);
+    first -= n;
+    set.write(first, n, row_values(first, n).data());
+  }
+  set.flush();
+  std::vector<double> padded = row_values(0, rows);
+  padded.resize(chunks * kChunkRows * kColumns, kFill);
+  for (std::size_t c = 0; c < chunks; ++c) {
+    SCOPED_TRACE("chunk " + std::to_string(c));
+    const hsize_t offset[2] = {c * kChunkRows, 0};
+    hsize_t size = 0;
+    ASSERT_GE(H5Dget_chunk_storage_size(set.id(), offset, &size), 0);
+    std::vector<unsigned char> stream(size);
+    std::uint32_t filters = ~0u;
+    ASSERT_GE(H5Dread_chunk(set.id(), H5P_DEFAULT, offset, &filters, stream.data()), 0);
+    EXPECT_EQ(filters, 0u);
+    std::vector<double> decoded(kChunkRows * kColumns);
+    uLongf decoded_bytes = decoded.size() * sizeof(double);
+    EXPECT_LT(size, decoded_bytes);
+    ASSERT_EQ(uncompress(reinterpret_cast<Bytef*>(decoded.data()), &decoded_bytes, stream.data(), size), Z_OK);
+    ASSERT_EQ(decoded_bytes, decoded.size() * sizeof(double));
+    EXPECT_TRUE(std::equal(decoded.begin(), decoded.end(), padded.begin() + static_cast<long>(c * kChunkRows * kColumns)));
+  }
+}
+
+// A run that ended early keeps its first rows; a row held in memory when
+// the cut came is in the file.
+TEST_F(RowDatasetTest, KeepRowsCutsTheRowsAndKeepsThoseHeld) {
+  const std::size_t rows = 500, kept = 230;
+  h5::RowDataset set = make(rows);
+  std::vector<bool> written(rows, false);
+  for (std::size_t first : {0, 64, 128, 200}) {
+    set.write(first, 30, row_values(first, 30).data());
+    std::fill_n(written.begin() + static_cast<long>(first), 30, true);
+  }
+  set.keep_rows(kept);
+  h5::Handle space(H5Dget_space(set.id()), H5Sclose, "space");
+  hsize_t dims[2] = {0, 0};
+  ASSERT_EQ(H5Sget_simple_extent_dims(space.id(), dims, nullptr), 2);
+  EXPECT_EQ(dims[0], kept);
+  written.resize(kept);
+  EXPECT_EQ(read_all(set.id(), kept), expected(kept, written));
+  EXPECT_THROW(set.write(kept, 1, row_values(kept, 1).data()), h5::IoError);
+}
+
+// Rows beyond the dataset, and a type whose stored bytes differ from its
+// bytes in memory, are refused, not written.
+TEST_F(RowDatasetTest, RefusesRowsPastTheEndAndConvertedTypes) {
+  h5::RowDataset set = make(100);
+  EXPECT_THROW(set.write(95, 6, row_values(95, 6).data()), h5::IoError);
+  const hsize_t shape[1] = {kColumns};
+  EXPECT_THROW(h5::RowDataset(file_.id(), "big_endian", H5T_STD_I32BE, 10, shape), h5::IoError);
+  EXPECT_EQ(H5Lexists(file_.id(), "big_endian", H5P_DEFAULT), 0);
+}
+
+// A chunk stored with rows missing that is no longer a deflate stream when
+// its rows come (a damaged file): the write fails with an error that says
+// so, not with rows of garbage.
+TEST_F(RowDatasetTest, AStoredChunkThatIsNotADeflateStreamFailsTheWrite) {
+  h5::RowDataset set = make(200);
+  set.write(0, 10, row_values(0, 10).data());
+  set.flush();
+  const std::vector<unsigned char> garbage(300, 0xA5);
+  const hsize_t offset[2] = {0, 0};
+  ASSERT_GE(H5Dwrite_chunk(set.id(), H5P_DEFAULT, 0, offset, garbage.size(), garbage.data()), 0);
+  try {
+    set.write(10, 5, row_values(10, 5).data());
+    FAIL() << "no error";
+  } catch (const h5::IoError& e) {
+    EXPECT_NE(std::string(e.what()).find("a stored chunk is not a deflate stream of 1536 bytes"), std::string::npos)
+        << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace treedyn
