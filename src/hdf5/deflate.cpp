@@ -5,7 +5,6 @@
 #include <array>
 #include <memory>
 #include <new>
-#include <stdexcept>
 #include <string>
 
 #include "hdf5/hdf5.hpp"
@@ -25,7 +24,7 @@ struct FreeDecompressor {
 // chunk. Per thread, as libdeflate asks.
 libdeflate_compressor& compressor(unsigned level) {
   thread_local std::array<std::unique_ptr<libdeflate_compressor, FreeCompressor>, 10> by_level;
-  if (level >= by_level.size()) throw std::invalid_argument("deflate level " + std::to_string(level) + ": 0-9");
+  if (level >= by_level.size()) throw IoError("deflate level " + std::to_string(level) + ": 0-9 only");
   auto& c = by_level[level];
   if (!c) c.reset(libdeflate_alloc_compressor(static_cast<int>(level)));
   if (!c) throw std::bad_alloc();
@@ -43,8 +42,11 @@ libdeflate_decompressor& decompressor() {
 void deflate(std::span<const unsigned char> bytes, unsigned level, std::vector<unsigned char>& stream) {
   libdeflate_compressor& c = compressor(level);
   stream.resize(libdeflate_zlib_compress_bound(&c, bytes.size()));
-  // Never 0 (too small) with the bound's room.
-  stream.resize(libdeflate_zlib_compress(&c, bytes.data(), bytes.size(), stream.data(), stream.size()));
+  const std::size_t written = libdeflate_zlib_compress(&c, bytes.data(), bytes.size(), stream.data(), stream.size());
+  // 0 is "did not fit", which the bound rules out: an empty stream must
+  // never reach a file as a chunk.
+  if (written == 0) throw IoError("deflate: libdeflate found no room within its own bound");
+  stream.resize(written);
 }
 
 void inflate(std::span<const unsigned char> stream, std::span<unsigned char> bytes, const char* what) {

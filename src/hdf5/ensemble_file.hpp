@@ -55,7 +55,7 @@ class EnsembleWriter {
   void create_reductions();
   void create_trajectories();
   void write_run(const std::vector<ensemble::SampleRecord>& run);
-  // Every row dataset with a chunk still held (hdf5/row_dataset.hpp).
+  // Every per-sample dataset of numbers (hdf5/row_dataset.hpp).
   std::vector<h5::RowDataset*> row_datasets();
   void write_nominal(const std::vector<double>& trajectory);
   void write_statistics(const ensemble::EnsembleStatistics& stats);

@@ -51,7 +51,9 @@ hsize_t rows_per_chunk(hsize_t row_bytes, hsize_t rows) {
 // A row dataset's chunk cache: 4 chunks, the ones whose rows are still
 // arriving (the records of other ranks' samples in flight), not HDF5's
 // default 1 MiB, which rank 0 filled for each of the 80-odd per-sample
-// datasets (+86 MB). w0 = 1: a chunk written whole leaves the cache first.
+// datasets (+86 MB) when they all went through it; now /samples/reason
+// does, and the others when HDF5 cuts them (keep_rows). w0 = 1: a chunk
+// written whole leaves the cache first.
 Handle rows_cache() {
   Handle access(H5Pcreate(H5P_DATASET_ACCESS), H5Pclose, "creating dataset access properties");
   check(H5Pset_chunk_cache(access.id(), 101, 4 * 65536, 1.0), "setting the chunk cache");

@@ -1,7 +1,9 @@
 // A dataset of per-sample rows of one fixed-size number type, filled as the
-// records arrive (any order, any batches): each chunk is assembled here and
-// written once, whole, when its last row is in, compressed by libdeflate
-// (deflate.hpp) and stored with H5Dwrite_chunk, HDF5's direct chunk write.
+// records arrive (any order, any batches): each chunk is assembled here and,
+// when its last row is in, compressed by libdeflate (deflate.hpp) and
+// stored whole with H5Dwrite_chunk, HDF5's direct chunk write. A chunk
+// stored earlier, with rows missing (too many waiting, or a flush), is read
+// back when they come.
 //
 // Why: rank 0 writes every rank's records while it runs samples of its
 // own. Through H5Dwrite, HDF5 compressed each chunk with zlib, and again
@@ -10,6 +12,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <map>
 #include <span>
 #include <string>
@@ -38,22 +41,27 @@ class RowDataset {
   void keep_rows(std::size_t rows);
 
   // Chunks held at most, their rows still arriving (other ranks' samples in
-  // flight): beyond that the oldest is stored as it is and read back when
-  // its rows come. HDF5's cache held as many.
+  // flight): beyond that the one written longest ago is stored as it is and
+  // read back when its rows come. HDF5's cache held as many.
   static constexpr std::size_t kHeldChunks = 4;
   std::size_t chunks_held() const { return held_.size(); }
+  // Chunks compressed and stored so far (each once when rows come in order).
+  std::size_t chunks_stored() const { return stores_; }
 
  private:
   struct Chunk {
     std::vector<unsigned char> bytes;  // chunk_rows_ rows, the fill where none was written
     std::vector<bool> written;         // which of its rows were
     std::size_t count = 0;             // how many
+    std::uint64_t last_write = 0;      // when, in writes to this dataset
   };
   std::size_t rows_in(std::size_t c) const;
   Chunk& held(std::size_t c);
-  void load(std::size_t c, Chunk& chunk);
+  Chunk load(std::size_t c);
   void store(std::size_t c, const Chunk& chunk);
+  void store_least_recent();
 
+  std::string name_;
   Handle set_;
   std::size_t rows_ = 0, row_bytes_ = 0, chunk_rows_ = 1, rank_ = 1;
   std::vector<unsigned char> fill_row_;
@@ -61,6 +69,8 @@ class RowDataset {
   std::map<std::size_t, std::vector<bool>> stored_partly_;  // stored with rows missing: which were written
   std::vector<bool> stored_;                               // by chunk index
   std::vector<unsigned char> stream_;                      // the compressed chunk, reused
+  std::uint64_t writes_ = 0;
+  std::size_t stores_ = 0;
 };
 
 }  // namespace treedyn::h5
