@@ -32,6 +32,22 @@ bool write_all(int fd, std::span<const char> bytes) {
   return true;
 }
 
+// The directory's own fsync: what makes a rename survive a power cut (the
+// new name is an entry in the directory, not in the file). False with
+// errno set when the disk failed; true where a directory cannot be opened
+// for reading (write and search permission are enough to create files) or
+// its file system does not flush directories (EINVAL, as some network and
+// FUSE file systems answer): nothing more can be done there.
+bool sync_directory(const fs::path& dir) {
+  const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0) return errno == EACCES;
+  const bool synced = ::fsync(fd) == 0 || errno == EINVAL || errno == EROFS;
+  const int error = errno;
+  ::close(fd);
+  errno = error;
+  return synced;
+}
+
 }  // namespace
 
 void check_output_path(const fs::path& path) {
@@ -94,6 +110,10 @@ void AtomicFile::commit(Sync sync) {
     throw FileError(path_.string() + ": cannot rename the finished file into place (" + why() + ")");
   committed_ = true;
   unregister_temporary(registration_);
+  const fs::path dir = path_.has_parent_path() ? path_.parent_path() : fs::path(".");
+  if (sync == Sync::yes && !sync_directory(dir))
+    throw FileError(path_.string() + ": in place, but its directory " + dir.string() +
+                    " could not be flushed to the disk (" + why() + "): after a power cut the file may be missing");
 }
 
 void write_file_atomically(const fs::path& path, std::span<const char> bytes, AtomicFile::Sync sync) {

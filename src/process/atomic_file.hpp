@@ -47,7 +47,9 @@ class AtomicFile {
   const std::filesystem::path& temporary() const { return temporary_; }
   // Appends (Create::here only). Throws FileError.
   void write(std::span<const char> bytes);
-  // Flushes (see Sync) and renames the temporary over the path. Throws FileError.
+  // Flushes (see Sync) and renames the temporary over the path; with
+  // Sync::yes, then flushes the directory, so the new name survives a power
+  // cut too (a failure there throws with the file in place). Throws FileError.
   void commit(Sync sync = Sync::yes);
 
  private:
