@@ -22,7 +22,6 @@ void silence_hdf5() {
   (void)done;
 }
 
-
 // Variable-length UTF-8: what h5py reads as `str` and MATLAB as a string.
 Handle text_type() {
   Handle type(H5Tcopy(H5T_C_S1), H5Tclose, "copying the string type");
