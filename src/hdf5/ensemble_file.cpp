@@ -695,11 +695,10 @@ void EnsembleWriter::finish(const EnsembleSummary& summary, const RunProvenance&
   h5::write_attribute(root, "solver", std::string(name(resolve_solver(job_.request.solver))));
   h5::write_attribute(root, "histogram_bins", static_cast<long long>(spec_.histogram_bins));
   h5::write_attribute(root, "pilot_samples", static_cast<long long>(spec_.pilot_samples));
+  for (h5::RowDataset* d : row_datasets()) *d = h5::RowDataset();
   reductions_.clear();
   reduction_groups_.clear();
   trajectories_.clear();
-  for (h5::RowDataset* d : {&inputs_, &status_, &time_reached_, &integrator_stats_, &final_state_, &responses_})
-    *d = h5::RowDataset();
   for (h5::Handle* h : {&reason_, &trajectory_group_, &samples_}) h->reset();
   file_.commit();
 }
