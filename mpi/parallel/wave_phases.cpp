@@ -78,11 +78,14 @@ void keep_after_pilot(EnsembleRun& run, SampleRecord record, std::vector<double>
 void hold_if_asked(EnsembleRun& run) {
   if (!run.hold_after || run.kept_after_pilot != *run.hold_after) return;
   if (!run.hold_unsaved) run.results.save();
+  // Released by a stop signal; a rank whose launcher died (reparented) ends
+  // as an unheld one would at its next MPI call. The launcher is read before
+  // the file says "held": a test may kill it the moment the file appears,
+  // and read after, it would already be the new parent, and the rank would
+  // hold for ever (seen once under Open MPI 5 on a loaded machine).
+  const pid_t launcher = ::getppid();
   process::write_file_atomically(run.checkpoint_dir / ("held-rank" + std::to_string(run.rank)),
                                  "pid " + std::to_string(::getpid()) + " kept " + std::to_string(run.kept) + "\n");
-  // Released by a stop signal; a rank whose launcher died (reparented) ends
-  // as an unheld one would at its next MPI call.
-  const pid_t launcher = ::getppid();
   while (process::stop_signal() == 0) {
     if (::getppid() != launcher) std::_Exit(kExitInternal);
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
