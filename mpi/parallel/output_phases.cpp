@@ -35,12 +35,13 @@ int open_checkpoint(EnsembleRun& run) {
   }
   if (run.restored || run.options.checkpoint_every <= 0.0) return kExitOk;
   ensemble::remove_checkpoint(dir);
-  std::error_code ec;
-  fs::create_directory(dir, ec);
-  if (!ec) return kExitOk;
-  std::cerr << "error: cannot create the checkpoint directory " << dir.string() << ": " << ec.message()
-            << " (or turn checkpoints off with --checkpoint-every 0)\n";
-  return kExitIo;
+  try {
+    ensemble::create_checkpoint_directory(dir);
+    return kExitOk;
+  } catch (const process::FileError& e) {
+    std::cerr << "error: " << e.what() << " (or turn checkpoints off with --checkpoint-every 0)\n";
+    return kExitIo;
+  }
 }
 
 }  // namespace

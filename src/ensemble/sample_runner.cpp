@@ -117,6 +117,7 @@ SampleRecord SampleRunner::run_inputs(std::uint64_t k, std::vector<double> input
   const std::size_t columns = layout().columns;
   const std::vector<double>& times = recorder_.times();
   reduce_columns(trajectory, times, columns, spec_.per_sample, record.reductions, reduction_scratch_);
+  record.responses.reserve(spec_.responses.size());  // one allocation, however many responses
   for (const Response& response : spec_.responses)
     record.responses.push_back(evaluate(response, trajectory, times, columns));
   if (!nominal && k < spec_.store_trajectories) record.trajectory = trajectory;

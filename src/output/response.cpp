@@ -86,11 +86,29 @@ void reduce_columns(std::span<const double> trajectory, std::span<const double> 
 
 namespace {
 
-double first_time_beyond(std::span<const double> x, std::span<const double> times, double threshold,
-                         bool above) {
+// One column of a trajectory read in place (rows of `columns` values, one
+// per output time): x[k] is its value at output time k. Read through this
+// instead of a copy, a response allocates nothing per sample.
+struct ColumnView {
+  const double* first;
+  std::size_t stride, size;
+  double operator[](std::size_t k) const { return first[k * stride]; }
+  double back() const { return (*this)[size - 1]; }
+};
+
+// The first smallest (below) or largest value, as std::min_element and
+// std::max_element find it: a NaN is never taken over the value before it.
+double first_extreme(ColumnView x, bool below) {
+  double best = x[0];
+  for (std::size_t k = 1; k < x.size; ++k)
+    if (below ? x[k] < best : best < x[k]) best = x[k];
+  return best;
+}
+
+double first_time_beyond(ColumnView x, std::span<const double> times, double threshold, bool above) {
   auto beyond = [&](double v) { return above ? v > threshold : v < threshold; };
   if (beyond(x[0])) return times[0];
-  for (std::size_t k = 1; k < x.size(); ++k) {
+  for (std::size_t k = 1; k < x.size; ++k) {
     if (!beyond(x[k])) continue;
     // x[k-1] is not beyond and x[k] is: the crossing lies in (t[k-1], t[k]].
     const double fraction = (threshold - x[k - 1]) / (x[k] - x[k - 1]);
@@ -99,7 +117,7 @@ double first_time_beyond(std::span<const double> x, std::span<const double> time
   return std::numeric_limits<double>::infinity();
 }
 
-double at_time(std::span<const double> x, std::span<const double> times, double t) {
+double at_time(ColumnView x, std::span<const double> times, double t) {
   const auto upper = std::lower_bound(times.begin(), times.end(), t);
   if (upper == times.end()) return x.back();  // only within rounding of the end (checked on reading)
   const auto k = static_cast<std::size_t>(upper - times.begin());
@@ -112,25 +130,24 @@ double at_time(std::span<const double> x, std::span<const double> times, double 
 
 double evaluate(const Response& r, std::span<const double> trajectory, std::span<const double> times,
                 std::size_t columns) {
-  std::vector<double> x(times.size());
-  for (std::size_t k = 0; k < times.size(); ++k) x[k] = trajectory[k * columns + r.column_index];
+  const ColumnView x{trajectory.data() + r.column_index, columns, times.size()};
   using Reduce = Response::Reduce;
   switch (r.reduce) {
     case Reduce::final:
       return x.back();
     case Reduce::min:
-      return *std::min_element(x.begin(), x.end());
+      return first_extreme(x, true);
     case Reduce::max:
-      return *std::max_element(x.begin(), x.end());
+      return first_extreme(x, false);
     case Reduce::mean: {
       double sum = 0.0;
-      for (double v : x) sum += v;
-      return sum / static_cast<double>(x.size());
+      for (std::size_t k = 0; k < x.size; ++k) sum += x[k];
+      return sum / static_cast<double>(x.size);
     }
     case Reduce::rms: {
       double sum = 0.0;
-      for (double v : x) sum += v * v;
-      return std::sqrt(sum / static_cast<double>(x.size()));
+      for (std::size_t k = 0; k < x.size; ++k) sum += x[k] * x[k];
+      return std::sqrt(sum / static_cast<double>(x.size));
     }
     case Reduce::at_time:
       return at_time(x, times, r.time);

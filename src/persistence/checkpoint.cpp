@@ -212,14 +212,30 @@ void RankCheckpoint::append_pending(AtomicFile::Sync sync) {
 
 void RankCheckpoint::save(const EnsembleStatistics& stats, AtomicFile::Sync sync) {
   refuse_after_failure();
-  if (saved_once_ && !has_unsaved()) return;  // the state on disk is this one
+  const bool flush = sync == AtomicFile::Sync::yes;
+  if (saved_once_ && !has_unsaved()) {  // the state on disk is this one
+    if (flush && !saved_flushed_) flush_saved();
+    return;
+  }
   if (pending_records_ > 0)
     append_pending(sync);
-  else if (sync == AtomicFile::Sync::yes && appended_records_ > saved_records_)
-    process::append_to_file(records_file(), {}, sync);  // flushes the spills
+  else if (flush && appended_records_ > flushed_records_)
+    process::append_to_file(records_file(), {}, sync);  // flushes the spills and unflushed saves
+  if (flush) flushed_records_ = appended_records_;  // fsync covers the whole file
   write_part_state(state_file(), id_, generation_, appended_bytes_, appended_records_, stats, sync);
   saved_records_ = appended_records_;
   saved_once_ = true;
+  saved_flushed_ = flush;
+}
+
+// The last save, made without a flush (a stop signal's, with SIGKILL to
+// come), flushed in place when a flushed save of the same state is asked
+// (the run's end): its records, its state and their names.
+void RankCheckpoint::flush_saved() {
+  if (appended_records_ > flushed_records_) process::flush_file(records_file());
+  process::flush_file(state_file());
+  flushed_records_ = appended_records_;
+  saved_flushed_ = true;
 }
 
 void check_records(const std::vector<SampleRecord>& records, const RecordShape& shape, const std::string& what) {
@@ -294,6 +310,14 @@ bool checkpoint_exists(const fs::path& dir) {
 
 bool checkpoint_holds_samples(const fs::path& dir) {
   return checkpoint_exists(dir) && !newest_generation(dir).second.empty();
+}
+
+void create_checkpoint_directory(const fs::path& dir) {
+  std::error_code ec;
+  if (!fs::create_directory(dir, ec))
+    throw process::FileError("cannot create the checkpoint directory " + dir.string() + ": " +
+                             (ec ? ec.message() : "it exists already"));
+  process::flush_directory(dir.has_parent_path() ? dir.parent_path() : fs::path("."));
 }
 
 void remove_checkpoint(const fs::path& dir) {

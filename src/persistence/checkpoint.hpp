@@ -66,6 +66,7 @@ class RankCheckpoint {
 
  private:
   void append_pending(process::AtomicFile::Sync sync);
+  void flush_saved();
   void refuse_after_failure() const;
   std::filesystem::path records_file() const;
   std::filesystem::path state_file() const;
@@ -78,7 +79,9 @@ class RankCheckpoint {
   std::uint64_t pending_records_ = 0;
   std::uint64_t appended_records_ = 0, appended_bytes_ = 0;  // in the records file
   std::uint64_t saved_records_ = 0;  // of those, covered by the state file
+  std::uint64_t flushed_records_ = 0;  // of those, known to be on the disk (fsync)
   bool saved_once_ = false;
+  bool saved_flushed_ = false;  // the last save reached the disk (Sync::yes)
   bool failed_ = false;  // an append failed: no further write
 };
 
@@ -133,6 +136,11 @@ bool checkpoint_exists(const std::filesystem::path& dir);
 // checkpoint that holds none (only the nominal run, or records whose rank
 // state could not be saved).
 bool checkpoint_holds_samples(const std::filesystem::path& dir);
+
+// An empty checkpoint directory, and its name in its parent flushed to the
+// disk (the files' saves flush only the directory itself). Throws
+// process::FileError.
+void create_checkpoint_directory(const std::filesystem::path& dir);
 
 // Removes the whole directory: renamed away first, so that a kill in the
 // middle leaves no half-deleted checkpoint.

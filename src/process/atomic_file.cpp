@@ -48,11 +48,13 @@ bool sync_directory(const fs::path& dir) {
   return synced;
 }
 
+fs::path directory_of(const fs::path& path) { return path.has_parent_path() ? path.parent_path() : fs::path("."); }
+
 }  // namespace
 
 void check_output_path(const fs::path& path) {
   if (path.empty()) throw FileError("output: no output file given");
-  const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
+  const fs::path dir = directory_of(path);
   std::error_code ec;
   if (!fs::is_directory(dir, ec))
     throw FileError("output " + path.string() + ": directory " + dir.string() +
@@ -110,9 +112,8 @@ void AtomicFile::commit(Sync sync) {
     throw FileError(path_.string() + ": cannot rename the finished file into place (" + why() + ")");
   committed_ = true;
   unregister_temporary(registration_);
-  const fs::path dir = path_.has_parent_path() ? path_.parent_path() : fs::path(".");
-  if (sync == Sync::yes && !sync_directory(dir))
-    throw FileError(path_.string() + ": in place, but its directory " + dir.string() +
+  if (sync == Sync::yes && !sync_directory(directory_of(path_)))
+    throw FileError(path_.string() + ": in place, but its directory " + directory_of(path_).string() +
                     " could not be flushed to the disk (" + why() + "): after a power cut the file may be missing");
 }
 
@@ -129,6 +130,22 @@ void append_to_file(const fs::path& path, std::span<const char> bytes, AtomicFil
   const std::string reason = written ? "" : why();
   if (::close(fd) != 0 || !written)
     throw FileError(path.string() + ": appending failed (" + (written ? why() : reason) + "; is the disk full?)");
+}
+
+void flush_directory(const fs::path& dir) {
+  if (!sync_directory(dir))
+    throw FileError(dir.string() + ": its entries could not be flushed to the disk (" + why() +
+                    "): after a power cut what was made in it may be missing");
+}
+
+void flush_file(const fs::path& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) throw FileError(path.string() + ": cannot open for flushing (" + why() + ")");
+  const bool synced = ::fsync(fd) == 0;
+  const std::string reason = synced ? "" : why();
+  if (::close(fd) != 0 || !synced)
+    throw FileError(path.string() + ": flushing to the disk failed (" + (synced ? why() : reason) + ")");
+  flush_directory(directory_of(path));
 }
 
 std::vector<char> read_file(const fs::path& path) {

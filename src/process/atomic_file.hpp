@@ -72,6 +72,15 @@ inline void write_file_atomically(const std::filesystem::path& path, const std::
 void append_to_file(const std::filesystem::path& path, std::span<const char> bytes,
                     AtomicFile::Sync sync = AtomicFile::Sync::yes);
 
+// A directory's entries (the names made in it) flushed to the disk, where
+// its file system does that: what makes a new name survive a power cut.
+// Throws FileError.
+void flush_directory(const std::filesystem::path& dir);
+
+// A file written earlier without a flush (Sync::no), and its name, flushed
+// to the disk now: its fsync, then its directory's. Throws FileError.
+void flush_file(const std::filesystem::path& path);
+
 // The whole file. Throws FileError.
 std::vector<char> read_file(const std::filesystem::path& path);
 // At most the first `bytes` bytes (fewer when the file is shorter).

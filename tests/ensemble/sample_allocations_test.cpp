@@ -7,7 +7,8 @@
 // allocations counted during one more run must be the same number for
 // both: operator new (the record, the recorder) and, where malloc is
 // counted (not under a sanitizer), every malloc too (the integrator's
-// set-up, SUNDIALS' own, per sample).
+// set-up, SUNDIALS' own, per sample). Likewise, a sample's allocations do
+// not grow with the number of responses evaluated on it.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -22,10 +23,27 @@
 namespace treedyn::ensemble {
 namespace {
 
+// Every kind of response, each `copies` times, on the first recorded column.
+std::vector<Response> responses_of_every_kind(int copies) {
+  std::vector<Response> out;
+  for (int copy = 0; copy < copies; ++copy)
+    for (const auto& [reduce, name] : kResponseReduceNames) {
+      Response r;
+      r.name = std::string(name) + std::to_string(copy);
+      r.reduce = reduce;
+      r.time = 5.0;
+      r.threshold = 0.1;
+      out.push_back(r);
+    }
+  return out;
+}
+
 // Allocations during sample 3's run, after runs of samples 1 and 2, with
-// every `every`-th output time of the job.
-AllocationCount allocations_of_a_sample(std::size_t every, std::size_t& times) {
+// every `every`-th output time of the job and `responses` evaluated.
+AllocationCount allocations_of_a_sample(std::size_t every, std::size_t& times,
+                                        const std::vector<Response>& responses = {}) {
   auto [job, spec] = read_ensemble_job(JobDocument::read(TREEDYN_JOBS_DIR "/spherical_pendulum.toml"));
+  spec.responses = responses;
   std::vector<double> kept;
   for (std::size_t k = 0; k < job.request.output_times.size(); k += every) kept.push_back(job.request.output_times[k]);
   job.request.output_times = kept;
@@ -36,6 +54,7 @@ AllocationCount allocations_of_a_sample(std::size_t every, std::size_t& times) {
   const SampleRecord r = runner.run(3, false, trajectory);
   const AllocationCount after;
   EXPECT_EQ(r.status, SampleStatus::ok) << r.reason;
+  EXPECT_EQ(r.responses.size(), responses.size());
   times = runner.times();
   return {after.news - before.news, after.mallocs - before.mallocs};
 }
@@ -53,6 +72,18 @@ TEST(SampleAllocations, DoNotGrowWithTheOutputTimes) {
 #if defined(TREEDYN_COUNTS_MALLOC)
   EXPECT_GT(few.mallocs, few.news) << "malloc is counted (SUNDIALS' set-up)";
   EXPECT_EQ(many.mallocs, few.mallocs) << "malloc per sample with 1001 output times against 11";
+#endif
+}
+
+TEST(SampleAllocations, DoNotGrowWithTheResponses) {
+  std::size_t times = 0;
+  const AllocationCount one_each = allocations_of_a_sample(1, times, responses_of_every_kind(1));
+  const AllocationCount four_each = allocations_of_a_sample(1, times, responses_of_every_kind(4));
+  std::printf("[          ] a sample's operator new / malloc calls: %ld / %ld with 8 responses, %ld / %ld with 32\n",
+              one_each.news, one_each.mallocs, four_each.news, four_each.mallocs);
+  EXPECT_EQ(four_each.news, one_each.news) << "operator new per sample with 32 responses against 8";
+#if defined(TREEDYN_COUNTS_MALLOC)
+  EXPECT_EQ(four_each.mallocs, one_each.mallocs) << "malloc per sample with 32 responses against 8";
 #endif
 }
 
