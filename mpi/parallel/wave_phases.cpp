@@ -328,12 +328,10 @@ int run_waves(EnsembleRun& run) {
   }
 }
 
-int stop_interrupted(EnsembleRun& run, bool resumable) {
-  const bool saved = resumable && run.results.save(Sync::no);  // the signal thread's save, or a cheap repeat
-  const bool all_saved = !any_rank(run.comm, resumable && !saved);
-  const std::uint64_t kept = sum_over_ranks(run.comm, saved ? run.results.saved_records() : 0) + run.restored_samples;
-  const int signal_number = max_over_ranks(run.comm, process::stop_signal());
-  if (run.rank != 0) return kExitInterrupted;
+namespace {
+
+// Rank 0: the temporary output removed, and what a resume will find.
+void report_interruption(EnsembleRun& run, bool resumable, bool all_saved, std::uint64_t kept, int signal_number) {
   run.records->finish_progress();
   run.writer.reset();  // removes the temporary output
   const std::string what = signal_number != 0 ? process::signal_name(signal_number) : "a signal";
@@ -351,6 +349,20 @@ int stop_interrupted(EnsembleRun& run, bool resumable) {
     std::cerr << "interrupted by " << what << " after " << kept << " of " << run.end - run.first
               << " samples; resume with --resume (checkpoint " << dir << ")\n";
   }
+}
+
+}  // namespace
+
+int stop_interrupted(EnsembleRun& run, bool resumable) {
+  const bool saved = resumable && run.results.save(Sync::no);  // the signal thread's save, or a cheap repeat
+  const bool all_saved = !any_rank(run.comm, resumable && !saved);
+  const std::uint64_t kept = sum_over_ranks(run.comm, saved ? run.results.saved_records() : 0) + run.restored_samples;
+  const int signal_number = max_over_ranks(run.comm, process::stop_signal());
+  if (run.rank == 0) report_interruption(run, resumable, all_saved, kept, signal_number);
+  // The stop's save was not flushed (SIGKILL may be seconds away); with the
+  // message out, it is flushed in place. A SIGKILL during this loses
+  // nothing: what was written outlives the process in the page cache.
+  if (saved) run.results.save(Sync::yes);
   return kExitInterrupted;
 }
 
