@@ -74,25 +74,6 @@ void RowDataset::store_least_recent() {
   held_.erase(oldest);
 }
 
-std::vector<hsize_t> RowDataset::chunk_offset(std::size_t c) const {
-  std::vector<hsize_t> offset(rank_, 0);
-  offset[0] = c * chunk_rows_;
-  return offset;
-}
-
-// From the chunk index itself: its own record of the mask is right where
-// H5Dread_chunk's is not (HDF5 1.10).
-RowDataset::StoredChunk RowDataset::stored_chunk(std::size_t c) const {
-  StoredChunk stored;
-  stored.offset = chunk_offset(c);
-  unsigned mask = 0;
-  haddr_t address = 0;
-  check(H5Dget_chunk_info_by_coord(set_.id(), stored.offset.data(), &mask, &address, &stored.bytes),
-        name_ + ": finding stored chunk " + std::to_string(c));
-  stored.deflated = (mask & 1u) == 0;
-  return stored;
-}
-
 // Chunk c in memory: held already, or read back from the file (stored
 // before its last rows came, or rewritten), or new (the fill). Added to
 // `held_` only once whole, so a failed read leaves nothing half-made.
@@ -113,19 +94,22 @@ RowDataset::Chunk& RowDataset::held(std::size_t c) {
 
 RowDataset::Chunk RowDataset::load(std::size_t c) {
   const std::string what = "HDF5: " + name_ + ": reading back chunk " + std::to_string(c);
-  const StoredChunk stored = stored_chunk(c);
-  stream_.resize(stored.bytes);
-  std::uint32_t ignored = 0;  // HDF5 1.10's H5Dread_chunk reports 0 whatever the chunk's mask
-  check(H5Dread_chunk(set_.id(), H5P_DEFAULT, stored.offset.data(), &ignored, stream_.data()),
+  std::vector<hsize_t> offset(rank_, 0);
+  offset[0] = c * chunk_rows_;
+  hsize_t size = 0;
+  check(H5Dget_chunk_storage_size(set_.id(), offset.data(), &size), name_ + ": getting a stored chunk's size");
+  stream_.resize(size);
+  std::uint32_t filters = 0;
+  check(H5Dread_chunk(set_.id(), H5P_DEFAULT, offset.data(), &filters, stream_.data()),
         name_ + ": reading a stored chunk");
   Chunk chunk;
   chunk.bytes.resize(chunk_rows_ * row_bytes_);
-  if (stored.deflated)
+  if (filters == 0)
     inflate(stream_, chunk.bytes, what.c_str());
-  else if (stored.bytes == chunk.bytes.size())
-    std::memcpy(chunk.bytes.data(), stream_.data(), stored.bytes);
+  else if (size == chunk.bytes.size())
+    std::memcpy(chunk.bytes.data(), stream_.data(), size);  // HDF5 stored it unfiltered
   else
-    throw IoError(what + ": " + std::to_string(stored.bytes) + " bytes stored unfiltered, not " +
+    throw IoError(what + ": " + std::to_string(size) + " bytes stored unfiltered, not " +
                   std::to_string(chunk.bytes.size()));
   auto partly = stored_partly_.find(c);
   if (partly != stored_partly_.end()) {
@@ -141,29 +125,14 @@ RowDataset::Chunk RowDataset::load(std::size_t c) {
   return chunk;
 }
 
-// A chunk stored before keeps its form (deflated or not): HDF5 updates a
-// chunk's filter mask only when its stored size changes.
 void RowDataset::store(std::size_t c, const Chunk& chunk) {
-  const bool deflated = stored_[c] ? stored_chunk(c).deflated : deflating_;
-  std::span<const unsigned char> bytes = chunk.bytes;
-  if (deflated) {
-    deflate(chunk.bytes, kRowsDeflateLevel, stream_);
-    bytes = stream_;
-    if (chunk.count == rows_in(c)) judge_deflate(chunk.bytes.size(), stream_.size());  // no fill flatters it
-  }
-  const std::uint32_t mask = deflated ? 0 : 1;  // bit 0: deflate (filter 0) not applied
-  check(H5Dwrite_chunk(set_.id(), H5P_DEFAULT, mask, chunk_offset(c).data(), bytes.size(), bytes.data()),
+  deflate(chunk.bytes, kRowsDeflateLevel, stream_);
+  std::vector<hsize_t> offset(rank_, 0);
+  offset[0] = c * chunk_rows_;
+  check(H5Dwrite_chunk(set_.id(), H5P_DEFAULT, 0, offset.data(), stream_.size(), stream_.data()),
         name_ + ": writing rows");
   stored_[c] = true;
   ++stores_;
-}
-
-void RowDataset::judge_deflate(std::size_t raw_bytes, std::size_t stored_bytes) {
-  if (trial_chunks_ == kTrialChunks) return;
-  trial_raw_ += raw_bytes;
-  trial_stored_ += stored_bytes;
-  if (++trial_chunks_ == kTrialChunks)
-    deflating_ = static_cast<double>(trial_stored_) < (1.0 - kWorthShrinking) * static_cast<double>(trial_raw_);
 }
 
 // Each chunk leaves `held_` as soon as it is stored: a failed store (a full
