@@ -220,7 +220,7 @@ void RankCheckpoint::save(const EnsembleStatistics& stats, AtomicFile::Sync sync
   if (pending_records_ > 0)
     append_pending(sync);
   else if (flush && appended_records_ > flushed_records_)
-    process::append_to_file(records_file(), {}, sync);  // flushes the spills and unflushed saves
+    process::flush_file(records_file());  // the spills and unflushed saves; the state's commit flushes the names
   if (flush) flushed_records_ = appended_records_;  // fsync covers the whole file
   write_part_state(state_file(), id_, generation_, appended_bytes_, appended_records_, stats, sync);
   saved_records_ = appended_records_;
@@ -234,6 +234,7 @@ void RankCheckpoint::save(const EnsembleStatistics& stats, AtomicFile::Sync sync
 void RankCheckpoint::flush_saved() {
   if (appended_records_ > flushed_records_) process::flush_file(records_file());
   process::flush_file(state_file());
+  process::flush_directory(dir_);
   flushed_records_ = appended_records_;
   saved_flushed_ = true;
 }
@@ -317,7 +318,7 @@ void create_checkpoint_directory(const fs::path& dir) {
   if (!fs::create_directory(dir, ec))
     throw process::FileError("cannot create the checkpoint directory " + dir.string() + ": " +
                              (ec ? ec.message() : "it exists already"));
-  process::flush_directory(dir.has_parent_path() ? dir.parent_path() : fs::path("."));
+  process::flush_directory(process::directory_of(dir));
 }
 
 void remove_checkpoint(const fs::path& dir) {

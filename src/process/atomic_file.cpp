@@ -48,9 +48,9 @@ bool sync_directory(const fs::path& dir) {
   return synced;
 }
 
-fs::path directory_of(const fs::path& path) { return path.has_parent_path() ? path.parent_path() : fs::path("."); }
-
 }  // namespace
+
+fs::path directory_of(const fs::path& path) { return path.has_parent_path() ? path.parent_path() : fs::path("."); }
 
 void check_output_path(const fs::path& path) {
   if (path.empty()) throw FileError("output: no output file given");
@@ -145,7 +145,6 @@ void flush_file(const fs::path& path) {
   const std::string reason = synced ? "" : why();
   if (::close(fd) != 0 || !synced)
     throw FileError(path.string() + ": flushing to the disk failed (" + (synced ? why() : reason) + ")");
-  flush_directory(directory_of(path));
 }
 
 std::vector<char> read_file(const fs::path& path) {

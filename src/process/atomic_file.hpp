@@ -72,13 +72,17 @@ inline void write_file_atomically(const std::filesystem::path& path, const std::
 void append_to_file(const std::filesystem::path& path, std::span<const char> bytes,
                     AtomicFile::Sync sync = AtomicFile::Sync::yes);
 
+// The directory a path's name lives in ("." for a bare name).
+std::filesystem::path directory_of(const std::filesystem::path& path);
+
 // A directory's entries (the names made in it) flushed to the disk, where
 // its file system does that: what makes a new name survive a power cut.
 // Throws FileError.
 void flush_directory(const std::filesystem::path& dir);
 
-// A file written earlier without a flush (Sync::no), and its name, flushed
-// to the disk now: its fsync, then its directory's. Throws FileError.
+// The content of a file written earlier without a flush (Sync::no, or
+// appended), flushed to the disk now; its name is flush_directory's.
+// Throws FileError.
 void flush_file(const std::filesystem::path& path);
 
 // The whole file. Throws FileError.
