@@ -74,6 +74,25 @@ void RowDataset::store_least_recent() {
   held_.erase(oldest);
 }
 
+std::vector<hsize_t> RowDataset::chunk_offset(std::size_t c) const {
+  std::vector<hsize_t> offset(rank_, 0);
+  offset[0] = c * chunk_rows_;
+  return offset;
+}
+
+// From the chunk index: its record of the mask is right where
+// H5Dread_chunk's is not (HDF5 1.10).
+RowDataset::StoredChunk RowDataset::stored_chunk(std::size_t c) const {
+  StoredChunk stored;
+  stored.offset = chunk_offset(c);
+  unsigned mask = 0;
+  haddr_t address = 0;
+  check(H5Dget_chunk_info_by_coord(set_.id(), stored.offset.data(), &mask, &address, &stored.bytes),
+        name_ + ": finding stored chunk " + std::to_string(c));
+  stored.deflated = (mask & 1u) == 0;
+  return stored;
+}
+
 // Chunk c in memory: held already, or read back from the file (stored
 // before its last rows came, or rewritten), or new (the fill). Added to
 // `held_` only once whole, so a failed read leaves nothing half-made.
@@ -94,22 +113,19 @@ RowDataset::Chunk& RowDataset::held(std::size_t c) {
 
 RowDataset::Chunk RowDataset::load(std::size_t c) {
   const std::string what = "HDF5: " + name_ + ": reading back chunk " + std::to_string(c);
-  std::vector<hsize_t> offset(rank_, 0);
-  offset[0] = c * chunk_rows_;
-  hsize_t size = 0;
-  check(H5Dget_chunk_storage_size(set_.id(), offset.data(), &size), name_ + ": getting a stored chunk's size");
-  stream_.resize(size);
-  std::uint32_t filters = 0;
-  check(H5Dread_chunk(set_.id(), H5P_DEFAULT, offset.data(), &filters, stream_.data()),
+  const StoredChunk stored = stored_chunk(c);
+  stream_.resize(stored.bytes);
+  std::uint32_t ignored = 0;  // HDF5 1.10's H5Dread_chunk reports mask 0 whatever the chunk's
+  check(H5Dread_chunk(set_.id(), H5P_DEFAULT, stored.offset.data(), &ignored, stream_.data()),
         name_ + ": reading a stored chunk");
   Chunk chunk;
   chunk.bytes.resize(chunk_rows_ * row_bytes_);
-  if (filters == 0)
+  if (stored.deflated)
     inflate(stream_, chunk.bytes, what.c_str());
-  else if (size == chunk.bytes.size())
-    std::memcpy(chunk.bytes.data(), stream_.data(), size);  // HDF5 stored it unfiltered
+  else if (stored.bytes == chunk.bytes.size())
+    std::memcpy(chunk.bytes.data(), stream_.data(), stored.bytes);
   else
-    throw IoError(what + ": " + std::to_string(size) + " bytes stored unfiltered, not " +
+    throw IoError(what + ": " + std::to_string(stored.bytes) + " bytes stored unfiltered, not " +
                   std::to_string(chunk.bytes.size()));
   auto partly = stored_partly_.find(c);
   if (partly != stored_partly_.end()) {
@@ -125,14 +141,63 @@ RowDataset::Chunk RowDataset::load(std::size_t c) {
   return chunk;
 }
 
+// Deflated unless the dataset's trial found deflate not worth it; the
+// chunk a cut goes through always: HDF5 rewrites that chunk (the rows past
+// the cut become the fill) through its deflate filter and, as for a direct
+// write, records the new mask only where the size changed.
 void RowDataset::store(std::size_t c, const Chunk& chunk) {
-  deflate(chunk.bytes, kRowsDeflateLevel, stream_);
-  std::vector<hsize_t> offset(rank_, 0);
-  offset[0] = c * chunk_rows_;
-  check(H5Dwrite_chunk(set_.id(), H5P_DEFAULT, 0, offset.data(), stream_.size(), stream_.data()),
-        name_ + ": writing rows");
+  const bool deflated = deflating_ || c == cut_chunk_;
+  std::span<const unsigned char> bytes = chunk.bytes;
+  if (deflated) {
+    deflate(chunk.bytes, kRowsDeflateLevel, stream_);
+    bytes = stream_;
+    if (chunk.count == chunk_rows_) judge_deflate(chunk.bytes.size(), stream_.size());  // no fill flatters it
+  }
+  write_chunk(c, bytes, deflated);
   stored_[c] = true;
   ++stores_;
+}
+
+// HDF5 (H5D__chunk_direct_write, 1.10 to 1.14) records a rewritten
+// chunk's filter mask only where its stored size changes: a chunk that
+// changes form at the same size is first written one byte shorter.
+void RowDataset::write_chunk(std::size_t c, std::span<const unsigned char> bytes, bool deflated) {
+  const std::vector<hsize_t> offset = chunk_offset(c);
+  const std::uint32_t mask = deflated ? 0 : 1;  // bit 0: deflate (filter 0) skipped
+  const StoredChunk before = stored_[c] ? stored_chunk(c) : StoredChunk{};  // a new chunk's record: mask 0
+  if (before.deflated != deflated && before.bytes == bytes.size())
+    check(H5Dwrite_chunk(set_.id(), H5P_DEFAULT, mask, offset.data(), bytes.size() - 1, bytes.data()),
+          name_ + ": writing rows");
+  check(H5Dwrite_chunk(set_.id(), H5P_DEFAULT, mask, offset.data(), bytes.size(), bytes.data()),
+        name_ + ": writing rows");
+  if (before.deflated != deflated) stale_lookup_ = true;
+}
+
+// HDF5 also keeps the record of the chunk it looked up last, and a direct
+// write leaves there the mask the chunk had before: after a chunk changed
+// form, HDF5's own reading of it (H5Dread, a cut's rewrite) could decode it
+// in the other form while the dataset stays open (a cut then wrote past its
+// buffer). Opened again, HDF5 reads each chunk's record from the chunk
+// index.
+void RowDataset::open_again() {
+  Handle file(H5Iget_file_id(set_.id()), H5Fclose, name_ + ": finding the file");
+  const ssize_t length = H5Iget_name(set_.id(), nullptr, 0);
+  if (length < 0) check(-1, name_ + ": finding the dataset's path");
+  std::string path(static_cast<std::size_t>(length) + 1, '\0');
+  if (H5Iget_name(set_.id(), path.data(), path.size()) < 0) check(-1, name_ + ": finding the dataset's path");
+  path.resize(static_cast<std::size_t>(length));
+  Handle access(H5Dget_access_plist(set_.id()), H5Pclose, name_ + ": getting the access properties");
+  check(set_.close_now(), name_ + ": closing the dataset");
+  set_ = Handle(H5Dopen2(file.id(), path.c_str(), access.id()), H5Dclose, "opening " + path + " again");
+  stale_lookup_ = false;
+}
+
+void RowDataset::judge_deflate(std::size_t raw_bytes, std::size_t stored_bytes) {
+  if (trial_chunks_ == kTrialChunks) return;
+  trial_raw_ += raw_bytes;
+  trial_stored_ += stored_bytes;
+  if (++trial_chunks_ == kTrialChunks)
+    deflating_ = static_cast<double>(trial_stored_) < (1.0 - kWorthShrinking) * static_cast<double>(trial_raw_);
 }
 
 // Each chunk leaves `held_` as soon as it is stored: a failed store (a full
@@ -143,12 +208,17 @@ void RowDataset::flush() {
     if (at->second.count < rows_in(at->first)) stored_partly_[at->first] = std::move(at->second.written);
     at = held_.erase(at);
   }
+  if (stale_lookup_) open_again();
 }
 
 void RowDataset::keep_rows(std::size_t rows) {
   if (rows >= rows_) return;
   const std::size_t chunks = (rows + chunk_rows_ - 1) / chunk_rows_;
   held_.erase(held_.lower_bound(chunks), held_.end());  // wholly past the cut: never stored
+  if (rows % chunk_rows_ != 0) {
+    cut_chunk_ = rows / chunk_rows_;
+    if (stored_[cut_chunk_] && !stored_chunk(cut_chunk_).deflated) held(cut_chunk_);  // flush stores it deflated
+  }
   flush();
   h5::keep_rows(set_.id(), rows);
   rows_ = rows;

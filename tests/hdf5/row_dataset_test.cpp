@@ -17,6 +17,7 @@
 
 #include <gtest/gtest.h>
 
+#include "hdf5/deflate.hpp"
 #include "support/command.hpp"
 
 namespace treedyn {
@@ -38,6 +39,28 @@ std::vector<double> row_values(std::size_t first, std::size_t rows) {
   return v;
 }
 
+// Rows of random numbers, like a sample's inputs or final state.
+std::vector<double> random_rows(std::size_t rows, unsigned seed) {
+  std::mt19937_64 random(seed);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  std::vector<double> values(rows * kColumns);
+  for (double& v : values) v = uniform(random);
+  return values;
+}
+
+// Chunk c as the chunk index records it: filter mask and stored bytes.
+struct IndexedChunk {
+  unsigned mask = ~0u;
+  hsize_t bytes = 0;
+};
+IndexedChunk indexed_chunk(hid_t set, hsize_t first_row) {
+  const hsize_t offset[2] = {first_row, 0};
+  IndexedChunk chunk;
+  haddr_t address = 0;
+  EXPECT_GE(H5Dget_chunk_info_by_coord(set, offset, &chunk.mask, &address, &chunk.bytes), 0);
+  return chunk;
+}
+
 class RowDatasetTest : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -46,6 +69,16 @@ class RowDatasetTest : public ::testing::Test {
     file_ = h5::Handle(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose, "creating");
   }
   void TearDown() override { file_.reset(); }
+  // Dataset `name` as a reader sees it once the writer closed the file
+  // (HDF5's chunk cache of the writer gone); the writer's sets closed first.
+  h5::Handle reopened(const char* name) {
+    reopen(H5F_ACC_RDONLY);
+    return h5::Handle(H5Dopen2(file_.id(), name, H5P_DEFAULT), H5Dclose, "opening the set");
+  }
+  void reopen(unsigned access) {
+    file_.reset();
+    file_ = h5::Handle(H5Fopen((dir_.path() / "rows.h5").c_str(), access, H5P_DEFAULT), H5Fclose, "opening");
+  }
   h5::RowDataset make(std::size_t rows, const char* name = "rows") {
     const hsize_t shape[1] = {kColumns};
     return h5::RowDataset(file_.id(), name, H5T_NATIVE_DOUBLE, rows, shape, kChunkRows, &kFill);
@@ -133,12 +166,12 @@ TEST_F(RowDatasetTest, EveryStoredChunkIsAZlibStreamOfItsRows) {
   for (std::size_t c = 0; c < chunks; ++c) {
     SCOPED_TRACE("chunk " + std::to_string(c));
     const hsize_t offset[2] = {c * kChunkRows, 0};
-    hsize_t size = 0;
-    ASSERT_GE(H5Dget_chunk_storage_size(set.id(), offset, &size), 0);
+    const IndexedChunk indexed = indexed_chunk(set.id(), offset[0]);
+    EXPECT_EQ(indexed.mask, 0u);  // deflated (HDF5 1.10's H5Dread_chunk reports 0 for any chunk)
+    const hsize_t size = indexed.bytes;
     std::vector<unsigned char> stream(size);
-    std::uint32_t filters = ~0u;
-    ASSERT_GE(H5Dread_chunk(set.id(), H5P_DEFAULT, offset, &filters, stream.data()), 0);
-    EXPECT_EQ(filters, 0u);
+    std::uint32_t ignored = 0;
+    ASSERT_GE(H5Dread_chunk(set.id(), H5P_DEFAULT, offset, &ignored, stream.data()), 0);
     std::vector<double> decoded(kChunkRows * kColumns);
     uLongf decoded_bytes = decoded.size() * sizeof(double);
     EXPECT_LT(size, decoded_bytes);
@@ -146,6 +179,154 @@ TEST_F(RowDatasetTest, EveryStoredChunkIsAZlibStreamOfItsRows) {
     ASSERT_EQ(decoded_bytes, decoded.size() * sizeof(double));
     EXPECT_TRUE(std::equal(decoded.begin(), decoded.end(), padded.begin() + static_cast<long>(c * kChunkRows * kColumns)));
   }
+}
+
+// Rows that deflate barely shrinks: after its first kTrialChunks whole
+// chunks the dataset stores the rest as they are, deflate skipped in their
+// filter mask, and HDF5's own reading (every reader's) gives the rows back
+// once flushed, also where a chunk stored so with rows missing is read
+// back and completed after HDF5 read it. Rows that shrink stay deflated.
+TEST_F(RowDatasetTest, RowsThatDeflateCannotShrinkAreStoredAsTheyAreAfterTheTrial) {
+  const std::size_t rows = 1000, chunks = (rows + kChunkRows - 1) / kChunkRows;
+  const std::vector<double> values = random_rows(rows, 17);
+  h5::RowDataset set = make(rows);
+  const std::size_t late = 9 * kChunkRows + 5;  // a row of chunk 9 that comes after a flush
+  for (std::size_t r = 0; r < rows; ++r)
+    if (r != late) set.write(r, 1, values.data() + r * kColumns);
+  EXPECT_FALSE(set.deflating());
+  set.flush();
+  std::vector<double> so_far = values;
+  std::fill_n(so_far.begin() + static_cast<long>(late * kColumns), kColumns, kFill);
+  EXPECT_EQ(read_all(set.id(), rows), so_far);
+  set.write(late, 1, values.data() + late * kColumns);  // HDF5 has chunk 9 in its cache
+  set.flush();
+  EXPECT_EQ(read_all(set.id(), rows), values);
+  for (std::size_t c = 0; c < chunks; ++c) {
+    SCOPED_TRACE("chunk " + std::to_string(c));
+    const IndexedChunk indexed = indexed_chunk(set.id(), c * kChunkRows);
+    const bool trial = c < h5::RowDataset::kTrialChunks;
+    EXPECT_EQ(indexed.mask, trial ? 0u : 1u);
+    if (!trial) {
+      EXPECT_EQ(indexed.bytes, kChunkRows * kColumns * sizeof(double));
+    }
+  }
+  h5::RowDataset shrinking = make(rows, "shrinking");
+  shrinking.write(0, rows, row_values(0, rows).data());
+  EXPECT_TRUE(shrinking.deflating());
+}
+
+// A run that stopped early (a stopping rule) is cut through a chunk of a
+// dataset that stores chunks as they are: that chunk is stored deflated
+// (ACutWhoseRewriteIsTheChunksRawSizeReadsBack says why) and reads back
+// from the closed file. The chunk stored whole (the last one stored), with
+// rows missing, and still held when the cut comes.
+TEST_F(RowDatasetTest, ACutThroughAChunkStoredAsItIs) {
+  const std::size_t rows = 1000;
+  const std::vector<double> values = random_rows(rows, 29);
+  struct Case {
+    const char* name;
+    std::size_t written, kept;  // rows 0 .. written-1 come; the cut keeps kept
+    bool flush;
+  };
+  for (const Case& cut : {Case{"whole", 640, 600, false}, Case{"rows_missing", 630, 600, true},
+                          Case{"held", 630, 600, false}}) {
+    SCOPED_TRACE(cut.name);
+    {
+      h5::RowDataset set = make(rows, cut.name);
+      set.write(0, cut.written, values.data());
+      if (cut.flush) set.flush();
+      ASSERT_FALSE(set.deflating());
+      set.keep_rows(cut.kept);
+    }
+    {
+      const h5::Handle set = reopened(cut.name);
+      EXPECT_EQ(indexed_chunk(set.id(), cut.kept / kChunkRows * kChunkRows).mask, 0u);
+      EXPECT_EQ(indexed_chunk(set.id(), (cut.kept / kChunkRows - 1) * kChunkRows).mask, 1u);
+      const std::vector<double> kept(values.begin(), values.begin() + static_cast<long>(cut.kept * kColumns));
+      EXPECT_EQ(read_all(set.id(), cut.kept), kept);
+    }
+    reopen(H5F_ACC_RDWR);
+  }
+}
+
+// Byte rows, 1024 a chunk, of random bytes: deflate cannot shrink them.
+constexpr std::size_t kByteRows = 1024;
+std::vector<unsigned char> random_bytes(std::size_t rows, unsigned seed) {
+  std::mt19937 random(seed);
+  std::vector<unsigned char> values(rows);
+  for (unsigned char& v : values) v = static_cast<unsigned char>(random());
+  return values;
+}
+
+// How many first rows of `rows`, the rest of the chunk the fill (0),
+// compress to exactly the chunk's raw size by `compress` (which gives a
+// chunk's compressed bytes); 0 where no count does.
+template <class Compress>
+std::size_t rows_deflating_to_raw_size(const std::vector<unsigned char>& rows, Compress compress) {
+  std::vector<unsigned char> chunk(kByteRows);
+  for (std::size_t n = 1; n <= kByteRows; ++n) {
+    std::fill(chunk.begin(), chunk.end(), 0);
+    std::copy_n(rows.begin(), n, chunk.begin());
+    if (compress(chunk) == kByteRows) return n;
+  }
+  return 0;
+}
+
+// HDF5 records a rewritten chunk's filter mask only where its stored size
+// changes. A chunk stored deflated during the trial with rows missing is
+// completed after the trial chose to store chunks as they are: where its
+// deflated size is its raw size, it still reads back as raw.
+TEST_F(RowDatasetTest, AChunkThatChangesFormAtTheSameSizeReadsBack) {
+  const std::vector<unsigned char> values = random_bytes(6 * kByteRows, 41);
+  std::vector<unsigned char> stream;
+  const std::size_t k = rows_deflating_to_raw_size(values, [&](const std::vector<unsigned char>& chunk) {
+    h5::deflate(chunk, h5::kRowsDeflateLevel, stream);
+    return stream.size();
+  });
+  ASSERT_NE(k, 0u) << "no first rows of chunk 0 deflate to its raw size";
+  const unsigned char fill = 0;
+  h5::RowDataset set(file_.id(), "bytes", H5T_NATIVE_UCHAR, values.size(), {}, kByteRows, &fill);
+  set.write(0, k, values.data());
+  set.flush();
+  EXPECT_EQ(indexed_chunk(set.id(), 0).mask, 0u);
+  EXPECT_EQ(indexed_chunk(set.id(), 0).bytes, kByteRows);
+  set.write(kByteRows, values.size() - kByteRows, values.data() + kByteRows);  // the trial: chunks 1 .. 4
+  ASSERT_FALSE(set.deflating());
+  set.write(k, kByteRows - k, values.data() + k);  // chunk 0 complete: stored as it is, same size
+  set.flush();
+  EXPECT_EQ(indexed_chunk(set.id(), 0).mask, 1u);
+  std::vector<unsigned char> back(values.size());
+  ASSERT_GE(H5Dread(set.id(), H5T_NATIVE_UCHAR, H5S_ALL, H5S_ALL, H5P_DEFAULT, back.data()), 0);
+  EXPECT_EQ(back, values);
+}
+
+// A cut rewrites the chunk it goes through with HDF5's own deflate filter
+// (zlib's compress2), the rows past it the fill: where that rewrite is the
+// chunk's raw size, HDF5 would keep a raw chunk's mask on a deflated one.
+// Stored deflated before the cut, the chunk reads back right.
+TEST_F(RowDatasetTest, ACutWhoseRewriteIsTheChunksRawSizeReadsBack) {
+  const std::size_t before = 5 * kByteRows;  // the trial's chunks and one stored as it is
+  const std::vector<unsigned char> values = random_bytes(7 * kByteRows, 43);
+  const std::vector<unsigned char> last(values.begin() + static_cast<long>(before), values.end());
+  const std::size_t k = rows_deflating_to_raw_size(last, [](const std::vector<unsigned char>& chunk) {
+    uLongf bytes = compressBound(chunk.size());
+    std::vector<unsigned char> stream(bytes);
+    EXPECT_EQ(compress2(stream.data(), &bytes, chunk.data(), chunk.size(), h5::kRowsDeflateLevel), Z_OK);
+    return static_cast<std::size_t>(bytes);
+  });
+  ASSERT_NE(k, 0u) << "no cut of chunk 5 rewrites it at its raw size";
+  {
+    const unsigned char fill = 0;
+    h5::RowDataset set(file_.id(), "bytes", H5T_NATIVE_UCHAR, values.size(), {}, kByteRows, &fill);
+    set.write(0, before + kByteRows, values.data());
+    ASSERT_FALSE(set.deflating());
+    set.keep_rows(before + k);
+  }
+  const h5::Handle set = reopened("bytes");
+  EXPECT_EQ(indexed_chunk(set.id(), before).mask, 0u);
+  std::vector<unsigned char> back(before + k);
+  ASSERT_GE(H5Dread(set.id(), H5T_NATIVE_UCHAR, H5S_ALL, H5S_ALL, H5P_DEFAULT, back.data()), 0);
+  EXPECT_EQ(back, std::vector<unsigned char>(values.begin(), values.begin() + static_cast<long>(before + k)));
 }
 
 // A run that ended early keeps its first rows; a row held in memory when
