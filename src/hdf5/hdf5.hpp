@@ -92,7 +92,7 @@ Handle write_scalar(hid_t parent, const std::string& name, std::uint64_t value);
 // A dataset (rows, row_shape...) of `type` created empty, filled later (by
 // RowDataset, row_dataset.hpp, or write_string_rows) as records arrive out
 // of order: chunks of `chunk_rows` whole rows (0: about 64 KiB), deflated
-// at kRowsDeflateLevel. `fill` (one value of `type`) is what a row never
+// at kRowsDeflateLevel (RowDataset skips it for a raw chunk). `fill` (one value of `type`) is what a row never
 // written reads as; HDF5's default is zero.
 Handle create_rows(hid_t parent, const std::string& name, hid_t type, std::size_t rows,
                    std::span<const hsize_t> row_shape, std::size_t chunk_rows = 0, const void* fill = nullptr);

@@ -80,8 +80,8 @@ std::vector<hsize_t> RowDataset::chunk_offset(std::size_t c) const {
   return offset;
 }
 
-// From the chunk index: its record of the mask is right where
-// H5Dread_chunk's is not (HDF5 1.10).
+// From the chunk index: H5Dread_chunk reports the mask of HDF5's record of
+// the chunk looked up last, stale after a direct write (open_again).
 RowDataset::StoredChunk RowDataset::stored_chunk(std::size_t c) const {
   StoredChunk stored;
   stored.offset = chunk_offset(c);
@@ -115,7 +115,7 @@ RowDataset::Chunk RowDataset::load(std::size_t c) {
   const std::string what = "HDF5: " + name_ + ": reading back chunk " + std::to_string(c);
   const StoredChunk stored = stored_chunk(c);
   stream_.resize(stored.bytes);
-  std::uint32_t ignored = 0;  // HDF5 1.10's H5Dread_chunk reports mask 0 whatever the chunk's
+  std::uint32_t ignored = 0;  // from HDF5's record of the last lookup: stored.deflated is right
   check(H5Dread_chunk(set_.id(), H5P_DEFAULT, stored.offset.data(), &ignored, stream_.data()),
         name_ + ": reading a stored chunk");
   Chunk chunk;
@@ -151,7 +151,8 @@ void RowDataset::store(std::size_t c, const Chunk& chunk) {
   if (deflated) {
     deflate(chunk.bytes, kRowsDeflateLevel, stream_);
     bytes = stream_;
-    if (chunk.count == chunk_rows_) judge_deflate(chunk.bytes.size(), stream_.size());  // no fill flatters it
+    if (chunk.count == chunk_rows_ && !stored_[c])  // no fill flatters it; each chunk judged once
+      judge_deflate(chunk.bytes.size(), stream_.size());
   }
   write_chunk(c, bytes, deflated);
   stored_[c] = true;
@@ -165,30 +166,30 @@ void RowDataset::write_chunk(std::size_t c, std::span<const unsigned char> bytes
   const std::vector<hsize_t> offset = chunk_offset(c);
   const std::uint32_t mask = deflated ? 0 : 1;  // bit 0: deflate (filter 0) skipped
   const StoredChunk before = stored_[c] ? stored_chunk(c) : StoredChunk{};  // a new chunk's record: mask 0
+  if (before.deflated != deflated) stale_lookup_ = true;  // before the writes: one may fail after the other
   if (before.deflated != deflated && before.bytes == bytes.size())
     check(H5Dwrite_chunk(set_.id(), H5P_DEFAULT, mask, offset.data(), bytes.size() - 1, bytes.data()),
           name_ + ": writing rows");
   check(H5Dwrite_chunk(set_.id(), H5P_DEFAULT, mask, offset.data(), bytes.size(), bytes.data()),
         name_ + ": writing rows");
-  if (before.deflated != deflated) stale_lookup_ = true;
 }
 
 // HDF5 also keeps the record of the chunk it looked up last, and a direct
 // write leaves there the mask the chunk had before: after a chunk changed
-// form, HDF5's own reading of it (H5Dread, a cut's rewrite) could decode it
-// in the other form while the dataset stays open (a cut then wrote past its
-// buffer). Opened again, HDF5 reads each chunk's record from the chunk
-// index.
+// form, HDF5's own reading of it (H5Dread, a cut's rewrite) decodes it in
+// the other form while the dataset stays open (a cut through a raw chunk
+// read it as deflated, or wrote past its buffer). Opened again, HDF5 reads
+// each chunk's record from the chunk index; that needs this to be the
+// dataset's only open id (HDF5 shares one record among them), as it is.
 void RowDataset::open_again() {
   Handle file(H5Iget_file_id(set_.id()), H5Fclose, name_ + ": finding the file");
-  const ssize_t length = H5Iget_name(set_.id(), nullptr, 0);
-  if (length < 0) check(-1, name_ + ": finding the dataset's path");
-  std::string path(static_cast<std::size_t>(length) + 1, '\0');
-  if (H5Iget_name(set_.id(), path.data(), path.size()) < 0) check(-1, name_ + ": finding the dataset's path");
-  path.resize(static_cast<std::size_t>(length));
+  std::string path(H5Iget_name(set_.id(), nullptr, 0) + 1, '\0');
+  if (path.size() < 2 || H5Iget_name(set_.id(), path.data(), path.size()) < 0)
+    throw IoError("HDF5: " + name_ + ": finding the dataset's path failed");
+  path.pop_back();
   Handle access(H5Dget_access_plist(set_.id()), H5Pclose, name_ + ": getting the access properties");
   check(set_.close_now(), name_ + ": closing the dataset");
-  set_ = Handle(H5Dopen2(file.id(), path.c_str(), access.id()), H5Dclose, "opening " + path + " again");
+  set_ = Handle(H5Dopen2(file.id(), path.c_str(), access.id()), H5Dclose, name_ + ": opening the dataset again");
   stale_lookup_ = false;
 }
 

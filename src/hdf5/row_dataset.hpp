@@ -2,13 +2,14 @@
 // records arrive (any order, any batches): each chunk is assembled here and,
 // when its last row is in, compressed by libdeflate (deflate.hpp) where
 // that pays, and stored whole with H5Dwrite_chunk, HDF5's direct chunk
-// write. A chunk stored earlier, with rows missing (too many waiting, or a flush), is read
-// back when they come.
+// write. A chunk stored earlier, with rows missing (too many waiting, or a
+// flush), is read back when they come.
 //
 // Why: rank 0 writes every rank's records while it runs samples of its
 // own. Through H5Dwrite, HDF5 compressed each chunk with zlib, and again
 // each time a chunk left its cache with rows still to come; the selection
-// and the cache cost on top. Readers see an ordinary deflated dataset.
+// and the cache cost on top. Readers see an ordinary deflated dataset,
+// some of whose chunks may be raw (deflating()).
 #pragma once
 
 #include <cstddef>
@@ -36,8 +37,8 @@ class RowDataset {
   void write(std::size_t first_row, std::size_t rows, const void* data);
   // Every chunk still missing rows into the file, those rows as the fill:
   // before the file is completed, and before HDF5 reads the dataset (its
-  // record of a chunk stored as it is is right from then on; id() may
-  // change). A row written later still lands.
+  // record of a raw chunk is right from then on; id() may change). A row
+  // written later still lands.
   void flush();
   // Keeps rows 0 .. rows-1 (a run that ended early); flushes first.
   void keep_rows(std::size_t rows);
@@ -52,11 +53,11 @@ class RowDataset {
 
   // Whether deflate pays on this dataset, judged on its first kTrialChunks
   // whole chunks: where together they shrank by less than kWorthShrinking,
-  // later chunks are stored as they are, deflate skipped in their filter
-  // mask (bit 0), as HDF5 itself stores a chunk its optional filter cannot
-  // shrink; every reader's HDF5 honours the mask. Such rows are random
-  // numbers: inputs, final states, extremes (38 of the spherical pendulum's
-  // datasets, 29.1 MB deflated to 27.3 MB for 40 % of rank 0's deflate time).
+  // later chunks are stored raw, deflate skipped in their filter mask
+  // (bit 0, which HDF5 sets where an optional filter fails); readers built
+  // on the HDF5 library honour it. Such rows are random numbers: inputs,
+  // final states, extremes (38 of the spherical pendulum's datasets, which
+  // deflate shrank by about 6 % for 40 % of rank 0's deflate time).
   static constexpr std::size_t kTrialChunks = 4;
   static constexpr double kWorthShrinking = 0.10;
   bool deflating() const { return deflating_; }
@@ -98,7 +99,7 @@ class RowDataset {
   std::size_t trial_chunks_ = 0;  // whole chunks judged so far, at most kTrialChunks
   std::uint64_t trial_raw_ = 0, trial_stored_ = 0;
   std::size_t cut_chunk_ = SIZE_MAX;  // the chunk the last cut went through: always deflated
-  bool stale_lookup_ = false;         // a chunk changed form since the dataset was opened
+  bool stale_lookup_ = false;         // a chunk stored in another form than HDF5's record (a new raw one too)
 };
 
 }  // namespace treedyn::h5
