@@ -31,6 +31,7 @@
 #include "common/bytes.hpp"
 #include "statistics/block_fold.hpp"
 #include "statistics/calibration.hpp"
+#include "statistics/huge_pages.hpp"
 
 namespace treedyn::ensemble {
 
@@ -120,7 +121,8 @@ class EnsembleStatistics {
   int lanes_ = widest_fold_lanes();
   mutable std::vector<wide> sum_, square_sum_;
   mutable std::vector<double> min_, max_;
-  mutable std::vector<std::uint32_t> counts_;        // entries x (bins + 2)
+  // entries x (bins + 2): tens of MB, touched at random by every fold
+  mutable std::vector<std::uint32_t, HugePageAllocator<std::uint32_t>> counts_;
   mutable std::vector<std::uint64_t> out_of_range_;  // values left out of the sums
   mutable std::vector<std::vector<double>> rows_;  // block_ rows of entries
   mutable std::size_t pending_samples_ = 0;
