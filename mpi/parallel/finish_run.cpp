@@ -167,7 +167,9 @@ int finish_run(EnsembleRun& run) {
       note_stale_outputs(run);  // the processes of a run killed just before this one are gone by now
     }
   }
-  return broadcast(run.comm, code);
+  code = broadcast(run.comm, code);
+  if (code != kExitOk) run.results.flush_final_save();  // what --resume has now
+  return code;
 }
 
 }  // namespace treedyn::parallel

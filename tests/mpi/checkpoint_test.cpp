@@ -530,6 +530,38 @@ TEST_F(Checkpoint, StaleTemporaryFilesOfDeadProcessesAreRemovedWithANote) {
   fs::remove(alive);
 }
 
+// The output fails at its very last step, the rename into place (EIO from
+// tests/support/fail_rename.c): exit 4 with the file named, no output and no
+// temporary, and the run's last save (RankResults::finish) holds every
+// sample: --resume restores all 64 and writes the uninterrupted run's bits.
+TEST_F(Checkpoint, AFailedFinalWriteLeavesEverySampleForResume) {
+  for (int ranks : {0, 2}) {
+    SCOPED_TRACE(describe(ranks));
+    const fs::path out = fresh_output("final_write_" + std::to_string(ranks));
+    std::vector<std::string> prefix = {"env", std::string("LD_PRELOAD=") + TREEDYN_FAIL_RENAME_LIBRARY,
+                                       "TREEDYN_TEST_FAIL_RENAME_TO=" + out.string(),
+                                       // the preloaded library comes before AddressSanitizer's
+                                       "ASAN_OPTIONS=detect_leaks=0:abort_on_error=1:verify_asan_link_order=0",
+                                       "timeout", "-k", "10", std::to_string(kTimeoutSeconds)};
+    if (ranks > 0) prefix.insert(prefix.end(), {TREEDYN_MPIEXEC, "--oversubscribe", "-np", std::to_string(ranks)});
+    const auto failed = run_command(TREEDYN_ENSEMBLE_BINARY, {job_.string(), "-o", out.string(), "-q"},
+                                    dir_.path() / "capture", prefix);
+    std::printf("[final write fails, %s] exit %d: %s", describe(ranks).c_str(), failed.exit_code, failed.err.c_str());
+    EXPECT_EQ(failed.exit_code, 4) << failed.err;
+    EXPECT_NE(failed.err.find("error: output " + out.string() + ": cannot rename the finished file into place "
+                              "(Input/output error)"),
+              std::string::npos)
+        << failed.err;
+    EXPECT_EQ(listing(out.parent_path()), std::vector<std::string>{"ensemble.h5.checkpoint"})
+        << "no output, no temporary: only the checkpoint";
+
+    const auto resumed = run_ensemble(2, job_, out, dir_.path() / "capture", {"--resume"});
+    ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+    EXPECT_EQ(restored_count(resumed.err), 64) << resumed.err;
+    expect_like_reference(out, "resumed after a failed final write, " + describe(ranks));
+  }
+}
+
 }  // namespace
 
 // A run that stops itself, killed in its second wave (and, on two ranks,
