@@ -53,7 +53,7 @@ class RowDataset {
 
   // Whether deflate pays on this dataset, judged on its first kTrialChunks
   // whole chunks: where together they shrank by less than kWorthShrinking,
-  // later chunks are stored raw, deflate skipped in their filter mask
+  // later whole chunks are stored raw, deflate skipped in their filter mask
   // (bit 0, which HDF5 sets where an optional filter fails); readers built
   // on the HDF5 library honour it. Such rows are random numbers: inputs,
   // final states, extremes (38 of the spherical pendulum's datasets, which
