@@ -143,11 +143,11 @@ RowDataset::Chunk RowDataset::load(std::size_t c) {
 
 // Deflated unless the dataset's trial found deflate not worth it. Always
 // deflated: a chunk with rows missing, or the dataset's last, shorter one,
-// since the fill in their place shrinks to nothing (stored raw, the last
-// chunks of the spherical pendulum's 31 raw datasets were 2.0 MB of a
-// 40.3 MB file); and the chunk a cut goes through: HDF5 rewrites that chunk
-// (the rows past the cut become the fill) through its deflate filter and,
-// as for a direct write, records the new mask only where the size changed.
+// since the fill in their place shrinks to nothing (stored raw, they made
+// 1.8 MB of a 40.3 MB spherical-pendulum file of 32,768 samples); and the
+// chunk a cut goes through: HDF5 rewrites that chunk (the rows past the
+// cut become the fill) through its deflate filter and, as for a direct
+// write, records the new mask only where the size changed.
 void RowDataset::store(std::size_t c, const Chunk& chunk) {
   const bool deflated = deflating_ || chunk.count < chunk_rows_ || c == cut_chunk_;
   std::span<const unsigned char> bytes = chunk.bytes;
