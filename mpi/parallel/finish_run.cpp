@@ -167,9 +167,7 @@ int finish_run(EnsembleRun& run) {
       note_stale_outputs(run);  // the processes of a run killed just before this one are gone by now
     }
   }
-  code = broadcast(run.comm, code);
-  if (code != kExitOk) run.results.flush_final_save();  // what --resume has now
-  return code;
+  return broadcast(run.comm, code);
 }
 
 }  // namespace treedyn::parallel

@@ -66,23 +66,11 @@ void RankResults::drop_checkpoint_after(const std::exception& failure) {
 
 EnsembleStatistics RankResults::finish() {
   std::lock_guard<std::mutex> guard(lock_);
-  save_locked(process::AtomicFile::Sync::no);
+  save_locked(process::AtomicFile::Sync::yes);
   finished_ = true;
   EnsembleStatistics out = std::move(*stats_);
   stats_.reset();
   return out;
-}
-
-bool RankResults::flush_final_save() {
-  std::lock_guard<std::mutex> guard(lock_);
-  if (!checkpoint_ || !finished_) return false;
-  try {
-    checkpoint_->flush();
-    return true;
-  } catch (const process::FileError& e) {
-    std::cerr << "warning: " << e.what() << "; the checkpoint stays as written, not known to be on the disk\n";
-    return false;
-  }
 }
 
 bool RankResults::checkpointing() const {

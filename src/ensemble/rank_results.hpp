@@ -51,20 +51,14 @@ class RankResults {
   // The statistics, read by the main thread between waves (the calibration).
   const EnsembleStatistics& statistics() const { return *stats_; }
 
-  // After the last wave: saves what is not saved yet, so that a failed
-  // final write leaves everything for --resume, hands the statistics over
+  // After the last wave: saves what is not saved yet (flushed, so a failed
+  // final write leaves everything for --resume), hands the statistics over
   // for the reduction, and ends the signal thread's part: keep(), save()
-  // and stop() do nothing from now on. The save is not flushed: a run that
-  // ends well removes it unread (the flush took 0.07-0.08 s of each
-  // rank's wall time at the end of every run, on the development VM's
-  // disk), and what it wrote outlives the process in the page cache; a
-  // run that fails after this flushes it with flush_final_save().
+  // and stop() do nothing from now on. Flushed although a run that ends
+  // well removes it: unflushed, a crash of the machine after its rename
+  // could leave a state naming records the disk never got, and --resume
+  // would refuse the whole checkpoint (tried in a401d31, reverted).
   EnsembleStatistics finish();
-  // After finish(), in a run that failed (no output): the last save
-  // flushed in place, so that it outlives a crash of the machine as a
-  // periodic one does. False when there is none, or the flush failed
-  // (warned; the checkpoint stays as it was written).
-  bool flush_final_save();
 
  private:
   bool save_locked(process::AtomicFile::Sync sync);

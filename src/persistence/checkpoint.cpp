@@ -228,14 +228,9 @@ void RankCheckpoint::save(const EnsembleStatistics& stats, AtomicFile::Sync sync
   saved_flushed_ = flush;
 }
 
-void RankCheckpoint::flush() {
-  refuse_after_failure();
-  if (saved_once_ && !saved_flushed_) flush_saved();
-}
-
 // The last save, made without a flush (a stop signal's, with SIGKILL to
-// come, or the run's last), flushed in place when a flushed save of the
-// same state is asked, or flush(): its records, its state and their names.
+// come), flushed in place when a flushed save of the same state is asked
+// (the run's end): its records, its state and their names.
 void RankCheckpoint::flush_saved() {
   if (appended_records_ > flushed_records_) process::flush_file(records_file());
   process::flush_file(state_file());

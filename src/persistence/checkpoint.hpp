@@ -60,9 +60,6 @@ class RankCheckpoint {
   static constexpr std::size_t kSpillBytes = std::size_t{4} << 20;
   // Throws process::FileError (the run goes on without checkpoints).
   void save(const EnsembleStatistics& stats, process::AtomicFile::Sync sync = process::AtomicFile::Sync::yes);
-  // The last save, if it was not flushed, flushed in place: its records,
-  // its state and their names. Throws process::FileError.
-  void flush();
   std::uint64_t saved_records() const { return saved_records_; }
   bool has_unsaved() const { return pending_records_ > 0 || appended_records_ > saved_records_; }
   std::size_t held_bytes() const { return pending_.size(); }

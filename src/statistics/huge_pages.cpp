@@ -14,6 +14,7 @@ std::size_t rounded_up(std::size_t bytes) { return (bytes + kAlign - 1) / kAlign
 }  // namespace
 
 void* map_huge_pages(std::size_t bytes) {
+  if (bytes > SIZE_MAX - 2 * kAlign) throw std::bad_alloc();  // the sizes below would wrap
   const std::size_t size = rounded_up(bytes);
   // One huge page more than needed, then the unaligned head and the tail
   // given back: the kernel places huge pages only at 2 MiB boundaries.

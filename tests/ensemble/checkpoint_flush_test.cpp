@@ -2,9 +2,7 @@
 // A stop signal's save is not flushed (SIGKILL may follow within seconds);
 // the run's end then asks for a flushed save of the same state, which must
 // flush what that save wrote: the records, the state and their names. The
-// run's last save (RankResults::finish) is not flushed either: it is
-// flushed only when the run fails after it. The checkpoint directory's own
-// name in its parent is flushed when it is made.
+// checkpoint directory's own name in its parent is flushed when it is made.
 // This test binary's own fsync records which file or directory each flush
 // was for, and fails them on demand.
 #include <gtest/gtest.h>
@@ -15,11 +13,9 @@
 #include <algorithm>
 #include <cerrno>
 #include <filesystem>
-#include <memory>
 #include <string>
 #include <vector>
 
-#include "ensemble/rank_results.hpp"
 #include "persistence/checkpoint.hpp"
 #include "process/atomic_file.hpp"
 #include "support/command.hpp"
@@ -151,61 +147,6 @@ TEST_F(CheckpointFlush, AFlushThatFailsIsAFileErrorAndTheStateStays) {
   const auto restored = load_checkpoint(dir_, id_, {kTimes, kColumns, kBins}, shape);
   ASSERT_TRUE(restored.has_value());
   EXPECT_EQ(restored->records.size(), 1u);
-}
-
-// The run's last save: written (a failed output write leaves every sample
-// for --resume), not flushed, since a run that ends well removes it; a run
-// that fails after it flushes it in place, once.
-TEST_F(CheckpointFlush, TheRunsLastSaveIsFlushedOnlyWhenTheRunFailsAfterIt) {
-  RankResults results;
-  results.use_checkpoint(std::make_unique<RankCheckpoint>(dir_, id_, 0, "rank0"), 1e9);
-  results.start_statistics(EnsembleStatistics(kTimes, kColumns, kBins, calibration_));
-  for (std::uint64_t k = 0; k < 3; ++k) {
-    std::vector<double> trajectory(kTimes * kColumns, 0.5 * static_cast<double>(k));
-    ASSERT_TRUE(results.keep(record(k), &trajectory));
-  }
-  EXPECT_FALSE(results.flush_final_save()) << "before finish() there is no last save";
-  const EnsembleStatistics stats = results.finish();
-  EXPECT_EQ(stats.samples(), 3u);
-  EXPECT_EQ(flushed, std::vector<std::string>{}) << "the last save is not flushed";
-  RecordShape shape;
-  shape.end = 3;
-  shape.final_state = 1;
-  const auto saved = load_checkpoint(dir_, id_, {kTimes, kColumns, kBins}, shape);
-  ASSERT_TRUE(saved.has_value());
-  EXPECT_EQ(saved->records.size(), 3u) << "the last save holds every sample kept";
-
-  EXPECT_TRUE(results.flush_final_save());  // the run failed after it
-  EXPECT_EQ(flushed, (std::vector<std::string>{records_.string(), state_.string(), dir_.string()}));
-  flushed.clear();
-  EXPECT_TRUE(results.flush_final_save());
-  EXPECT_EQ(flushed, std::vector<std::string>{}) << "flushed already: nothing to do";
-}
-
-// That flush fails (an I/O error): a warning naming the file, false, and
-// the checkpoint stays as it was written.
-TEST_F(CheckpointFlush, ALastSaveThatCannotBeFlushedIsAWarning) {
-  RankResults results;
-  results.use_checkpoint(std::make_unique<RankCheckpoint>(dir_, id_, 0, "rank0"), 1e9);
-  results.start_statistics(EnsembleStatistics(kTimes, kColumns, kBins, calibration_));
-  std::vector<double> trajectory(kTimes * kColumns, 0.5);
-  ASSERT_TRUE(results.keep(record(0), &trajectory));
-  results.finish();
-  flush_error = EIO;
-  ::testing::internal::CaptureStderr();
-  const bool flushed_ok = results.flush_final_save();
-  const std::string err = ::testing::internal::GetCapturedStderr();
-  flush_error = 0;
-  EXPECT_FALSE(flushed_ok);
-  EXPECT_EQ(err, "warning: " + records_.string() +
-                     ": flushing to the disk failed (Input/output error); the checkpoint stays as written, not "
-                     "known to be on the disk\n");
-  RecordShape shape;
-  shape.end = 1;
-  shape.final_state = 1;
-  const auto saved = load_checkpoint(dir_, id_, {kTimes, kColumns, kBins}, shape);
-  ASSERT_TRUE(saved.has_value());
-  EXPECT_EQ(saved->records.size(), 1u);
 }
 
 TEST_F(CheckpointFlush, ANewCheckpointDirectoryHasItsNameFlushedInItsParent) {

@@ -63,6 +63,7 @@ struct Launch {
   bool unsaved = false;  // TREEDYN_TEST_HOLD_UNSAVED: only a signal's save reaches the disk
   std::vector<std::string> wrapper;
   bool pty = false;
+  std::vector<std::string> environment;  // NAME=VALUE words for the launch (io_faults)
 };
 
 Launch held_run(int ranks, std::vector<std::string> extra, int hold, bool unsaved = false) {
@@ -87,6 +88,7 @@ class Background {
     std::string line = "exec env " + launcher_environment(launch.ranks > 0);
     if (launch.hold) line += " TREEDYN_TEST_HOLD_AFTER=" + std::to_string(*launch.hold);
     if (launch.unsaved) line += " TREEDYN_TEST_HOLD_UNSAVED=1";
+    for (const auto& e : launch.environment) line += " " + quote(e);
     for (const auto& w : launch.wrapper) line += " " + quote(w);
     line += launch.pty ? " script -qec " + quote(command) + " /dev/null" : " " + command;
     line += launch.pty ? "" : " </dev/null";
@@ -180,15 +182,65 @@ std::string command_line(const fs::path& process) {
   }
 }
 
-// No process of ours mentions `out` any more (orphaned ranks of a killed
-// mpirun finish dying).
-bool no_process_writes(const fs::path& out) {
+// The processes whose command line mentions `out`: the run's mpirun and
+// ranks (orphaned ranks of a killed mpirun finish dying).
+std::vector<pid_t> processes_writing(const fs::path& out) {
+  std::vector<pid_t> pids;
   for (const auto& entry : fs::directory_iterator("/proc")) {
     const std::string name = entry.path().filename().string();
     if (name.find_first_not_of("0123456789") != std::string::npos) continue;
-    if (command_line(entry.path()).find(out.string()) != std::string::npos) return false;
+    if (command_line(entry.path()).find(out.string()) != std::string::npos) pids.push_back(std::stoi(name));
   }
-  return true;
+  return pids;
+}
+bool no_process_writes(const fs::path& out) { return processes_writing(out).empty(); }
+
+// Waits until no process writes `out`. False when some still do after the
+// wait: those are killed (SIGKILL), so that a failed test leaves no rank
+// running into the next ones.
+bool run_is_gone(const fs::path& out) {
+  if (wait_for([&] { return no_process_writes(out); })) return true;
+  for (pid_t pid : processes_writing(out)) ::kill(pid, SIGKILL);
+  return false;
+}
+
+// `env` words that preload tests/support/io_faults.c into a run: every
+// fsync logged into `fsync_log`, and a rename onto `fail_rename` (if given)
+// failing with EIO. The preloaded library comes before AddressSanitizer's.
+std::vector<std::string> io_faults(const fs::path& fsync_log, const fs::path& fail_rename = {}) {
+  std::vector<std::string> words = {std::string("LD_PRELOAD=") + TREEDYN_IO_FAULTS_LIBRARY,
+                                    "TREEDYN_TEST_FSYNC_LOG=" + fsync_log.string(),
+                                    "ASAN_OPTIONS=detect_leaks=0:abort_on_error=1:verify_asan_link_order=0"};
+  if (!fail_rename.empty()) words.push_back("TREEDYN_TEST_FAIL_RENAME_TO=" + fail_rename.string());
+  return words;
+}
+
+// The lines of an fsync log (io_faults): what was flushed, in order.
+std::vector<std::string> flushed_paths(const fs::path& fsync_log) {
+  std::vector<std::string> paths;
+  std::istringstream lines(fs::exists(fsync_log) ? read_text(fsync_log) : "");
+  for (std::string line; std::getline(lines, line);) paths.push_back(line);
+  return paths;
+}
+
+// Where in `paths` rank r's state (part-G-rankR.state, or its temporary
+// .state.tmp-PID) was flushed last: a flushed save flushes its temporary
+// before the rename, a stop's save is flushed in place. -1 when never.
+long state_flushed_at(const std::vector<std::string>& paths, int rank) {
+  long at = -1;
+  for (std::size_t k = 0; k < paths.size(); ++k) {
+    const std::string name = fs::path(paths[k]).filename().string();
+    if (name.rfind("part-", 0) == 0 && name.find("-rank" + std::to_string(rank) + ".state") != std::string::npos)
+      at = static_cast<long>(k);
+  }
+  return at;
+}
+
+// Every rank of a run of `ranks` (0: alone) flushed its state.
+void expect_each_rank_flushed_its_state(const fs::path& fsync_log, int ranks) {
+  const std::vector<std::string> paths = flushed_paths(fsync_log);
+  for (int r = 0; r < std::max(ranks, 1); ++r)
+    EXPECT_GE(state_flushed_at(paths, r), 0) << "rank " << r << "; flushed: " << ::testing::PrintToString(paths);
 }
 
 std::vector<std::string> listing(const fs::path& dir) {
@@ -347,7 +399,7 @@ TEST_F(Checkpoint, KillNineOfMpirunOrOfOneRankThenResumeOnOtherRankCountsIsBitwi
       std::printf("[%s] killed run: exit %d\n", c.what, code);
       ASSERT_NE(code, 0) << "the run finished before the kill: the case tests nothing";
     }
-    ASSERT_TRUE(wait_for([&] { return no_process_writes(out); })) << "processes of the killed run live on";
+    ASSERT_TRUE(run_is_gone(out)) << "processes of the killed run live on";
     EXPECT_FALSE(fs::exists(out)) << "a killed run must not leave the output";
     const std::vector<fs::path> left = temporaries({out.parent_path(), ckpt});
     const auto r = run_ensemble(c.resume_ranks, job_, out, dir_.path() / "capture", {"--resume", "--checkpoint-every", "0.2"});
@@ -379,7 +431,7 @@ TEST_F(Checkpoint, AResumedRunKilledAgainResumesAgain) {
     await_held(ckpt, 2, run);
     ::kill(run.pid(), SIGKILL);
     ASSERT_NE(run.wait(), 0);
-    ASSERT_TRUE(wait_for([&] { return no_process_writes(out); }));
+    ASSERT_TRUE(run_is_gone(out));
   }
   EXPECT_TRUE(fs::exists(ckpt / "base-1.state")) << "the first resume consolidated nothing";
   const auto r = run_ensemble(3, job_, out, dir_.path() / "capture", {"--resume"});
@@ -409,6 +461,8 @@ void Checkpoint::expect_clean_stop(const SignalCase& c, int index) {
   Launch launch = held_run(c.ranks, kRarely, 4, true);
   if (c.to == SignalCase::To::timeout) launch.wrapper = c.timeout_words;
   launch.pty = c.to == SignalCase::To::terminal;
+  const fs::path fsync_log = dir_.path() / ("fsyncs_signal" + std::to_string(index));
+  launch.environment = io_faults(fsync_log);
   Background run(job_, out, launch, dir_.path() / "capture_bg");
   await_held(ckpt, std::max(c.ranks, 1), run);
   if (c.to == SignalCase::To::ranks)
@@ -430,7 +484,10 @@ void Checkpoint::expect_clean_stop(const SignalCase& c, int index) {
     EXPECT_EQ(code, c.exit_code) << err;
   else
     EXPECT_NE(code, 0) << err;
-  ASSERT_TRUE(wait_for([&] { return no_process_writes(out); })) << "processes of the stopped run live on";
+  ASSERT_TRUE(run_is_gone(out)) << "processes of the stopped run live on";
+  // The stop's save, made without a flush, flushed in place by every rank
+  // once rank 0's message is out (unless the launcher cut the job short).
+  if (!c.launcher_ends_job) expect_each_rank_flushed_its_state(fsync_log, c.ranks);
   // Nothing half-written: only the checkpoint directory (and the temporaries
   // of a save the launcher cut, where it may).
   const bool may_cut = c.launcher_ends_job && launcher_may_cut_the_save();
@@ -490,7 +547,7 @@ TEST_F(Checkpoint, ACheckpointOfAnotherJobIsRefusedAndAFreshRunDoesNotOverwriteO
     ::kill(run.pid(), SIGKILL);
     run.wait();
   }
-  ASSERT_TRUE(wait_for([&] { return no_process_writes(out); }));
+  ASSERT_TRUE(run_is_gone(out));
   // Another job (one changed number): exit 2, the checkpoint kept.
   const fs::path other = dir_.path() / "other.toml";
   std::string text = read_text(job_);
@@ -531,21 +588,25 @@ TEST_F(Checkpoint, StaleTemporaryFilesOfDeadProcessesAreRemovedWithANote) {
 }
 
 // The output fails at its very last step, the rename into place (EIO from
-// tests/support/fail_rename.c): exit 4 with the file named, no output and no
-// temporary, and the run's last save (RankResults::finish) holds every
-// sample: --resume restores all 64 and writes the uninterrupted run's bits.
+// tests/support/io_faults.c): exit 4 with the file named, no output and no
+// temporary, and the run's last save (RankResults::finish), flushed on
+// every rank, holds every sample: --resume restores all 64 and writes the
+// uninterrupted run's bits. In a run that ends well, too, every rank's last
+// save reaches the disk before the output does.
 TEST_F(Checkpoint, AFailedFinalWriteLeavesEverySampleForResume) {
+  const auto launch = [&](int ranks, const fs::path& out, const fs::path& fsync_log, const fs::path& fail_rename) {
+    std::vector<std::string> prefix = io_faults(fsync_log, fail_rename);
+    prefix.insert(prefix.begin(), "env");
+    prefix.insert(prefix.end(), {"timeout", "-k", "10", std::to_string(kTimeoutSeconds)});
+    if (ranks > 0) prefix.insert(prefix.end(), {TREEDYN_MPIEXEC, "--oversubscribe", "-np", std::to_string(ranks)});
+    return run_command(TREEDYN_ENSEMBLE_BINARY, {job_.string(), "-o", out.string(), "-q"}, dir_.path() / "capture",
+                       prefix);
+  };
   for (int ranks : {0, 2}) {
     SCOPED_TRACE(describe(ranks));
     const fs::path out = fresh_output("final_write_" + std::to_string(ranks));
-    std::vector<std::string> prefix = {"env", std::string("LD_PRELOAD=") + TREEDYN_FAIL_RENAME_LIBRARY,
-                                       "TREEDYN_TEST_FAIL_RENAME_TO=" + out.string(),
-                                       // the preloaded library comes before AddressSanitizer's
-                                       "ASAN_OPTIONS=detect_leaks=0:abort_on_error=1:verify_asan_link_order=0",
-                                       "timeout", "-k", "10", std::to_string(kTimeoutSeconds)};
-    if (ranks > 0) prefix.insert(prefix.end(), {TREEDYN_MPIEXEC, "--oversubscribe", "-np", std::to_string(ranks)});
-    const auto failed = run_command(TREEDYN_ENSEMBLE_BINARY, {job_.string(), "-o", out.string(), "-q"},
-                                    dir_.path() / "capture", prefix);
+    const fs::path failed_log = dir_.path() / ("fsyncs_failed_" + std::to_string(ranks));
+    const auto failed = launch(ranks, out, failed_log, out);
     std::printf("[final write fails, %s] exit %d: %s", describe(ranks).c_str(), failed.exit_code, failed.err.c_str());
     EXPECT_EQ(failed.exit_code, 4) << failed.err;
     EXPECT_NE(failed.err.find("error: output " + out.string() + ": cannot rename the finished file into place "
@@ -554,11 +615,27 @@ TEST_F(Checkpoint, AFailedFinalWriteLeavesEverySampleForResume) {
         << failed.err;
     EXPECT_EQ(listing(out.parent_path()), std::vector<std::string>{"ensemble.h5.checkpoint"})
         << "no output, no temporary: only the checkpoint";
+    expect_each_rank_flushed_its_state(failed_log, ranks);
 
     const auto resumed = run_ensemble(2, job_, out, dir_.path() / "capture", {"--resume"});
     ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
     EXPECT_EQ(restored_count(resumed.err), 64) << resumed.err;
     expect_like_reference(out, "resumed after a failed final write, " + describe(ranks));
+
+    const fs::path well = fresh_output("ends_well_" + std::to_string(ranks));
+    const fs::path well_log = dir_.path() / ("fsyncs_well_" + std::to_string(ranks));
+    ASSERT_EQ(launch(ranks, well, well_log, {}).exit_code, 0);
+    EXPECT_EQ(listing(well.parent_path()), std::vector<std::string>{"ensemble.h5"});
+    const std::vector<std::string> paths = flushed_paths(well_log);
+    const auto output = std::find_if(paths.begin(), paths.end(), [&](const std::string& p) {
+      return fs::path(p).parent_path() == well.parent_path() && fs::path(p).filename().string().rfind("ensemble.h5.tmp-", 0) == 0;
+    });
+    ASSERT_NE(output, paths.end()) << "the output is flushed: " << ::testing::PrintToString(paths);
+    for (int r = 0; r < std::max(ranks, 1); ++r) {
+      const long state = state_flushed_at(paths, r);
+      EXPECT_GE(state, 0) << "rank " << r;
+      EXPECT_LT(state, output - paths.begin()) << "rank " << r << ": its last save reaches the disk after the output";
+    }
   }
 }
 
@@ -590,7 +667,7 @@ TEST_F(Checkpoint, AStoppingRunKilledMidWayResumesToTheSameStop) {
       ::kill(run.pid(), SIGKILL);
       ASSERT_NE(run.wait(), 0) << "the run finished before the kill: the case tests nothing";
     }
-    ASSERT_TRUE(wait_for([&] { return no_process_writes(out); })) << "processes of the killed run live on";
+    ASSERT_TRUE(run_is_gone(out)) << "processes of the killed run live on";
     const auto r = run_ensemble(c.resume_ranks, job, out, dir_.path() / "capture", {"--resume"});
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_EQ(restored_count(r.err), 32 + std::max(c.ranks, 1) * c.hold) << r.err;
@@ -620,7 +697,7 @@ TEST_F(Checkpoint, ASubsetSimulationKilledInsideAChainResumesToTheSameLevels) {
     ::kill(run.pid(), SIGKILL);
     ASSERT_NE(run.wait(), 0) << "the run finished before the kill: the case tests nothing";
   }
-  ASSERT_TRUE(wait_for([&] { return no_process_writes(out); })) << "processes of the killed run live on";
+  ASSERT_TRUE(run_is_gone(out)) << "processes of the killed run live on";
   const auto r = run_ensemble(2, job, out, dir_.path() / "capture", {"--resume"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(restored_count(r.err), 32 + kHold) << r.err;

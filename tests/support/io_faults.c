@@ -1,0 +1,54 @@
+// A disk seen and failed from inside a run, for tests (LD_PRELOAD into
+// treedyn-ensemble, alone or with mpirun and its ranks):
+//   TREEDYN_TEST_FAIL_RENAME_TO=PATH   rename() onto PATH fails with EIO, so
+//       a test fails an ensemble's output at its very last step while its
+//       checkpoint, on the same disk, is written as usual;
+//   TREEDYN_TEST_FSYNC_LOG=FILE        each fsync() appends the path of the
+//       file or directory it flushes to FILE, one line each (O_APPEND: the
+//       lines of several processes do not mix), then flushes it.
+// Every other call is the C library's.
+#define _GNU_SOURCE
+#include <dlfcn.h>
+#include <errno.h>
+#include <fcntl.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+// The C library's function, as an object pointer: callers copy it into a
+// function pointer (ISO C has no cast from one to the other).
+static void* next_symbol(const char* name) { return dlsym(RTLD_NEXT, name); }
+
+int rename(const char* from, const char* to) {
+  const char* failing = getenv("TREEDYN_TEST_FAIL_RENAME_TO");
+  if (failing != NULL && to != NULL && strcmp(to, failing) == 0) {
+    errno = EIO;
+    return -1;
+  }
+  void* symbol = next_symbol("rename");
+  int (*real)(const char*, const char*) = NULL;
+  memcpy(&real, &symbol, sizeof real);
+  return real(from, to);
+}
+
+int fsync(int fd) {
+  const int saved = errno;
+  const char* log = getenv("TREEDYN_TEST_FSYNC_LOG");
+  if (log != NULL) {
+    char link[64], path[4097];
+    snprintf(link, sizeof link, "/proc/self/fd/%d", fd);
+    const ssize_t n = readlink(link, path, sizeof path - 1);
+    const int out = n > 0 ? open(log, O_WRONLY | O_APPEND | O_CREAT | O_CLOEXEC, 0644) : -1;
+    if (out >= 0) {
+      path[n] = '\n';
+      if (write(out, path, (size_t)n + 1) < 0) { /* a test's log: nothing to do */ }
+      close(out);
+    }
+  }
+  errno = saved;
+  void* symbol = next_symbol("fsync");
+  int (*real)(int) = NULL;
+  memcpy(&real, &symbol, sizeof real);
+  return real(fd);
+}
