@@ -71,6 +71,7 @@ constexpr const char* memory_advice =
 // the writer, and a checkpoint directory that no resume could restore a
 // sample from goes too.
 int abandon(EnsembleRun& run, int code) {
+  run.results.await_final_save();  // a failure after the last wave: its save first
   if (run.rank == 0) {
     run.writer.reset();
     try {

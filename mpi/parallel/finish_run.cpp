@@ -162,12 +162,15 @@ int finish_run(EnsembleRun& run) {
     run.records->finish_progress();
     run.records->write_held();
     code = run.options.part() ? write_part(run, stats) : write_ensemble(run, stats, summary, provenance);
+    run.results.await_final_save();  // on the disk before the checkpoint goes, or is all that is left
     if (code == kExitOk) {
       ensemble::remove_checkpoint(run.checkpoint_dir);
       note_stale_outputs(run);  // the processes of a run killed just before this one are gone by now
     }
   }
-  return broadcast(run.comm, code);
+  code = broadcast(run.comm, code);
+  run.results.await_final_save();  // the other ranks': done while rank 0 wrote, as a rule
+  return code;
 }
 
 }  // namespace treedyn::parallel

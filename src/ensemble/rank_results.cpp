@@ -1,6 +1,7 @@
 #include "ensemble/rank_results.hpp"
 
 #include <iostream>
+#include <system_error>
 
 namespace treedyn::ensemble {
 
@@ -66,12 +67,43 @@ void RankResults::drop_checkpoint_after(const std::exception& failure) {
 
 EnsembleStatistics RankResults::finish() {
   std::lock_guard<std::mutex> guard(lock_);
-  save_locked(process::AtomicFile::Sync::yes);
+  if (checkpoint_ && stats_ && !finished_) {
+    try {
+      checkpoint_->prepare_save(*stats_);
+      try {
+        final_save_ = std::thread([this] {
+          std::lock_guard<std::mutex> committing(lock_);  // taken once finish() returns
+          commit_final_save();
+        });
+      } catch (const std::system_error&) {  // no thread to be had: here and now
+        commit_final_save();
+      }
+    } catch (const std::exception& e) {
+      drop_checkpoint_after(e);
+    }
+  }
   finished_ = true;
   EnsembleStatistics out = std::move(*stats_);
   stats_.reset();
   return out;
 }
+
+// Under the lock.
+void RankResults::commit_final_save() {
+  if (!checkpoint_) return;
+  try {
+    checkpoint_->commit_prepared();
+    last_save_ = std::chrono::steady_clock::now();
+  } catch (const std::exception& e) {
+    drop_checkpoint_after(e);
+  }
+}
+
+void RankResults::await_final_save() {
+  if (final_save_.joinable()) final_save_.join();
+}
+
+RankResults::~RankResults() { await_final_save(); }
 
 bool RankResults::checkpointing() const {
   std::lock_guard<std::mutex> guard(lock_);

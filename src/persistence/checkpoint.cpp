@@ -59,19 +59,26 @@ std::vector<SampleRecord> read_frames(const fs::path& path, std::uint64_t bytes)
 
 // --- State files ----------------------------------------------------------
 
-// A part's (or a base's) state: generation, records bytes and count, statistics.
+// A part's (or a base's) state: generation, records bytes and count,
+// statistics; in its temporary, to be committed.
+std::unique_ptr<StateFileWriter> part_state(const fs::path& path, const RunIdentity& id, std::uint64_t generation,
+                                            std::uint64_t records_bytes, std::uint64_t records_count,
+                                            const EnsembleStatistics& stats) {
+  auto file = std::make_unique<StateFileWriter>(path, StateKind::part, id);
+  file->out().put(generation);
+  file->out().put(records_bytes);
+  file->out().put(records_count);
+  for (std::size_t piece = 0; piece < stats.state_pieces(); ++piece) {
+    stats.write_state_piece(piece, file->out());
+    file->flush_if_large();
+  }
+  return file;
+}
+
 void write_part_state(const fs::path& path, const RunIdentity& id, std::uint64_t generation,
                       std::uint64_t records_bytes, std::uint64_t records_count, const EnsembleStatistics& stats,
                       AtomicFile::Sync sync) {
-  StateFileWriter file(path, StateKind::part, id);
-  file.out().put(generation);
-  file.out().put(records_bytes);
-  file.out().put(records_count);
-  for (std::size_t piece = 0; piece < stats.state_pieces(); ++piece) {
-    stats.write_state_piece(piece, file.out());
-    file.flush_if_large();
-  }
-  file.commit(sync);
+  part_state(path, id, generation, records_bytes, records_count, stats)->commit(sync);
 }
 
 // Adds a part's statistics into `total`; returns its records.
@@ -226,6 +233,29 @@ void RankCheckpoint::save(const EnsembleStatistics& stats, AtomicFile::Sync sync
   saved_records_ = appended_records_;
   saved_once_ = true;
   saved_flushed_ = flush;
+}
+
+void RankCheckpoint::prepare_save(const EnsembleStatistics& stats) {
+  refuse_after_failure();
+  if (saved_once_ && !has_unsaved()) return;  // the state on disk is this one: commit_prepared() flushes it
+  if (pending_records_ > 0) append_pending(AtomicFile::Sync::no);
+  prepared_ = part_state(state_file(), id_, generation_, appended_bytes_, appended_records_, stats);
+  prepared_records_ = appended_records_;
+}
+
+void RankCheckpoint::commit_prepared() {
+  refuse_after_failure();
+  if (!prepared_) {
+    if (saved_once_ && !saved_flushed_) flush_saved();
+    return;
+  }
+  const std::unique_ptr<StateFileWriter> state = std::move(prepared_);  // a failure removes its temporary
+  if (prepared_records_ > flushed_records_) process::flush_file(records_file());  // before the state names them
+  flushed_records_ = prepared_records_;
+  state->commit(AtomicFile::Sync::yes);
+  saved_records_ = prepared_records_;
+  saved_once_ = true;
+  saved_flushed_ = true;
 }
 
 // The last save, made without a flush (a stop signal's, with SIGKILL to

@@ -25,6 +25,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
@@ -60,6 +61,14 @@ class RankCheckpoint {
   static constexpr std::size_t kSpillBytes = std::size_t{4} << 20;
   // Throws process::FileError (the run goes on without checkpoints).
   void save(const EnsembleStatistics& stats, process::AtomicFile::Sync sync = process::AtomicFile::Sync::yes);
+  // A flushed save in two steps, the second free to run on another thread
+  // while `stats` change (RankResults::finish): prepare_save() appends the
+  // records and writes the state into its temporary, without a flush;
+  // commit_prepared() flushes the records, then the state, renames it into
+  // place and flushes the directory, as save() does at once. A prepared
+  // save not committed leaves no trace. Both throw process::FileError.
+  void prepare_save(const EnsembleStatistics& stats);
+  void commit_prepared();
   std::uint64_t saved_records() const { return saved_records_; }
   bool has_unsaved() const { return pending_records_ > 0 || appended_records_ > saved_records_; }
   std::size_t held_bytes() const { return pending_.size(); }
@@ -83,6 +92,8 @@ class RankCheckpoint {
   bool saved_once_ = false;
   bool saved_flushed_ = false;  // the last save reached the disk (Sync::yes)
   bool failed_ = false;  // an append failed: no further write
+  std::unique_ptr<StateFileWriter> prepared_;  // prepare_save()'s state, in its temporary
+  std::uint64_t prepared_records_ = 0;         // the records it covers
 };
 
 // What every record of a job must look like: loading refuses any other (a

@@ -13,9 +13,11 @@
 #include <algorithm>
 #include <cerrno>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "ensemble/rank_results.hpp"
 #include "persistence/checkpoint.hpp"
 #include "process/atomic_file.hpp"
 #include "support/command.hpp"
@@ -74,6 +76,20 @@ class CheckpointFlush : public ::testing::Test {
     r.time_reached = 1.0;
     r.final_state = {static_cast<double>(k)};
     return r;
+  }
+  // How many records the checkpoint restores (samples 0 .. end-1 allowed).
+  std::size_t records_restored(std::uint64_t end) const {
+    RecordShape shape;
+    shape.end = end;
+    shape.final_state = 1;
+    const auto restored = load_checkpoint(dir_, id_, {kTimes, kColumns, kBins}, shape);
+    EXPECT_TRUE(restored.has_value());
+    return restored ? restored->records.size() : 0;
+  }
+  // A rank's results with this checkpoint (saved only when asked) and statistics.
+  void start(RankResults& results) const {
+    results.use_checkpoint(std::make_unique<RankCheckpoint>(dir_, id_, 0, "rank0"), 1e9);
+    results.start_statistics(EnsembleStatistics(kTimes, kColumns, kBins, calibration_));
   }
   void keep(RankCheckpoint& checkpoint, EnsembleStatistics& stats, std::uint64_t k) {
     stats.add_sample(std::vector<double>(kTimes * kColumns, 0.5 * static_cast<double>(k)));
@@ -141,12 +157,55 @@ TEST_F(CheckpointFlush, AFlushThatFailsIsAFileErrorAndTheStateStays) {
   }
   flush_error = 0;
   EXPECT_TRUE(fs::is_regular_file(state_));
-  RecordShape shape;
-  shape.end = 1;
-  shape.final_state = 1;
-  const auto restored = load_checkpoint(dir_, id_, {kTimes, kColumns, kBins}, shape);
-  ASSERT_TRUE(restored.has_value());
-  EXPECT_EQ(restored->records.size(), 1u);
+  EXPECT_EQ(records_restored(1), 1u);
+}
+
+// The run's last save (RankResults::finish): written at once, flushed and
+// renamed on a thread of its own while the statistics go on; once awaited,
+// the records, then the state's temporary, then the directory were flushed,
+// and the state holds every sample kept.
+TEST_F(CheckpointFlush, TheRunsLastSaveIsFlushedOnItsOwnThreadRecordsFirst) {
+  RankResults results;
+  start(results);
+  for (std::uint64_t k = 0; k < 3; ++k) {
+    std::vector<double> trajectory(kTimes * kColumns, 0.5 * static_cast<double>(k));
+    ASSERT_TRUE(results.keep(record(k), &trajectory));
+  }
+  EnsembleStatistics stats = results.finish();
+  stats.add_sample(std::vector<double>(kTimes * kColumns, 9.0));  // the reduction's work goes on meanwhile
+  results.await_final_save();
+  ASSERT_EQ(flushed.size(), 3u) << ::testing::PrintToString(flushed);
+  EXPECT_EQ(flushed[0], records_.string());
+  EXPECT_EQ(flushed[1].rfind(state_.string() + ".tmp-", 0), 0u) << flushed[1];
+  EXPECT_EQ(flushed[2], dir_.string());
+  EXPECT_EQ(records_restored(3), 3u);
+  flushed.clear();
+  results.await_final_save();
+  EXPECT_EQ(flushed, std::vector<std::string>{}) << "awaited already";
+}
+
+// That flush fails (an I/O error): a warning, this rank's checkpoints off,
+// no temporary left, and the state saved before it stays, whole.
+TEST_F(CheckpointFlush, ALastSaveThatCannotBeFlushedLeavesTheStateBeforeIt) {
+  RankResults results;
+  start(results);
+  std::vector<double> trajectory(kTimes * kColumns, 0.5);
+  ASSERT_TRUE(results.keep(record(0), &trajectory));
+  ASSERT_TRUE(results.save());
+  trajectory.assign(kTimes * kColumns, 1.5);
+  ASSERT_TRUE(results.keep(record(1), &trajectory));
+  flush_error = EIO;
+  ::testing::internal::CaptureStderr();
+  results.finish();
+  results.await_final_save();
+  const std::string err = ::testing::internal::GetCapturedStderr();
+  flush_error = 0;
+  EXPECT_EQ(err, "warning: " + records_.string() +
+                     ": flushing to the disk failed (Input/output error); checkpoints are off for this rank\n");
+  EXPECT_FALSE(results.checkpointing());
+  for (const auto& e : fs::directory_iterator(dir_))
+    EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos) << e.path();
+  EXPECT_EQ(records_restored(2), 1u) << "the state before the failed save";
 }
 
 TEST_F(CheckpointFlush, ANewCheckpointDirectoryHasItsNameFlushedInItsParent) {
