@@ -162,14 +162,16 @@ int finish_run(EnsembleRun& run) {
     run.records->finish_progress();
     run.records->write_held();
     code = run.options.part() ? write_part(run, stats) : write_ensemble(run, stats, summary, provenance);
-    run.results.await_final_save();  // on the disk before the checkpoint goes, or is all that is left
-    if (code == kExitOk) {
-      ensemble::remove_checkpoint(run.checkpoint_dir);
-      note_stale_outputs(run);  // the processes of a run killed just before this one are gone by now
-    }
   }
-  code = broadcast(run.comm, code);
-  run.results.await_final_save();  // the other ranks': done while rank 0 wrote, as a rule
+  // Every rank's last save on the disk (the others' done while rank 0
+  // wrote, as a rule) before rank 0 removes the checkpoint, or a failed
+  // run's abandon() judges what it holds; rank 0's code reaches everyone.
+  run.results.await_final_save();
+  code = max_over_ranks(run.comm, code);
+  if (run.rank == 0 && code == kExitOk) {
+    ensemble::remove_checkpoint(run.checkpoint_dir);
+    note_stale_outputs(run);  // the processes of a run killed just before this one are gone by now
+  }
   return code;
 }
 

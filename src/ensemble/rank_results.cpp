@@ -1,7 +1,6 @@
 #include "ensemble/rank_results.hpp"
 
 #include <iostream>
-#include <system_error>
 
 namespace treedyn::ensemble {
 
@@ -75,7 +74,7 @@ EnsembleStatistics RankResults::finish() {
           std::lock_guard<std::mutex> committing(lock_);  // taken once finish() returns
           commit_final_save();
         });
-      } catch (const std::system_error&) {  // no thread to be had: here and now
+      } catch (const std::exception&) {  // no thread to be had (system_error, bad_alloc): here and now
         commit_final_save();
       }
     } catch (const std::exception& e) {

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstring>
 #include <span>
+#include <stdexcept>
 
 #include "common/hash.hpp"
 #include "persistence/record_codec.hpp"
@@ -191,6 +192,10 @@ void RankCheckpoint::add(const SampleRecord& record) {
 fs::path RankCheckpoint::records_file() const { return records_path(dir_, part_stem(generation_, name_)); }
 fs::path RankCheckpoint::state_file() const { return state_path(dir_, part_stem(generation_, name_)); }
 
+void RankCheckpoint::refuse_while_prepared() const {
+  if (prepared_) throw std::logic_error("a checkpoint save while a prepared one awaits its commit");
+}
+
 void RankCheckpoint::refuse_after_failure() const {
   if (failed_) throw process::FileError(records_file().string() + ": an earlier write failed; this rank checkpoints no more");
 }
@@ -219,6 +224,7 @@ void RankCheckpoint::append_pending(AtomicFile::Sync sync) {
 
 void RankCheckpoint::save(const EnsembleStatistics& stats, AtomicFile::Sync sync) {
   refuse_after_failure();
+  refuse_while_prepared();
   const bool flush = sync == AtomicFile::Sync::yes;
   if (saved_once_ && !has_unsaved()) {  // the state on disk is this one
     if (flush && !saved_flushed_) flush_saved();
@@ -237,6 +243,7 @@ void RankCheckpoint::save(const EnsembleStatistics& stats, AtomicFile::Sync sync
 
 void RankCheckpoint::prepare_save(const EnsembleStatistics& stats) {
   refuse_after_failure();
+  refuse_while_prepared();
   if (saved_once_ && !has_unsaved()) return;  // the state on disk is this one: commit_prepared() flushes it
   if (pending_records_ > 0) append_pending(AtomicFile::Sync::no);
   prepared_ = part_state(state_file(), id_, generation_, appended_bytes_, appended_records_, stats);

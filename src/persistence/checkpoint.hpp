@@ -66,7 +66,10 @@ class RankCheckpoint {
   // records and writes the state into its temporary, without a flush;
   // commit_prepared() flushes the records, then the state, renames it into
   // place and flushes the directory, as save() does at once. A prepared
-  // save not committed leaves no trace. Both throw process::FileError.
+  // save not committed leaves the state before it (the records it appended
+  // lie past that state's end, ignored). Both throw process::FileError; no
+  // other save may come between the two (std::logic_error): they would
+  // share the temporary's name.
   void prepare_save(const EnsembleStatistics& stats);
   void commit_prepared();
   std::uint64_t saved_records() const { return saved_records_; }
@@ -77,6 +80,7 @@ class RankCheckpoint {
   void append_pending(process::AtomicFile::Sync sync);
   void flush_saved();
   void refuse_after_failure() const;
+  void refuse_while_prepared() const;
   std::filesystem::path records_file() const;
   std::filesystem::path state_file() const;
 

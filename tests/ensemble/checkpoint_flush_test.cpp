@@ -25,6 +25,7 @@
 namespace {
 std::vector<std::string> flushed;  // what each fsync was for, in order
 int flush_error = 0;               // errno every fsync fails with; 0: they succeed
+int flushes_before_error = 0;      // with flush_error: how many succeed first
 
 std::string path_of(int fd) {
   char target[4096];
@@ -37,7 +38,7 @@ std::string path_of(int fd) {
 // Every fsync of the treedyn code linked into this binary comes here.
 extern "C" int fsync(int fd) {
   flushed.push_back(path_of(fd));
-  if (flush_error != 0) {
+  if (flush_error != 0 && flushes_before_error-- <= 0) {
     errno = flush_error;
     return -1;
   }
@@ -184,28 +185,42 @@ TEST_F(CheckpointFlush, TheRunsLastSaveIsFlushedOnItsOwnThreadRecordsFirst) {
   EXPECT_EQ(flushed, std::vector<std::string>{}) << "awaited already";
 }
 
-// That flush fails (an I/O error): a warning, this rank's checkpoints off,
-// no temporary left, and the state saved before it stays, whole.
+// That flush fails (an I/O error), at the records or at the state's
+// temporary: a warning naming the file, this rank's checkpoints off, no
+// temporary left, and the state saved before it stays, whole.
 TEST_F(CheckpointFlush, ALastSaveThatCannotBeFlushedLeavesTheStateBeforeIt) {
-  RankResults results;
-  start(results);
-  std::vector<double> trajectory(kTimes * kColumns, 0.5);
-  ASSERT_TRUE(results.keep(record(0), &trajectory));
-  ASSERT_TRUE(results.save());
-  trajectory.assign(kTimes * kColumns, 1.5);
-  ASSERT_TRUE(results.keep(record(1), &trajectory));
-  flush_error = EIO;
-  ::testing::internal::CaptureStderr();
-  results.finish();
-  results.await_final_save();
-  const std::string err = ::testing::internal::GetCapturedStderr();
-  flush_error = 0;
-  EXPECT_EQ(err, "warning: " + records_.string() +
-                     ": flushing to the disk failed (Input/output error); checkpoints are off for this rank\n");
-  EXPECT_FALSE(results.checkpointing());
-  for (const auto& e : fs::directory_iterator(dir_))
-    EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos) << e.path();
-  EXPECT_EQ(records_restored(2), 1u) << "the state before the failed save";
+  for (int failing : {0, 1}) {  // the records file's fsync, or the state's temporary's after it
+    SCOPED_TRACE(failing);
+    RankResults results;
+    start(results);
+    std::vector<double> trajectory(kTimes * kColumns, 0.5);
+    ASSERT_TRUE(results.keep(record(0), &trajectory));
+    ASSERT_TRUE(results.save());
+    trajectory.assign(kTimes * kColumns, 1.5);
+    ASSERT_TRUE(results.keep(record(1), &trajectory));
+    flushed.clear();
+    flush_error = EIO;
+    flushes_before_error = failing;
+    ::testing::internal::CaptureStderr();
+    results.finish();
+    results.await_final_save();
+    const std::string err = ::testing::internal::GetCapturedStderr();
+    flush_error = 0;
+    ASSERT_EQ(flushed.size(), static_cast<std::size_t>(failing + 1)) << ::testing::PrintToString(flushed);
+    EXPECT_EQ(flushed[0], records_.string());
+    const std::string failed = failing == 0 ? records_.string() : flushed[1];
+    EXPECT_EQ(failed.rfind(failing == 0 ? records_.string() : state_.string() + ".tmp-", 0), 0u) << failed;
+    EXPECT_EQ(err.rfind("warning: ", 0), 0u) << err;
+    EXPECT_NE(err.find(failed), std::string::npos) << err;
+    EXPECT_NE(err.find("; checkpoints are off for this rank\n"), std::string::npos) << err;
+    EXPECT_FALSE(results.checkpointing());
+    for (const auto& e : fs::directory_iterator(dir_))
+      EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos) << e.path();
+    EXPECT_EQ(records_restored(2), 1u) << "the state before the failed save";
+    fs::remove_all(dir_);  // afresh for the next case
+    create_checkpoint_directory(dir_);
+    write_checkpoint_common(dir_, id_, std::vector<double>(kTimes * kColumns, 1.0), calibration_);
+  }
 }
 
 TEST_F(CheckpointFlush, ANewCheckpointDirectoryHasItsNameFlushedInItsParent) {

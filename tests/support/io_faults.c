@@ -5,7 +5,9 @@
 //       checkpoint, on the same disk, is written as usual;
 //   TREEDYN_TEST_FSYNC_LOG=FILE        each fsync() appends the path of the
 //       file or directory it flushes to FILE, one line each (O_APPEND: the
-//       lines of several processes do not mix), then flushes it.
+//       lines of several processes do not mix), then flushes it;
+//   TREEDYN_TEST_SLOW_FSYNC=TEXT       an fsync() of a path containing TEXT
+//       takes 0.5 s more: a slow disk, for a test that the others wait.
 // Every other call is the C library's.
 #define _GNU_SOURCE
 #include <dlfcn.h>
@@ -14,6 +16,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
 
 // The C library's function, as an object pointer: callers copy it into a
@@ -35,11 +38,17 @@ int rename(const char* from, const char* to) {
 int fsync(int fd) {
   const int saved = errno;
   const char* log = getenv("TREEDYN_TEST_FSYNC_LOG");
-  if (log != NULL) {
-    char link[64], path[4097];
-    snprintf(link, sizeof link, "/proc/self/fd/%d", fd);
-    const ssize_t n = readlink(link, path, sizeof path - 1);
-    const int out = n > 0 ? open(log, O_WRONLY | O_APPEND | O_CREAT | O_CLOEXEC, 0644) : -1;
+  const char* slow = getenv("TREEDYN_TEST_SLOW_FSYNC");
+  char link[64], path[4097];
+  snprintf(link, sizeof link, "/proc/self/fd/%d", fd);
+  const ssize_t n = readlink(link, path, sizeof path - 2);
+  if (n > 0) {
+    path[n] = '\0';
+    if (slow != NULL && strstr(path, slow) != NULL) {
+      const struct timespec half = {0, 500000000};
+      nanosleep(&half, NULL);
+    }
+    const int out = log != NULL ? open(log, O_WRONLY | O_APPEND | O_CREAT | O_CLOEXEC, 0644) : -1;
     if (out >= 0) {
       path[n] = '\n';
       if (write(out, path, (size_t)n + 1) < 0) { /* a test's log: nothing to do */ }
