@@ -152,14 +152,26 @@ void RowDataset::store(std::size_t c, const Chunk& chunk) {
   const bool deflated = deflating_ || chunk.count < chunk_rows_ || c == cut_chunk_;
   std::span<const unsigned char> bytes = chunk.bytes;
   if (deflated) {
-    deflate(chunk.bytes, kRowsDeflateLevel, stream_);
-    bytes = stream_;
+    if (all_fill(chunk.bytes)) {  // the same bytes as deflating it again
+      if (fill_stream_.empty()) deflate(chunk.bytes, kRowsDeflateLevel, fill_stream_);
+      bytes = fill_stream_;
+    } else {
+      deflate(chunk.bytes, kRowsDeflateLevel, stream_);
+      bytes = stream_;
+    }
     if (chunk.count == chunk_rows_ && !stored_[c])  // no fill flatters it; each chunk judged once
-      judge_deflate(chunk.bytes.size(), stream_.size());
+      judge_deflate(chunk.bytes.size(), bytes.size());
   }
   write_chunk(c, bytes, deflated);
   stored_[c] = true;
   ++stores_;
+}
+
+// Every row the fill: the first row is, and each row equals the one
+// before it (the chunk compared with itself one row further on).
+bool RowDataset::all_fill(const std::vector<unsigned char>& bytes) const {
+  return std::memcmp(bytes.data(), fill_row_.data(), row_bytes_) == 0 &&
+         std::memcmp(bytes.data() + row_bytes_, bytes.data(), bytes.size() - row_bytes_) == 0;
 }
 
 // HDF5 (H5D__chunk_direct_write, 1.10 to 1.14) records a rewritten

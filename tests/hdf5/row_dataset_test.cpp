@@ -185,6 +185,41 @@ TEST_F(RowDatasetTest, EveryStoredChunkIsAZlibStreamOfItsRows) {
   }
 }
 
+// Chunks of nothing but the fill (a fixed base's column) are deflated once
+// per dataset and stored as that stream: the very bytes deflating each
+// would give. A chunk whose rows are the fill but one, first or last, or
+// whose rows are all alike but not the fill, is not such a chunk, and
+// reads back as written.
+TEST_F(RowDatasetTest, ChunksOfNothingButTheFillStoreTheBytesDeflateGives) {
+  const std::size_t rows = 6 * kChunkRows;
+  std::vector<double> values(rows * kColumns, kFill);
+  values[2 * kChunkRows * kColumns] = 1.0;                   // chunk 2's first value
+  values[(4 * kChunkRows - 1) * kColumns + kColumns - 1] = 2.0;  // chunk 3's last value
+  std::fill(values.begin() + static_cast<long>(5 * kChunkRows * kColumns), values.end(), 0.5);  // chunk 5: rows alike, not the fill
+  h5::RowDataset set = make(rows);
+  set.write(0, rows, values.data());
+  EXPECT_EQ(read_all(set.id(), rows), values);
+  std::vector<unsigned char> fill_stream;
+  const std::vector<double> fill_chunk(kChunkRows * kColumns, kFill);
+  h5::deflate({reinterpret_cast<const unsigned char*>(fill_chunk.data()), fill_chunk.size() * sizeof(double)},
+              h5::kRowsDeflateLevel, fill_stream);
+  for (std::size_t c = 0; c < rows / kChunkRows; ++c) {
+    SCOPED_TRACE("chunk " + std::to_string(c));
+    const hsize_t offset[2] = {c * kChunkRows, 0};
+    const IndexedChunk indexed = indexed_chunk(set.id(), offset[0]);
+    EXPECT_EQ(indexed.mask, 0u);
+    std::vector<unsigned char> stream(indexed.bytes);
+    std::uint32_t ignored = 0;
+    ASSERT_GE(H5Dread_chunk(set.id(), H5P_DEFAULT, offset, &ignored, stream.data()), 0);
+    const std::span<const unsigned char> rows_bytes(
+        reinterpret_cast<const unsigned char*>(values.data() + c * kChunkRows * kColumns), kChunkRows * kColumns * sizeof(double));
+    std::vector<unsigned char> expected;
+    h5::deflate(rows_bytes, h5::kRowsDeflateLevel, expected);
+    EXPECT_EQ(stream, expected);
+    EXPECT_EQ(stream == fill_stream, c != 2 && c != 3 && c != 5);
+  }
+}
+
 // Rows that deflate barely shrinks: after its first kTrialChunks whole
 // chunks the dataset stores the rest as they are, deflate skipped in their
 // filter mask, and HDF5's own reading (every reader's) gives the rows back
