@@ -186,7 +186,7 @@ void RankCheckpoint::add(const SampleRecord& record) {
     throw;
   }
   ++pending_records_;
-  if (pending_.size() >= kSpillBytes) append_pending(AtomicFile::Sync::no);
+  if (pending_.size() >= kSpillBytes) append_pending();
 }
 
 fs::path RankCheckpoint::records_file() const { return records_path(dir_, part_stem(generation_, name_)); }
@@ -205,11 +205,11 @@ void RankCheckpoint::refuse_after_failure() const {
 // checkpoint refuses any further write (a frame after the torn one would
 // sit at an offset the states do not know). The caller turns this rank's
 // checkpoints off.
-void RankCheckpoint::append_pending(AtomicFile::Sync sync) {
+void RankCheckpoint::append_pending() {
   refuse_after_failure();
   seal_frame(pending_);
   try {
-    process::append_to_file(records_file(), pending_, sync);
+    process::append_to_file(records_file(), pending_, AtomicFile::Sync::no);  // flushed by the save that names it
   } catch (const process::FileError&) {
     failed_ = true;
     std::error_code ignored;
@@ -222,47 +222,40 @@ void RankCheckpoint::append_pending(AtomicFile::Sync sync) {
   pending_records_ = 0;
 }
 
+// One save, as its two steps at once.
 void RankCheckpoint::save(const EnsembleStatistics& stats, AtomicFile::Sync sync) {
-  refuse_after_failure();
-  refuse_while_prepared();
-  const bool flush = sync == AtomicFile::Sync::yes;
-  if (saved_once_ && !has_unsaved()) {  // the state on disk is this one
-    if (flush && !saved_flushed_) flush_saved();
-    return;
-  }
-  if (pending_records_ > 0)
-    append_pending(sync);
-  else if (flush && appended_records_ > flushed_records_)
-    process::flush_file(records_file());  // the spills and unflushed saves; the state's commit flushes the names
-  if (flush) flushed_records_ = appended_records_;  // fsync covers the whole file
-  write_part_state(state_file(), id_, generation_, appended_bytes_, appended_records_, stats, sync);
-  saved_records_ = appended_records_;
-  saved_once_ = true;
-  saved_flushed_ = flush;
+  prepare_save(stats);
+  commit(sync);
 }
 
 void RankCheckpoint::prepare_save(const EnsembleStatistics& stats) {
   refuse_after_failure();
   refuse_while_prepared();
-  if (saved_once_ && !has_unsaved()) return;  // the state on disk is this one: commit_prepared() flushes it
-  if (pending_records_ > 0) append_pending(AtomicFile::Sync::no);
+  if (saved_once_ && !has_unsaved()) return;  // the state on disk is this one: commit() flushes it if asked
+  if (pending_records_ > 0) append_pending();
   prepared_ = part_state(state_file(), id_, generation_, appended_bytes_, appended_records_, stats);
   prepared_records_ = appended_records_;
 }
 
-void RankCheckpoint::commit_prepared() {
+void RankCheckpoint::commit_prepared() { commit(AtomicFile::Sync::yes); }
+
+// The prepared state renamed into place; with Sync::yes the records it
+// names are flushed first, then the state and its name.
+void RankCheckpoint::commit(AtomicFile::Sync sync) {
   refuse_after_failure();
+  const bool flush = sync == AtomicFile::Sync::yes;
   if (!prepared_) {
-    if (saved_once_ && !saved_flushed_) flush_saved();
+    if (flush && saved_once_ && !saved_flushed_) flush_saved();
     return;
   }
   const std::unique_ptr<StateFileWriter> state = std::move(prepared_);  // a failure removes its temporary
-  if (prepared_records_ > flushed_records_) process::flush_file(records_file());  // before the state names them
-  flushed_records_ = prepared_records_;
-  state->commit(AtomicFile::Sync::yes);
+  if (flush && prepared_records_ > flushed_records_)
+    process::flush_file(records_file());  // the spills and unflushed saves, before the state names them
+  if (flush) flushed_records_ = prepared_records_;  // fsync covers the whole file
+  state->commit(sync);
   saved_records_ = prepared_records_;
   saved_once_ = true;
-  saved_flushed_ = true;
+  saved_flushed_ = flush;
 }
 
 // The last save, made without a flush (a stop signal's, with SIGKILL to

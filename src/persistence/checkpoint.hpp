@@ -65,7 +65,7 @@ class RankCheckpoint {
   // while `stats` change (RankResults::finish): prepare_save() appends the
   // records and writes the state into its temporary, without a flush;
   // commit_prepared() flushes the records, then the state, renames it into
-  // place and flushes the directory, as save() does at once. A prepared
+  // place and flushes the directory; save() is the two at once. A prepared
   // save not committed leaves the state before it (the records it appended
   // lie past that state's end, ignored). Both throw process::FileError; no
   // other save may come between the two (std::logic_error): they would
@@ -77,7 +77,8 @@ class RankCheckpoint {
   std::size_t held_bytes() const { return pending_.size(); }
 
  private:
-  void append_pending(process::AtomicFile::Sync sync);
+  void append_pending();  // unflushed: a flushed save flushes the records file
+  void commit(process::AtomicFile::Sync sync);
   void flush_saved();
   void refuse_after_failure() const;
   void refuse_while_prepared() const;
