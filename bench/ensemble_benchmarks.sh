@@ -32,8 +32,8 @@ done
 echo
 echo "## Throughput (bench/jobs/heterogeneous.toml, 200 samples, steps per sample min/median/max below)"
 echo
-echo "| ranks | wall (s) | samples/s | samples per rank | busy s per rank | efficiency |"
-echo "|---:|---:|---:|---|---|---:|"
+echo "| ranks | wall (s) | samples/s | samples per rank | busy s per rank | record writing s per rank | efficiency |"
+echo "|---:|---:|---:|---|---|---|---:|"
 base=""
 for p in 1 2; do
   mpirun -np "$p" --oversubscribe "$ensemble" bench/jobs/heterogeneous.toml -o "$work/het_$p.h5" -q > /dev/null 2>&1
@@ -41,8 +41,9 @@ for p in 1 2; do
   rate=$(python3 -c "print(f'{200/$wall:.2f}')")
   [ -z "$base" ] && base=$rate
   eff=$(python3 -c "print(f'{$rate/($base*$p)*100:.0f} %')")
-  printf '| %s | %.2f | %s | %s | %s | %s |\n' "$p" "$wall" "$rate" \
-    "$(attribute "$work/het_$p.h5" samples_per_rank)" "$(attribute "$work/het_$p.h5" busy_seconds_per_rank)" "$eff"
+  printf '| %s | %.2f | %s | %s | %s | %s | %s |\n' "$p" "$wall" "$rate" \
+    "$(attribute "$work/het_$p.h5" samples_per_rank)" "$(attribute "$work/het_$p.h5" busy_seconds_per_rank)" \
+    "$(attribute "$work/het_$p.h5" record_writing_seconds_per_rank)" "$eff"
 done
 echo
 h5dump -d /samples/integrator_stats -y -w 200 "$work/het_1.h5" | grep -E '^\s+[0-9]' | awk -F',' '{print $1+0}' | sort -n |

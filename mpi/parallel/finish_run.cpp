@@ -20,20 +20,24 @@
 namespace treedyn::parallel {
 namespace {
 
-// Every rank's peak memory, samples and busy time, on rank 0.
+// Every rank's peak memory, samples, busy time and time writing records, on
+// rank 0.
 EnsembleSummary gather_loads(const EnsembleRun& run) {
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
-  const double mine[3] = {static_cast<double>(usage.ru_maxrss) / 1024.0, static_cast<double>(run.samples_run),
-                          run.busy_seconds};
-  std::vector<double> all(3 * static_cast<std::size_t>(run.size));
-  MPI_Gather(mine, 3, MPI_DOUBLE, all.data(), 3, MPI_DOUBLE, 0, run.comm);
+  constexpr int kLoads = 4;
+  const double mine[kLoads] = {static_cast<double>(usage.ru_maxrss) / 1024.0, static_cast<double>(run.samples_run),
+                               run.busy_seconds, run.sink->writing_seconds()};
+  std::vector<double> all(kLoads * static_cast<std::size_t>(run.size));
+  MPI_Gather(mine, kLoads, MPI_DOUBLE, all.data(), kLoads, MPI_DOUBLE, 0, run.comm);
   EnsembleSummary summary;
   summary.ranks = run.size;
   for (int r = 0; r < run.size && run.rank == 0; ++r) {
-    summary.peak_rss_mib.push_back(all[3 * r]);
-    summary.samples_per_rank.push_back(static_cast<long long>(all[3 * r + 1]));
-    summary.busy_seconds.push_back(all[3 * r + 2]);
+    const double* loads = all.data() + static_cast<std::size_t>(kLoads * r);
+    summary.peak_rss_mib.push_back(loads[0]);
+    summary.samples_per_rank.push_back(static_cast<long long>(loads[1]));
+    summary.busy_seconds.push_back(loads[2]);
+    summary.writing_seconds.push_back(loads[3]);
   }
   return summary;
 }
@@ -118,6 +122,7 @@ std::string stop_reason_of(const EnsembleRun& run, const rare_event::SubsetResul
 int write_ensemble(EnsembleRun& run, const ensemble::EnsembleStatistics& stats, EnsembleSummary summary,
                    const RunProvenance& provenance) {
   summary.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - run.start).count();
+  summary.writing_seconds.front() = run.records->writing_seconds();  // with the records held, written after the gather
   summary.failed = run.records->failed();
   summary.ok = run.records->done() - summary.failed;
   summary.samples_used = run.samples_used;

@@ -43,6 +43,22 @@ void RecordSink::poll() {
   make_progress();
 }
 
+namespace {
+std::int64_t monotonic_ns() {
+  timespec now{};
+  clock_gettime(CLOCK_MONOTONIC, &now);
+  return std::int64_t{now.tv_sec} * 1'000'000'000 + now.tv_nsec;
+}
+}  // namespace
+
+RecordSink::Writing::Writing(RecordSink& sink) : sink_(sink) {
+  if (sink_.writing_depth_++ == 0) start_ns_ = monotonic_ns();
+}
+
+RecordSink::Writing::~Writing() {
+  if (--sink_.writing_depth_ == 0) sink_.writing_seconds_ += static_cast<double>(monotonic_ns() - start_ns_) * 1e-9;
+}
+
 RecordWriter::RecordWriter(MPI_Comm comm, int ranks, EnsembleWriter* writer, ensemble::Progress& progress,
                            ensemble::ResponseTable* table, std::vector<ensemble::SampleRecord>* collected)
     : comm_(comm), ranks_(ranks), writer_(writer), progress_(progress), table_(table), collected_(collected) {}
@@ -50,7 +66,10 @@ RecordWriter::RecordWriter(MPI_Comm comm, int ranks, EnsembleWriter* writer, ens
 void RecordWriter::add(ensemble::SampleRecord record) { local_.push_back(std::move(record)); }
 
 void RecordWriter::flush() {
-  if (!local_.empty()) write(std::move(local_));
+  if (!local_.empty()) {
+    const Writing writing(*this);
+    write(std::move(local_));
+  }
   local_.clear();
   drain(false);
 }
@@ -80,6 +99,7 @@ void RecordWriter::write(std::vector<ensemble::SampleRecord> records) {
 
 void RecordWriter::write_held() {
   if (batch_.empty()) return;
+  const Writing writing(*this);
   try {
     if (collected_)
       for (auto& r : batch_) collected_->push_back(std::move(r));
@@ -105,6 +125,7 @@ void RecordWriter::drain(bool wait) {
       MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, comm_, &flag, &status);
     }
     if (!flag) return;
+    const Writing writing(*this);  // from here on: receiving and writing, not waiting
     int bytes = 0;
     MPI_Get_count(&status, MPI_BYTE, &bytes);
     std::vector<char> buffer(static_cast<std::size_t>(bytes));

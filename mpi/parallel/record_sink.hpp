@@ -30,12 +30,31 @@ class RecordSink {
   // After a wave's last block, on every rank: rank 0 returns once every
   // rank has ended the wave, so it then holds every record of the wave.
   virtual void end_wave() = 0;
+  // Time spent writing records: rank 0 receiving, decoding and writing
+  // every rank's records (inside poll() too, so a sample's busy time can
+  // leave it out); 0 on the other ranks, whose sending is the sample's own.
+  double writing_seconds() const { return writing_seconds_; }
 
  protected:
   virtual void make_progress() = 0;
 
+  // Counts the scope's time into writing_seconds(); nested scopes count once.
+  class Writing {
+   public:
+    explicit Writing(RecordSink& sink);
+    ~Writing();
+    Writing(const Writing&) = delete;
+    Writing& operator=(const Writing&) = delete;
+
+   private:
+    RecordSink& sink_;
+    std::int64_t start_ns_ = 0;
+  };
+
  private:
   std::int64_t last_poll_ns_ = 0;  // CLOCK_MONOTONIC_COARSE
+  double writing_seconds_ = 0.0;
+  int writing_depth_ = 0;
 };
 
 // Rank 0. An error while writing (I/O, or HDF5's memory) is kept, the run
@@ -60,7 +79,10 @@ class RecordWriter final : public RecordSink {
   // The progress line's last word (at the end of the run, or of a stop).
   void finish_progress() { progress_.finish(done_, failed_); }
   // Records of a resumed run's checkpoint, written as if they had arrived.
-  void restore(std::vector<ensemble::SampleRecord> records) { write(std::move(records)); }
+  void restore(std::vector<ensemble::SampleRecord> records) {
+    const Writing writing(*this);
+    write(std::move(records));
+  }
   // The records held, into the file (or collected): after the last wave,
   // before the output is completed.
   void write_held();

@@ -28,10 +28,13 @@ using Sync = process::AtomicFile::Sync;
 // One sample. Any exception becomes a failed record: a sample never takes
 // the job down. At every output time the record transport progresses, and
 // a stop signal abandons the sample (nullopt: a resumed run runs it again).
+// Busy time is the sample's own: rank 0's writing of records that arrive
+// meanwhile counts as writing (RecordSink::writing_seconds), not as busy.
 // `uniforms`: the run's own uniform numbers (a chain's), else the design's.
 std::optional<SampleRecord> run_sample(EnsembleRun& run, std::uint64_t k, std::vector<double>& trajectory,
                                        std::span<const double> uniforms = {}) {
   const auto start = std::chrono::steady_clock::now();
+  const double writing_before = run.sink->writing_seconds();
   std::optional<SampleRecord> r;
   const auto between_outputs = [&run] {
     run.sink->poll();
@@ -46,7 +49,8 @@ std::optional<SampleRecord> run_sample(EnsembleRun& run, std::uint64_t k, std::v
   } catch (const std::exception& e) {
     r = run.runner.failed_record(k, SampleStatus::integration_failed, std::string("internal error: ") + e.what());
   }
-  run.busy_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  run.busy_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() -
+                      (run.sink->writing_seconds() - writing_before);
   if (r) ++run.samples_run;
   return r;
 }

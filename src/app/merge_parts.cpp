@@ -122,6 +122,7 @@ EnsembleSummary merge_summary(const std::vector<SampleRecord>& records) {
   summary.peak_rss_mib = {static_cast<double>(usage.ru_maxrss) / 1024.0};
   summary.samples_per_rank = {0};
   summary.busy_seconds = {0.0};
+  summary.writing_seconds = {0.0};
   return summary;
 }
 

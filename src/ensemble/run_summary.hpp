@@ -1,6 +1,6 @@
 // What an ensemble run did, for the file's root attributes and the
 // end-of-run summary: samples ok and failed, ranks, wall time, and each
-// rank's peak memory, samples and busy time.
+// rank's peak memory, samples, busy time and time writing records.
 #pragma once
 
 #include <cstdint>
@@ -22,6 +22,7 @@ struct EnsembleSummary {
     return n;
   }
   std::vector<double> busy_seconds;         // time each rank spent on samples: integrating, recording, updating its statistics, checkpointing, sending
+  std::vector<double> writing_seconds;      // time each rank spent writing records: rank 0 receives and writes them all
   std::uint64_t samples_used = 0;           // the runs the answers count ([ensemble.stop]: <= samples)
   std::string stop_reason;                  // why the run ended where it did
 };

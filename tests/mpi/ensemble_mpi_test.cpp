@@ -230,6 +230,50 @@ TEST(EnsembleMpi, RecordsWrittenInSeveralBatchesAllReachTheFile) {
   expect_identical_datasets(alone.id(), "alone", two.id(), "2 ranks", {"/samples", "/trajectories", "/stats"});
 }
 
+// Rank 0 writes the records that arrive while it integrates a sample of its
+// own (RecordSink::poll). That time is writing, not the sample's: it goes
+// into record_writing_seconds_per_rank, and busy_seconds_per_rank leaves it
+// out. Every write into the output is made 5 ms slower (io_faults), so rank
+// 0 writes for seconds, much of it inside its samples (the batches of 12
+// records arrive then); counted as busy too, rank 0's busy time per sample
+// would be several times rank 1's, which integrates the same samples.
+TEST(EnsembleMpi, RankZeroCountsItsRecordWritingApartFromItsSamples) {
+  TempDir dir("ensemble_mpi_writing_time");
+  const fs::path job = dir.path() / "spherical.toml";
+  write_text(job, edited_job_text("spherical_pendulum.toml",
+                                  {{"samples = 64", "samples = 50\nstore_trajectories = 50\nblock_size = 2"}}));
+  const fs::path out = dir.path() / "out_slow.h5";
+  const std::vector<std::string> prefix = {
+      "env", std::string("LD_PRELOAD=") + TREEDYN_IO_FAULTS_LIBRARY, "TREEDYN_TEST_SLOW_WRITE=out_slow.h5",
+      "ASAN_OPTIONS=detect_leaks=0:abort_on_error=1:verify_asan_link_order=0",
+      "timeout", "-k", "10", std::to_string(kTimeoutSeconds), TREEDYN_MPIEXEC, "--oversubscribe", "-np", "2"};
+  const auto r = run_command(TREEDYN_ENSEMBLE_BINARY, {job.string(), "-o", out.string(), "-q"},
+                             dir.path() / "capture", prefix);
+  expect_success(r, out);
+  H5File file(out);
+  ASSERT_TRUE(file.ok());
+  const double wall = read_double_attribute(file.id(), "wall_time_seconds").at(0);
+  const auto busy = read_double_attribute(file.id(), "busy_seconds_per_rank");
+  const auto writing = read_double_attribute(file.id(), "record_writing_seconds_per_rank");
+  const auto samples = read_double_attribute(file.id(), "samples_per_rank");
+  ASSERT_EQ(busy.size(), 2u);
+  ASSERT_EQ(writing.size(), 2u);
+  ASSERT_EQ(samples.size(), 2u);
+  // Each of the about 200 chunks stored took 5 ms more.
+  EXPECT_GT(writing[0], 0.5) << "rank 0's writing was not counted";
+  EXPECT_EQ(writing[1], 0.0) << "rank 1 writes nothing: it sends";
+  for (int rank : {0, 1}) {
+    SCOPED_TRACE("rank " + std::to_string(rank));
+    EXPECT_GT(busy[rank], 0.0);
+    EXPECT_GT(samples[rank], 0.0);
+    EXPECT_LE(busy[rank] + writing[rank], wall) << "the same time counted twice";
+  }
+  const double per_sample0 = busy[0] / samples[0], per_sample1 = busy[1] / samples[1];
+  EXPECT_LT(per_sample0, 3.0 * per_sample1)
+      << "rank 0's busy time per sample (" << per_sample0 << " s) holds its writing; rank 1's is " << per_sample1
+      << " s";
+}
+
 // The rows in a chunk of a chunked dataset, and the bytes a chunk of it
 // takes on disk before compression (read from a dataset stored raw: HDF5
 // says what it allocated, whatever the type; a variable-length string is a

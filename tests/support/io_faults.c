@@ -7,7 +7,10 @@
 //       file or directory it flushes to FILE, one line each (O_APPEND: the
 //       lines of several processes do not mix), then flushes it;
 //   TREEDYN_TEST_SLOW_FSYNC=TEXT       an fsync() of a path containing TEXT
-//       takes 0.5 s more: a slow disk, for a test that the others wait.
+//       takes 0.5 s more: a slow disk, for a test that the others wait;
+//   TREEDYN_TEST_SLOW_WRITE=TEXT       a pwrite() to a path containing TEXT
+//       (HDF5 writes its files so) takes 5 ms more: a slow disk under a
+//       run's output, for a test of where rank 0's time is counted.
 // Every other call is the C library's.
 #define _GNU_SOURCE
 #include <dlfcn.h>
@@ -22,6 +25,36 @@
 // The C library's function, as an object pointer: callers copy it into a
 // function pointer (ISO C has no cast from one to the other).
 static void* next_symbol(const char* name) { return dlsym(RTLD_NEXT, name); }
+
+// The path `fd` is open on, or false.
+static int path_of(int fd, char* path, size_t size) {
+  char link[64];
+  snprintf(link, sizeof link, "/proc/self/fd/%d", fd);
+  const ssize_t n = readlink(link, path, size - 1);
+  if (n <= 0) return 0;
+  path[n] = '\0';
+  return 1;
+}
+
+ssize_t pwrite(int fd, const void* buffer, size_t count, off_t offset) {
+  const int saved = errno;
+  const char* slow = getenv("TREEDYN_TEST_SLOW_WRITE");
+  char path[4097];
+  if (slow != NULL && path_of(fd, path, sizeof path) && strstr(path, slow) != NULL) {
+    const struct timespec pause = {0, 5000000};
+    nanosleep(&pause, NULL);
+  }
+  errno = saved;
+  void* symbol = next_symbol("pwrite");
+  ssize_t (*real)(int, const void*, size_t, off_t) = NULL;
+  memcpy(&real, &symbol, sizeof real);
+  return real(fd, buffer, count, offset);
+}
+
+// The same call under its large-file name (glibc's alias on 64-bit targets).
+ssize_t pwrite64(int fd, const void* buffer, size_t count, off_t offset) {
+  return pwrite(fd, buffer, count, offset);
+}
 
 int rename(const char* from, const char* to) {
   const char* failing = getenv("TREEDYN_TEST_FAIL_RENAME_TO");
@@ -39,19 +72,17 @@ int fsync(int fd) {
   const int saved = errno;
   const char* log = getenv("TREEDYN_TEST_FSYNC_LOG");
   const char* slow = getenv("TREEDYN_TEST_SLOW_FSYNC");
-  char link[64], path[4097];
-  snprintf(link, sizeof link, "/proc/self/fd/%d", fd);
-  const ssize_t n = readlink(link, path, sizeof path - 2);
-  if (n > 0) {
-    path[n] = '\0';
+  char path[4097];
+  if (path_of(fd, path, sizeof path - 1)) {
     if (slow != NULL && strstr(path, slow) != NULL) {
       const struct timespec half = {0, 500000000};
       nanosleep(&half, NULL);
     }
     const int out = log != NULL ? open(log, O_WRONLY | O_APPEND | O_CREAT | O_CLOEXEC, 0644) : -1;
     if (out >= 0) {
+      const size_t n = strlen(path);
       path[n] = '\n';
-      if (write(out, path, (size_t)n + 1) < 0) { /* a test's log: nothing to do */ }
+      if (write(out, path, n + 1) < 0) { /* a test's log: nothing to do */ }
       close(out);
     }
   }
