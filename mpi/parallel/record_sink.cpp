@@ -128,13 +128,13 @@ void RecordWriter::drain(bool wait) {
     const Writing writing(*this);  // from here on: receiving and writing, not waiting
     int bytes = 0;
     MPI_Get_count(&status, MPI_BYTE, &bytes);
-    std::vector<char> buffer(static_cast<std::size_t>(bytes));
-    MPI_Recv(buffer.data(), bytes, MPI_BYTE, status.MPI_SOURCE, status.MPI_TAG, comm_,
-             MPI_STATUS_IGNORE);
+    if (received_.size() < static_cast<std::size_t>(bytes)) received_.resize(static_cast<std::size_t>(bytes));
+    MPI_Recv(received_.data(), bytes, MPI_BYTE, status.MPI_SOURCE, status.MPI_TAG, comm_, MPI_STATUS_IGNORE);
     if (status.MPI_TAG == kTagDone)
       ++finished_ranks_;
     else
-      write(ensemble::read_records(buffer, "the records of rank " + std::to_string(status.MPI_SOURCE)));
+      write(ensemble::read_records(std::span<const char>(received_.data(), static_cast<std::size_t>(bytes)),
+                                   "the records of rank " + std::to_string(status.MPI_SOURCE)));
   }
 }
 

@@ -103,6 +103,7 @@ class RecordWriter final : public RecordSink {
   std::vector<ensemble::SampleRecord>* collected_;
   std::vector<ensemble::SampleRecord> local_;
   std::vector<ensemble::SampleRecord> batch_;  // counted, not yet in the file
+  std::vector<char> received_;  // the last message, in storage reused: no allocation per message
   std::size_t batch_bytes_ = 0;
   int finished_ranks_ = 0;
   std::uint64_t done_ = 0, failed_ = 0;
