@@ -122,7 +122,6 @@ std::string stop_reason_of(const EnsembleRun& run, const rare_event::SubsetResul
 int write_ensemble(EnsembleRun& run, const ensemble::EnsembleStatistics& stats, EnsembleSummary summary,
                    const RunProvenance& provenance) {
   summary.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - run.start).count();
-  summary.writing_seconds.front() = run.records->writing_seconds();  // with the records held, written after the gather
   summary.failed = run.records->failed();
   summary.ok = run.records->done() - summary.failed;
   summary.samples_used = run.samples_used;
@@ -160,12 +159,14 @@ int finish_run(EnsembleRun& run) {
   ensemble::EnsembleStatistics stats = run.results.finish();  // the signal thread keeps off it from here on
   if (run.restored_statistics) stats.merge(*run.restored_statistics);
   reduce_statistics(run.comm, stats);
+  if (run.rank == 0) {  // before the gather, so that its time is in rank 0's writing
+    run.records->finish_progress();
+    run.records->write_held();
+  }
   const EnsembleSummary summary = gather_loads(run);
   const RunProvenance provenance = gather_provenance(run);
   int code = kExitOk;
   if (run.rank == 0) {
-    run.records->finish_progress();
-    run.records->write_held();
     code = run.options.part() ? write_part(run, stats) : write_ensemble(run, stats, summary, provenance);
   }
   // Every rank's last save on the disk (the others' done while rank 0

@@ -2,6 +2,8 @@
 
 #include <time.h>
 
+#include <chrono>
+
 #include "persistence/record_codec.hpp"
 
 namespace treedyn::parallel {
@@ -43,20 +45,15 @@ void RecordSink::poll() {
   make_progress();
 }
 
-namespace {
-std::int64_t monotonic_ns() {
-  timespec now{};
-  clock_gettime(CLOCK_MONOTONIC, &now);
-  return std::int64_t{now.tv_sec} * 1'000'000'000 + now.tv_nsec;
-}
-}  // namespace
-
+// The clock run_sample times samples with, so that the writing inside a
+// sample can be taken out of it.
 RecordSink::Writing::Writing(RecordSink& sink) : sink_(sink) {
-  if (sink_.writing_depth_++ == 0) start_ns_ = monotonic_ns();
+  if (sink_.writing_depth_++ == 0) start_ = std::chrono::steady_clock::now();
 }
 
 RecordSink::Writing::~Writing() {
-  if (--sink_.writing_depth_ == 0) sink_.writing_seconds_ += static_cast<double>(monotonic_ns() - start_ns_) * 1e-9;
+  if (--sink_.writing_depth_ == 0)
+    sink_.writing_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
 }
 
 RecordWriter::RecordWriter(MPI_Comm comm, int ranks, EnsembleWriter* writer, ensemble::Progress& progress,
@@ -125,7 +122,10 @@ void RecordWriter::drain(bool wait) {
       MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, comm_, &flag, &status);
     }
     if (!flag) return;
-    const Writing writing(*this);  // from here on: receiving and writing, not waiting
+    // From here on receiving and writing, not waiting for a message (the
+    // probe above). A message past the eager limit may still make MPI_Recv
+    // wait for its sender's progress: counted as receiving.
+    const Writing writing(*this);
     int bytes = 0;
     MPI_Get_count(&status, MPI_BYTE, &bytes);
     if (received_.size() < static_cast<std::size_t>(bytes)) received_.resize(static_cast<std::size_t>(bytes));

@@ -7,6 +7,7 @@
 
 #include <mpi.h>
 
+#include <chrono>
 #include <cstdint>
 #include <deque>
 #include <string>
@@ -32,7 +33,8 @@ class RecordSink {
   virtual void end_wave() = 0;
   // Time spent writing records: rank 0 receiving, decoding and writing
   // every rank's records (inside poll() too, so a sample's busy time can
-  // leave it out); 0 on the other ranks, whose sending is the sample's own.
+  // leave it out); 0 on the other ranks, which encode their records as part
+  // of the sample (keep()) and hand them to MPI after each block.
   double writing_seconds() const { return writing_seconds_; }
 
  protected:
@@ -48,7 +50,7 @@ class RecordSink {
 
    private:
     RecordSink& sink_;
-    std::int64_t start_ns_ = 0;
+    std::chrono::steady_clock::time_point start_;
   };
 
  private:

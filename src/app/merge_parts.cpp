@@ -122,7 +122,6 @@ EnsembleSummary merge_summary(const std::vector<SampleRecord>& records) {
   summary.peak_rss_mib = {static_cast<double>(usage.ru_maxrss) / 1024.0};
   summary.samples_per_rank = {0};
   summary.busy_seconds = {0.0};
-  summary.writing_seconds = {0.0};
   return summary;
 }
 
@@ -156,7 +155,9 @@ int merge_parts(const std::vector<std::string>& names, const std::string& output
     summary.stop_reason = complete ? "merged parts: every sample of the design was run"
                                    : "merged parts: " + std::to_string(held.count()) + " of the samples were run";
     EnsembleWriter writer(output_path, job, spec, runner.layout(), runner.final_state_size());
+    const auto writing = std::chrono::steady_clock::now();
     writer.write_records(std::move(records));
+    summary.writing_seconds = {std::chrono::duration<double>(std::chrono::steady_clock::now() - writing).count()};
     writer.write_merge_origin(names, held.ranges());
     summary.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     writer.complete(parts[0].nominal, stats, answers, summary, provenance);

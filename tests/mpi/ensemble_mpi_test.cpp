@@ -233,10 +233,13 @@ TEST(EnsembleMpi, RecordsWrittenInSeveralBatchesAllReachTheFile) {
 // Rank 0 writes the records that arrive while it integrates a sample of its
 // own (RecordSink::poll). That time is writing, not the sample's: it goes
 // into record_writing_seconds_per_rank, and busy_seconds_per_rank leaves it
-// out. Every write into the output is made 5 ms slower (io_faults), so rank
-// 0 writes for seconds, much of it inside its samples (the batches of 12
-// records arrive then); counted as busy too, rank 0's busy time per sample
-// would be several times rank 1's, which integrates the same samples.
+// out. Every write into the output is made 5 ms slower (io_faults): rank 0
+// then writes for about 4.5 s (some 900 writes), in batches of 12 records
+// that are mostly set off by a message received inside one of its samples.
+// Counted as busy too, that made rank 0's busy time per sample about 50x
+// rank 1's (205 against 3.8 ms, measured); counted apart, about 1.4x. (A
+// schedule in which every batch were set off between samples would pass
+// without testing the subtraction; none was seen.)
 TEST(EnsembleMpi, RankZeroCountsItsRecordWritingApartFromItsSamples) {
   TempDir dir("ensemble_mpi_writing_time");
   const fs::path job = dir.path() / "spherical.toml";
@@ -244,7 +247,7 @@ TEST(EnsembleMpi, RankZeroCountsItsRecordWritingApartFromItsSamples) {
                                   {{"samples = 64", "samples = 50\nstore_trajectories = 50\nblock_size = 2"}}));
   const fs::path out = dir.path() / "out_slow.h5";
   const std::vector<std::string> prefix = {
-      "env", std::string("LD_PRELOAD=") + TREEDYN_IO_FAULTS_LIBRARY, "TREEDYN_TEST_SLOW_WRITE=out_slow.h5",
+      "env", std::string("LD_PRELOAD=") + TREEDYN_IO_FAULTS_LIBRARY, "TREEDYN_TEST_SLOW_WRITE=out_slow.h5.tmp-",
       "ASAN_OPTIONS=detect_leaks=0:abort_on_error=1:verify_asan_link_order=0",
       "timeout", "-k", "10", std::to_string(kTimeoutSeconds), TREEDYN_MPIEXEC, "--oversubscribe", "-np", "2"};
   const auto r = run_command(TREEDYN_ENSEMBLE_BINARY, {job.string(), "-o", out.string(), "-q"},
@@ -259,7 +262,7 @@ TEST(EnsembleMpi, RankZeroCountsItsRecordWritingApartFromItsSamples) {
   ASSERT_EQ(busy.size(), 2u);
   ASSERT_EQ(writing.size(), 2u);
   ASSERT_EQ(samples.size(), 2u);
-  // Each of the about 200 chunks stored took 5 ms more.
+  // At least 100 writes (of some 900) counted.
   EXPECT_GT(writing[0], 0.5) << "rank 0's writing was not counted";
   EXPECT_EQ(writing[1], 0.0) << "rank 1 writes nothing: it sends";
   for (int rank : {0, 1}) {
@@ -269,7 +272,7 @@ TEST(EnsembleMpi, RankZeroCountsItsRecordWritingApartFromItsSamples) {
     EXPECT_LE(busy[rank] + writing[rank], wall) << "the same time counted twice";
   }
   const double per_sample0 = busy[0] / samples[0], per_sample1 = busy[1] / samples[1];
-  EXPECT_LT(per_sample0, 3.0 * per_sample1)
+  EXPECT_LT(per_sample0, 10.0 * per_sample1)
       << "rank 0's busy time per sample (" << per_sample0 << " s) holds its writing; rank 1's is " << per_sample1
       << " s";
 }

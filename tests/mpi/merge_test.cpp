@@ -71,8 +71,14 @@ TEST_F(Merge, ThreePartsOnDifferentRankCountsMergeIntoOneRunBitwise) {
   EXPECT_EQ(read_string_attribute(got.id(), "merged_from").size(), 3u);
   // Provenance: the job the parts ran, the merge's own time, no sample run by the merge itself.
   EXPECT_EQ(read_single_string_attribute(got.id(), "job_path"), fs::absolute(job_).lexically_normal().string());
-  EXPECT_GT(read_double_attribute(got.id(), "wall_time_seconds").at(0), 0.0);
+  const double wall = read_double_attribute(got.id(), "wall_time_seconds").at(0);
+  EXPECT_GT(wall, 0.0);
   EXPECT_EQ(read_integer_attribute(got.id(), "samples_run_here"), 0);
+  // The merge's writing of the parts' 48 records, a part of its own time.
+  const std::vector<double> writing = read_double_attribute(got.id(), "record_writing_seconds_per_rank");
+  ASSERT_EQ(writing.size(), 1u);
+  EXPECT_GT(writing[0], 0.0);
+  EXPECT_LT(writing[0], wall);
 }
 
 TEST_F(Merge, OverlapsOtherJobsAndBadRangesAreRefusedAndGapsAreReported) {

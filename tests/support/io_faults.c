@@ -26,34 +26,57 @@
 // function pointer (ISO C has no cast from one to the other).
 static void* next_symbol(const char* name) { return dlsym(RTLD_NEXT, name); }
 
-// The path `fd` is open on, or false.
-static int path_of(int fd, char* path, size_t size) {
+// The length of the path `fd` is open on, written into `path` (room for
+// one more character), or 0.
+static size_t path_of(int fd, char* path, size_t size) {
   char link[64];
   snprintf(link, sizeof link, "/proc/self/fd/%d", fd);
-  const ssize_t n = readlink(link, path, size - 1);
+  const ssize_t n = readlink(link, path, size - 2);
   if (n <= 0) return 0;
   path[n] = '\0';
-  return 1;
+  return (size_t)n;
 }
 
-ssize_t pwrite(int fd, const void* buffer, size_t count, off_t offset) {
+// TREEDYN_TEST_SLOW_WRITE: 5 ms more for a write into a matching path.
+static void slow_write_if_asked(int fd) {
   const int saved = errno;
   const char* slow = getenv("TREEDYN_TEST_SLOW_WRITE");
   char path[4097];
-  if (slow != NULL && path_of(fd, path, sizeof path) && strstr(path, slow) != NULL) {
+  if (slow != NULL && path_of(fd, path, sizeof path) > 0 && strstr(path, slow) != NULL) {
     const struct timespec pause = {0, 5000000};
     nanosleep(&pause, NULL);
   }
   errno = saved;
-  void* symbol = next_symbol("pwrite");
+}
+
+// The C library's function, looked up once (every process of a run calls
+// pwrite often). Relaxed atomics: threads that race store the same value.
+static void* cached_symbol(void** cache, const char* name) {
+  void* symbol = __atomic_load_n(cache, __ATOMIC_RELAXED);
+  if (symbol == NULL) {
+    symbol = next_symbol(name);
+    __atomic_store_n(cache, symbol, __ATOMIC_RELAXED);
+  }
+  return symbol;
+}
+
+ssize_t pwrite(int fd, const void* buffer, size_t count, off_t offset) {
+  static void* cache = NULL;
+  slow_write_if_asked(fd);
+  void* symbol = cached_symbol(&cache, "pwrite");
   ssize_t (*real)(int, const void*, size_t, off_t) = NULL;
   memcpy(&real, &symbol, sizeof real);
   return real(fd, buffer, count, offset);
 }
 
-// The same call under its large-file name (glibc's alias on 64-bit targets).
-ssize_t pwrite64(int fd, const void* buffer, size_t count, off_t offset) {
-  return pwrite(fd, buffer, count, offset);
+// Its large-file name, which a program built with _FILE_OFFSET_BITS=64 calls.
+ssize_t pwrite64(int fd, const void* buffer, size_t count, off64_t offset) {
+  static void* cache = NULL;
+  slow_write_if_asked(fd);
+  void* symbol = cached_symbol(&cache, "pwrite64");
+  ssize_t (*real)(int, const void*, size_t, off64_t) = NULL;
+  memcpy(&real, &symbol, sizeof real);
+  return real(fd, buffer, count, offset);
 }
 
 int rename(const char* from, const char* to) {
@@ -73,14 +96,14 @@ int fsync(int fd) {
   const char* log = getenv("TREEDYN_TEST_FSYNC_LOG");
   const char* slow = getenv("TREEDYN_TEST_SLOW_FSYNC");
   char path[4097];
-  if (path_of(fd, path, sizeof path - 1)) {
+  const size_t n = path_of(fd, path, sizeof path);
+  if (n > 0) {
     if (slow != NULL && strstr(path, slow) != NULL) {
       const struct timespec half = {0, 500000000};
       nanosleep(&half, NULL);
     }
     const int out = log != NULL ? open(log, O_WRONLY | O_APPEND | O_CREAT | O_CLOEXEC, 0644) : -1;
     if (out >= 0) {
-      const size_t n = strlen(path);
       path[n] = '\n';
       if (write(out, path, n + 1) < 0) { /* a test's log: nothing to do */ }
       close(out);
