@@ -59,8 +59,12 @@ bool RankResults::save_locked(process::AtomicFile::Sync sync) {
   }
 }
 
+std::string RankResults::warning_after(const std::exception& failure) {
+  return std::string("warning: ") + failure.what() + "; checkpoints are off for this rank\n";
+}
+
 void RankResults::drop_checkpoint_after(const std::exception& failure) {
-  std::cerr << "warning: " << failure.what() << "; checkpoints are off for this rank\n";
+  std::cerr << warning_after(failure);
   checkpoint_.reset();
 }
 
@@ -94,12 +98,16 @@ void RankResults::commit_final_save() {
     checkpoint_->commit_prepared();
     last_save_ = std::chrono::steady_clock::now();
   } catch (const std::exception& e) {
-    drop_checkpoint_after(e);
+    final_save_warning_ = warning_after(e);
+    checkpoint_.reset();
   }
 }
 
 void RankResults::await_final_save() {
   if (final_save_.joinable()) final_save_.join();
+  std::lock_guard<std::mutex> guard(lock_);
+  std::cerr << final_save_warning_;
+  final_save_warning_.clear();
 }
 
 RankResults::~RankResults() { await_final_save(); }

@@ -12,6 +12,7 @@
 #include <mutex>
 #include <optional>
 #include <span>
+#include <string>
 #include <thread>
 
 #include "output/sample_record.hpp"
@@ -63,8 +64,9 @@ class RankResults {
   // records the disk never got, and --resume would refuse the whole
   // checkpoint (tried in a401d31, reverted).
   EnsembleStatistics finish();
-  // Waits until finish()'s save is on the disk (a failure is warned about
-  // and turns this rank's checkpoints off): before the checkpoint is
+  // Waits until finish()'s save is on the disk (a failure turns this rank's
+  // checkpoints off, and its warning is printed here, on the main thread,
+  // not in the middle of rank 0's summary): before the checkpoint is
   // removed or judged, and before the process ends. Main thread only.
   void await_final_save();
   ~RankResults();
@@ -74,7 +76,9 @@ class RankResults {
   // A failed write (a full disk, or no memory for the buffers) is reported
   // once and turns checkpoints off on this rank. Under the lock.
   void drop_checkpoint_after(const std::exception& failure);
-  // finish()'s save committed (flushed, renamed). Under the lock.
+  static std::string warning_after(const std::exception& failure);
+  // finish()'s save committed (flushed, renamed); a failure's warning is
+  // kept for await_final_save(). Under the lock.
   void commit_final_save();
 
   mutable std::mutex lock_;
@@ -85,6 +89,7 @@ class RankResults {
   bool stopped_ = false;
   bool finished_ = false;
   std::thread final_save_;  // finish()'s flush and rename
+  std::string final_save_warning_;  // its failure, printed by await_final_save()
 };
 
 }  // namespace treedyn::ensemble
