@@ -121,7 +121,6 @@ std::string stop_reason_of(const EnsembleRun& run, const rare_event::SubsetResul
 // goes the same way as a merge's (EnsembleWriter::complete).
 int write_ensemble(EnsembleRun& run, const ensemble::EnsembleStatistics& stats, EnsembleSummary summary,
                    const RunProvenance& provenance) {
-  summary.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - run.start).count();
   summary.failed = run.records->failed();
   summary.ok = run.records->done() - summary.failed;
   summary.samples_used = run.samples_used;
@@ -136,7 +135,7 @@ int write_ensemble(EnsembleRun& run, const ensemble::EnsembleStatistics& stats, 
     if (!run.records->io_error().empty()) throw process::FileError(run.records->io_error());
     if (run.samples_used < run.spec.samples) run.writer->keep_samples(run.samples_used);
     if (rare) run.writer->write_rare_event(ensemble::subset_settings(run.spec), *rare, run.samples_used);
-    run.writer->complete(run.nominal, stats, answers, summary, provenance);
+    summary = run.writer->complete(run.nominal, stats, answers, std::move(summary), provenance, run.start);
   } catch (const process::FileError& e) {
     std::cerr << "error: " << e.what() << "\n";
     return kExitIo;

@@ -658,14 +658,22 @@ void EnsembleWriter::write_levels(hid_t g, const rare_event::SubsetResult& resul
   describe(x.id(), "1", "per level: its runs that failed (never beyond a threshold; rejected proposals)", {});
 }
 
-void EnsembleWriter::complete(const std::vector<double>& nominal, const ensemble::EnsembleStatistics& stats,
-                              const std::vector<ensemble::ResponseAnswer>& answers, const EnsembleSummary& summary,
-                              const RunProvenance& run) {
+EnsembleSummary EnsembleWriter::complete(const std::vector<double>& nominal,
+                                         const ensemble::EnsembleStatistics& stats,
+                                         const std::vector<ensemble::ResponseAnswer>& answers,
+                                         EnsembleSummary summary, const RunProvenance& run,
+                                         std::chrono::steady_clock::time_point started) {
+  using Clock = std::chrono::steady_clock;
+  const Clock::time_point flushing = Clock::now();
   for (h5::RowDataset* d : row_datasets()) d->flush();
+  if (!summary.writing_seconds.empty())
+    summary.writing_seconds.front() += std::chrono::duration<double>(Clock::now() - flushing).count();
   write_nominal(nominal);
   write_statistics(stats);
   write_answers(answers);
+  summary.wall_seconds = std::chrono::duration<double>(Clock::now() - started).count();
   finish(summary, run);
+  return summary;
 }
 
 void EnsembleWriter::finish(const EnsembleSummary& summary, const RunProvenance& run) {

@@ -3,6 +3,7 @@
 // statistics. Temporary name until complete() renames it into place.
 #pragma once
 
+#include <chrono>
 #include <filesystem>
 #include <vector>
 
@@ -43,12 +44,15 @@ class EnsembleWriter {
   void write_rare_event(const rare_event::SubsetSettings& settings, const rare_event::SubsetResult& result,
                         std::size_t rows);
   // The end of every ensemble file, whoever wrote its records (a run, a
-  // merge): the nominal run, /stats, /responses and /sensitivity (one per
-  // response; none when `answers` is empty), the summary and provenance as
-  // root attributes; then the file is renamed into place.
-  void complete(const std::vector<double>& nominal, const ensemble::EnsembleStatistics& stats,
-                const std::vector<ensemble::ResponseAnswer>& answers, const EnsembleSummary& summary,
-                const RunProvenance& run);
+  // merge): the per-sample datasets' last chunks, the nominal run, /stats,
+  // /responses and /sensitivity (one per response; none when `answers` is
+  // empty), the summary and provenance as root attributes; then the file is
+  // flushed and renamed into place. Returns the summary as written: its
+  // wall time from `started` to the attributes, the last chunks' time added
+  // to the first rank's record writing.
+  EnsembleSummary complete(const std::vector<double>& nominal, const ensemble::EnsembleStatistics& stats,
+                           const std::vector<ensemble::ResponseAnswer>& answers, EnsembleSummary summary,
+                           const RunProvenance& run, std::chrono::steady_clock::time_point started);
 
  private:
   void create_sample_columns();
