@@ -24,7 +24,7 @@ bool RankResults::keep(const SampleRecord& record, std::vector<double>* trajecto
     try {
       checkpoint_->add(record);
     } catch (const process::FileError& e) {  // a spill of the held records failed
-      drop_checkpoint_after(e);
+      std::cerr << drop_checkpoint_after(e);
     }
   }
   return true;
@@ -54,18 +54,14 @@ bool RankResults::save_locked(process::AtomicFile::Sync sync) {
     last_save_ = std::chrono::steady_clock::now();
     return true;
   } catch (const std::exception& e) {
-    drop_checkpoint_after(e);
+    std::cerr << drop_checkpoint_after(e);
     return false;
   }
 }
 
-std::string RankResults::warning_after(const std::exception& failure) {
-  return std::string("warning: ") + failure.what() + "; checkpoints are off for this rank\n";
-}
-
-void RankResults::drop_checkpoint_after(const std::exception& failure) {
-  std::cerr << warning_after(failure);
+std::string RankResults::drop_checkpoint_after(const std::exception& failure) {
   checkpoint_.reset();
+  return std::string("warning: ") + failure.what() + "; checkpoints are off for this rank\n";
 }
 
 EnsembleStatistics RankResults::finish() {
@@ -82,7 +78,7 @@ EnsembleStatistics RankResults::finish() {
         commit_final_save();
       }
     } catch (const std::exception& e) {
-      drop_checkpoint_after(e);
+      std::cerr << drop_checkpoint_after(e);
     }
   }
   finished_ = true;
@@ -98,8 +94,7 @@ void RankResults::commit_final_save() {
     checkpoint_->commit_prepared();
     last_save_ = std::chrono::steady_clock::now();
   } catch (const std::exception& e) {
-    final_save_warning_ = warning_after(e);
-    checkpoint_.reset();
+    final_save_warning_ = drop_checkpoint_after(e);
   }
 }
 

@@ -73,10 +73,10 @@ class RankResults {
 
  private:
   bool save_locked(process::AtomicFile::Sync sync);
-  // A failed write (a full disk, or no memory for the buffers) is reported
-  // once and turns checkpoints off on this rank. Under the lock.
-  void drop_checkpoint_after(const std::exception& failure);
-  static std::string warning_after(const std::exception& failure);
+  // A failed write (a full disk, or no memory for the buffers) turns
+  // checkpoints off on this rank; returns the warning, printed once by the
+  // caller. Under the lock.
+  std::string drop_checkpoint_after(const std::exception& failure);
   // finish()'s save committed (flushed, renamed); a failure's warning is
   // kept for await_final_save(). Under the lock.
   void commit_final_save();

@@ -37,18 +37,6 @@ static size_t path_of(int fd, char* path, size_t size) {
   return (size_t)n;
 }
 
-// TREEDYN_TEST_SLOW_WRITE: 5 ms more for a write into a matching path.
-static void slow_write_if_asked(int fd) {
-  const int saved = errno;
-  const char* slow = getenv("TREEDYN_TEST_SLOW_WRITE");
-  char path[4097];
-  if (slow != NULL && path_of(fd, path, sizeof path) > 0 && strstr(path, slow) != NULL) {
-    const struct timespec pause = {0, 5000000};
-    nanosleep(&pause, NULL);
-  }
-  errno = saved;
-}
-
 // The C library's function, looked up once (every process of a run calls
 // pwrite often). Relaxed atomics: threads that race store the same value.
 static void* cached_symbol(void** cache, const char* name) {
@@ -60,23 +48,36 @@ static void* cached_symbol(void** cache, const char* name) {
   return symbol;
 }
 
-ssize_t pwrite(int fd, const void* buffer, size_t count, off_t offset) {
-  static void* cache = NULL;
-  slow_write_if_asked(fd);
-  void* symbol = cached_symbol(&cache, "pwrite");
-  ssize_t (*real)(int, const void*, size_t, off_t) = NULL;
+// pwrite and pwrite64 (which a program built with _FILE_OFFSET_BITS=64
+// calls) are one call on the 64-bit targets treedyn builds for.
+_Static_assert(sizeof(off_t) == sizeof(off64_t), "pwrite and pwrite64 take offsets of one size");
+
+// TREEDYN_TEST_SLOW_WRITE: 5 ms more for a write into a matching path,
+// then the C library's function `name` (cached in `cache`).
+static ssize_t slowed_pwrite(void** cache, const char* name, int fd, const void* buffer, size_t count,
+                             off64_t offset) {
+  const int saved = errno;
+  const char* slow = getenv("TREEDYN_TEST_SLOW_WRITE");
+  char path[4097];
+  if (slow != NULL && path_of(fd, path, sizeof path) > 0 && strstr(path, slow) != NULL) {
+    const struct timespec pause = {0, 5000000};
+    nanosleep(&pause, NULL);
+  }
+  errno = saved;
+  void* symbol = cached_symbol(cache, name);
+  ssize_t (*real)(int, const void*, size_t, off64_t) = NULL;
   memcpy(&real, &symbol, sizeof real);
   return real(fd, buffer, count, offset);
 }
 
-// Its large-file name, which a program built with _FILE_OFFSET_BITS=64 calls.
+ssize_t pwrite(int fd, const void* buffer, size_t count, off_t offset) {
+  static void* cache = NULL;
+  return slowed_pwrite(&cache, "pwrite", fd, buffer, count, offset);
+}
+
 ssize_t pwrite64(int fd, const void* buffer, size_t count, off64_t offset) {
   static void* cache = NULL;
-  slow_write_if_asked(fd);
-  void* symbol = cached_symbol(&cache, "pwrite64");
-  ssize_t (*real)(int, const void*, size_t, off64_t) = NULL;
-  memcpy(&real, &symbol, sizeof real);
-  return real(fd, buffer, count, offset);
+  return slowed_pwrite(&cache, "pwrite64", fd, buffer, count, offset);
 }
 
 int rename(const char* from, const char* to) {
