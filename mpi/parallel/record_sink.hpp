@@ -112,7 +112,9 @@ class RecordWriter final : public RecordSink {
   std::string io_error_;
 };
 
-// Ranks other than 0.
+// Ranks other than 0: records encoded as they are kept, sent to rank 0 at a
+// block's end once they make 64 KiB or have waited 0.5 s, and at a wave's
+// end whatever their size.
 class RecordSender final : public RecordSink {
  public:
   explicit RecordSender(MPI_Comm comm) : comm_(comm) {}
@@ -122,9 +124,11 @@ class RecordSender final : public RecordSink {
 
  private:
   void make_progress() override;
+  void send_held();
 
   MPI_Comm comm_;
-  std::vector<char> batch_;
+  std::vector<char> batch_;  // encoded records not yet sent
+  std::chrono::steady_clock::time_point held_since_;  // when batch_'s first record came
   std::deque<std::pair<MPI_Request, std::vector<char>>> pending_;
   std::size_t pending_bytes_ = 0;  // of the batches in `pending_`
 };
