@@ -107,7 +107,7 @@ int start_records(EnsembleRun& run) {
     run.records = writer.get();
     run.sink = std::move(writer);
   } else {
-    run.sink = std::make_unique<RecordSender>(run.comm);
+    run.sink = std::make_unique<RecordSender>(run.comm, run.size);
   }
   if (run.restored) {
     if (const int code = on_rank_zero(run, [&run] { return restore_on_rank_zero(run); }); code != kExitOk) return code;

@@ -2,6 +2,7 @@
 
 #include <time.h>
 
+#include <algorithm>
 #include <chrono>
 
 #include "persistence/record_codec.hpp"
@@ -21,12 +22,17 @@ constexpr std::int64_t kPollIntervalNs = 2'000'000;
 constexpr std::size_t kWriteBatchBytes = std::size_t{4} << 20;  // rank 0's records held before a write
 constexpr std::size_t kWriteBatchRecords = 4096;
 // A sending rank holds the records of its blocks until they make a message
-// of this size, or the oldest has waited kMaxHoldSeconds (rank 0's progress
-// lags by no more). Rank 0 pays about 20 us per message it receives,
-// whatever its size (the probe, MPI's rendezvous above the eager limit, the
-// decode's set-up), and a block of 4 spherical-pendulum records is 9 KB:
-// one message per block was a sixth of rank 0's record writing.
+// of 64 KiB, or the first has waited kMaxHoldSeconds. Rank 0 pays about
+// 20 us per message it receives, whatever its size (the probe, MPI's
+// rendezvous above the eager limit, the decode's set-up), and a block of 4
+// spherical-pendulum records is 9 KB: one message per block was a sixth of
+// rank 0's record writing. The records all senders hold together stay
+// under kAllHeldBytes: held records are rows rank 0 has not got, and it
+// keeps only a few chunks (of at least 910 rows) waiting for their rows
+// (h5::RowDataset), so with many ranks a message is smaller (8 KiB at 64
+// ranks: a block of spherical-pendulum records, as before).
 constexpr std::size_t kSendBytes = std::size_t{64} << 10;
+constexpr std::size_t kAllHeldBytes = std::size_t{512} << 10;
 constexpr double kMaxHoldSeconds = 0.5;
 
 // What a record holds in memory, roughly: its numbers and its reason.
@@ -70,7 +76,7 @@ RecordWriter::RecordWriter(MPI_Comm comm, int ranks, EnsembleWriter* writer, ens
 
 void RecordWriter::add(ensemble::SampleRecord record) { local_.push_back(std::move(record)); }
 
-void RecordWriter::flush() {
+void RecordWriter::end_block() {
   if (!local_.empty()) {
     const Writing writing(*this);
     write(std::move(local_));
@@ -84,7 +90,7 @@ void RecordWriter::flush() {
 // the output it is about to delete, inside the launcher's SIGTERM-to-SIGKILL
 // window. finish_run writes them (write_held) once the run is complete.
 void RecordWriter::end_wave() {
-  flush();
+  end_block();
   while (finished_ranks_ < ranks_ - 1) drain(true);
   finished_ranks_ = 0;
 }
@@ -146,23 +152,33 @@ void RecordWriter::drain(bool wait) {
   }
 }
 
+RecordSender::RecordSender(MPI_Comm comm, int ranks)
+    : comm_(comm), send_bytes_(std::min(kSendBytes, kAllHeldBytes / static_cast<std::size_t>(std::max(ranks - 1, 1)))) {}
+
 void RecordSender::add(ensemble::SampleRecord record) {
   if (batch_.empty()) held_since_ = std::chrono::steady_clock::now();
   ensemble::append_record(record, batch_);
 }
 
-// At a block's end: the records held go when they fill a message, or have
-// waited long enough that rank 0's progress would lag.
-void RecordSender::flush() {
-  if (batch_.size() >= kSendBytes ||
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - held_since_).count() >= kMaxHoldSeconds)
-    send_held();
+// The records held go when they fill a message, or have waited long enough
+// that rank 0's progress would lag (checked here and, within a block of
+// slow samples, in make_progress).
+void RecordSender::end_block() {
+  if (batch_.size() >= send_bytes_ || held_too_long()) send_held();
+}
+
+bool RecordSender::held_too_long() const {
+  return !batch_.empty() &&
+         std::chrono::duration<double>(std::chrono::steady_clock::now() - held_since_).count() >= kMaxHoldSeconds;
+}
+
+bool RecordSender::room_in_flight() const {
+  return pending_.size() < kMaxPendingSends && pending_bytes_ + batch_.size() <= kMaxPendingBytes;
 }
 
 void RecordSender::send_held() {
   if (batch_.empty()) return;
-  while (!pending_.empty() &&
-         (pending_.size() >= kMaxPendingSends || pending_bytes_ + batch_.size() > kMaxPendingBytes)) {
+  while (!pending_.empty() && !room_in_flight()) {
     MPI_Wait(&pending_.front().first, MPI_STATUS_IGNORE);
     pending_bytes_ -= pending_.front().second.size();
     pending_.pop_front();
@@ -170,6 +186,7 @@ void RecordSender::send_held() {
   pending_bytes_ += batch_.size();
   pending_.emplace_back(MPI_REQUEST_NULL, std::move(batch_));
   batch_.clear();
+  batch_.reserve(send_bytes_ + send_bytes_ / 4);  // the next message's, without regrowing from nothing
   auto& [request, buffer] = pending_.back();
   MPI_Isend(buffer.data(), static_cast<int>(buffer.size()), MPI_BYTE, 0, kTagRecords, comm_, &request);
 }
@@ -183,15 +200,17 @@ void RecordSender::end_wave() {
 }
 
 // Testing the sends drives their transfer (large batches need rank 0's
-// receive and our progress) and frees finished buffers.
+// receive and our progress) and frees finished buffers; records held too
+// long go if there is room (never waiting here, inside a sample).
 void RecordSender::make_progress() {
   while (!pending_.empty()) {
     int done = 0;
     MPI_Test(&pending_.front().first, &done, MPI_STATUS_IGNORE);
-    if (!done) return;
+    if (!done) break;
     pending_bytes_ -= pending_.front().second.size();
     pending_.pop_front();
   }
+  if (held_too_long() && room_in_flight()) send_held();
 }
 
 }  // namespace treedyn::parallel

@@ -24,8 +24,9 @@ class RecordSink {
  public:
   virtual ~RecordSink() = default;
   virtual void add(ensemble::SampleRecord record) = 0;
-  // End of a block of samples.
-  virtual void flush() = 0;
+  // At the end of each block of samples: rank 0 counts its own records;
+  // the others send theirs when enough are held (RecordSender).
+  virtual void end_block() = 0;
   // Cheap, called often (every output time): lets MPI make progress.
   void poll();
   // After a wave's last block, on every rank: rank 0 returns once every
@@ -34,7 +35,7 @@ class RecordSink {
   // Time spent writing records: rank 0 receiving, decoding and writing
   // every rank's records (inside poll() too, so a sample's busy time can
   // leave it out); 0 on the other ranks, which encode their records as part
-  // of the sample (keep()) and hand them to MPI after each block.
+  // of the sample (keep()) and hand them to MPI in batches (RecordSender).
   double writing_seconds() const { return writing_seconds_; }
 
  protected:
@@ -76,7 +77,7 @@ class RecordWriter final : public RecordSink {
   RecordWriter(MPI_Comm comm, int ranks, EnsembleWriter* writer, ensemble::Progress& progress,
                ensemble::ResponseTable* table, std::vector<ensemble::SampleRecord>* collected = nullptr);
   void add(ensemble::SampleRecord record) override;
-  void flush() override;
+  void end_block() override;
   void end_wave() override;
   // The progress line's last word (at the end of the run, or of a stop).
   void finish_progress() { progress_.finish(done_, failed_); }
@@ -112,21 +113,24 @@ class RecordWriter final : public RecordSink {
   std::string io_error_;
 };
 
-// Ranks other than 0: records encoded as they are kept, sent to rank 0 at a
-// block's end once they make 64 KiB or have waited 0.5 s, and at a wave's
-// end whatever their size.
+// Ranks other than 0: records encoded as they are kept and sent to rank 0
+// in messages of several blocks (see send_bytes_ and kMaxHoldSeconds in
+// record_sink.cpp), and at a wave's end whatever their size.
 class RecordSender final : public RecordSink {
  public:
-  explicit RecordSender(MPI_Comm comm) : comm_(comm) {}
+  RecordSender(MPI_Comm comm, int ranks);
   void add(ensemble::SampleRecord record) override;
-  void flush() override;
+  void end_block() override;
   void end_wave() override;
 
  private:
   void make_progress() override;
-  void send_held();
+  bool held_too_long() const;
+  bool room_in_flight() const;
+  void send_held();  // waits for room in flight first
 
   MPI_Comm comm_;
+  std::size_t send_bytes_;  // a message's size: records held until they make it
   std::vector<char> batch_;  // encoded records not yet sent
   std::chrono::steady_clock::time_point held_since_;  // when batch_'s first record came
   std::deque<std::pair<MPI_Request, std::vector<char>>> pending_;

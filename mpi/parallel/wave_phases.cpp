@@ -148,7 +148,7 @@ bool run_pilot_wave(EnsembleRun& run, std::uint64_t pilot_end) {
         keep(run, std::move(*r), nullptr);
         if (ok) kept.push_back(std::move(trajectory));
       }
-      run.sink->flush();
+      run.sink->end_block();
     }
     run.sink->end_wave();
     if (any_rank(run.comm, !may_go_on(queue))) return false;
@@ -198,7 +198,7 @@ bool run_wave(EnsembleRun& run, std::uint64_t from, std::uint64_t to) {
       else
         stopped = true;
     }
-    run.sink->flush();
+    run.sink->end_block();
     if (!stopped) run.results.save_if_due();
   }
   const bool interrupted = !may_go_on(queue);
@@ -250,7 +250,7 @@ bool run_chain_wave(EnsembleRun& run, const ensemble::Wave& wave) {
     } catch (const ChainStopped&) {
       stopped = true;
     }
-    run.sink->flush();
+    run.sink->end_block();
     if (!stopped) run.results.save_if_due();
   }
   const bool interrupted = !may_go_on(queue);
