@@ -35,6 +35,12 @@ constexpr std::size_t kSendBytes = std::size_t{64} << 10;
 constexpr std::size_t kAllHeldBytes = std::size_t{512} << 10;
 constexpr double kMaxHoldSeconds = 0.5;
 
+// A sender's message size when `ranks` ranks run: kSendBytes, less beyond
+// 9 ranks so that the ranks - 1 senders hold kAllHeldBytes together.
+std::size_t message_bytes(int ranks) {
+  return std::min(kSendBytes, kAllHeldBytes / static_cast<std::size_t>(std::max(ranks - 1, 1)));
+}
+
 // What a record holds in memory, roughly: its numbers and its reason.
 std::size_t record_bytes(const ensemble::SampleRecord& r) {
   const std::size_t numbers =
@@ -153,7 +159,7 @@ void RecordWriter::drain(bool wait) {
 }
 
 RecordSender::RecordSender(MPI_Comm comm, int ranks)
-    : comm_(comm), send_bytes_(std::min(kSendBytes, kAllHeldBytes / static_cast<std::size_t>(std::max(ranks - 1, 1)))) {}
+    : comm_(comm), send_bytes_(message_bytes(ranks)) {}
 
 void RecordSender::add(ensemble::SampleRecord record) {
   if (batch_.empty()) held_since_ = std::chrono::steady_clock::now();
@@ -180,8 +186,7 @@ void RecordSender::send_held() {
   if (batch_.empty()) return;
   while (!pending_.empty() && !room_in_flight()) {
     MPI_Wait(&pending_.front().first, MPI_STATUS_IGNORE);
-    pending_bytes_ -= pending_.front().second.size();
-    pending_.pop_front();
+    retire_oldest_send();
   }
   pending_bytes_ += batch_.size();
   pending_.emplace_back(MPI_REQUEST_NULL, std::move(batch_));
@@ -189,6 +194,12 @@ void RecordSender::send_held() {
   batch_.reserve(send_bytes_ + send_bytes_ / 4);  // the next message's, without regrowing from nothing
   auto& [request, buffer] = pending_.back();
   MPI_Isend(buffer.data(), static_cast<int>(buffer.size()), MPI_BYTE, 0, kTagRecords, comm_, &request);
+}
+
+// The oldest send has completed: its buffer goes.
+void RecordSender::retire_oldest_send() {
+  pending_bytes_ -= pending_.front().second.size();
+  pending_.pop_front();
 }
 
 void RecordSender::end_wave() {
@@ -207,8 +218,7 @@ void RecordSender::make_progress() {
     int done = 0;
     MPI_Test(&pending_.front().first, &done, MPI_STATUS_IGNORE);
     if (!done) break;
-    pending_bytes_ -= pending_.front().second.size();
-    pending_.pop_front();
+    retire_oldest_send();
   }
   if (held_too_long() && room_in_flight()) send_held();
 }

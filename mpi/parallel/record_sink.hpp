@@ -114,7 +114,7 @@ class RecordWriter final : public RecordSink {
 };
 
 // Ranks other than 0: records encoded as they are kept and sent to rank 0
-// in messages of several blocks (see send_bytes_ and kMaxHoldSeconds in
+// in messages of several blocks (see message_bytes and kMaxHoldSeconds in
 // record_sink.cpp), and at a wave's end whatever their size.
 class RecordSender final : public RecordSink {
  public:
@@ -128,6 +128,7 @@ class RecordSender final : public RecordSink {
   bool held_too_long() const;
   bool room_in_flight() const;
   void send_held();  // waits for room in flight first
+  void retire_oldest_send();
 
   MPI_Comm comm_;
   std::size_t send_bytes_;  // a message's size: records held until they make it
