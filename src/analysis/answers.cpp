@@ -47,7 +47,7 @@ RankSensitivity ranks_of(const EnsembleSpec& spec, const ResponseTable& table, s
     for (std::size_t i = 0; i < d; ++i) x.push_back(table.input(k, i));
     y.push_back(table.response(k, r));
   }
-  return rank_sensitivity(x, d, y);
+  return rank_sensitivity(x, d, y, spec.bootstrap_resamples, spec.seed);
 }
 
 // Indices per Saltelli unit (an input, or a group of them).

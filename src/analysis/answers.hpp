@@ -23,7 +23,6 @@ namespace treedyn::ensemble {
 struct Interval {
   double low = 0.0, high = 0.0;
 };
-inline constexpr double kZ95 = 1.959963984540054;  // the 97.5 % standard normal quantile
 Interval wilson_interval(std::uint64_t k, std::uint64_t n, double z = kZ95);
 
 struct Exceedance {

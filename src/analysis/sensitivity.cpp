@@ -8,6 +8,7 @@
 #include <numeric>
 #include <stdexcept>
 
+#include "analysis/ranking.hpp"
 #include "sampling/design.hpp"
 
 namespace treedyn::ensemble {
@@ -56,19 +57,98 @@ double pearson(std::span<const double> x, std::span<const double> y) {
   return sxy / std::sqrt(sxx * syy);
 }
 
-// Percentile p of `values` (sorted in place) by linear interpolation between
-// order statistics at position (R - 1) p, "type 7" of Hyndman and Fan, the
-// default of numpy and R. NaN if any value is NaN: a resample without a
-// defined index leaves the interval undefined rather than silently narrower.
-double percentile(std::vector<double>& values, double p) {
-  if (values.empty() || std::any_of(values.begin(), values.end(), [](double v) { return std::isnan(v); }))
-    return kNaN;
-  std::sort(values.begin(), values.end());
-  const double position = p * static_cast<double>(values.size() - 1);
-  const auto below = static_cast<std::size_t>(std::floor(position));
-  if (below + 1 >= values.size()) return values.back();
-  const double fraction = position - static_cast<double>(below);
-  return values[below] + fraction * (values[below + 1] - values[below]);
+// Stream of counter_uniform for the rank measures' row bootstrap.
+constexpr std::uint64_t kRowBootstrapStream = 8;
+
+// n rows x (D + 1) columns: the average ranks of each input, then of the
+// response.
+Eigen::MatrixXd rank_matrix(std::span<const double> inputs, std::size_t dimensions, std::span<const double> response) {
+  const std::size_t n = response.size();
+  Eigen::MatrixXd ranks(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(dimensions + 1));
+  std::vector<double> column(n);
+  for (std::size_t i = 0; i <= dimensions; ++i) {
+    for (std::size_t k = 0; k < n; ++k) column[k] = i < dimensions ? inputs[k * dimensions + i] : response[k];
+    const std::vector<double> r = average_ranks(column);
+    ranks.col(static_cast<Eigen::Index>(i)) = Eigen::Map<const Eigen::VectorXd>(r.data(), static_cast<Eigen::Index>(n));
+  }
+  return ranks;
+}
+
+std::span<const double> column_of(const Eigen::MatrixXd& m, Eigen::Index c) {
+  return {m.col(c).data(), static_cast<std::size_t>(m.rows())};
+}
+
+// Least squares of the standardised response rank on the standardised input
+// ranks (the last column on the others), into srrc and r_squared, by
+// column-pivoted QR of the rank matrix itself: better conditioned than the
+// normal equations (squares the condition number), and its rank reveals
+// collinear or constant inputs. Needs more rows than parameters (D slopes
+// plus the intercept, absorbed by centring) to leave a residual.
+void rank_regression(const Eigen::MatrixXd& ranks, RankSensitivity& result) {
+  const auto n = static_cast<std::size_t>(ranks.rows());
+  const Eigen::Index dimensions = ranks.cols() - 1;
+  if (n <= static_cast<std::size_t>(dimensions) + 1) return;
+  std::vector<double> standardised;
+  Eigen::MatrixXd z(ranks.rows(), dimensions);
+  for (Eigen::Index i = 0; i < dimensions; ++i) {
+    if (!standardise(column_of(ranks, i), standardised)) return;  // constant input: singular
+    z.col(i) = Eigen::Map<const Eigen::VectorXd>(standardised.data(), ranks.rows());
+  }
+  if (!standardise(column_of(ranks, dimensions), standardised)) return;  // constant response
+  const Eigen::VectorXd target = Eigen::Map<const Eigen::VectorXd>(standardised.data(), ranks.rows());
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(z);
+  if (qr.rank() < dimensions) return;
+  const Eigen::VectorXd coefficients = qr.solve(target);
+  for (Eigen::Index i = 0; i < dimensions; ++i) result.srrc[static_cast<std::size_t>(i)] = coefficients(i);
+  // The target has unit norm, so 1 - |residual|^2 is the explained share.
+  result.r_squared = 1.0 - (target - z * coefficients).squaredNorm();
+}
+
+// The ranking measure (|SRRC| or |Spearman|) on `resamples` bootstrap
+// resamples of the rows, resample-major. Each resample is a weighted
+// covariance matrix C of the rank columns (weight: how often the row was
+// drawn): Spearman_i = C_iy / sqrt(C_ii C_yy); the SRRC solve C_xx b = C_xy,
+// standardised by sqrt(C_ii / C_yy). A resample where they are undefined
+// (a constant column, a singular C_xx) gives NaN.
+std::vector<double> rank_replicates(const Eigen::MatrixXd& ranks, bool srrc, int resamples, std::uint64_t seed) {
+  const Eigen::Index n = ranks.rows(), dimensions = ranks.cols() - 1;
+  std::vector<double> out(static_cast<std::size_t>(resamples) * static_cast<std::size_t>(dimensions), kNaN);
+  Eigen::VectorXd weight(n);
+  for (int r = 0; r < resamples; ++r) {
+    weight.setZero();
+    for (Eigen::Index k = 0; k < n; ++k) {
+      const double u = counter_uniform(seed, static_cast<std::uint64_t>(r), static_cast<std::uint64_t>(k), kRowBootstrapStream);
+      weight(std::min<Eigen::Index>(static_cast<Eigen::Index>(u * static_cast<double>(n)), n - 1)) += 1.0;
+    }
+    const Eigen::RowVectorXd mean = (weight.transpose() * ranks) / static_cast<double>(n);
+    const Eigen::MatrixXd centred = ranks.rowwise() - mean;
+    const Eigen::MatrixXd c = centred.transpose() * (centred.array().colwise() * weight.array()).matrix();
+    double* row = out.data() + static_cast<std::size_t>(r) * static_cast<std::size_t>(dimensions);
+    const double c_yy = c(dimensions, dimensions);
+    if (!(c_yy > 0.0)) continue;
+    if (!srrc) {
+      for (Eigen::Index i = 0; i < dimensions; ++i)
+        if (c(i, i) > 0.0) row[i] = std::abs(c(i, dimensions) / std::sqrt(c(i, i) * c_yy));
+      continue;
+    }
+    const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(c.topLeftCorner(dimensions, dimensions));
+    if (qr.rank() < dimensions) continue;
+    const Eigen::VectorXd b = qr.solve(c.topRightCorner(dimensions, 1));
+    for (Eigen::Index i = 0; i < dimensions; ++i) row[i] = std::abs(b(i) * std::sqrt(c(i, i) / c_yy));
+  }
+  return out;
+}
+
+// The 95 % percentile interval of each of the `units` columns of the
+// resample-major `replicates` into `out` (low, high per unit).
+void percentile_intervals(std::span<const double> replicates, std::size_t units, std::vector<double>& out) {
+  const std::size_t resamples = replicates.size() / units;
+  std::vector<double> column(resamples);
+  for (std::size_t i = 0; i < units; ++i) {
+    for (std::size_t r = 0; r < resamples; ++r) column[r] = replicates[r * units + i];
+    out[2 * i] = percentile(column, 0.025);
+    out[2 * i + 1] = percentile(column, 0.975);
+  }
 }
 
 // Point estimates of Saltelli's design restricted to the blocks `blocks`
@@ -77,6 +157,23 @@ struct SaltelliEstimate {
   double variance = kNaN;
   std::vector<double> first, total;
 };
+
+// Janon et al. 2014's total index of unit i: 1 minus their closed index of
+// every other unit, estimated from the pair (f(A), f(AB_i)) that shares all
+// inputs but i. With m_i the pair's mean, 1 - C / D (C the pair's
+// covariance, D its variance, both about m_i) is the ratio below, computed
+// from deviations so that a large offset does not cancel. A pair without
+// spread has no effect of i to show: 0.
+double janon_total(std::span<const double> f_a, std::span<const double> f_ab, std::size_t dimensions,
+                   std::size_t i, std::span<const std::size_t> blocks, double pair_mean) {
+  double differences = 0.0, spread = 0.0;
+  for (const std::size_t j : blocks) {
+    const double a = f_a[j], ab = f_ab[j * dimensions + i];
+    differences += (a - ab) * (a - ab);
+    spread += (a - pair_mean) * (a - pair_mean) + (ab - pair_mean) * (ab - pair_mean);
+  }
+  return differences == 0.0 ? 0.0 : differences / spread;
+}
 
 SaltelliEstimate estimate(std::span<const double> f_a, std::span<const double> f_b,
                           std::span<const double> f_ab, std::size_t dimensions,
@@ -103,17 +200,17 @@ SaltelliEstimate estimate(std::span<const double> f_a, std::span<const double> f
   if (!(e.variance > 0.0)) return e;  // zero (or NaN) variance: no indices
 
   for (std::size_t i = 0; i < dimensions; ++i) {
-    double first = 0.0, total = 0.0;
+    double first = 0.0, pair_sum = 0.0;
     for (const std::size_t j : blocks) {
       const double ab = f_ab[j * dimensions + i];
       // Saltelli 2010, Table 2 (b), with f(B) centred: the same expectation
       // (the mean of f(AB_i) - f(A) is zero), far less noise for a response
       // with a large offset (a position, an energy).
       first += (f_b[j] - mean) * (ab - f_a[j]);
-      total += (f_a[j] - ab) * (f_a[j] - ab);  // Jansen 1999, Table 2 (f)
+      pair_sum += f_a[j] + ab;
     }
     e.first[i] = first / static_cast<double>(n) / e.variance;
-    e.total[i] = total / (2.0 * static_cast<double>(n)) / e.variance;
+    e.total[i] = janon_total(f_a, f_ab, dimensions, i, blocks, pair_sum / (2.0 * static_cast<double>(n)));
   }
   return e;
 }
@@ -143,7 +240,7 @@ std::vector<double> average_ranks(std::span<const double> values) {
 }
 
 RankSensitivity rank_sensitivity(std::span<const double> inputs, std::size_t dimensions,
-                                 std::span<const double> response) {
+                                 std::span<const double> response, int resamples, std::uint64_t seed) {
   const std::size_t n = response.size();
   if (dimensions == 0) throw std::invalid_argument("rank_sensitivity: no inputs");
   if (inputs.size() != n * dimensions)
@@ -155,41 +252,22 @@ RankSensitivity rank_sensitivity(std::span<const double> inputs, std::size_t dim
   result.srrc.assign(dimensions, kNaN);
   result.r_squared = kNaN;
 
-  const std::vector<double> response_ranks = average_ranks(response);
-  std::vector<std::vector<double>> input_ranks(dimensions);
-  std::vector<double> column(n);
-  for (std::size_t i = 0; i < dimensions; ++i) {
-    for (std::size_t k = 0; k < n; ++k) column[k] = inputs[k * dimensions + i];
-    input_ranks[i] = average_ranks(column);
-    result.spearman[i] = pearson(input_ranks[i], response_ranks);
-  }
-
-  // The rank regression needs more rows than parameters (d slopes plus the
-  // intercept, here absorbed by centring) to leave a residual.
-  if (n <= dimensions + 1) return result;
-
-  // Least squares of the standardised response rank on the standardised input
-  // ranks, by column-pivoted QR of the rank matrix itself: better conditioned
-  // than the normal equations (squares the condition number), and its rank
-  // reveals collinear or constant inputs.
-  std::vector<double> standardised;
-  Eigen::MatrixXd z(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(dimensions));
-  for (std::size_t i = 0; i < dimensions; ++i) {
-    if (!standardise(input_ranks[i], standardised)) return result;  // constant input: singular
-    for (std::size_t k = 0; k < n; ++k)
-      z(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(i)) = standardised[k];
-  }
-  if (!standardise(response_ranks, standardised)) return result;  // constant response
-  const Eigen::VectorXd target = Eigen::Map<const Eigen::VectorXd>(standardised.data(),
-                                                                   static_cast<Eigen::Index>(n));
-
-  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(z);
-  if (qr.rank() < static_cast<Eigen::Index>(dimensions)) return result;
-  const Eigen::VectorXd coefficients = qr.solve(target);
+  const Eigen::MatrixXd ranks = rank_matrix(inputs, dimensions, response);
+  const auto response_column = static_cast<Eigen::Index>(dimensions);
   for (std::size_t i = 0; i < dimensions; ++i)
-    result.srrc[i] = coefficients(static_cast<Eigen::Index>(i));
-  // The target has unit norm, so 1 - |residual|^2 is the explained share.
-  result.r_squared = 1.0 - (target - z * coefficients).squaredNorm();
+    result.spearman[i] = pearson(column_of(ranks, static_cast<Eigen::Index>(i)), column_of(ranks, response_column));
+  rank_regression(ranks, result);
+
+  result.ranked_by_srrc = std::all_of(result.srrc.begin(), result.srrc.end(), [](double v) { return std::isfinite(v); });
+  std::vector<double> point(dimensions);
+  for (std::size_t i = 0; i < dimensions; ++i)
+    point[i] = std::abs(result.ranked_by_srrc ? result.srrc[i] : result.spearman[i]);
+  const int affordable = static_cast<int>(std::min<double>(
+      resamples, kRankBootstrapBudget / (0.5 * static_cast<double>(n) * static_cast<double>((dimensions + 1) * (dimensions + 1)))));
+  const std::vector<double> replicates =
+      n >= 2 && affordable >= kRankBootstrapMinimum ? rank_replicates(ranks, result.ranked_by_srrc, affordable, seed)
+                                          : std::vector<double>{};
+  result.ranking = rank_units(point, replicates, n);
   return result;
 }
 
@@ -212,13 +290,13 @@ SobolIndices saltelli_indices(std::span<const double> f_a, std::span<const doubl
   result.base_samples = n;
   result.first_ci.assign(2 * dimensions, kNaN);
   result.total_ci.assign(2 * dimensions, kNaN);
+  result.ranking = rank_units(result.total, {}, n);
   if (resamples <= 0 || !(point.variance > 0.0)) return result;
 
   // Resample r draws block j as floor(u N), u from (seed, r, j): any rank can
   // reproduce resample r without the others.
   const auto count = static_cast<std::size_t>(resamples);
-  std::vector<std::vector<double>> first(dimensions, std::vector<double>(count));
-  std::vector<std::vector<double>> total(dimensions, std::vector<double>(count));
+  std::vector<double> first(count * dimensions), total(count * dimensions);  // resample-major
   for (std::size_t r = 0; r < count; ++r) {
     for (std::size_t j = 0; j < n; ++j) {
       const double u = counter_uniform(seed, r, j, kBootstrapStream);
@@ -226,17 +304,12 @@ SobolIndices saltelli_indices(std::span<const double> f_a, std::span<const doubl
       blocks[j] = std::min(static_cast<std::size_t>(u * static_cast<double>(n)), n - 1);
     }
     const SaltelliEstimate e = estimate(f_a, f_b, f_ab, dimensions, blocks);
-    for (std::size_t i = 0; i < dimensions; ++i) {
-      first[i][r] = e.first[i];
-      total[i][r] = e.total[i];
-    }
+    std::copy(e.first.begin(), e.first.end(), first.begin() + static_cast<std::ptrdiff_t>(r * dimensions));
+    std::copy(e.total.begin(), e.total.end(), total.begin() + static_cast<std::ptrdiff_t>(r * dimensions));
   }
-  for (std::size_t i = 0; i < dimensions; ++i) {
-    result.first_ci[2 * i] = percentile(first[i], 0.025);
-    result.first_ci[2 * i + 1] = percentile(first[i], 0.975);
-    result.total_ci[2 * i] = percentile(total[i], 0.025);
-    result.total_ci[2 * i + 1] = percentile(total[i], 0.975);
-  }
+  percentile_intervals(first, dimensions, result.first_ci);
+  percentile_intervals(total, dimensions, result.total_ci);
+  result.ranking = rank_units(result.total, total, n);
   return result;
 }
 
