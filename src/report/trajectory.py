@@ -1,5 +1,6 @@
 """A trajectory file (treedyn run, or one ensemble sample rerun alone): first whether it is a sample and
-whether it failed, with why and its inputs; then its joint angles, energy, reactions and paths."""
+whether it failed, with why, what to change and its inputs; then its joint angles, energy, reactions and
+paths (a failed sample's time plots marked where it failed)."""
 import numpy as np
 
 import matplotlib.pyplot as plt
@@ -9,17 +10,61 @@ from read import strings, text, units_of
 from view3d import view_section
 
 MAX_LINES = 10
+FAILED_COLOUR = "#c62828"
+# What to change, per failure kind (the first word of /sample's reason, src/integrate/settings.hpp's names),
+# in the words `treedyn run` prints when an integration fails: "Loosen the tolerances, raise [integrator]
+# max_steps, or check the model."
+ADVICE = {
+    "too_much_work": "raise [integrator] max_steps ({max_steps} steps per output interval here), loosen the "
+                     "tolerances ({tolerances}), or check the model",
+    "too_much_accuracy": "loosen the tolerances ({tolerances}): they ask for more than double precision can give",
+    "error_test_failures": "loosen the tolerances ({tolerances}) or check the model: the step size fell to "
+                           "nothing (repeated error-test failures)",
+    "convergence_failures": "loosen the tolerances ({tolerances}), or check the model: the nonlinear solver "
+                            "failed repeatedly",
+    "nonfinite_state": "check the model (a NaN or infinity in the state or its derivative), or loosen the "
+                       "tolerances ({tolerances})",
+}
+GENERAL_ADVICE = "loosen the tolerances ({tolerances}), raise [integrator] max_steps, or check the model"
+
+
+def integrator_setting(f, key, default):
+    """The job's [integrator] key as the file's job_text gives it, else the default treedyn uses."""
+    try:
+        import tomllib  # Python 3.11
+        return tomllib.loads(text(f.attrs["job_text"])).get("integrator", {}).get(key, default)
+    except (ImportError, KeyError, ValueError):
+        return default
+
+
+def advice(f, reason):
+    """What to change to get past a failed integration: one sentence."""
+    tolerances = (f"rtol = {f.attrs['relative_tolerance']:g}, atol = {f.attrs['absolute_tolerance']:g}"
+                  if "relative_tolerance" in f.attrs and "absolute_tolerance" in f.attrs else "rtol, atol")
+    words = ADVICE.get(reason.split(" ", 1)[0], GENERAL_ADVICE).format(
+        tolerances=tolerances, max_steps=integrator_setting(f, "max_steps", 100000))
+    rerun = text(f.attrs.get("command_line", ""))
+    return f"What to change: {words}." + (f" Then rerun this sample: {rerun}" if rerun else "")
+
+
+def failed_at(f):
+    """The time a rerun sample's integration stopped, or None when it did not fail."""
+    if "sample" in f and int(f["sample"].attrs["status"]) != 0:
+        return float(f["sample"].attrs["time_reached"])
+    return None
 
 
 def sample_section(f, page):
-    """What an analyst asks first about a rerun sample: did it fail, why, when, with which inputs."""
+    """What an analyst asks first about a rerun sample: did it fail, why, when, what to change, with which
+    inputs."""
     if "sample" not in f:
         return
     s = f["sample"].attrs
     k, status = int(s["index"]), int(s["status"])
     if status != 0:
         page.note(f"Sample {k} FAILED: {text(s['reason'])}. The integration reached t = {s['time_reached']:g} s; "
-                  f"everything below stops there.", "alarm")
+                  f"everything below stops there (marked on the time plots).", "alarm")
+        page.note(advice(f, text(s["reason"])), "warning")
     else:
         page.note(f"Sample {k} of the ensemble, integrated alone by the ensemble's own code path: it succeeded "
                   f"(its /final_state is the ensemble's /samples/final_state row, bit for bit: tested).", "good")
@@ -36,7 +81,19 @@ def finite_rows(t, values):
     return t[:last], values[:last]
 
 
-def lines(page, t, values, names, ylabel, caption, name):
+def mark_failure(axes, failed):
+    """A dashed vertical line where the integration stopped, labelled on the plot (left of it: every output
+    time comes before it)."""
+    if failed is None:
+        return ""
+    for ax in axes:
+        ax.axvline(failed, color=FAILED_COLOUR, ls="--", lw=1.2)
+        ax.text(failed, 0.98, f"failed at t = {failed:.4g} s ", transform=ax.get_xaxis_transform(),
+                color=FAILED_COLOUR, fontsize=8, ha="right", va="top", rotation=90)
+    return f"; the red dashed line: failed at t = {failed:.4g} s"
+
+
+def lines(page, t, values, names, ylabel, caption, name, failed=None):
     fig, ax = plt.subplots(figsize=(8, 3.3), layout="constrained")
     t, values = finite_rows(t, values)
     marker = "o" if t.size < 3 else None  # a failed sample may have one or two output times
@@ -46,10 +103,10 @@ def lines(page, t, values, names, ylabel, caption, name):
     ax.set_ylabel(ylabel)
     legend_outside([ax])
     more = f" (the first {MAX_LINES} of {values.shape[1]})" if values.shape[1] > MAX_LINES else ""
-    page.figure(fig, caption + more, name)
+    page.figure(fig, caption + more + mark_failure([ax], failed), name)
 
 
-def energy_figure(page, t, e):
+def energy_figure(page, t, e, failed=None):
     names = strings(e.attrs["columns"])
     t, values = finite_rows(t, e[:])
     fig, (a, b) = plt.subplots(1, 2, figsize=(10, 3.3), layout="constrained")
@@ -64,7 +121,8 @@ def energy_figure(page, t, e):
         b.plot(t, total - total[0], lw=0.9, marker=marker)
     b.set_xlabel("t (s)")
     b.set_ylabel(f"E(t) - E(0) ({units_of(e)})")
-    page.figure(fig, "energy and its drift (a moving base, springs or dampers change it)", "energy")
+    page.figure(fig, "energy and its drift (a moving base, springs or dampers change it)"
+                + mark_failure([a, b], failed), "energy")
 
 
 def reaction_magnitudes(f):
@@ -97,19 +155,19 @@ def path_figure(f, page, t, paths):
 
 
 def trajectory_report(f, page, wanted):
-    t = f["time"][:]
+    t, failed = f["time"][:], failed_at(f)
     sample_section(f, page)
     view_section(f, page)
     if (not wanted or "joint_angle" in wanted) and "joint_angle" in f:
         d = f["joint_angle"]
         lines(page, t, d[:], strings(d.attrs["columns"]), f"joint angle ({units_of(d)})", "joint angles",
-              "joint_angles")
+              "joint_angles", failed)
     if (not wanted or "energy" in wanted) and "energy" in f:
-        energy_figure(page, t, f["energy"])
+        energy_figure(page, t, f["energy"], failed)
     magnitude, names = reaction_magnitudes(f)
     if magnitude is not None and (not wanted or "joint_reaction" in wanted or "joint_reaction_magnitude" in wanted):
         lines(page, t, magnitude, names, "joint reaction magnitude (N)", "magnitude of each joint's constraint force",
-              "joint_reaction_magnitudes")
+              "joint_reaction_magnitudes", failed)
     paths = "point_position" if "point_position" in f else "com_position" if "com_position" in f else None
     if paths and (not wanted or paths in wanted):
         path_figure(f, page, t, paths)

@@ -1,7 +1,9 @@
 // treedyn report's 3-D view (view3d.py inlines it after three.js). Reads the
 // JSON in #treedyn-motion: times, scene (bodies, parents, shapes, dimensions,
-// com_to_joint in body frames) and runs (pose rows: per body x y z q0 q1 q2 q3).
-// "#frame=K" in the address starts paused at frame K (used by the tests).
+// com_to_joint in body frames), bounds (the box holding every shape at every
+// frame), grid (its square's length) and runs (pose rows: per body x y z q0
+// q1 q2 q3). "#frame=K" in the address starts paused at frame K, "speed=S"
+// plays at S times real time (used by the tests).
 (function () {
   "use strict";
   var data = JSON.parse(document.getElementById("treedyn-motion").textContent);
@@ -85,33 +87,77 @@
   }
 
   var root = scene.parents.indexOf(-1);
-  // The base point's path (the root body's inboard joint) and the bounds of everything.
-  var bounds = new THREE.Box3(), path = [];
-  data.runs[0].pose.forEach(function (p) {
-    path.push(joint(p, root));
-    for (var b = 0; b < n; ++b) { bounds.expandByPoint(centre(p, b)); bounds.expandByPoint(joint(p, b)); }
-  });
-  var pathLine = new THREE.Line(new THREE.BufferGeometry().setFromPoints(path),
-                                new THREE.LineDashedMaterial({color: 0xc62828, dashSize: 0.02, gapSize: 0.02}));
+  // Every shape at every frame (view3d.py's bounds_of), so nothing moves out of the picture.
+  var bounds = new THREE.Box3(new THREE.Vector3().fromArray(data.bounds[0]),
+                              new THREE.Vector3().fromArray(data.bounds[1]));
   var size = bounds.getSize(new THREE.Vector3()).length() || 1;
-  pathLine.material.dashSize = pathLine.material.gapSize = size / 100;
+  var path = data.runs[0].pose.map(function (p) { return joint(p, root); });  // the base point's
+  var pathLine = new THREE.Line(new THREE.BufferGeometry().setFromPoints(path), new THREE.LineDashedMaterial(
+      {color: 0xc62828, dashSize: size / 100, gapSize: size / 100}));
   pathLine.computeLineDistances();
   world.add(pathLine);
+
+  // A text label facing the camera, `height` tall in metres.
+  function label(words, at, height) {
+    var canvas = document.createElement("canvas"), pen = canvas.getContext("2d");
+    canvas.width = 256; canvas.height = 64;
+    pen.font = "bold 44px sans-serif";
+    pen.fillStyle = "#333";
+    pen.textAlign = "center";
+    pen.textBaseline = "middle";
+    pen.fillText(words, 128, 32);
+    var sprite = new THREE.Sprite(new THREE.SpriteMaterial({map: new THREE.CanvasTexture(canvas), depthTest: false}));
+    sprite.scale.set(4 * height, height, 1);
+    sprite.position.copy(at);
+    world.add(sprite);
+  }
+  // The ground: a grid under the lowest point, its lines on multiples of the step, and the axes at its
+  // corner, one step long, labelled: the scale of the picture. Returns the box it spans.
+  function ground(step) {
+    var lo = bounds.min, hi = bounds.max, z = lo.z, points = [];
+    var x0 = Math.floor(lo.x / step) * step, x1 = Math.max(Math.ceil(hi.x / step) * step, x0 + step);
+    var y0 = Math.floor(lo.y / step) * step, y1 = Math.max(Math.ceil(hi.y / step) * step, y0 + step);
+    for (var x = x0; x <= x1 + step / 2; x += step) {
+      points.push(new THREE.Vector3(x, y0, z), new THREE.Vector3(x, y1, z));
+    }
+    for (var y = y0; y <= y1 + step / 2; y += step) {
+      points.push(new THREE.Vector3(x0, y, z), new THREE.Vector3(x1, y, z));
+    }
+    world.add(new THREE.LineSegments(new THREE.BufferGeometry().setFromPoints(points),
+                                     new THREE.LineBasicMaterial({color: 0xd0d0d0})));
+    var corner = new THREE.Vector3(x0, y0, z), axes = new THREE.AxesHelper(step);
+    axes.position.copy(corner);
+    world.add(axes);
+    var h = 0.45 * step;
+    label("x", corner.clone().add(new THREE.Vector3(1.15 * step, 0, 0)), h);
+    label("y", corner.clone().add(new THREE.Vector3(0, 1.15 * step, 0)), h);
+    label("z", corner.clone().add(new THREE.Vector3(0, 0, 1.15 * step)), h);
+    label(data.grid.label, corner.clone().add(new THREE.Vector3(0.5 * step, -0.35 * step, 0)), h);
+    return new THREE.Box3(new THREE.Vector3(x0 - 0.5 * step, y0 - 0.5 * step, z),
+                          new THREE.Vector3(x1, y1, z + step));
+  }
+  var framed = ground(data.grid.step).union(bounds.clone());  // the motion and its grid, labels included
   var runs = data.runs.map(makeRun);
-  var middle = bounds.getCenter(new THREE.Vector3());
-  var camera = new THREE.PerspectiveCamera(40, box.clientWidth / box.clientHeight, size / 1000, size * 100);
+  var middle = framed.getCenter(new THREE.Vector3()), reach = framed.getSize(new THREE.Vector3()).length();
+  var aspect = box.clientWidth / box.clientHeight;
+  var camera = new THREE.PerspectiveCamera(40, aspect, reach / 1000, reach * 100);
   camera.up.set(0, 0, 1);
-  camera.position.copy(middle).add(new THREE.Vector3(1.2, -1.6, 0.8).multiplyScalar(0.6 * size));
+  // Far enough that the box's enclosing sphere fits the narrower of the two fields of view.
+  var halfView = Math.min(Math.PI / 9, Math.atan(Math.tan(Math.PI / 9) * aspect));  // 20 degrees: half of 40
+  camera.position.copy(middle).add(new THREE.Vector3(1.2, -1.6, 0.8).normalize()
+                                   .multiplyScalar(1.05 * 0.5 * reach / Math.sin(halfView)));
   camera.lookAt(middle);
   var controls = THREE.OrbitControls ? new THREE.OrbitControls(camera, renderer.domElement) : null;
   if (controls) { controls.target.copy(middle); controls.update(); }
 
   var slider = document.getElementById("treedyn-time"), clock = document.getElementById("treedyn-clock");
-  var button = document.getElementById("treedyn-play");
+  var button = document.getElementById("treedyn-play"), speeds = document.getElementById("treedyn-speed");
   slider.max = frames - 1;
   var frame = 0, playing = true, last = null;
-  var asked = /frame=(\d+)/.exec(window.location.hash);
+  var asked = /frame=(\d+)/.exec(window.location.hash), fast = /speed=([0-9.]+)/.exec(window.location.hash);
   if (asked) { frame = Math.min(frames - 1, parseInt(asked[1], 10)); playing = false; }
+  if (fast) speeds.value = fast[1];
+  var speed = parseFloat(speeds.value) || 1, played = data.times[frame];  // played: the motion's time shown
   button.textContent = playing ? "pause" : "play";
 
   function show(k) {
@@ -121,18 +167,28 @@
     clock.textContent = "t = " + data.times[k].toFixed(3) + " s (" + data.runs[0].label + ")";
     renderer.render(world, camera);
   }
-  button.onclick = function () { playing = !playing; button.textContent = playing ? "pause" : "play"; last = null; };
-  slider.oninput = function () { show(parseInt(slider.value, 10)); };
+  function frameAt(t) {  // the last frame at or before time t (at most 400 frames: a scan is quick)
+    var k = 0;
+    while (k + 1 < frames && data.times[k + 1] <= t) ++k;
+    return k;
+  }
+  // `seconds` of real time played at the chosen speed: the motion's time moves on speed times as far, and
+  // starts again at the first frame after the last.
+  function advance(seconds) {
+    played += seconds * speed;
+    if (played > data.times[frames - 1]) played = data.times[0];
+    return frameAt(played);
+  }
+  button.onclick = function () { playing = !playing; button.textContent = playing ? "pause" : "play"; };
+  speeds.onchange = function () { speed = parseFloat(speeds.value) || 1; };
+  slider.oninput = function () { show(parseInt(slider.value, 10)); played = data.times[frame]; };
   if (controls) controls.addEventListener("change", function () { renderer.render(world, camera); });
-  // Real time: the frame whose time has come since play started.
   function tick(now) {
-    if (playing) {
-      if (last === null) last = now - 1000 * (data.times[frame] - data.times[0]);
-      var t = data.times[0] + (now - last) / 1000, k = frame;
-      while (k + 1 < frames && data.times[k + 1] <= t) ++k;
-      if (t > data.times[frames - 1]) { k = 0; last = now; }
+    if (playing && last !== null) {
+      var k = advance((now - last) / 1000);
       if (k !== frame) show(k);
     }
+    last = now;
     window.requestAnimationFrame(tick);
   }
   show(frame);
@@ -149,7 +205,18 @@
         hash = (hash * 31 + i + pixels[i] + 7 * pixels[i + 1] + 13 * pixels[i + 2]) >>> 0;
       }
     }
-    box.setAttribute("data-probe", "frame=" + frame + " drawn=" + drawn + " of " + (w * h) + " hash=" + hash);
+    // framed: every corner of the bounds projects inside the picture; after_1s: the time one second of
+    // playing from here reaches at this speed.
+    var inside = 1;
+    for (var c = 0; c < 8; ++c) {
+      var v = new THREE.Vector3(c & 1 ? bounds.max.x : bounds.min.x, c & 2 ? bounds.max.y : bounds.min.y,
+                                c & 4 ? bounds.max.z : bounds.min.z).project(camera);
+      if (Math.abs(v.x) > 1 || Math.abs(v.y) > 1) inside = 0;
+    }
+    var before = played, reached = data.times[advance(1.0)];
+    played = before;
+    box.setAttribute("data-probe", "frame=" + frame + " drawn=" + drawn + " of " + (w * h) + " hash=" + hash +
+                     " framed=" + inside + " speed=" + speed + " after_1s=" + reached);
   }
   window.requestAnimationFrame(tick);
 })();

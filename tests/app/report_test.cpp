@@ -143,8 +143,10 @@ TEST_P(Report, TrajectoryOfTheExample) {
       run_command(kPython, {kChecks, "motion", out.string(), (dir.path() / "t_report").string()}, dir.path() / "capture");
   EXPECT_EQ(m.exit_code, 0) << m.out << m.err;
   EXPECT_EQ(m.out.rfind("ok motion", 0), 0u) << m.out;
-  // FILE.xmf beside the file, read back with meshio: times, poly-lines and points are the file's.
+  // FILE.xmf beside the file (its points in FILE.motion.h5), read back with meshio's TimeSeriesReader: times,
+  // poly-lines and every step's points are the file's.
   EXPECT_NE(r.out.find("wrote " + (dir.path() / "t.xmf").string()), std::string::npos) << r.out;
+  EXPECT_TRUE(fs::exists(dir.path() / "t.motion.h5"));
   const CommandResult x = run_command(kPython, {kChecks, "xdmf", (dir.path() / "t.xmf").string(), out.string()},
                                       dir.path() / "capture");
   EXPECT_EQ(x.exit_code, 0) << x.out << x.err;
@@ -152,7 +154,8 @@ TEST_P(Report, TrajectoryOfTheExample) {
 }
 
 // An XDMF file that cannot be written (its name taken by a directory) is a
-// warning: the page is still drawn, and nothing half-written is left.
+// warning: the page is still drawn, and nothing half-written is left (no
+// companion FILE.motion.h5 either).
 TEST(Report, AnXdmfFileThatCannotBeWrittenIsAWarning) {
   if (const std::string why = skipped_when_sanitized("xdmf", true); !why.empty()) GTEST_SKIP() << why;
   TempDir dir("report_xdmf");
@@ -165,24 +168,49 @@ TEST(Report, AnXdmfFileThatCannotBeWrittenIsAWarning) {
   EXPECT_NE(r.err.find("warning: no XDMF file: cannot write " + (dir.path() / "t.xmf").string()), std::string::npos)
       << r.err;
   EXPECT_TRUE(fs::is_directory(dir.path() / "t.xmf"));
+  EXPECT_FALSE(fs::exists(dir.path() / "t.motion.h5"));
   EXPECT_TRUE(fs::exists(dir.path() / "t_report" / "index.html"));
   for (const auto& e : fs::directory_iterator(dir.path()))
     EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos) << e.path();
 }
 
 // The 3-D view in headless Chromium, offline (no name resolves): no console
-// error, the canvas drawn at the first and the middle frame, and different.
+// error, the canvas drawn at the first and the middle frame, and different;
+// every shape at every frame inside the picture (the crane's container hangs
+// far below the joints); a second of playing at 4x and 1x reaches 4 and 1 s
+// later.
 TEST(Report, ThreeDViewDrawsTheMotionInHeadlessChromium) {
   if (!fs::exists("/usr/bin/chromium")) GTEST_SKIP() << "chromium is not installed (apt-get install chromium)";
   if (const std::string why = skipped_when_sanitized("3-D view", true); !why.empty()) GTEST_SKIP() << why;
-  TempDir dir("report_view");
+  for (const std::string example : {"double_pendulum", "crane_payload"}) {
+    SCOPED_TRACE(example);
+    TempDir dir("report_view");
+    const fs::path out = dir.path() / "t.h5";
+    ASSERT_EQ(treedyn({"run", std::string(TREEDYN_JOBS_DIR) + "/" + example + ".toml", "-o", out.string(), "-q"},
+                      dir.path() / "c").exit_code, 0);
+    ASSERT_EQ(treedyn({"report", out.string()}, dir.path() / "c").exit_code, 0);
+    const CommandResult v =
+        run_command(kPython, {kChecks, "view", (dir.path() / "t_report").string()}, dir.path() / "c");
+    EXPECT_EQ(v.exit_code, 0) << v.out << v.err;
+    EXPECT_EQ(v.out.rfind("ok view", 0), 0u) << v.out;
+  }
+}
+
+// FILE.xmf in ParaView's three XDMF readers (the legacy XDMFReader, Xdmf3ReaderT, Xdmf3ReaderS), where
+// ParaView is installed (not a dependency: apt-get install paraview python3-paraview): every time step's
+// points and poly-lines are /motion's, and no reader prints anything on stderr.
+TEST(Report, XdmfFileOpensInParaViewsThreeReaders) {
+  if (!fs::exists("/usr/bin/pvbatch")) GTEST_SKIP() << "ParaView is not installed (apt-get install paraview)";
+  if (const std::string why = skipped_when_sanitized("ParaView", true); !why.empty()) GTEST_SKIP() << why;
+  TempDir dir("report_paraview");
   const fs::path out = dir.path() / "t.h5";
-  ASSERT_EQ(treedyn({"run", std::string(TREEDYN_JOBS_DIR) + "/double_pendulum.toml", "-o", out.string(), "-q"},
+  ASSERT_EQ(treedyn({"run", std::string(TREEDYN_JOBS_DIR) + "/crane_payload.toml", "-o", out.string(), "-q"},
                     dir.path() / "c").exit_code, 0);
   ASSERT_EQ(treedyn({"report", out.string()}, dir.path() / "c").exit_code, 0);
-  const CommandResult v = run_command(kPython, {kChecks, "view", (dir.path() / "t_report").string()}, dir.path() / "c");
-  EXPECT_EQ(v.exit_code, 0) << v.out << v.err;
-  EXPECT_EQ(v.out.rfind("ok view", 0), 0u) << v.out;
+  const CommandResult p =
+      run_command(kPython, {kChecks, "paraview", (dir.path() / "t.xmf").string(), out.string()}, dir.path() / "c");
+  EXPECT_EQ(p.exit_code, 0) << p.out << p.err;
+  EXPECT_EQ(p.out.rfind("ok paraview", 0), 0u) << p.out;
 }
 
 INSTANTIATE_TEST_SUITE_P(Examples, Report, ::testing::ValuesIn(kExamples),
@@ -280,6 +308,24 @@ TEST(Report, FailedSamplesComeFirstAndTheirOwnPageSaysWhy) {
   ASSERT_EQ(treedyn({"report", sample.string()}, dir.path() / "c").exit_code, 0);
   const std::string own = read_text(dir.path() / "sample_report" / "index.html");
   EXPECT_NE(own.find("Sample " + std::to_string(k) + " FAILED: too_much_work"), std::string::npos) << own;
+  // What to change (the job's max_steps and tolerances, as `treedyn run` advises) and the rerun command,
+  // and the failure time marked on the time plots.
+  EXPECT_NE(own.find("<div class=\"warning\">What to change: raise [integrator] max_steps (200 steps per output "
+                     "interval here), loosen the tolerances (rtol = 1e-08, atol = 1e-10), or check the model. Then "
+                     "rerun this sample: "),
+            std::string::npos)
+      << own;
+  double reached = 0.0;
+  {
+    const H5File f(sample);
+    const hid_t group = H5Gopen2(f.id(), "/sample", H5P_DEFAULT);
+    ASSERT_GE(group, 0);
+    reached = read_double_attribute(group, "time_reached").at(0);
+    H5Gclose(group);
+  }
+  char marker[96];
+  std::snprintf(marker, sizeof marker, "; the red dashed line: failed at t = %.4g s</figcaption>", reached);
+  EXPECT_NE(own.find(marker), std::string::npos) << marker;
   EXPECT_NE(own.find("<td>body.tip.mass</td>"), std::string::npos);
   expect_figures(dir.path() / "sample_report");
 }

@@ -13,7 +13,8 @@ from answers import (asked_pair, conclusion, driver_order, group_drivers, input_
                      mean_verdict, outside_range_warnings, probability_verdict)
 from history import constant_columns, rotation_angle_degrees, valid_range
 from read import counted_rows
-from view3d import script_json
+from trajectory import advice, lines
+from view3d import bounds_of, grid_step, length_words, script_json
 from xdmf import write_xdmf
 
 
@@ -114,10 +115,76 @@ class FromFiles(unittest.TestCase):
             if ok:
                 import xml.etree.ElementTree as ET
                 item = ET.parse(written).getroot().find("Domain/Grid/Grid/Topology/DataItem")
-                self.assertEqual(item.text, "a&<b.h5:/motion/segments")
+                self.assertEqual(item.text, "a&<b.motion.h5:/segments")
             else:
                 self.assertIsNone(written)
                 self.assertIn("has a ':'", why)
+
+    def motion_file(self, frames=3):
+        def build(f):
+            f["time"] = np.linspace(0.0, 1.0, frames)
+            f["motion/points"] = np.arange(frames * 4 * 3, dtype=float).reshape(frames, 4, 3) / 7
+            f["motion/segments"] = np.array([[0, 1], [1, 2], [2, 3]])
+        write(self.path, build)
+        with open(self.path, "rb") as f:
+            return f.read()
+
+    def test_xdmf_steps_read_in_meshio_one_by_one_and_the_trajectory_file_is_untouched(self):
+        from meshio.xdmf import TimeSeriesReader
+        before = self.motion_file()
+        with h5py.File(self.path) as f:
+            written, why = write_xdmf(f, self.path)
+            points = f["motion/points"][:]
+        self.assertEqual(written, os.path.join(self.dir.name, "e.xmf"), why)
+        with open(written, encoding="utf-8") as x:
+            self.assertNotIn("HyperSlab", x.read())  # ParaView's Xdmf3 readers and meshio read none
+        with TimeSeriesReader(written) as reader:
+            first, cells = reader.read_points_cells()
+            np.testing.assert_array_equal(first, points[0])
+            self.assertEqual(cells[0].type, "line")
+            np.testing.assert_array_equal(cells[0].data, [[0, 1], [1, 2], [2, 3]])
+            self.assertEqual(reader.num_steps, 3)
+            for k in range(3):
+                t, point_data, _ = reader.read_data(k)
+                self.assertEqual(t, 0.5 * k)
+                np.testing.assert_array_equal(point_data["position"], points[k])
+        with h5py.File(os.path.join(self.dir.name, "e.motion.h5")) as c:
+            self.assertEqual(c.attrs["written_by"], "treedyn report")
+            self.assertEqual(c.attrs["source"], "e.h5")
+        with open(self.path, "rb") as f:
+            self.assertEqual(f.read(), before)
+        with h5py.File(self.path) as f:  # a second report replaces its own companion
+            self.assertIsNotNone(write_xdmf(f, self.path)[0])
+
+    def test_xdmf_never_replaces_a_file_it_did_not_write(self):
+        self.motion_file()
+        companion = os.path.join(self.dir.name, "e.motion.h5")
+        for content in (b"someone's notes\n", None):
+            if content is None:
+                with h5py.File(companion, "w") as other:  # HDF5, but another run's output
+                    other["time"] = np.zeros(2)
+            else:
+                with open(companion, "wb") as other:
+                    other.write(content)
+            with open(companion, "rb") as other:
+                kept = other.read()
+            with h5py.File(self.path) as f:
+                written, why = write_xdmf(f, self.path)
+            self.assertIsNone(written)
+            self.assertEqual(why, f"{companion} exists and was not written by treedyn report")
+            with open(companion, "rb") as other:
+                self.assertEqual(other.read(), kept)
+            os.remove(companion)
+        self.assertFalse(os.path.exists(os.path.join(self.dir.name, "e.xmf")))
+
+    def test_an_xdmf_file_that_cannot_be_written_leaves_no_companion(self):
+        self.motion_file()
+        os.mkdir(os.path.join(self.dir.name, "e.xmf"))
+        with h5py.File(self.path) as f:
+            written, why = write_xdmf(f, self.path)
+        self.assertIsNone(written)
+        self.assertTrue(why.startswith(f"cannot write {os.path.join(self.dir.name, 'e.xmf')} ("), why)
+        self.assertEqual(sorted(os.listdir(self.dir.name)), ["e.h5", "e.xmf"])
 
     def test_normal_mass_below_zero(self):
         def build(f):
@@ -187,6 +254,52 @@ class FromFiles(unittest.TestCase):
         self.assertFalse(asked_pair(asked, "body.a.mas", "body.b.mass"))
 
 
+class FailedSample(unittest.TestCase):
+    def setUp(self):
+        self.dir = tempfile.TemporaryDirectory()
+        self.path = os.path.join(self.dir.name, "s.h5")
+        with h5py.File(self.path, "w") as f:
+            f.attrs["relative_tolerance"], f.attrs["absolute_tolerance"] = 1e-8, 1e-10
+            f.attrs["job_text"] = "[integrator]\nmethod = \"erk_dormand_prince\"\nmax_steps = 200\n"
+            f.attrs["command_line"] = "treedyn-ensemble job.toml --sample 6 -o s.h5"
+
+    def tearDown(self):
+        self.dir.cleanup()
+
+    def test_what_to_change_follows_the_failure(self):
+        with h5py.File(self.path) as f:
+            self.assertEqual(advice(f, "too_much_work at t = 0.07 s: 200 steps (max_steps) taken"),
+                             "What to change: raise [integrator] max_steps (200 steps per output interval here), "
+                             "loosen the tolerances (rtol = 1e-08, atol = 1e-10), or check the model. Then rerun "
+                             "this sample: treedyn-ensemble job.toml --sample 6 -o s.h5")
+            self.assertTrue(advice(f, "too_much_accuracy at t = 0 s").startswith(
+                "What to change: loosen the tolerances (rtol = 1e-08, atol = 1e-10): they ask for more"))
+            self.assertTrue(advice(f, "something new at t = 1 s").startswith(
+                "What to change: loosen the tolerances (rtol = 1e-08, atol = 1e-10), raise [integrator] max_steps, "
+                "or check the model."))
+        with h5py.File(self.path, "a") as f:
+            del f.attrs["job_text"]  # treedyn's default then
+            self.assertIn("max_steps (100000 steps per output interval here)", advice(f, "too_much_work at t = 1 s"))
+
+    def test_time_plots_mark_the_failure(self):
+        class Keep:
+            def figure(self, fig, caption, name):
+                self.fig, self.caption = fig, caption
+
+        page = Keep()
+        lines(page, np.array([0.0, 0.1]), np.array([[1.0], [2.0]]), ["rod.angle"], "angle (rad)", "joint angles",
+              "joint_angles", failed=0.1875)
+        ax = page.fig.axes[0]
+        marks = [line for line in ax.get_lines() if list(line.get_xdata()) == [0.1875, 0.1875]]
+        self.assertEqual(len(marks), 1)
+        self.assertEqual([t.get_text() for t in ax.texts], ["failed at t = 0.1875 s "])
+        self.assertEqual(page.caption, "joint angles; the red dashed line: failed at t = 0.1875 s")
+        self.assertGreaterEqual(ax.get_xlim()[1], 0.1875)  # the line is inside the plot
+        lines(page, np.array([0.0, 0.1]), np.array([[1.0], [2.0]]), ["rod.angle"], "angle (rad)", "joint angles",
+              "joint_angles")
+        self.assertEqual((len(page.fig.axes[0].get_lines()), page.caption), (1, "joint angles"))
+
+
 class Readings(unittest.TestCase):
     def test_view_json_cannot_close_or_reopen_its_script_element(self):
         text = script_json({"title": "</script><!--<script>&", "x": [1.5]})
@@ -196,6 +309,22 @@ class Readings(unittest.TestCase):
         self.assertEqual(json.loads(text)["title"], "</script><!--<script>&")
         with self.assertRaises(ValueError):
             script_json({"x": [float("nan")]})  # JSON.parse refuses NaN: the view turns them into null first
+
+    def test_view_bounds_hold_turned_shapes_and_joints(self):
+        c, s = math.cos(math.pi / 4), math.sin(math.pi / 4)  # half angles of quarter turns
+        scene = {"shapes": ["box", "cylinder", "sphere", "none"],
+                 "dimensions": [[2.0, 4.0, 6.0], [0.5, 0.5, 4.0], [1.0, 1.0, 1.0], [0.0, 0.0, 0.0]],
+                 "com_to_joint": [[0.0, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0, 9.0]]}
+        pose = np.array([[0, 0, 0, c, 0, 0, s,  # the box turned a quarter about z: 4 x 2 x 6
+                          10, 0, 0, c, 0, s, 0,  # the cylinder turned a quarter about y: its length along x
+                          0, 20, 0, 1, 0, 0, 0,
+                          0, 0, -5, 1, 0, 0, 0]])  # no shape; its joint 9 m above its CoM
+        low, high = bounds_of(scene, [pose, pose + np.r_[0, 0, 2, np.zeros(25)]])  # a run whose box is 2 m higher
+        np.testing.assert_allclose(low, [-2, -1, -5], atol=1e-6)
+        np.testing.assert_allclose(high, [12, 21, 5], atol=1e-6)
+        self.assertEqual(grid_step(np.zeros(3), np.array([12.0, 16.0, 5.0])), 2)  # 20.6 m across: a twelfth 1.7 m
+        self.assertEqual(grid_step(np.zeros(3), np.array([0.6, 0.0, 0.8])), 0.1)
+        self.assertEqual([length_words(v) for v in (2.0, 0.5, 0.1, 0.005)], ["2 m", "50 cm", "10 cm", "5 mm"])
 
     def test_rotation_angle_of_quaternions(self):
         q0 = np.cos(np.radians([0.0, 45.0, 90.0]))  # rotations by 0, 90 and 180 degrees

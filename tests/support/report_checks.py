@@ -5,12 +5,17 @@
   report_checks.py strings FILE every string attribute and string dataset reads as str in h5py
   report_checks.py motion FILE DIR  /motion of a trajectory file is a rigid tree that moves as its poses say
                                 (each joint = CoM + A c, segment lengths constant, the root's joint on the
-                                base point), and DIR/index.html's 3-D view carries those poses
-  report_checks.py xdmf FILE.xmf FILE.h5  the XDMF file read back with meshio: its times, the poly-lines
-                                connectivity and every step's points are the HDF5 file's /time, /motion/segments
-                                and /motion/points
+                                base point), and DIR/index.html's 3-D view carries those poses, a bounding box
+                                that holds every shape at every frame (touched on each side) and a grid step
+  report_checks.py xdmf FILE.xmf FILE.h5  the XDMF file read back with meshio's TimeSeriesReader: its steps'
+                                times, the poly-lines and every step's points (the geometry and the "position"
+                                vector) are the HDF5 file's /time, /motion/segments and /motion/points; no
+                                hyperslab (ParaView's Xdmf3 readers and meshio read none)
+  pvbatch report_checks.py paraview FILE.xmf FILE.h5  the same in ParaView's three XDMF readers (XDMFReader,
+                                Xdmf3ReaderT, Xdmf3ReaderS), each in its own pvbatch, stderr kept
   report_checks.py view DIR     the 3-D view in headless Chromium, offline: no console error, the canvas
-                                drawn at two frames and different between them
+                                drawn at two frames and different between them, the bounds inside the
+                                picture, and one second of playing at 4x and 1x reaching the time it should
 Prints 'ok ...' and exits 0, or prints what is wrong and exits 1.
 """
 import os
@@ -112,6 +117,7 @@ def motion(path, directory):
             rows = [int(np.argmin(np.abs(f["time"][:] - t))) for t in data["times"]]
             if not np.allclose(np.array(data["runs"][0]["pose"]), pose[rows], atol=1e-6):
                 bad.append("the view's poses are not the file's")
+            bad += bounds_problems(data, m, q[rows], c)
     for b in bad:
         print(b)
     if not bad:
@@ -119,23 +125,75 @@ def motion(path, directory):
     return 1 if bad else 0
 
 
+def surface_points(shape, d):
+    """Points on a shape's surface in its body frame (CoM at 0) whose box is the shape's: a box's corners,
+    a sphere's six poles, a cylinder's rims (its box is reached at a rim point, sampled finely)."""
+    d = np.asarray(d, dtype=float)
+    if shape == "box":
+        return np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)]) * d / 2
+    if shape == "sphere":
+        return np.vstack([np.eye(3), -np.eye(3)]) * d[0]
+    if shape == "cylinder":
+        a = np.linspace(0, 2 * np.pi, 720, endpoint=False)
+        rim = np.column_stack([d[0] * np.cos(a), d[0] * np.sin(a), np.zeros_like(a)])
+        return np.vstack([rim + [0, 0, d[2] / 2], rim - [0, 0, d[2] / 2]])
+    return np.zeros((1, 3))
+
+
+def bounds_problems(data, m, q, c):
+    """The view's bounds hold every shape's surface, CoM and joint at every frame it draws, and each of its
+    six faces is touched (within 0.5 % of the size): it frames the whole motion and not much more."""
+    if "bounds" not in data or "grid" not in data:
+        return ["the view's JSON has no bounds or grid"]
+    low, high = (np.array(b) for b in data["bounds"])
+    shapes, dimensions = [str(s) for s in m.attrs["shapes"]], m["dimensions"][:]
+    points = [q[:, :, :3].reshape(-1, 3), (q[:, :, :3] + rotate(q[:, :, 3:], np.broadcast_to(c, q[:, :, :3].shape))
+                                           ).reshape(-1, 3)]
+    for b, (shape, d) in enumerate(zip(shapes, dimensions)):
+        surface = surface_points(shape, d)
+        turned = rotate(q[:, b, None, 3:], np.broadcast_to(surface, (q.shape[0],) + surface.shape))
+        points.append((turned + q[:, b, None, :3]).reshape(-1, 3))
+    points = np.vstack(points)
+    size = np.linalg.norm(high - low)
+    bad = []
+    if (points < low - 1e-6).any() or (points > high + 1e-6).any():
+        worst = max((low - points).max(), (points - high).max())
+        bad.append(f"a shape reaches {worst:.3g} m outside the view's bounds {data['bounds']}")
+    loose = np.concatenate([points.min(axis=0) - low, high - points.max(axis=0)])
+    if (loose > 5e-3 * size).any():
+        bad.append(f"the view's bounds {data['bounds']} are {loose.max():.3g} m wider than the shapes")
+    step = data["grid"]["step"]
+    if not (size / 30 <= step <= size / 2) or not data["grid"]["label"].endswith("m"):
+        bad.append(f"grid step {step} m ({data['grid']['label']!r}) for a motion {size:.3g} m across")
+    return bad
+
+
 def chromium():
     import shutil
     return shutil.which("chromium") or shutil.which("chromium-browser")
 
 
-def probe(directory, frame):
-    """Headless Chromium, no network: the page's data-probe at this frame, and the console's errors."""
+def probe(directory, frame, speed=None):
+    """Headless Chromium, no network: the page's data-probe at this frame (and playback speed), and the
+    console's errors."""
     import subprocess
     url = "file://" + os.path.abspath(os.path.join(directory, "index.html")) + f"#frame={frame}&probe"
+    url += f"&speed={speed:g}" if speed else ""
     run = subprocess.run([chromium(), "--headless", "--no-sandbox", "--disable-gpu", "--use-gl=swiftshader",
                           "--enable-unsafe-swiftshader", "--enable-logging=stderr", "--v=0",
                           "--host-resolver-rules=MAP * ~NOTFOUND", "--dump-dom", url],
                          capture_output=True, text=True, timeout=300)
     errors = [line for line in run.stderr.splitlines() if ":CONSOLE" in line and "GL Driver Message" not in line
               and ("ERROR" in line or "Uncaught" in line or "rror" in line)]
-    found = re.search(r'data-probe="frame=(\d+) drawn=(\d+) of (\d+) hash=(\d+)"', run.stdout)
-    return (None if not found else tuple(int(x) for x in found.groups())), errors
+    found = re.search(r'data-probe="frame=(\d+) drawn=(\d+) of (\d+) hash=(\d+) framed=(\d) speed=([0-9.]+) '
+                      r'after_1s=([-0-9.e]+)"', run.stdout)
+    return (None if not found else tuple(float(x) for x in found.groups())), errors
+
+
+def played_for_a_second(times, frame, speed):
+    """view3d.js's advance(1): the frame time reached; past the last frame it starts again at the first."""
+    t = times[frame] + speed
+    return times[0] if t > times[-1] else times[np.flatnonzero(np.asarray(times) <= t)[-1]]
 
 
 def view(directory):
@@ -145,16 +203,25 @@ def view(directory):
         bad.append("index.html has no 3-D view")
     if re.search(r'(src|href)="(https?:)?//', page):
         bad.append("the page loads something from the network")
+    speeds = re.findall(r'<option value="([0-9.]+)"', page)
+    if speeds != ["0.25", "0.5", "1", "2", "4"]:
+        bad.append(f"playback speeds {speeds}")
     if not bad:
         frames = len(data["times"])
         seen = []
-        for frame in (0, frames // 2):
-            found, errors = probe(directory, frame)
+        for frame, speed in ((0, 4), (frames // 2, None)):
+            found, errors = probe(directory, frame, speed)
             bad += [f"frame {frame}: console: {e}" for e in errors]
             if found is None:
                 bad.append(f"frame {frame}: the view did not draw (no data-probe)")
-            elif found[1] < 0.002 * found[2]:
-                bad.append(f"frame {frame}: the canvas is blank ({found[1]} of {found[2]} pixels drawn)")
+                continue
+            if found[4] != 1:
+                bad.append(f"frame {frame}: a corner of the motion's bounds is outside the picture")
+            expected = played_for_a_second(data["times"], frame, speed or 1)
+            if found[5] != (speed or 1) or abs(found[6] - expected) > 1e-9:
+                bad.append(f"frame {frame}: a second at {found[5]:g}x reaches t = {found[6]:g}, not {expected:g}")
+            if found[1] < 0.002 * found[2]:
+                bad.append(f"frame {frame}: the canvas is blank ({found[1]:.0f} of {found[2]:.0f} pixels drawn)")
             else:
                 seen.append(found)
         if len(seen) == 2 and seen[0][3] == seen[1][3]:
@@ -162,48 +229,92 @@ def view(directory):
     for b in bad:
         print(b)
     if not bad:
-        print("ok view: " + "; ".join(f"frame {s[0]} drew {s[1]} of {s[2]} pixels" for s in seen))
+        print("ok view: " + "; ".join(f"frame {s[0]:.0f} drew {s[1]:.0f} of {s[2]:.0f} pixels, a second at "
+                                      f"{s[5]:g}x reaches t = {s[6]:g} s" for s in seen))
     return 1 if bad else 0
 
 
 def xdmf(xmf, path):
-    """meshio reads the XML and every HDF5 or XML data item (meshio 7 has no HyperSlab item: the selection,
-    start / stride / count per dimension as the XDMF model defines it, is applied here)."""
+    """meshio's TimeSeriesReader takes the mesh (points, poly-lines) from the first step and the time and node
+    vectors from every step; its XdmfReader reads each step's geometry item (what ParaView draws)."""
     import xml.etree.ElementTree as ET
-    from meshio.xdmf.common import xdmf_to_meshio_type
+    from meshio.xdmf import TimeSeriesReader
     from meshio.xdmf.main import XdmfReader
-    reader = XdmfReader(xmf)
-    root = ET.parse(xmf).getroot()
-    if root.get("Version") != "3.0":
-        print(f"XDMF version {root.get('Version')}, not 3.0")
-        return 1
-    collection = root.find("Domain/Grid")
-    steps = collection.findall("Grid")
-    bad = []
+    text = open(xmf, encoding="utf-8").read()
+    bad = ["a hyperslab, which meshio and ParaView's Xdmf3 readers do not read"] if "HyperSlab" in text else []
     with h5py.File(path, "r") as f:
         t, points, segments = f["time"][:], f["motion/points"][:], f["motion/segments"][:]
-        if collection.get("CollectionType") != "Temporal" or len(steps) != t.size:
-            bad.append(f"{len(steps)} steps in a {collection.get('CollectionType')} collection for {t.size} times")
-        for k, grid in enumerate(steps):
-            topology, geometry = grid.find("Topology"), grid.find("Geometry")
-            if float(grid.find("Time").get("Value")) != t[k]:
-                bad.append(f"step {k}: time {grid.find('Time').get('Value')} is not {t[k]!r}")
-            cells = reader._read_data_item(topology.find("DataItem"))
-            if xdmf_to_meshio_type[topology.get("TopologyType")] != "line" or not np.array_equal(cells, segments):
-                bad.append(f"step {k}: the poly-lines are not /motion/segments")
-            slab = geometry.find("DataItem")
-            selection, source = (reader._read_data_item(d) for d in slab.findall("DataItem"))
-            start, stride, count = selection.astype(int)
-            picked = source[tuple(slice(a, a + s * c, s) for a, s, c in zip(start, stride, count))]
-            shape = [int(d) for d in slab.get("Dimensions").split()]
-            if list(picked.shape) != shape or not np.array_equal(picked.reshape(-1, 3), points[k]):
-                bad.append(f"step {k}: the points are not /motion/points[{k}]")
+    try:
+        reader = TimeSeriesReader(xmf)
+        first, cells = reader.read_points_cells()
+    except Exception as e:  # noqa: BLE001 (meshio raises KeyError, ReadError, ...: any is the answer)
+        print(f"meshio's TimeSeriesReader cannot read it: {type(e).__name__} {e}")
+        return 1
+    with reader:
+        if not np.array_equal(first, points[0]) or [c.type for c in cells] != ["line"] or \
+                not np.array_equal(cells[0].data, segments):
+            bad.append("the first step's points or poly-lines are not /motion/points[0] and /motion/segments")
+        if reader.num_steps != t.size:
+            bad.append(f"{reader.num_steps} steps for {t.size} times")
+        for k in range(min(reader.num_steps, t.size)):
+            tk, point_data, _ = reader.read_data(k)
+            if tk != t[k] or not np.array_equal(point_data.get("position"), points[k]):
+                bad.append(f"step {k}: time {tk!r} or its position vectors are not /time and /motion/points[{k}]")
             if len(bad) > 5:
                 break
+    geometry = XdmfReader(xmf)
+    for k, grid in enumerate(ET.fromstring(text).find("Domain/Grid").findall("Grid")[:t.size]):
+        if not np.array_equal(geometry._read_data_item(grid.find("Geometry/DataItem")), points[k]):
+            bad.append(f"step {k}: the geometry is not /motion/points[{k}]")
+            break
     for b in bad:
         print(b)
     if not bad:
-        print(f"ok xdmf: {len(steps)} steps of {points.shape[1]} points and {segments.shape[0]} poly-lines")
+        print(f"ok xdmf: {t.size} steps of {points.shape[1]} points and {segments.shape[0]} poly-lines")
+    return 1 if bad else 0
+
+
+def paraview_reader(xmf, path, name):
+    """In pvbatch: every time step's points and poly-lines as one ParaView XDMF reader gives them."""
+    from paraview import simple
+    from paraview.vtk.util.numpy_support import vtk_to_numpy
+    reader = getattr(simple, name)(**({"FileNames": [xmf]} if name == "XDMFReader" else {"FileName": [xmf]}))
+    times = np.array(reader.TimestepValues)
+    with h5py.File(path, "r") as f:
+        t, points, segments = f["time"][:], f["motion/points"][:], f["motion/segments"][:]
+    bad = [] if np.array_equal(times, t) else [f"{name}: {times.size} time steps, not /time's {t.size}"]
+    for k, tk in enumerate(times[:t.size]):
+        reader.UpdatePipeline(tk)  # not simple.UpdatePipeline(time=tk), which drops a time of 0
+        d = reader.GetClientSideObject().GetOutputDataObject(0)
+        while d.IsA("vtkMultiBlockDataSet"):
+            d = d.GetBlock(0)
+        xyz = vtk_to_numpy(d.GetPoints().GetData()) if d.GetNumberOfPoints() else np.zeros((0, 3))
+        lines = vtk_to_numpy(d.GetCells().GetConnectivityArray()).reshape(-1, 2) if d.GetNumberOfCells() else None
+        if not np.array_equal(xyz, points[k]) or not np.array_equal(lines, segments):
+            bad.append(f"{name}: t = {tk:g}: {d.GetNumberOfPoints()} points, {d.GetNumberOfCells()} lines, not "
+                       "/motion's")
+            break
+    for b in bad:
+        print(b)
+    if not bad:
+        print(f"ok {name}: {times.size} time steps of {points.shape[1]} points and {segments.shape[0]} lines")
+    return 1 if bad else 0
+
+
+def paraview(xmf, path):
+    """Each reader in a pvbatch of its own (one that aborts does not hide the others); any stderr is an error."""
+    import subprocess
+    bad, said = 0, []
+    for name in ("XDMFReader", "Xdmf3ReaderT", "Xdmf3ReaderS"):
+        run = subprocess.run(["pvbatch", os.path.abspath(__file__), "paraview-reader", os.path.abspath(xmf),
+                              os.path.abspath(path), name], capture_output=True, text=True, timeout=600)
+        errors = [line for line in run.stderr.splitlines() if line.strip()]
+        said.append(run.stdout.strip())
+        if run.returncode != 0 or errors or not run.stdout.startswith("ok"):
+            bad += 1
+            print(f"{name}: exit {run.returncode}: {run.stdout.strip()} {' | '.join(errors[:3])}")
+    if not bad:
+        print("ok paraview: " + "; ".join(said))
     return 1 if bad else 0
 
 
@@ -211,6 +322,10 @@ if __name__ == "__main__":
     what, target = sys.argv[1], sys.argv[2]
     if what == "xdmf":
         sys.exit(xdmf(target, sys.argv[3]))
+    if what == "paraview":
+        sys.exit(paraview(target, sys.argv[3]))
+    if what == "paraview-reader":
+        sys.exit(paraview_reader(target, sys.argv[3], sys.argv[4]))
     if what == "motion":
         sys.exit(motion(target, sys.argv[3]))
     sys.exit({"pngs": pngs, "strings": strings, "view": view}[what](target))
