@@ -125,10 +125,9 @@ int write_ensemble(EnsembleRun& run, const ensemble::EnsembleStatistics& stats, 
   summary.ok = run.records->done() - summary.failed;
   summary.samples_used = run.samples_used;
   if (run.samples_used < run.spec.samples && run.table) run.table->truncate(run.samples_used);
-  std::optional<rare_event::SubsetResult> rare;
-  if (run.spec.subset && run.table)
-    rare = ensemble::replay_subset(run.spec, *run.table, run.spec.subset->max_levels).result();
-  summary.stop_reason = stop_reason_of(run, rare ? &*rare : nullptr);
+  std::optional<ensemble::RareEventAnswer> rare;
+  if (run.spec.subset && run.table) rare = ensemble::answer_rare_event(run.spec, *run.table);
+  summary.stop_reason = stop_reason_of(run, rare ? &rare->result : nullptr);
   const std::vector<ensemble::ResponseAnswer> answers =
       run.table ? ensemble::answer_responses(run.spec, *run.table) : std::vector<ensemble::ResponseAnswer>{};
   try {

@@ -14,31 +14,112 @@ std::string number(double v, const char* format = "%.6g") {
   return buffer;
 }
 
-// The inputs (a grouped design: the groups) that matter most: by total
-// Sobol' index (saltelli), else by |Spearman|; at most three.
-void print_drivers(std::ostream& out, const EnsembleSpec& spec, const ResponseAnswer& a) {
-  std::vector<std::string> names = spec.input_names();
-  const bool sobol = a.sobol.has_value();
-  if (sobol && spec.grouped) {
-    names.clear();
-    for (const SobolUnit& unit : spec.sobol_units) names.push_back(unit.name);
+constexpr std::size_t kRankedShown = 5;  // units on a drivers line
+constexpr std::size_t kFailureShown = 3;  // inputs on a "what makes it exceed" line
+
+std::string clipped(double v) { return number(std::clamp(v, 0.0, 1.0), "%.2g"); }
+
+// "name 0.84 [0.61, 0.97]": an index with its interval, shown within [0, 1].
+std::string index_text(const std::string& name, double v, const double* ci) {
+  std::string t = name + " " + number(v, "%.2g");
+  if (ci && std::isfinite(ci[0])) t += " [" + clipped(ci[0]) + ", " + clipped(ci[1]) + "]";
+  return t;
+}
+
+// The units in ranked order, ">" where the bootstrap tells neighbours apart
+// and "~" where it does not yet, then how many samples would tell the first
+// such pair apart.
+void print_ranking(std::ostream& out, const std::vector<std::string>& names, const Ranking& ranking,
+                   const std::vector<double>& measure, const std::vector<double>* ci, const char* samples_word) {
+  const std::size_t shown = std::min(ranking.order.size(), kRankedShown);
+  std::string pending;
+  for (std::size_t k = 0; k < shown; ++k) {
+    const std::size_t u = ranking.order[k];
+    if (k > 0) out << (ranking.told_apart(k - 1) ? " > " : " ~ ");
+    out << index_text(names[u], measure[u], ci ? ci->data() + 2 * u : nullptr);
+    if (k + 1 < shown && !ranking.told_apart(k) && pending.empty() && std::isfinite(ranking.needed[k]))
+      pending = names[u] + " from " + names[ranking.order[k + 1]] + ": about " + number(ranking.needed[k], "%.0f") +
+                " " + samples_word;
   }
-  const std::vector<double>& measure = sobol ? a.sobol->total : a.ranks.spearman;
-  if (measure.size() != names.size() || names.empty()) return;
-  std::vector<std::size_t> order;
-  for (std::size_t i = 0; i < names.size(); ++i)
-    if (std::isfinite(measure[i])) order.push_back(i);
-  if (order.empty()) return;
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) {
-    return std::abs(measure[x]) > std::abs(measure[y]);
-  });
-  out << "    drivers (" << (sobol && spec.grouped ? "groups, total Sobol' index"
-                          : sobol                ? "total Sobol' index"
-                                                 : "Spearman rank correlation")
-      << "):";
-  for (std::size_t k = 0; k < std::min<std::size_t>(order.size(), 3); ++k)
-    out << (k ? "," : "") << " " << names[order[k]] << " " << number(measure[order[k]], "%.3g");
+  if (ranking.order.size() > shown) out << " (and " << ranking.order.size() - shown << " more)";
   out << "\n";
+  if (ranking.resamples == 0)
+    out << "      no bootstrap intervals: the order above is the point estimates' alone\n";
+  else if (!pending.empty())
+    out << "      ~: not told apart yet (95 % bootstrap interval of the difference holds 0); to tell " << pending
+        << " would\n";
+}
+
+std::vector<std::string> unit_names(const EnsembleSpec& spec) {
+  if (!spec.grouped) return spec.input_names();
+  std::vector<std::string> names;
+  for (const SobolUnit& unit : spec.sobol_units) names.push_back(unit.name);
+  return names;
+}
+
+// The Sobol' ranking (saltelli), with the blocks it rests on and the
+// verdict on N; else the ranking by |SRRC| or |Spearman|.
+void print_drivers(std::ostream& out, const EnsembleSpec& spec, const ResponseAnswer& a) {
+  if (a.sobol) {
+    const SobolIndices& s = *a.sobol;
+    if (s.total.empty()) return;
+    out << "    drivers (" << (spec.grouped ? "groups, " : "") << "total Sobol' index [95 %], from " << s.base_samples
+        << " of " << a.sobol_blocks << " base points): ";
+    print_ranking(out, unit_names(spec), s.ranking, s.total, &s.total_ci, "base points");
+    if (a.sobol_blocks > 0 && static_cast<double>(s.base_samples) < kReliableBlockShare * static_cast<double>(a.sobol_blocks))
+      out << "      unreliable: failed runs left " << s.base_samples << " of " << a.sobol_blocks
+          << " base points complete; failures that depend on the inputs bias what remains\n";
+    const IndexVerdict v = index_verdict(s);
+    if (std::isfinite(v.widest))
+      out << "      is N enough for the indices? " << (v.enough ? "yes" : "no") << ": the widest interval of a total index "
+          << "that matters is " << number(v.widest, "%.2g") << " (" << unit_names(spec)[v.unit] << ")"
+          << (v.enough ? "" : "; about " + number(v.needed, "%.0f") + " base points would make it " +
+                                  number(kIndexIntervalWidth, "%.1f")) << "\n";
+    return;
+  }
+  const RankSensitivity& r = a.ranks;
+  if (r.spearman.empty()) return;
+  std::vector<double> measure(r.spearman.size());
+  for (std::size_t i = 0; i < measure.size(); ++i) measure[i] = std::abs(r.ranked_by_srrc ? r.srrc[i] : r.spearman[i]);
+  out << "    drivers (" << (r.ranked_by_srrc ? "|SRRC|" : "|Spearman|") << ", over " << r.samples << " runs): ";
+  print_ranking(out, spec.input_names(), r.ranking, measure, nullptr, "runs");
+}
+
+// One unit of the failure region: its importance and, for a single input,
+// where the failing runs put it (mean u, the design point).
+std::string failure_unit_text(const EnsembleSpec& spec, const FailureRegion& region, std::size_t u) {
+  std::string t = region.units[u].name + " " + number(region.unit_importance[u], "%.2f");
+  if (region.units[u].inputs.size() != 1) return t + " (" + std::to_string(region.units[u].inputs.size()) + " inputs)";
+  const unsigned i = region.units[u].inputs.front();
+  return t + " (mean u " + number(region.mean_u[i], "%.2f") + ", design point " +
+         number(region.design_point[i], "%.4g") + " " + spec.input_units()[i] + ")";
+}
+
+// The inputs the failing runs select on, by importance, and a warning for
+// every input whose truncation bound holds most of them.
+void print_failure_region(std::ostream& out, const EnsembleSpec& spec, const FailureRegion& region, const char* what) {
+  if (region.runs == 0 || region.unit_importance.empty()) return;
+  const std::size_t inputs = region.mean_u.size();
+  out << "    what makes it exceed (" << region.runs << " " << what << "; importance):";
+  if (std::none_of(region.unit_importance.begin(), region.unit_importance.end(), [](double v) { return std::isfinite(v); }))
+    out << " no input departs from its own distribution beyond chance";
+  const Ranking order = rank_units(region.unit_importance, {}, region.runs);
+  for (std::size_t k = 0; k < std::min(order.order.size(), kFailureShown); ++k) {
+    if (!(region.unit_importance[order.order[k]] > 0.0)) break;
+    out << (k ? "; " : " ") << failure_unit_text(spec, region, order.order[k]);
+  }
+  out << "\n";
+  if (region.runs < std::max<std::uint64_t>(kFailureRegionRuns, inputs))
+    out << "      rough: " << region.runs << " runs beyond the limit for " << inputs
+        << " inputs (chance alone moves each input's share; at least " << std::max<std::uint64_t>(kFailureRegionRuns, inputs)
+        << " would tell)\n";
+  const std::vector<std::string> names = spec.input_names(), units = spec.input_units();
+  for (std::size_t i = 0; i < inputs; ++i)
+    if (region.near_bound[i] >= kBoundSetsProbability)
+      out << "      warning: " << number(100.0 * region.near_bound[i], "%.0f") << " % of them have " << names[i]
+          << " within " << number(100.0 * kNearBoundShare, "%.0f") << " % of its range of its bound "
+          << number(region.bound[i], "%.6g") << " " << units[i]
+          << ": P depends on where that distribution is cut off, not only on the dynamics\n";
 }
 
 }  // namespace
@@ -68,14 +149,19 @@ void print_response_summary(std::ostream& out, const EnsembleSpec& spec,
           << number(response.limit) << " " << response.units << ") = " << number(e->probability, "%.4g")
           << " (" << e->exceeded << " of " << e->successful << "), 95 % Wilson interval ["
           << number(e->interval.low, "%.4g") << ", " << number(e->interval.high, "%.4g") << "]";
-      if (e->failed > 0) out << "; " << e->failed << " failed samples not in the count";
       out << "\n";
+      if (e->failed > 0)
+        out << "      " << e->failed << " failed samples are not in the count: counted as not exceeding or as "
+            << "exceeding, P would be " << number(e->with_failed.low, "%.4g") << " to "
+            << number(e->with_failed.high, "%.4g") << "\n";
     }
     print_drivers(out, spec, a);
+    if (a.failure_region) print_failure_region(out, spec, *a.failure_region, "counted runs beyond the limit");
   }
 }
 
-void print_rare_event(std::ostream& out, const EnsembleSpec& spec, const rare_event::SubsetResult& result) {
+void print_rare_event(std::ostream& out, const EnsembleSpec& spec, const RareEventAnswer& answer) {
+  const rare_event::SubsetResult& result = answer.result;
   const Response& response = spec.responses[spec.subset->response];
   const double sign = response.fail_if == Response::FailIf::below ? -1.0 : 1.0;
   const char* side = response.fail_if == Response::FailIf::above ? " > " : " < ";
@@ -99,6 +185,7 @@ void print_rare_event(std::ostream& out, const EnsembleSpec& spec, const rare_ev
   else if (!result.reached_limit)
     out << "  warning: max_levels ran out before a level's threshold reached the limit: the estimate counts "
            "the last level's exceedances (raise max_levels)\n";
+  print_failure_region(out, spec, answer.region, "runs beyond the limit, any level");
 }
 
 }  // namespace treedyn::ensemble

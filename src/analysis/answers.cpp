@@ -1,5 +1,7 @@
 #include "analysis/answers.hpp"
 
+#include "analysis/subset_replay.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -50,12 +52,13 @@ RankSensitivity ranks_of(const EnsembleSpec& spec, const ResponseTable& table, s
   return rank_sensitivity(x, d, y, spec.bootstrap_resamples, spec.seed);
 }
 
-// Indices per Saltelli unit (an input, or a group of them).
-SobolIndices sobol_of(const EnsembleSpec& spec, const ResponseTable& table, std::size_t r) {
+// Indices per Saltelli unit (an input, or a group of them), from the
+// complete blocks among the first `base_points`: a block counts only when
+// all its U + 2 runs succeeded with finite values.
+SobolIndices sobol_of(const EnsembleSpec& spec, const ResponseTable& table, std::size_t r, std::uint64_t base_points) {
   const std::size_t d = spec.unit_count(), block = spec.saltelli_block();
   std::vector<double> f_a, f_b, f_ab;
-  for (std::uint64_t j = 0; j < table.samples() / block; ++j) {
-    // A block counts only when all its U + 2 runs succeeded with finite values.
+  for (std::uint64_t j = 0; j < base_points; ++j) {
     bool complete = true;
     for (std::size_t m = 0; m < block; ++m) {
       const std::uint64_t k = j * block + m;
@@ -67,6 +70,23 @@ SobolIndices sobol_of(const EnsembleSpec& spec, const ResponseTable& table, std:
     for (std::size_t i = 0; i < d; ++i) f_ab.push_back(table.response(j * block + 2 + i, r));
   }
   return saltelli_indices(f_a, f_b, f_ab, d, spec.bootstrap_resamples, spec.seed);
+}
+
+// The indices, and their convergence on the first 1, 2, 4, ... base points
+// (a prefix of whole blocks is a Saltelli design of its own).
+void answer_sobol(const EnsembleSpec& spec, const ResponseTable& table, std::size_t r, ResponseAnswer& a) {
+  const std::uint64_t blocks = table.samples() / spec.saltelli_block();
+  a.sobol_blocks = blocks;
+  a.sobol = sobol_of(spec, table, r, blocks);
+  for (std::uint64_t m = 1; m < blocks; m *= 2) a.sobol_convergence.push_back({m, sobol_of(spec, table, r, m)});
+  if (blocks > 0) a.sobol_convergence.push_back({blocks, *a.sobol});
+}
+
+// P over successful + failed samples, every failed one counted as not
+// exceeding and as exceeding.
+Interval with_failed(std::uint64_t exceeded, std::uint64_t successful, std::uint64_t failed) {
+  const std::uint64_t all = successful + failed;
+  return {ratio(exceeded, all), ratio(exceeded + failed, all)};
 }
 
 }  // namespace
@@ -130,12 +150,42 @@ ResponseAnswer answer_response(const EnsembleSpec& spec, const ResponseTable& ta
     e.failed = a.failed;
     e.probability = ratio(exceeded, successful);
     e.interval = wilson_interval(exceeded, successful);
+    e.with_failed = with_failed(exceeded, successful, a.failed);
     a.exceedance = e;
   }
   if (!with_sensitivity) return a;
   if (table.input_count() > 0) a.ranks = ranks_of(spec, table, r);
-  if (spec.design == Design::saltelli) a.sobol = sobol_of(spec, table, r);
+  if (spec.design == Design::saltelli) answer_sobol(spec, table, r, a);
+  if (response.has_limit() && table.input_count() > 0)
+    a.failure_region = failure_region(spec, table, r, [&](std::uint64_t k) { return k < n && independent_draw(spec, k); });
   return a;
+}
+
+IndexVerdict index_verdict(const SobolIndices& s) {
+  IndexVerdict v;
+  v.widest = std::numeric_limits<double>::quiet_NaN();
+  v.needed = v.widest;
+  const std::vector<std::size_t>& order = s.ranking.order;
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    const std::size_t u = order[k];
+    if (k > 0 && !(s.total[u] >= kIndexMatters)) break;
+    // Within [0, 1], as shown: an index cannot leave it, so the part of an
+    // interval beyond it says nothing.
+    const double width = std::min(s.total_ci[2 * u + 1], 1.0) - std::max(s.total_ci[2 * u], 0.0);
+    if (std::isnan(width)) return v;  // no intervals: no verdict
+    if (k == 0 || width > v.widest) v.widest = width, v.unit = u;
+  }
+  if (std::isnan(v.widest)) return v;
+  v.enough = v.widest <= kIndexIntervalWidth;
+  const double ratio = v.widest / kIndexIntervalWidth;
+  v.needed = std::ceil(static_cast<double>(s.base_samples) * ratio * ratio);
+  return v;
+}
+
+RareEventAnswer answer_rare_event(const EnsembleSpec& spec, const ResponseTable& table) {
+  RareEventAnswer answer{replay_subset(spec, table, spec.subset->max_levels).result(), {}};
+  answer.region = failure_region(spec, table, spec.subset->response, [](std::uint64_t) { return true; });
+  return answer;
 }
 
 std::vector<ResponseAnswer> answer_responses(const EnsembleSpec& spec, const ResponseTable& table) {

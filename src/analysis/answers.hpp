@@ -12,6 +12,7 @@
 
 #include "job/ensemble_spec.hpp"
 #include "ensemble/response_table.hpp"
+#include "analysis/failure_region.hpp"
 #include "analysis/sensitivity.hpp"
 #include "rare_event/subset_simulation.hpp"
 
@@ -31,6 +32,9 @@ struct Exceedance {
   std::uint64_t failed = 0;      // samples left out (integration failed, invalid model)
   double probability = 0.0;      // exceeded / successful (NaN when none succeeded)
   Interval interval;             // 95 % Wilson
+  // P over successful + failed with every failed sample counted as not
+  // exceeding (low) and as exceeding (high): what the failures can change.
+  Interval with_failed;
 };
 
 // One row per sample count m = 1, 2, 4, ..., and N (saltelli: m = (U + 2)
@@ -42,6 +46,31 @@ struct ConvergencePoint {
   double probability = 0.0;   // of exceeding the limit (NaN without a limit)
   Interval interval;
 };
+
+// The Sobol' indices of the first `base_points` base points (their complete
+// blocks: indices.base_samples of them).
+struct SobolPrefix {
+  std::uint64_t base_points = 0;
+  SobolIndices indices;
+};
+
+// "Is N enough for the indices?": the widest 95 % interval (within [0, 1])
+// of a total index among the units that matter (total index >= kIndexMatters, and at least
+// the largest), enough when within kIndexIntervalWidth; `needed` is about
+// the base points that would make it so, N (widest / kIndexIntervalWidth)^2.
+inline constexpr double kIndexMatters = 0.05;
+inline constexpr double kIndexIntervalWidth = 0.1;
+// Indices resting on fewer than this share of the blocks run are unreliable:
+// the failed runs' blocks are left out, and failures that depend on the
+// inputs bias what remains.
+inline constexpr double kReliableBlockShare = 0.8;
+struct IndexVerdict {
+  double widest = 0.0;   // NaN without intervals
+  std::size_t unit = 0;  // whose interval it is
+  double needed = 0.0;   // base points
+  bool enough = false;
+};
+IndexVerdict index_verdict(const SobolIndices& s);
 
 // For design = "saltelli" the counts, mean, standard error and exceedance
 // use the A and B runs only (the AB_i rows are not independent draws); the
@@ -55,6 +84,9 @@ struct ResponseAnswer {
   std::vector<ConvergencePoint> convergence;
   RankSensitivity ranks;          // needs inputs (empty without perturbations)
   std::optional<SobolIndices> sobol;  // design = "saltelli" only
+  std::uint64_t sobol_blocks = 0;     // base points run; sobol->base_samples of them complete
+  std::vector<SobolPrefix> sobol_convergence;  // on 1, 2, 4, ... base points, and all
+  std::optional<FailureRegion> failure_region;  // with a limit and inputs: of the counted runs
 };
 
 // The answers for response r from samples 0 .. prefix-1 of `table`; the
@@ -72,9 +104,19 @@ std::vector<ResponseAnswer> answer_responses(const EnsembleSpec& spec, const Res
 void print_response_summary(std::ostream& out, const EnsembleSpec& spec,
                             const std::vector<ResponseAnswer>& answers);
 
+// Subset simulation's answer: its levels' result, and the failure region of
+// every run beyond the limit (any level: each is a draw of the inputs given
+// the failure).
+struct RareEventAnswer {
+  rare_event::SubsetResult result;
+  FailureRegion region;
+};
+RareEventAnswer answer_rare_event(const EnsembleSpec& spec, const ResponseTable& table);
+
 // Subset simulation's answer: P(limit exceeded) with its coefficient of
-// variation and interval, each level's threshold, the runs made, and what
-// crude Monte Carlo would have needed for the same coefficient of variation.
-void print_rare_event(std::ostream& out, const EnsembleSpec& spec, const rare_event::SubsetResult& result);
+// variation and interval, each level's threshold, the runs made, what
+// crude Monte Carlo would have needed for the same coefficient of
+// variation, and what makes it fail.
+void print_rare_event(std::ostream& out, const EnsembleSpec& spec, const RareEventAnswer& answer);
 
 }  // namespace treedyn::ensemble

@@ -105,7 +105,7 @@ void ensemble_summary(std::ostream& out, const h5::ReadFile& f, const std::strin
     const ensemble::ResponseTable table = h5::response_table(f, spec.input_dimensions(), spec.responses.size());
     ensemble::print_response_summary(out, spec, ensemble::answer_responses(spec, table));
     if (spec.subset)
-      ensemble::print_rare_event(out, spec, ensemble::replay_subset(spec, table, spec.subset->max_levels).result());
+      ensemble::print_rare_event(out, spec, ensemble::answer_rare_event(spec, table));
   } catch (const h5::IoError& e) {
     throw Refused{file + ": " + e.what()};
   }

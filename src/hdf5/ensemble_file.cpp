@@ -5,6 +5,8 @@
 #include <limits>
 #include <optional>
 
+#include "hdf5/answers_file.hpp"
+#include "hdf5/described.hpp"
 #include "hdf5/trajectory_file.hpp"
 #include "common/format.hpp"
 #include "output/final_state.hpp"
@@ -16,12 +18,7 @@ namespace {
 
 using ensemble::SampleRecord;
 
-void describe(hid_t set, const std::string& units, const std::string& description,
-              const std::vector<std::string>& columns) {
-  h5::write_attribute(set, "units", units);
-  h5::write_attribute(set, "description", description);
-  if (!columns.empty()) h5::write_attribute(set, "columns", columns);
-}
+using h5::describe;
 
 std::vector<std::string> integrator_stat_columns() {
   std::vector<std::string> out;
@@ -397,171 +394,6 @@ void EnsembleWriter::write_final_histograms(hid_t qg, std::size_t q, const ensem
   describe(ho.id(), "1", "samples above the last edge", layout_.names[q]);
 }
 
-namespace {
-
-template <class T>
-void write_described_scalar(hid_t group, const char* name, T value, const std::string& units, const std::string& what) {
-  h5::Handle set = h5::write_scalar(group, name, value);
-  describe(set.id(), units, what, {});
-}
-
-std::string fail_if_name(const ensemble::Response& r) {
-  return r.fail_if == ensemble::Response::FailIf::above ? "above" : "below";
-}
-
-// /responses/<name>/exceedance: the limit state's probability and interval.
-void write_exceedance(hid_t g, const ensemble::Response& response, const ensemble::Exceedance& e) {
-  h5::Handle x = h5::create_group(g, "exceedance");
-  h5::write_attribute(x.id(), "description",
-                      "limit state: value " + fail_if_name(response) +
-                          " the limit, over the successful samples; failed samples are counted "
-                          "beside it (survivor bias)");
-  h5::write_attribute(x.id(), "limit", response.limit);
-  h5::write_attribute(x.id(), "fail_if", fail_if_name(response));
-  write_described_scalar(x.id(), "probability", e.probability, "1", "exceeded / successful");
-  write_described_scalar(x.id(), "count", e.exceeded, "1", "successful samples beyond the limit");
-  write_described_scalar(x.id(), "successful", e.successful, "1", "successful samples (the denominator)");
-  write_described_scalar(x.id(), "failed", e.failed, "1", "samples that failed and are not in the denominator");
-  const double interval[2] = {e.interval.low, e.interval.high};
-  const hsize_t two[1] = {2};
-  h5::Handle w = h5::write_array(x.id(), "interval", H5T_NATIVE_DOUBLE, interval, two);
-  describe(w.id(), "1", "95 % Wilson score interval of the probability: low, high", {"low", "high"});
-}
-
-// /responses/<name>/convergence: the answers of the prefixes.
-void write_convergence(hid_t g, const ensemble::Response& response, const ensemble::ResponseAnswer& a) {
-  std::vector<double> table;
-  for (const ensemble::ConvergencePoint& p : a.convergence)
-    table.insert(table.end(), {static_cast<double>(p.samples), static_cast<double>(p.used), p.mean, p.sem,
-                               p.probability, p.interval.low, p.interval.high});
-  h5::Handle c = h5::write_matrix(g, "convergence", table, a.convergence.size(), 7);
-  describe(c.id(), "per column: the 'column_units' attribute",
-           "answers from samples 0 .. m-1 for m = 1, 2, 4, ... and N, in sample-index order "
-           "(meaningful as convergence for nested designs: monte_carlo, sobol, saltelli)",
-           {"samples", "used", "mean", "sem", "exceedance_probability", "wilson_low", "wilson_high"});
-  h5::write_attribute(c.id(), "column_units",
-                      std::vector<std::string>{"1", "1", response.units, response.units, "1", "1", "1"});
-}
-
-}  // namespace
-
-void EnsembleWriter::write_answers(const std::vector<ensemble::ResponseAnswer>& answers) {
-  if (answers.empty()) return;
-  h5::Handle responses = h5::create_group(file_.id(), "responses");
-  h5::write_attribute(responses.id(), "description",
-                      std::string("per named response ([[ensemble.response]]): mean and standard "
-                                  "error over the successful samples with finite values (saltelli: "
-                                  "the A and B runs), the exceedance of its limit, and their convergence"));
-  std::optional<h5::Handle> sensitivity;
-  if (spec_.input_dimensions() > 0) {
-    sensitivity = h5::create_group(file_.id(), "sensitivity");
-    h5::write_attribute(sensitivity->id(), "description",
-                        std::string("per response, how much each sampled input (/samples/inputs "
-                                    "columns) drives it"));
-  }
-  for (std::size_t r = 0; r < answers.size(); ++r) {
-    write_response_answer(responses.id(), spec_.responses[r], answers[r]);
-    if (sensitivity) write_sensitivity(sensitivity->id(), spec_.responses[r], answers[r]);
-  }
-}
-
-void EnsembleWriter::write_response_answer(hid_t parent, const ensemble::Response& response,
-                                           const ensemble::ResponseAnswer& a) {
-  h5::Handle g = h5::create_group(parent, response.name);
-  h5::write_attribute(g.id(), "units", response.units);
-  h5::write_attribute(g.id(), "quantity", response.quantity);
-  h5::write_attribute(g.id(), "column", response.column);
-  h5::write_attribute(g.id(), "reduce", std::string(ensemble::name(response.reduce)));
-  write_described_scalar(g.id(), "mean", a.mean, response.units, "mean over the successful samples with finite values");
-  write_described_scalar(g.id(), "std", a.std, response.units, "sample standard deviation (n - 1)");
-  write_described_scalar(g.id(), "sem", a.sem, response.units, "standard error of the mean, std / sqrt(used)");
-  write_described_scalar(g.id(), "used", a.used, "1", "successful samples with a finite value");
-  write_described_scalar(g.id(), "not_finite", a.not_finite, "1", "successful samples with +-inf (a level never crossed)");
-  write_described_scalar(g.id(), "failed", a.failed, "1", "samples that failed (left out)");
-  if (a.exceedance) write_exceedance(g.id(), response, *a.exceedance);
-  write_convergence(g.id(), response, a);
-}
-
-void EnsembleWriter::write_sensitivity(hid_t parent, const ensemble::Response& response,
-                                       const ensemble::ResponseAnswer& a) {
-  const std::vector<std::string> inputs = spec_.input_names();
-  h5::Handle sg = h5::create_group(parent, response.name);
-  h5::write_attribute(sg.id(), "description",
-                      std::string(spec_.design == ensemble::Design::saltelli
-                                      ? "rank measures over the A and B runs; Sobol' indices from all blocks"
-                                      : "rank measures over the successful samples"));
-  auto per_input = [&](const char* name, const std::vector<double>& v, const std::string& what) {
-    h5::Handle set = h5::write_vector(sg.id(), name, v);
-    describe(set.id(), "1", what, inputs);
-  };
-  per_input("spearman", a.ranks.spearman, "Spearman rank correlation of each input with the response");
-  per_input("srrc", a.ranks.srrc, "standardised rank regression coefficient of each input (see the r_squared attribute)");
-  h5::write_attribute(sg.id(), "rank_r_squared", a.ranks.r_squared);
-  h5::write_attribute(sg.id(), "rank_samples", static_cast<long long>(a.ranks.samples));
-  if (a.sobol) write_sobol(sg.id(), *a.sobol);
-}
-
-namespace {
-
-// Per-unit values spread to the inputs: an input alone in its unit gets the
-// unit's value (`width` per unit: 1, or 2 for an interval), an input of a
-// larger group NaN (its own index is not estimated).
-std::vector<double> per_input_values(const ensemble::EnsembleSpec& spec, const std::vector<double>& unit_values,
-                                     std::size_t width) {
-  std::vector<double> out(spec.input_dimensions() * width, std::numeric_limits<double>::quiet_NaN());
-  for (std::size_t u = 0; u < spec.sobol_units.size(); ++u) {
-    if (spec.sobol_units[u].inputs.size() != 1) continue;
-    const std::size_t d = spec.sobol_units[u].inputs.front();
-    for (std::size_t w = 0; w < width; ++w) out[d * width + w] = unit_values[u * width + w];
-  }
-  return out;
-}
-
-}  // namespace
-
-void EnsembleWriter::write_sobol(hid_t sg, const ensemble::SobolIndices& s) {
-  const std::vector<std::string> inputs = spec_.input_names();
-  const bool grouped = spec_.grouped;
-  auto spread = [&](const std::vector<double>& v, std::size_t width) {
-    return grouped ? per_input_values(spec_, v, width) : v;
-  };
-  const std::string grouped_note = grouped ? " (NaN for an input of a larger group: see group_first_order)" : "";
-  auto vector = [&](const char* name, const std::vector<double>& v, const std::string& what,
-                    const std::vector<std::string>& rows) {
-    h5::Handle set = h5::write_vector(sg, name, v);
-    describe(set.id(), "1", what, rows);
-  };
-  auto interval = [&](const char* name, const std::vector<double>& v, const std::string& what,
-                      const std::vector<std::string>& rows, const char* row_word) {
-    h5::Handle set = h5::write_matrix(sg, name, v, rows.size(), 2);
-    describe(set.id(), "1", what + ": " + row_word + " x (low, high); rows follow the '" + row_word + "s' attribute",
-             {"low", "high"});
-    h5::write_attribute(set.id(), std::string(row_word) + "s", rows);
-  };
-  vector("first_order", spread(s.first, 1), "first-order Sobol' index (Saltelli 2010) of each input" + grouped_note, inputs);
-  vector("total_order", spread(s.total, 1), "total Sobol' index (Jansen) of each input" + grouped_note, inputs);
-  interval("first_order_ci", spread(s.first_ci, 2), "95 % bootstrap interval of the first-order index", inputs, "input");
-  interval("total_order_ci", spread(s.total_ci, 2), "95 % bootstrap interval of the total index", inputs, "input");
-  if (grouped) {
-    std::vector<std::string> groups, members;
-    for (const ensemble::SobolUnit& unit : spec_.sobol_units) {
-      groups.push_back(unit.name);
-      std::string listed;
-      for (unsigned d : unit.inputs) listed += (listed.empty() ? "" : ", ") + inputs[d];
-      members.push_back(listed);
-    }
-    vector("group_first_order", s.first, "first-order Sobol' index of each group (its inputs together)", groups);
-    vector("group_total_order", s.total, "total Sobol' index of each group (its inputs together)", groups);
-    interval("group_first_order_ci", s.first_ci, "95 % bootstrap interval of the group first-order index", groups, "group");
-    interval("group_total_order_ci", s.total_ci, "95 % bootstrap interval of the group total index", groups, "group");
-    h5::write_attribute(sg, "groups", groups);
-    h5::write_attribute(sg, "group_inputs", members);
-  }
-  h5::write_attribute(sg, "sobol_variance", s.variance);
-  h5::write_attribute(sg, "sobol_base_samples", static_cast<long long>(s.base_samples));
-  h5::write_attribute(sg, "bootstrap_resamples", static_cast<long long>(spec_.bootstrap_resamples));
-}
-
 void EnsembleWriter::write_merge_origin(const std::vector<std::string>& parts,
                                         const std::vector<std::pair<std::uint64_t, std::uint64_t>>& held) {
   const hid_t root = file_.id();
@@ -572,6 +404,12 @@ void EnsembleWriter::write_merge_origin(const std::vector<std::string>& parts,
     flat.push_back(static_cast<long long>(end));
   }
   h5::write_attribute(root, "held_samples", std::span<const long long>(flat));
+}
+
+void EnsembleWriter::write_rare_event(const rare_event::SubsetSettings& settings,
+                                      const ensemble::RareEventAnswer& answer, std::size_t rows) {
+  write_run_places(settings, rows);
+  answers_file::write_rare_event(file_.id(), spec_, settings, answer);
 }
 
 void EnsembleWriter::write_run_places(const rare_event::SubsetSettings& settings, std::size_t rows) {
@@ -593,71 +431,6 @@ void EnsembleWriter::write_run_places(const rare_event::SubsetSettings& settings
                         "before; level 0: 0)", {});
 }
 
-void EnsembleWriter::write_rare_event(const rare_event::SubsetSettings& settings,
-                                      const rare_event::SubsetResult& result, std::size_t rows) {
-  write_run_places(settings, rows);
-
-  const ensemble::Response& response = spec_.responses[spec_.subset->response];
-  const double sign = response.fail_if == ensemble::Response::FailIf::below ? -1.0 : 1.0;
-  h5::Handle group = h5::create_group(file_.id(), "rare_event");
-  h5::write_attribute(group.id(), "description",
-                      std::string("subset simulation (Au and Beck 2001) in standard normal space: levels of "
-                                  "conditional samples, conditional sampling after Papaioannou et al. 2015"));
-  h5::Handle g = h5::create_group(group.id(), response.name);
-  h5::write_attribute(g.id(), "limit", response.limit);
-  h5::write_attribute(g.id(), "fail_if", fail_if_name(response));
-  h5::write_attribute(g.id(), "units", response.units);
-  h5::write_attribute(g.id(), "level_probability", settings.level_probability);
-  h5::write_attribute(g.id(), "samples_per_level", static_cast<long long>(settings.samples));
-  h5::write_attribute(g.id(), "reached_limit", static_cast<long long>(result.reached_limit ? 1 : 0));
-  h5::write_attribute(g.id(), "no_threshold", static_cast<long long>(result.no_threshold ? 1 : 0));
-  write_described_scalar(g.id(), "probability", result.probability, "1",
-                         "P(limit exceeded) = product of the levels' conditional probabilities");
-  write_described_scalar(g.id(), "cov", result.cov, "1",
-                         "coefficient of variation: sqrt(sum of the levels' delta_j^2), the levels taken as "
-                         "uncorrelated (the usual estimate; it understates a little)");
-  const double interval[2] = {result.interval_low, result.interval_high};
-  const hsize_t two[1] = {2};
-  h5::Handle w = h5::write_array(g.id(), "interval", H5T_NATIVE_DOUBLE, interval, two);
-  describe(w.id(), "1",
-           "95 % interval: the estimate taken as lognormal with that cov, P exp(-+1.96 sqrt(ln(1 + cov^2))); "
-           "with no exceedance at the last level, [0, the rule of three there]",
-           {"low", "high"});
-  write_described_scalar(g.id(), "runs", result.runs, "1",
-                         "model runs made: every proposal is a run, accepted or not");
-  write_described_scalar(g.id(), "crude_monte_carlo_runs",
-                         result.probability > 0.0 && result.cov > 0.0
-                             ? (1.0 - result.probability) / (result.probability * result.cov * result.cov)
-                             : std::numeric_limits<double>::quiet_NaN(),
-                         "1", "runs crude Monte Carlo would need for the same cov: (1 - P) / (P cov^2)");
-  write_levels(g.id(), result, sign, response.units);
-}
-
-void EnsembleWriter::write_levels(hid_t g, const rare_event::SubsetResult& result, double sign,
-                                  const std::string& units) {
-  std::vector<double> thresholds, conditional, gamma, acceptance, runs, failed;
-  for (const rare_event::LevelSummary& level : result.levels) {
-    thresholds.push_back(sign * level.threshold);
-    conditional.push_back(level.conditional_probability);
-    gamma.push_back(level.gamma);
-    acceptance.push_back(level.acceptance_rate);
-    runs.push_back(static_cast<double>(level.runs));
-    failed.push_back(static_cast<double>(level.failed_runs));
-  }
-  h5::Handle t = h5::write_vector(g, "thresholds", thresholds);
-  describe(t.id(), units, "per level: the response's threshold (the last: the limit itself)", {});
-  h5::Handle p = h5::write_vector(g, "conditional_probability", conditional);
-  describe(p.id(), "1", "per level: the fraction of its states beyond its threshold (p0 but at the last)", {});
-  h5::Handle y = h5::write_vector(g, "gamma", gamma);
-  describe(y.id(), "1", "per level: the chains' correlation factor in delta_j^2 = (1 - p) / (N p) (1 + gamma)", {});
-  h5::Handle a = h5::write_vector(g, "acceptance_rate", acceptance);
-  describe(a.id(), "1", "per level: accepted proposals / proposals (level 0: 1)", {});
-  h5::Handle r = h5::write_vector(g, "runs_per_level", runs);
-  describe(r.id(), "1", "per level: the runs it made", {});
-  h5::Handle x = h5::write_vector(g, "failed_per_level", failed);
-  describe(x.id(), "1", "per level: its runs that failed (never beyond a threshold; rejected proposals)", {});
-}
-
 EnsembleSummary EnsembleWriter::complete(const std::vector<double>& nominal,
                                          const ensemble::EnsembleStatistics& stats,
                                          const std::vector<ensemble::ResponseAnswer>& answers,
@@ -670,7 +443,7 @@ EnsembleSummary EnsembleWriter::complete(const std::vector<double>& nominal,
     summary.writing_seconds.front() += std::chrono::duration<double>(Clock::now() - flushing).count();
   write_nominal(nominal);
   write_statistics(stats);
-  write_answers(answers);
+  answers_file::write_answers(file_.id(), spec_, answers);
   summary.wall_seconds = std::chrono::duration<double>(Clock::now() - started).count();
   finish(summary, run);
   return summary;

@@ -36,12 +36,10 @@ class EnsembleWriter {
   // Keeps the rows of samples 0 .. rows-1 only (a run a stopping rule or
   // subset simulation's last level ended early); before complete().
   void keep_samples(std::size_t rows);
-  // design = "subset_simulation": /rare_event/<response> (the estimate, its
-  // coefficient of variation and interval, and each level's threshold,
-  // conditional probability, gamma, acceptance rate and runs) and every
-  // run's place, /samples/level, chain, state (rows 0 .. rows-1); before
-  // complete().
-  void write_rare_event(const rare_event::SubsetSettings& settings, const rare_event::SubsetResult& result,
+  // design = "subset_simulation": /rare_event/<response> (answers_file.hpp)
+  // and every run's place, /samples/level, chain, state (rows 0 .. rows-1);
+  // before complete().
+  void write_rare_event(const rare_event::SubsetSettings& settings, const ensemble::RareEventAnswer& answer,
                         std::size_t rows);
   // The end of every ensemble file, whoever wrote its records (a run, a
   // merge): the per-sample datasets' last chunks, the nominal run, /stats,
@@ -65,13 +63,8 @@ class EnsembleWriter {
   void write_statistics(const ensemble::EnsembleStatistics& stats);
   void write_quantity_statistics(hid_t group, std::size_t quantity, const ensemble::EnsembleStatistics& stats);
   void write_final_histograms(hid_t group, std::size_t quantity, const ensemble::EnsembleStatistics& stats);
-  void write_answers(const std::vector<ensemble::ResponseAnswer>& answers);
-  void write_response_answer(hid_t parent, const ensemble::Response& response, const ensemble::ResponseAnswer& a);
-  void write_sensitivity(hid_t parent, const ensemble::Response& response, const ensemble::ResponseAnswer& a);
-  void write_sobol(hid_t sensitivity_group, const ensemble::SobolIndices& s);
   void finish(const EnsembleSummary& summary, const RunProvenance& run);
   void write_run_places(const rare_event::SubsetSettings& settings, std::size_t rows);
-  void write_levels(hid_t group, const rare_event::SubsetResult& result, double sign, const std::string& units);
 
   const Job& job_;
   const ensemble::EnsembleSpec& spec_;

@@ -48,4 +48,12 @@ void NormalCopula::correlate(std::span<double> u) const {
   }
 }
 
+void NormalCopula::decorrelate(std::span<double> z) const {
+  const auto n = static_cast<Eigen::Index>(inputs_.size());
+  Eigen::VectorXd correlated(n);
+  for (Eigen::Index k = 0; k < n; ++k) correlated[k] = z[inputs_[static_cast<std::size_t>(k)]];
+  const Eigen::VectorXd independent = lower_.triangularView<Eigen::Lower>().solve(correlated);
+  for (Eigen::Index k = 0; k < n; ++k) z[inputs_[static_cast<std::size_t>(k)]] = independent[k];
+}
+
 }  // namespace treedyn::ensemble

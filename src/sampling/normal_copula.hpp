@@ -38,6 +38,10 @@ class NormalCopula {
   bool empty() const { return inputs_.empty(); }
   // Maps one sample's independent uniforms (all D of them) in place.
   void correlate(std::span<double> u) const;
+  // The inverse in normal space: standard normals z' of all D inputs, as
+  // Phi^-1 of the correlated uniforms, back to the independent z = L^-1 z'
+  // (only the correlated inputs change).
+  void decorrelate(std::span<double> z) const;
 
  private:
   std::vector<unsigned> inputs_;  // the correlated input dimensions, ascending

@@ -1,0 +1,384 @@
+#include "hdf5/answers_file.hpp"
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <string>
+
+#include "hdf5/described.hpp"
+
+namespace treedyn::answers_file {
+namespace {
+
+using h5::describe;
+using h5::write_described_scalar;
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+std::string fail_if_name(const ensemble::Response& r) {
+  return r.fail_if == ensemble::Response::FailIf::above ? "above" : "below";
+}
+
+void write_pair(hid_t g, const char* name, double low, double high, const std::string& what) {
+  const double values[2] = {low, high};
+  const hsize_t two[1] = {2};
+  h5::Handle set = h5::write_array(g, name, H5T_NATIVE_DOUBLE, values, two);
+  describe(set.id(), "1", what, {"low", "high"});
+}
+
+// One value per input, labelled by the inputs.
+void write_per_input(hid_t g, const char* name, const std::vector<double>& values, const std::string& units,
+                     const std::string& what, const std::vector<std::string>& inputs) {
+  h5::Handle set = h5::write_vector(g, name, values);
+  describe(set.id(), units, what, inputs);
+}
+
+// <parent>/failure_region: what the failing runs' inputs say (analysis/failure_region.hpp).
+void write_failure_region(hid_t parent, const ensemble::EnsembleSpec& spec, const ensemble::FailureRegion& region,
+                          const std::string& which_runs) {
+  h5::Handle g = h5::create_group(parent, "failure_region");
+  h5::write_attribute(g.id(), "description",
+                      "the inputs of " + which_runs + ", in independent standard normal space (u = Phi^-1(F(x)), "
+                      "through the normal copula's inverse for correlated inputs), per input");
+  h5::write_attribute(g.id(), "runs", static_cast<long long>(region.runs));
+  if (region.runs == 0 || region.mean_u.empty()) return;  // nothing beyond the limit: no numbers to show
+  const std::vector<std::string> inputs = spec.input_names();
+  write_per_input(g.id(), "mean_u", region.mean_u, "1", "mean of u: the design point where the region is one-sided",
+                  inputs);
+  write_per_input(g.id(), "mean_u2", region.mean_u2, "1",
+                  "mean of u^2: 1 for an input the failure does not select on", inputs);
+  write_per_input(g.id(), "divergence", region.divergence, "1",
+                  "relative entropy of the failing runs' u (as a normal of their mean m and variance s^2) against "
+                  "N(0, 1), (s^2 + m^2 - 1 - ln s^2) / 2; attribute 'chance': what it averages to for an input the "
+                  "failure does not select on", inputs);
+  h5::write_attribute(g.id(), "chance", region.chance);
+  write_per_input(g.id(), "importance", region.importance, "1",
+                  "max(divergence - chance, 0) as a share of its sum over the inputs", inputs);
+  std::vector<std::string> unit_names, unit_inputs;
+  for (const ensemble::InputUnit& u : region.units) {
+    unit_names.push_back(u.name);
+    std::string listed;
+    for (unsigned d : u.inputs) listed += (listed.empty() ? "" : ", ") + inputs[d];
+    unit_inputs.push_back(listed);
+  }
+  write_per_input(g.id(), "unit_importance", region.unit_importance, "1",
+                  "per unit (a group, a list such as a sea state's phases, or one input; attribute 'unit_inputs'): "
+                  "max(sum of its inputs' divergence - their count x chance, 0) as a share of its sum over the units",
+                  unit_names);
+  h5::write_attribute(g.id(), "unit_inputs", unit_inputs);
+  write_per_input(g.id(), "near_bound", region.near_bound, "1",
+                  "share of the failing runs within 1 % of the distribution's range of one of its bounds (NaN: "
+                  "unbounded, or a full turn of an angle)", inputs);
+  h5::Handle b = h5::write_vector(g.id(), "bound", region.bound);
+  describe(b.id(), "SI (per column: /samples/inputs column_units)", "the bound most of those runs are near", inputs);
+  h5::Handle x = h5::write_vector(g.id(), "design_point", region.design_point);
+  describe(x.id(), "SI (per column: /samples/inputs column_units)", "the inputs at u = mean_u", inputs);
+}
+
+// /responses/<name>/exceedance: the limit state's probability, its interval,
+// what the failed samples can change, and the failure region.
+void write_exceedance(hid_t g, const ensemble::EnsembleSpec& spec, const ensemble::Response& response,
+                      const ensemble::ResponseAnswer& a) {
+  const ensemble::Exceedance& e = *a.exceedance;
+  h5::Handle x = h5::create_group(g, "exceedance");
+  h5::write_attribute(x.id(), "description",
+                      "limit state: value " + fail_if_name(response) +
+                          " the limit, over the successful samples; failed samples are counted "
+                          "beside it (survivor bias)");
+  h5::write_attribute(x.id(), "limit", response.limit);
+  h5::write_attribute(x.id(), "fail_if", fail_if_name(response));
+  write_described_scalar(x.id(), "probability", e.probability, "1", "exceeded / successful");
+  write_described_scalar(x.id(), "count", e.exceeded, "1", "successful samples beyond the limit");
+  write_described_scalar(x.id(), "successful", e.successful, "1", "successful samples (the denominator)");
+  write_described_scalar(x.id(), "failed", e.failed, "1", "samples that failed and are not in the denominator");
+  write_pair(x.id(), "interval", e.interval.low, e.interval.high,
+             "95 % Wilson score interval of the probability: low, high");
+  write_pair(x.id(), "with_failed", e.with_failed.low, e.with_failed.high,
+             "P over the successful and failed samples with every failed one counted as not exceeding (low) "
+             "and as exceeding (high): what the failures can change");
+  if (a.failure_region) write_failure_region(x.id(), spec, *a.failure_region, "the counted runs beyond the limit");
+}
+
+// /responses/<name>/convergence: the answers of the prefixes.
+void write_convergence(hid_t g, const ensemble::Response& response, const ensemble::ResponseAnswer& a) {
+  std::vector<double> table;
+  for (const ensemble::ConvergencePoint& p : a.convergence)
+    table.insert(table.end(), {static_cast<double>(p.samples), static_cast<double>(p.used), p.mean, p.sem,
+                               p.probability, p.interval.low, p.interval.high});
+  h5::Handle c = h5::write_matrix(g, "convergence", table, a.convergence.size(), 7);
+  describe(c.id(), "per column: the 'column_units' attribute",
+           "answers from samples 0 .. m-1 for m = 1, 2, 4, ... and N, in sample-index order "
+           "(meaningful as convergence for nested designs: monte_carlo, sobol, saltelli)",
+           {"samples", "used", "mean", "sem", "exceedance_probability", "wilson_low", "wilson_high"});
+  h5::write_attribute(c.id(), "column_units",
+                      std::vector<std::string>{"1", "1", response.units, response.units, "1", "1", "1"});
+}
+
+void write_response_answer(hid_t parent, const ensemble::EnsembleSpec& spec, const ensemble::Response& response,
+                           const ensemble::ResponseAnswer& a) {
+  h5::Handle g = h5::create_group(parent, response.name);
+  h5::write_attribute(g.id(), "units", response.units);
+  h5::write_attribute(g.id(), "quantity", response.quantity);
+  h5::write_attribute(g.id(), "column", response.column);
+  h5::write_attribute(g.id(), "reduce", std::string(ensemble::name(response.reduce)));
+  write_described_scalar(g.id(), "mean", a.mean, response.units, "mean over the successful samples with finite values");
+  write_described_scalar(g.id(), "std", a.std, response.units, "sample standard deviation (n - 1)");
+  write_described_scalar(g.id(), "sem", a.sem, response.units, "standard error of the mean, std / sqrt(used)");
+  write_described_scalar(g.id(), "used", a.used, "1", "successful samples with a finite value");
+  write_described_scalar(g.id(), "not_finite", a.not_finite, "1", "successful samples with +-inf (a level never crossed)");
+  write_described_scalar(g.id(), "failed", a.failed, "1", "samples that failed (left out)");
+  if (a.exceedance) write_exceedance(g.id(), spec, response, a);
+  write_convergence(g.id(), response, a);
+}
+
+// <sg>/<name>: the units in ranked order and what tells neighbours apart
+// (analysis/ranking.hpp).
+void write_ranking(hid_t sg, const char* name, const ensemble::Ranking& ranking, const std::string& measure,
+                   const std::vector<std::string>& units, const char* samples_word) {
+  h5::Handle g = h5::create_group(sg, name);
+  h5::write_attribute(g.id(), "description",
+                      "the " + std::string(name == std::string("sobol_ranking") ? "units (inputs or groups)" : "inputs") +
+                          " by " + measure + ", largest first; neighbours in that order are told apart only where "
+                          "the 95 % bootstrap interval of their difference excludes 0");
+  h5::write_attribute(g.id(), "measure", measure);
+  h5::write_attribute(g.id(), "resamples", static_cast<long long>(ranking.resamples));
+  std::vector<long long> order(ranking.order.begin(), ranking.order.end());
+  const hsize_t n[1] = {order.size()};
+  h5::Handle o = h5::write_array(g.id(), "order", H5T_NATIVE_LLONG, order.data(), n);
+  describe(o.id(), "1", "0-based indices into 'columns', largest " + measure + " first", {});
+  h5::write_attribute(o.id(), "columns", units);
+  std::vector<long long> apart;
+  for (std::size_t k = 0; k < ranking.pairs(); ++k) apart.push_back(ranking.told_apart(k) ? 1 : 0);
+  const hsize_t pairs[1] = {apart.size()};
+  h5::Handle t = h5::write_array(g.id(), "told_apart", H5T_NATIVE_LLONG, apart.data(), pairs);
+  describe(t.id(), "1", "per neighbour pair (order[k], order[k + 1]): 1 where the bootstrap tells them apart", {});
+  h5::Handle d = h5::write_matrix(g.id(), "difference_ci", ranking.difference_ci, ranking.pairs(), 2);
+  describe(d.id(), "1", "per neighbour pair: 95 % bootstrap interval of the difference of their " + measure,
+           {"low", "high"});
+  h5::Handle need = h5::write_vector(g.id(), "needed", ranking.needed);
+  describe(need.id(), samples_word,
+           std::string("per neighbour pair not yet told apart: about the ") + samples_word +
+               " that would tell it apart 4 times in 5, N ((1.96 + 0.84) sd / d)^2 (rough: d is itself "
+               "uncertain); NaN once told apart, +inf for equal measures",
+           {});
+}
+
+// Per-unit values spread to the inputs: an input alone in its unit gets the
+// unit's value (`width` per unit: 1, or 2 for an interval), an input of a
+// larger group NaN (its own index is not estimated).
+std::vector<double> per_input_values(const ensemble::EnsembleSpec& spec, const std::vector<double>& unit_values,
+                                     std::size_t width) {
+  std::vector<double> out(spec.input_dimensions() * width, kNaN);
+  for (std::size_t u = 0; u < spec.sobol_units.size(); ++u) {
+    if (spec.sobol_units[u].inputs.size() != 1) continue;
+    const std::size_t d = spec.sobol_units[u].inputs.front();
+    for (std::size_t w = 0; w < width; ++w) out[d * width + w] = unit_values[u * width + w];
+  }
+  return out;
+}
+
+std::vector<std::string> unit_names(const ensemble::EnsembleSpec& spec) {
+  if (!spec.grouped) return spec.input_names();
+  std::vector<std::string> names;
+  for (const ensemble::SobolUnit& unit : spec.sobol_units) names.push_back(unit.name);
+  return names;
+}
+
+void write_interval_matrix(hid_t g, const char* name, const std::vector<double>& v, const std::string& what,
+                           const std::vector<std::string>& rows, const char* row_word) {
+  h5::Handle set = h5::write_matrix(g, name, v, rows.size(), 2);
+  describe(set.id(), "1", what + ": " + row_word + " x (low, high); rows follow the '" + row_word + "s' attribute",
+           {"low", "high"});
+  h5::write_attribute(set.id(), std::string(row_word) + "s", rows);
+}
+
+// The groups' indices of a grouped design, and the group list.
+void write_group_indices(hid_t sg, const ensemble::EnsembleSpec& spec, const ensemble::SobolIndices& s) {
+  const std::vector<std::string> inputs = spec.input_names(), groups = unit_names(spec);
+  std::vector<std::string> members;
+  for (const ensemble::SobolUnit& unit : spec.sobol_units) {
+    std::string listed;
+    for (unsigned d : unit.inputs) listed += (listed.empty() ? "" : ", ") + inputs[d];
+    members.push_back(listed);
+  }
+  write_per_input(sg, "group_first_order", s.first, "1", "first-order Sobol' index of each group (its inputs together)",
+                  groups);
+  write_per_input(sg, "group_total_order", s.total, "1", "total Sobol' index of each group (its inputs together)", groups);
+  write_interval_matrix(sg, "group_first_order_ci", s.first_ci, "95 % bootstrap interval of the group first-order index",
+                        groups, "group");
+  write_interval_matrix(sg, "group_total_order_ci", s.total_ci, "95 % bootstrap interval of the group total index",
+                        groups, "group");
+  h5::write_attribute(sg, "groups", groups);
+  h5::write_attribute(sg, "group_inputs", members);
+}
+
+// Whether N is enough for the indices, and whether the blocks they rest on
+// are enough of those run (attributes; see analysis/answers.hpp).
+void write_index_verdict(hid_t sg, const ensemble::EnsembleSpec& spec, const ensemble::ResponseAnswer& a) {
+  const ensemble::SobolIndices& s = *a.sobol;
+  const ensemble::IndexVerdict v = ensemble::index_verdict(s);
+  h5::write_attribute(sg, "sobol_blocks", static_cast<long long>(a.sobol_blocks));
+  h5::write_attribute(sg, "sobol_reliable",
+                      static_cast<long long>(static_cast<double>(s.base_samples) >=
+                                             ensemble::kReliableBlockShare * static_cast<double>(a.sobol_blocks)));
+  h5::write_attribute(sg, "index_widest_interval", v.widest);
+  h5::write_attribute(sg, "index_widest_unit", std::isnan(v.widest) ? std::string() : unit_names(spec)[v.unit]);
+  h5::write_attribute(sg, "index_base_points_needed", v.needed);
+  h5::write_attribute(sg, "indices_enough", static_cast<long long>(v.enough));
+}
+
+void write_sobol(hid_t sg, const ensemble::EnsembleSpec& spec, const ensemble::ResponseAnswer& a) {
+  const ensemble::SobolIndices& s = *a.sobol;
+  const std::vector<std::string> inputs = spec.input_names();
+  auto spread = [&](const std::vector<double>& v, std::size_t width) {
+    return spec.grouped ? per_input_values(spec, v, width) : v;
+  };
+  const std::string grouped_note =
+      spec.grouped ? " (NaN for an input of a larger group: see group_first_order)" : "";
+  write_per_input(sg, "first_order", spread(s.first, 1), "1",
+                  "first-order Sobol' index (Saltelli 2010) of each input" + grouped_note, inputs);
+  write_per_input(sg, "total_order", spread(s.total, 1), "1",
+                  "total Sobol' index (Janon et al. 2014) of each input" + grouped_note, inputs);
+  write_interval_matrix(sg, "first_order_ci", spread(s.first_ci, 2), "95 % bootstrap interval of the first-order index",
+                        inputs, "input");
+  write_interval_matrix(sg, "total_order_ci", spread(s.total_ci, 2), "95 % bootstrap interval of the total index",
+                        inputs, "input");
+  if (spec.grouped) write_group_indices(sg, spec, s);
+  h5::write_attribute(sg, "sobol_variance", s.variance);
+  h5::write_attribute(sg, "sobol_base_samples", static_cast<long long>(s.base_samples));
+  h5::write_attribute(sg, "bootstrap_resamples", static_cast<long long>(spec.bootstrap_resamples));
+  write_index_verdict(sg, spec, a);
+  write_ranking(sg, "sobol_ranking", s.ranking, "total Sobol' index", unit_names(spec), "base points");
+}
+
+// <sg>/sobol_convergence: the indices of the first 1, 2, 4, ... base points.
+void write_sobol_convergence(hid_t sg, const ensemble::EnsembleSpec& spec, const ensemble::ResponseAnswer& a) {
+  const std::vector<std::string> units = unit_names(spec);
+  const std::size_t k = a.sobol_convergence.size(), u = units.size();
+  std::vector<double> base_points, used, first, total, first_ci, total_ci;
+  for (const ensemble::SobolPrefix& p : a.sobol_convergence) {
+    base_points.push_back(static_cast<double>(p.base_points));
+    used.push_back(static_cast<double>(p.indices.base_samples));
+    first.insert(first.end(), p.indices.first.begin(), p.indices.first.end());
+    total.insert(total.end(), p.indices.total.begin(), p.indices.total.end());
+    first_ci.insert(first_ci.end(), p.indices.first_ci.begin(), p.indices.first_ci.end());
+    total_ci.insert(total_ci.end(), p.indices.total_ci.begin(), p.indices.total_ci.end());
+  }
+  h5::Handle g = h5::create_group(sg, "sobol_convergence");
+  h5::write_attribute(g.id(), "description",
+                      std::string("the Sobol' indices of the first m base points (their complete blocks) for "
+                                  "m = 1, 2, 4, ... and N: a prefix of whole blocks is a Saltelli design"));
+  describe(h5::write_vector(g.id(), "base_points", base_points).id(), "1", "m", {});
+  describe(h5::write_vector(g.id(), "used", used).id(), "1", "complete blocks among the first m", {});
+  describe(h5::write_matrix(g.id(), "first_order", first, k, u).id(), "1", "first-order index per prefix", units);
+  describe(h5::write_matrix(g.id(), "total_order", total, k, u).id(), "1", "total index per prefix", units);
+  const hsize_t shape[3] = {k, u, 2};
+  describe(h5::write_array(g.id(), "first_order_ci", H5T_NATIVE_DOUBLE, first_ci.data(), shape).id(), "1",
+           "95 % bootstrap interval per prefix and unit: (prefix, unit, low/high)", units);
+  describe(h5::write_array(g.id(), "total_order_ci", H5T_NATIVE_DOUBLE, total_ci.data(), shape).id(), "1",
+           "95 % bootstrap interval per prefix and unit: (prefix, unit, low/high)", units);
+}
+
+void write_sensitivity(hid_t parent, const ensemble::EnsembleSpec& spec, const ensemble::Response& response,
+                       const ensemble::ResponseAnswer& a) {
+  const std::vector<std::string> inputs = spec.input_names();
+  h5::Handle sg = h5::create_group(parent, response.name);
+  h5::write_attribute(sg.id(), "description",
+                      std::string(spec.design == ensemble::Design::saltelli
+                                      ? "rank measures over the A and B runs; Sobol' indices from all blocks"
+                                      : "rank measures over the successful samples"));
+  write_per_input(sg.id(), "spearman", a.ranks.spearman, "1", "Spearman rank correlation of each input with the response",
+                  inputs);
+  write_per_input(sg.id(), "srrc", a.ranks.srrc, "1",
+                  "standardised rank regression coefficient of each input (see the r_squared attribute)", inputs);
+  h5::write_attribute(sg.id(), "rank_r_squared", a.ranks.r_squared);
+  h5::write_attribute(sg.id(), "rank_samples", static_cast<long long>(a.ranks.samples));
+  write_ranking(sg.id(), "rank_ranking", a.ranks.ranking, a.ranks.ranked_by_srrc ? "|SRRC|" : "|Spearman|", inputs,
+                "runs");
+  if (!a.sobol) return;
+  write_sobol(sg.id(), spec, a);
+  write_sobol_convergence(sg.id(), spec, a);
+}
+
+void write_levels(hid_t g, const rare_event::SubsetResult& result, double sign, const std::string& units) {
+  std::vector<double> thresholds, conditional, gamma, acceptance, runs, failed;
+  for (const rare_event::LevelSummary& level : result.levels) {
+    thresholds.push_back(sign * level.threshold);
+    conditional.push_back(level.conditional_probability);
+    gamma.push_back(level.gamma);
+    acceptance.push_back(level.acceptance_rate);
+    runs.push_back(static_cast<double>(level.runs));
+    failed.push_back(static_cast<double>(level.failed_runs));
+  }
+  describe(h5::write_vector(g, "thresholds", thresholds).id(), units,
+           "per level: the response's threshold (the last: the limit itself)", {});
+  describe(h5::write_vector(g, "conditional_probability", conditional).id(), "1",
+           "per level: the fraction of its states beyond its threshold (p0 but at the last)", {});
+  describe(h5::write_vector(g, "gamma", gamma).id(), "1",
+           "per level: the chains' correlation factor in delta_j^2 = (1 - p) / (N p) (1 + gamma)", {});
+  describe(h5::write_vector(g, "acceptance_rate", acceptance).id(), "1",
+           "per level: accepted proposals / proposals (level 0: 1)", {});
+  describe(h5::write_vector(g, "runs_per_level", runs).id(), "1", "per level: the runs it made", {});
+  describe(h5::write_vector(g, "failed_per_level", failed).id(), "1",
+           "per level: its runs that failed (never beyond a threshold; rejected proposals)", {});
+}
+
+}  // namespace
+
+void write_answers(hid_t file, const ensemble::EnsembleSpec& spec, const std::vector<ensemble::ResponseAnswer>& answers) {
+  if (answers.empty()) return;
+  h5::Handle responses = h5::create_group(file, "responses");
+  h5::write_attribute(responses.id(), "description",
+                      std::string("per named response ([[ensemble.response]]): mean and standard "
+                                  "error over the successful samples with finite values (saltelli: "
+                                  "the A and B runs), the exceedance of its limit, and their convergence"));
+  std::optional<h5::Handle> sensitivity;
+  if (spec.input_dimensions() > 0) {
+    sensitivity = h5::create_group(file, "sensitivity");
+    h5::write_attribute(sensitivity->id(), "description",
+                        std::string("per response, how much each sampled input (/samples/inputs "
+                                    "columns) drives it"));
+  }
+  for (std::size_t r = 0; r < answers.size(); ++r) {
+    write_response_answer(responses.id(), spec, spec.responses[r], answers[r]);
+    if (sensitivity) write_sensitivity(sensitivity->id(), spec, spec.responses[r], answers[r]);
+  }
+}
+
+void write_rare_event(hid_t file, const ensemble::EnsembleSpec& spec, const rare_event::SubsetSettings& settings,
+                      const ensemble::RareEventAnswer& answer) {
+  const rare_event::SubsetResult& result = answer.result;
+  const ensemble::Response& response = spec.responses[spec.subset->response];
+  const double sign = response.fail_if == ensemble::Response::FailIf::below ? -1.0 : 1.0;
+  h5::Handle group = h5::create_group(file, "rare_event");
+  h5::write_attribute(group.id(), "description",
+                      std::string("subset simulation (Au and Beck 2001) in standard normal space: levels of "
+                                  "conditional samples, conditional sampling after Papaioannou et al. 2015"));
+  h5::Handle g = h5::create_group(group.id(), response.name);
+  h5::write_attribute(g.id(), "limit", response.limit);
+  h5::write_attribute(g.id(), "fail_if", fail_if_name(response));
+  h5::write_attribute(g.id(), "units", response.units);
+  h5::write_attribute(g.id(), "level_probability", settings.level_probability);
+  h5::write_attribute(g.id(), "samples_per_level", static_cast<long long>(settings.samples));
+  h5::write_attribute(g.id(), "reached_limit", static_cast<long long>(result.reached_limit ? 1 : 0));
+  h5::write_attribute(g.id(), "no_threshold", static_cast<long long>(result.no_threshold ? 1 : 0));
+  write_described_scalar(g.id(), "probability", result.probability, "1",
+                         "P(limit exceeded) = product of the levels' conditional probabilities");
+  write_described_scalar(g.id(), "cov", result.cov, "1",
+                         "coefficient of variation: sqrt(sum of the levels' delta_j^2), the levels taken as "
+                         "uncorrelated (the usual estimate; it understates a little)");
+  write_pair(g.id(), "interval", result.interval_low, result.interval_high,
+             "95 % interval: the estimate taken as lognormal with that cov, P exp(-+1.96 sqrt(ln(1 + cov^2))); "
+             "with no exceedance at the last level, [0, the rule of three there]");
+  write_described_scalar(g.id(), "runs", result.runs, "1", "model runs made: every proposal is a run, accepted or not");
+  write_described_scalar(g.id(), "crude_monte_carlo_runs",
+                         result.probability > 0.0 && result.cov > 0.0
+                             ? (1.0 - result.probability) / (result.probability * result.cov * result.cov)
+                             : kNaN,
+                         "1", "runs crude Monte Carlo would need for the same cov: (1 - P) / (P cov^2)");
+  write_levels(g.id(), result, sign, response.units);
+  write_failure_region(g.id(), spec, answer.region, "every run beyond the limit (any level)");
+}
+
+}  // namespace treedyn::answers_file
