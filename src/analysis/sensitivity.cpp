@@ -268,6 +268,8 @@ RankSensitivity rank_sensitivity(std::span<const double> inputs, std::size_t dim
       n >= 2 && affordable >= kRankBootstrapMinimum ? rank_replicates(ranks, result.ranked_by_srrc, affordable, seed)
                                           : std::vector<double>{};
   result.ranking = rank_units(point, replicates, n);
+  result.measure_ci.assign(2 * dimensions, kNaN);
+  if (!replicates.empty()) percentile_intervals(replicates, dimensions, result.measure_ci);
   return result;
 }
 

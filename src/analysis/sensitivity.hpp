@@ -27,6 +27,7 @@ struct RankSensitivity {
   // |Spearman| (`ranked_by_srrc` says which), with the bootstrap over rows.
   Ranking ranking;
   bool ranked_by_srrc = false;
+  std::vector<double> measure_ci;  // per input: 95 % bootstrap interval of |SRRC| or |Spearman| (low, high)
 };
 
 // Bootstrap work above which rank_sensitivity draws fewer resamples than

@@ -296,6 +296,10 @@ void write_sensitivity(hid_t parent, const ensemble::EnsembleSpec& spec, const e
   h5::write_attribute(sg.id(), "rank_samples", static_cast<long long>(a.ranks.samples));
   write_ranking(sg.id(), "rank_ranking", a.ranks.ranking, a.ranks.ranked_by_srrc ? "|SRRC|" : "|Spearman|", inputs,
                 "runs");
+  write_interval_matrix(sg.id(), "rank_measure_ci", a.ranks.measure_ci,
+                        std::string("95 % bootstrap interval of each input's ") +
+                            (a.ranks.ranked_by_srrc ? "|SRRC|" : "|Spearman|") + " (the rank ranking's measure)",
+                        inputs, "input");
   if (!a.sobol) return;
   write_sobol(sg.id(), spec, a);
   write_sobol_convergence(sg.id(), spec, a);
