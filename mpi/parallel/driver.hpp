@@ -93,6 +93,7 @@ struct EnsembleRun {
   ensemble::IndexRanges finished;                 // samples a resumed run already has
   std::uint64_t restored_samples = 0, generation = 0;
   std::vector<double> nominal;
+  ensemble::ToleranceCheck tolerance;  // the pilot's (every rank), or restored (rank 0)
 
   std::unique_ptr<EnsembleWriter> writer;  // rank 0, whole ensembles
   std::unique_ptr<ensemble::Progress> progress;

@@ -83,6 +83,7 @@ int write_part(EnsembleRun& run, const ensemble::EnsembleStatistics& stats) {
   part.end = run.end;
   part.nominal = run.nominal;
   part.calibration = stats.calibration();
+  part.tolerance = run.tolerance;
   part.records = std::move(run.part_records);
   std::sort(part.records.begin(), part.records.end(), [](const auto& a, const auto& b) { return a.index < b.index; });
   try {
@@ -134,14 +135,15 @@ int write_ensemble(EnsembleRun& run, const ensemble::EnsembleStatistics& stats, 
     if (!run.records->io_error().empty()) throw process::FileError(run.records->io_error());
     if (run.samples_used < run.spec.samples) run.writer->keep_samples(run.samples_used);
     if (rare) run.writer->write_rare_event(ensemble::subset_settings(run.spec), *rare, run.samples_used);
-    summary = run.writer->complete(run.nominal, stats, answers, std::move(summary), provenance, run.start);
+    summary = run.writer->complete(run.nominal, stats, answers, run.tolerance, std::move(summary), provenance,
+                                   run.start);
   } catch (const process::FileError& e) {
     std::cerr << "error: " << e.what() << "\n";
     return kExitIo;
   }
   if (!run.options.quiet) {
     ensemble::print_digest(std::cout, ensemble::digest_of(run.job, run.spec, stats, summary));
-    ensemble::print_response_summary(std::cout, run.spec, answers);
+    ensemble::print_response_summary(std::cout, run.spec, answers, run.tolerance);
     if (rare) ensemble::print_rare_event(std::cout, run.spec, *rare);
     if (run.spec.stop)
       std::cout << "stopped after " << run.samples_used << " of at most " << run.spec.samples

@@ -86,6 +86,7 @@ int restore_on_rank_zero(EnsembleRun& run) {
   run.restored_samples = run.restored->records.size();
   run.generation = ensemble::consolidate_checkpoint(run.checkpoint_dir, run.id, *run.restored);
   run.restored_statistics = std::move(run.restored->statistics);
+  run.tolerance = run.restored->tolerance;
   run.restored->statistics.reset();
   std::cerr << "resuming: " << run.restored_samples << " of " << run.end - run.first << " samples from "
             << run.checkpoint_dir.string() << "\n";

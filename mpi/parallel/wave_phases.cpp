@@ -31,8 +31,11 @@ using Sync = process::AtomicFile::Sync;
 // Busy time is the sample's own: rank 0's writing of records that arrive
 // meanwhile counts as writing (RecordSink::writing_seconds), not as busy.
 // `uniforms`: the run's own uniform numbers (a chain's), else the design's.
+// `runner`: the pilot's tolerance check runs samples again with its own.
 std::optional<SampleRecord> run_sample(EnsembleRun& run, std::uint64_t k, std::vector<double>& trajectory,
-                                       std::span<const double> uniforms = {}) {
+                                       std::span<const double> uniforms = {},
+                                       ensemble::SampleRunner* runner = nullptr) {
+  ensemble::SampleRunner& by = runner ? *runner : run.runner;
   const auto start = std::chrono::steady_clock::now();
   const double writing_before = run.sink->writing_seconds();
   std::optional<SampleRecord> r;
@@ -41,18 +44,77 @@ std::optional<SampleRecord> run_sample(EnsembleRun& run, std::uint64_t k, std::v
     if (process::stop_signal() != 0) throw ensemble::SampleAbandoned{};
   };
   try {
-    r = uniforms.empty() ? run.runner.run(k, false, trajectory, between_outputs)
-                         : run.runner.run_at(k, uniforms, trajectory, between_outputs);
+    r = uniforms.empty() ? by.run(k, false, trajectory, between_outputs)
+                         : by.run_at(k, uniforms, trajectory, between_outputs);
   } catch (const ensemble::SampleAbandoned&) {
   } catch (const std::bad_alloc&) {
     throw;  // not the sample's failure: the rank's (exit 6)
   } catch (const std::exception& e) {
-    r = run.runner.failed_record(k, SampleStatus::integration_failed, std::string("internal error: ") + e.what());
+    r = by.failed_record(k, SampleStatus::integration_failed, std::string("internal error: ") + e.what());
   }
   run.busy_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() -
                       (run.sink->writing_seconds() - writing_before);
-  if (r) ++run.samples_run;
+  if (r && !runner) ++run.samples_run;
   return r;
+}
+
+// The pilot's responses, and its first kToleranceReruns samples' again at
+// tolerances kToleranceFactor times the job's, for the tolerance check
+// (statistics/tolerance_check.hpp). Each rank fills the rows of the samples
+// it ran and leaves the others 0: a sum over the ranks then puts every row
+// together exactly (x + 0 = x, NaN and infinities included), in index order
+// whoever ran what.
+class PilotCheck {
+ public:
+  PilotCheck(const EnsembleRun& run, std::uint64_t pilot_end)
+      : responses_(run.spec.responses.size()),
+        reruns_(responses_ > 0 ? std::min(ensemble::kToleranceReruns, pilot_end) : 0),
+        tight_job_(run.job),
+        pilot_(pilot_end * responses_, 0.0),
+        rerun_(reruns_ * responses_, 0.0) {
+    tight_job_.request.settings.relative_tolerance *= ensemble::kToleranceFactor;
+    tight_job_.request.settings.absolute_tolerance *= ensemble::kToleranceFactor;
+    if (reruns_ > 0) tight_.emplace(tight_job_, run.spec);
+  }
+
+  // Sample k's record, and its rerun when it is one of the first. False
+  // when a stop signal abandoned the rerun.
+  bool add(EnsembleRun& run, const SampleRecord& r) {
+    std::copy(r.responses.begin(), r.responses.end(), pilot_.begin() + static_cast<std::ptrdiff_t>(r.index * responses_));
+    if (r.index >= reruns_) return true;
+    std::vector<double> trajectory;
+    const std::optional<SampleRecord> again = run_sample(run, r.index, trajectory, {}, &*tight_);
+    if (!again) return false;
+    std::copy(again->responses.begin(), again->responses.end(),
+              rerun_.begin() + static_cast<std::ptrdiff_t>(r.index * responses_));
+    return true;
+  }
+
+  // Collective: every rank's rows together, then the check.
+  ensemble::ToleranceCheck finish(MPI_Comm comm) {
+    all_reduce(comm, pilot_, MPI_SUM);
+    all_reduce(comm, rerun_, MPI_SUM);
+    const IntegratorSettings& settings = tight_job_.request.settings;
+    return ensemble::check_tolerances(settings.relative_tolerance / ensemble::kToleranceFactor,
+                                      settings.absolute_tolerance / ensemble::kToleranceFactor, responses_, pilot_,
+                                      rerun_);
+  }
+
+ private:
+  std::size_t responses_;
+  std::uint64_t reruns_;
+  Job tight_job_;
+  std::optional<ensemble::SampleRunner> tight_;
+  std::vector<double> pilot_, rerun_;
+};
+
+// Rank 0: a response whose integration error is too large for it, said at
+// once (the run goes on; the summary and the page say it again).
+void warn_too_loose(const EnsembleRun& run, const ensemble::ToleranceCheck& check) {
+  for (std::size_t r = 0; r < check.change.size(); ++r)
+    if (ensemble::tolerance_verdict(check, r).kind == ensemble::ToleranceVerdict::Kind::too_loose)
+      std::cerr << "warning: the integration is " << ensemble::describe_verdict(check, r) << " (response "
+                << run.spec.responses[r].name << ", pilot samples 0-" << check.samples.back() << " rerun)\n";
 }
 
 // Into this rank's results (the statistics' update) and checkpoint, and on
@@ -131,6 +193,7 @@ bool run_pilot_wave(EnsembleRun& run, std::uint64_t pilot_end) {
   std::vector<double> low(entries, std::numeric_limits<double>::infinity());
   std::vector<double> high(entries, -std::numeric_limits<double>::infinity());
   std::vector<std::vector<double>> kept;
+  PilotCheck check(run, pilot_end);
   {
     WorkQueue queue(run.comm, 0, pilot_end, run.spec.block_size);
     std::uint64_t begin = 0, end = 0;
@@ -138,7 +201,7 @@ bool run_pilot_wave(EnsembleRun& run, std::uint64_t pilot_end) {
     while (queue.next(begin, end)) {
       for (std::uint64_t k = begin; k < end && may_go_on(queue); ++k) {
         std::optional<SampleRecord> r = run_sample(run, k, trajectory);
-        if (!r) break;
+        if (!r || !check.add(run, *r)) break;
         const bool ok = r->status == SampleStatus::ok;
         for (std::size_t e = 0; ok && e < entries; ++e) {
           low[e] = std::min(low[e], trajectory[e] - run.nominal[e]);
@@ -155,6 +218,8 @@ bool run_pilot_wave(EnsembleRun& run, std::uint64_t pilot_end) {
   }
   all_reduce(run.comm, low, MPI_MIN);
   all_reduce(run.comm, high, MPI_MAX);
+  run.tolerance = check.finish(run.comm);
+  if (run.rank == 0 && !run.options.quiet) warn_too_loose(run, run.tolerance);
   const std::size_t columns = run.runner.layout().columns;
   return start_statistics(run, ensemble::calibrate(run.nominal, low, high, ensemble::column_scales(run.nominal, columns),
                                                    columns, run.spec.histogram_bins),
@@ -168,7 +233,7 @@ void save_common(EnsembleRun& run) {
   if (run.rank == 0 && run.results.checkpointing()) {
     try {
       ensemble::write_checkpoint_common(run.checkpoint_dir, run.id, run.nominal,
-                                        run.results.statistics().calibration());
+                                        run.results.statistics().calibration(), run.tolerance);
     } catch (const process::FileError& e) {
       std::cerr << "warning: " << e.what() << "; the run goes on without checkpoints\n";
       written = 0;
@@ -317,6 +382,7 @@ int run_waves(EnsembleRun& run) {
     from = pilot_end;
   }
   for (;;) {
+    if (run.rank == 0 && run.spec.subset) run.progress->wave(wave.end, wave.name);
     const std::uint64_t first = std::max({wave.first, from, run.first});
     const bool interrupted = wave.chain_length > 0
                                  ? run_chain_wave(run, wave)

@@ -109,9 +109,13 @@ void print_failure_region(std::ostream& out, const EnsembleSpec& spec, const Fai
     out << (k ? "; " : " ") << failure_unit_text(spec, region, order.order[k]);
   }
   out << "\n";
-  if (region.runs < std::max<std::uint64_t>(kFailureRegionRuns, inputs))
-    out << "      rough: " << region.runs << " runs beyond the limit for " << inputs
-        << " inputs (chance alone moves each input's share; at least " << std::max<std::uint64_t>(kFailureRegionRuns, inputs)
+  const double enough = static_cast<double>(std::max<std::uint64_t>(kFailureRegionRuns, inputs));
+  if (region.effective_runs < enough)
+    out << "      rough: " << region.runs << " runs beyond the limit"
+        << (region.effective_runs < static_cast<double>(region.runs)
+                ? " (as " + number(region.effective_runs, "%.0f") + " independent ones: chain states)"
+                : std::string())
+        << " for " << inputs << " inputs (chance alone moves each input's share; at least " << number(enough, "%.0f")
         << " would tell)\n";
   const std::vector<std::string> names = spec.input_names(), units = spec.input_units();
   for (std::size_t i = 0; i < inputs; ++i)
@@ -125,7 +129,7 @@ void print_failure_region(std::ostream& out, const EnsembleSpec& spec, const Fai
 }  // namespace
 
 void print_response_summary(std::ostream& out, const EnsembleSpec& spec,
-                            const std::vector<ResponseAnswer>& answers) {
+                            const std::vector<ResponseAnswer>& answers, const ToleranceCheck& tolerance) {
   if (answers.empty()) return;
   out << "responses: mean +- standard error (successful samples with finite values"
       << (spec.design == Design::saltelli            ? "; saltelli: the A and B runs"
@@ -144,6 +148,14 @@ void print_response_summary(std::ostream& out, const EnsembleSpec& spec,
     if (a.not_finite > 0) out << ", " << a.not_finite << " never crossed (+inf)";
     if (a.failed > 0) out << ", " << a.failed << " failed";
     out << "]\n";
+    if (r < tolerance.change.size()) out << "    integration: " << describe_verdict(tolerance, r) << "\n";
+    const bool subset_answer = spec.subset && spec.subset->response == r;
+    if (subset_answer && a.exceedance) {
+      out << "    P: subset simulation's answer, below (level 0, its Monte-Carlo sample, has " << a.exceedance->exceeded
+          << " of " << a.exceedance->successful << " beyond the limit)\n";
+      print_drivers(out, spec, a);
+      continue;
+    }
     if (const auto& e = a.exceedance) {
       out << "    P(" << response.name << (response.fail_if == Response::FailIf::above ? " > " : " < ")
           << number(response.limit) << " " << response.units << ") = " << number(e->probability, "%.4g")

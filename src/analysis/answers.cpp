@@ -184,7 +184,10 @@ IndexVerdict index_verdict(const SobolIndices& s) {
 
 RareEventAnswer answer_rare_event(const EnsembleSpec& spec, const ResponseTable& table) {
   RareEventAnswer answer{replay_subset(spec, table, spec.subset->max_levels).result(), {}};
-  answer.region = failure_region(spec, table, spec.subset->response, [](std::uint64_t) { return true; });
+  // The runs beyond the limit are mostly the last level's chain states.
+  const double gamma = answer.result.levels.empty() ? 0.0 : answer.result.levels.back().gamma;
+  answer.region =
+      failure_region(spec, table, spec.subset->response, [](std::uint64_t) { return true; }, std::isfinite(gamma) ? gamma : 0.0);
   return answer;
 }
 

@@ -15,6 +15,7 @@
 #include "analysis/failure_region.hpp"
 #include "analysis/sensitivity.hpp"
 #include "rare_event/subset_simulation.hpp"
+#include "statistics/tolerance_check.hpp"
 
 namespace treedyn::ensemble {
 
@@ -101,8 +102,9 @@ std::vector<ResponseAnswer> answer_responses(const EnsembleSpec& spec, const Res
 
 // The end-of-run lines: each response's mean +- standard error, and each
 // exceedance probability with its interval (answer_summary.cpp).
+// With `tolerance`, each response's line on the integration's accuracy.
 void print_response_summary(std::ostream& out, const EnsembleSpec& spec,
-                            const std::vector<ResponseAnswer>& answers);
+                            const std::vector<ResponseAnswer>& answers, const ToleranceCheck& tolerance = {});
 
 // Subset simulation's answer: its levels' result, and the failure region of
 // every run beyond the limit (any level: each is a draw of the inputs given

@@ -77,8 +77,8 @@ void near_bound(const Perturbation& p, const ResponseTable& table, const std::ve
 }
 
 // What the estimate of the divergence below averages to for an input the
-// failure does not select on (u ~ N(0, 1) in the failing runs too): with m
-// of variance 1 / n and s^2 ~ chi^2_{n-1} / (n - 1),
+// failure does not select on (u ~ N(0, 1) in the failing runs too), over n
+// independent runs: with m of variance 1 / n and s^2 ~ chi^2_{n-1} / (n - 1),
 // E[(s^2 + m^2 - 1 - ln s^2) / 2] = (1 / n + ln((n - 1) / 2) - psi((n - 1) / 2)) / 2.
 // Taking it off each input leaves what the failing runs show beyond chance
 // (with many inputs and few runs, chance alone would otherwise add up).
@@ -105,7 +105,7 @@ std::vector<double> shares_beyond_chance(const FailureRegion& region, const std:
 }  // namespace
 
 FailureRegion failure_region(const EnsembleSpec& spec, const ResponseTable& table, std::size_t r,
-                             const std::function<bool(std::uint64_t)>& counted) {
+                             const std::function<bool(std::uint64_t)>& counted, double correlation) {
   FailureRegion region;
   const Response& response = spec.responses[r];
   std::vector<std::uint64_t> rows;
@@ -123,7 +123,8 @@ FailureRegion failure_region(const EnsembleSpec& spec, const ResponseTable& tabl
     for (std::size_t i = 0; i < d; ++i) sum[i] += u[i], squares[i] += u[i] * u[i];
   }
   const double n = static_cast<double>(rows.size());
-  region.chance = null_divergence(n);
+  region.effective_runs = n / (1.0 + std::max(correlation, 0.0));
+  region.chance = null_divergence(region.effective_runs);
   region.divergence.resize(d);
   region.mean_u.resize(d), region.mean_u2.resize(d), region.near_bound.resize(d), region.bound.resize(d);
   for (std::size_t i = 0; i < d; ++i) {

@@ -36,6 +36,10 @@ std::vector<InputUnit> input_units(const EnsembleSpec& spec);
 
 struct FailureRegion {
   std::uint64_t runs = 0;  // the failing runs it rests on (none: every vector empty)
+  // As independent runs: fewer where the runs are states of Markov chains
+  // (subset simulation), runs / (1 + gamma) with the chains' correlation
+  // factor gamma; `chance` is taken at this many.
+  double effective_runs = 0.0;
   // Per input (the columns of /samples/inputs):
   std::vector<double> mean_u;   // mean of u over the failing runs: the design point's estimate
                                 // where the region is one-sided
@@ -65,8 +69,9 @@ struct FailureRegion {
 };
 
 // The failure region of response r (which has a limit) over the rows
-// `counted` accepts: the successful ones beyond the limit.
+// `counted` accepts: the successful ones beyond the limit. `correlation`:
+// the runs' chain correlation factor gamma (0: independent runs).
 FailureRegion failure_region(const EnsembleSpec& spec, const ResponseTable& table, std::size_t r,
-                             const std::function<bool(std::uint64_t)>& counted);
+                             const std::function<bool(std::uint64_t)>& counted, double correlation = 0.0);
 
 }  // namespace treedyn::ensemble

@@ -39,18 +39,23 @@ void print_invalid_mass(std::ostream& out, const Perturbation& p, const ModelDef
         << "distribution, or use truncated_normal (lower bound) or lognormal for a positive quantity\n";
 }
 
-// The subset-simulation line: runs per level, chains, the most runs and
-// the smallest probability the levels reach.
+// The subset-simulation lines: runs per level, chains, and the runs the
+// simulation makes, which depend on P: N (1 + (1 - p0) m) when level m is
+// the first whose threshold reaches the limit, P near p0^(m + 1).
 void print_subset(std::ostream& out, const EnsembleSpec& s) {
   if (!s.subset) return;
   const double p0 = s.subset->level_probability;
-  char smallest[32];
-  std::snprintf(smallest, sizeof smallest, "%.0e", std::pow(p0, s.subset->max_levels + 1));
+  const double n = static_cast<double>(s.base_samples);
   out << "  subset_simulation: " << s.base_samples << " runs per level, level_probability " << format_number(p0)
-      << " (" << static_cast<std::uint64_t>(std::llround(static_cast<double>(s.base_samples) * p0))
-      << " chains of " << std::llround(1.0 / p0) << " states), at most " << s.subset->max_levels
-      << " levels after level 0 (" << s.samples << " runs); P(" << s.responses[s.subset->response].name
-      << " beyond its limit) down to about " << smallest << "\n";
+      << " (" << static_cast<std::uint64_t>(std::llround(n * p0)) << " chains of " << std::llround(1.0 / p0)
+      << " states), at most " << s.subset->max_levels << " levels after level 0, for P("
+      << s.responses[s.subset->response].name << " beyond its limit) down to about "
+      << format_digits(std::pow(p0, s.subset->max_levels + 1), 2) << "\n";
+  out << "    the runs depend on P (the levels until a threshold reaches the limit):";
+  for (int m = 1; m <= s.subset->max_levels; ++m)
+    out << (m > 1 ? ";" : "") << " P ~ " << format_digits(std::pow(p0, m + 1), 2) << ": "
+        << std::llround(n * (1.0 + (1.0 - p0) * m));
+  out << " runs (at most " << s.samples << ")\n";
 }
 
 // The stopping rule's line: the check interval and each target.
@@ -136,7 +141,8 @@ void print_correlations(std::ostream& out, const EnsembleSpec& s) {
 }  // namespace
 
 void print_ensemble_summary(std::ostream& out, const Job& job, const EnsembleSpec& s) {
-  out << "ensemble: " << s.samples << " samples, seed " << s.seed << ", design " << name(s.design)
+  out << "ensemble: " << (s.subset ? "at most " : "") << s.samples << (s.subset ? " runs (below: how many for which P)" : " samples")
+      << ", seed " << s.seed << ", design " << name(s.design)
       << ", " << s.perturbations.size() << " perturbation" << (s.perturbations.size() == 1 ? "" : "s")
       << " (" << s.input_dimensions() << " sampled inputs)\n";
   if (s.design == Design::saltelli && !s.grouped)

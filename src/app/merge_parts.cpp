@@ -159,8 +159,8 @@ int merge_parts(const std::vector<std::string>& names, const std::string& output
     writer.write_records(std::move(records));
     summary.writing_seconds = {std::chrono::duration<double>(std::chrono::steady_clock::now() - writing).count()};
     writer.write_merge_origin(names, held.ranges());
-    writer.complete(parts[0].nominal, stats, answers, std::move(summary), provenance, start);
-    if (!quiet && !answers.empty()) ensemble::print_response_summary(std::cout, spec, answers);
+    writer.complete(parts[0].nominal, stats, answers, parts[0].tolerance, std::move(summary), provenance, start);
+    if (!quiet && !answers.empty()) ensemble::print_response_summary(std::cout, spec, answers, parts[0].tolerance);
     std::printf("wrote %s (%llu of %llu samples from %zu parts)\n", output_path.c_str(),
                 static_cast<unsigned long long>(held.count()), static_cast<unsigned long long>(spec.samples),
                 parts.size());

@@ -103,7 +103,7 @@ void ensemble_summary(std::ostream& out, const h5::ReadFile& f, const std::strin
   }
   try {
     const ensemble::ResponseTable table = h5::response_table(f, spec.input_dimensions(), spec.responses.size());
-    ensemble::print_response_summary(out, spec, ensemble::answer_responses(spec, table));
+    ensemble::print_response_summary(out, spec, ensemble::answer_responses(spec, table), h5::tolerance_check(f));
     if (spec.subset)
       ensemble::print_rare_event(out, spec, ensemble::answer_rare_event(spec, table));
   } catch (const h5::IoError& e) {

@@ -53,6 +53,7 @@ void write_failure_region(hid_t parent, const ensemble::EnsembleSpec& spec, cons
                   "N(0, 1), (s^2 + m^2 - 1 - ln s^2) / 2; attribute 'chance': what it averages to for an input the "
                   "failure does not select on", inputs);
   h5::write_attribute(g.id(), "chance", region.chance);
+  h5::write_attribute(g.id(), "effective_runs", region.effective_runs);
   write_per_input(g.id(), "importance", region.importance, "1",
                   "max(divergence - chance, 0) as a share of its sum over the inputs", inputs);
   std::vector<std::string> unit_names, unit_inputs;
@@ -383,6 +384,41 @@ void write_rare_event(hid_t file, const ensemble::EnsembleSpec& spec, const rare
                          "1", "runs crude Monte Carlo would need for the same cov: (1 - P) / (P cov^2)");
   write_levels(g.id(), result, sign, response.units);
   write_failure_region(g.id(), spec, answer.region, "every run beyond the limit (any level)");
+}
+
+void write_tolerance_check(hid_t file, const ensemble::EnsembleSpec& spec, const ensemble::ToleranceCheck& check) {
+  if (check.empty()) return;
+  h5::Handle g = h5::create_group(file, "integration_check");
+  h5::write_attribute(g.id(), "description",
+                      "is the integration accurate enough for the answers? The pilot's first samples (attribute "
+                      "'samples') run again with rtol and atol " + std::to_string(ensemble::kToleranceFactor).substr(0, 4) +
+                          " times the job's: per response, the largest change against its spread over the pilot");
+  h5::write_attribute(g.id(), "rtol", check.rtol);
+  h5::write_attribute(g.id(), "atol", check.atol);
+  h5::write_attribute(g.id(), "rerun_rtol", check.rtol * ensemble::kToleranceFactor);
+  h5::write_attribute(g.id(), "rerun_atol", check.atol * ensemble::kToleranceFactor);
+  const std::vector<long long> samples(check.samples.begin(), check.samples.end());
+  const hsize_t rerun[1] = {samples.size()};
+  describe(h5::write_array(g.id(), "samples", H5T_NATIVE_LLONG, samples.data(), rerun).id(), "1",
+           "the pilot samples rerun that succeeded at both tolerances", {});
+  std::vector<std::string> names, units, verdicts;
+  std::vector<double> ratio;
+  for (std::size_t r = 0; r < spec.responses.size(); ++r) {
+    names.push_back(spec.responses[r].name);
+    units.push_back(spec.responses[r].units);
+    verdicts.push_back(ensemble::describe_verdict(check, r));
+    ratio.push_back(check.change[r] / check.spread[r]);
+  }
+  h5::Handle c = h5::write_vector(g.id(), "change", check.change);
+  describe(c.id(), "per column: the 'column_units' attribute", "the largest |y(tight) - y| over the samples rerun", names);
+  h5::write_attribute(c.id(), "column_units", units);
+  h5::Handle s = h5::write_vector(g.id(), "spread", check.spread);
+  describe(s.id(), "per column: the 'column_units' attribute",
+           "standard deviation (n - 1) of the response over the pilot's successful samples", names);
+  h5::write_attribute(s.id(), "column_units", units);
+  write_per_input(g.id(), "ratio", ratio, "1", "change / spread: above 0.1 too loose, below 0.001 far tighter than needed",
+                  names);
+  h5::write_attribute(g.id(), "verdicts", verdicts);
 }
 
 }  // namespace treedyn::answers_file

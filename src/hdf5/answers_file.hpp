@@ -12,6 +12,7 @@
 #include "hdf5/hdf5.hpp"
 #include "job/ensemble_spec.hpp"
 #include "rare_event/subset_simulation.hpp"
+#include "statistics/tolerance_check.hpp"
 
 namespace treedyn::answers_file {
 
@@ -24,5 +25,8 @@ void write_answers(hid_t file, const ensemble::EnsembleSpec& spec,
 // the failure region.
 void write_rare_event(hid_t file, const ensemble::EnsembleSpec& spec, const rare_event::SubsetSettings& settings,
                       const ensemble::RareEventAnswer& answer);
+
+// /integration_check: the pilot's tolerance check (nothing without responses).
+void write_tolerance_check(hid_t file, const ensemble::EnsembleSpec& spec, const ensemble::ToleranceCheck& check);
 
 }  // namespace treedyn::answers_file

@@ -434,7 +434,7 @@ void EnsembleWriter::write_run_places(const rare_event::SubsetSettings& settings
 EnsembleSummary EnsembleWriter::complete(const std::vector<double>& nominal,
                                          const ensemble::EnsembleStatistics& stats,
                                          const std::vector<ensemble::ResponseAnswer>& answers,
-                                         EnsembleSummary summary, const RunProvenance& run,
+                                         const ensemble::ToleranceCheck& tolerance, EnsembleSummary summary, const RunProvenance& run,
                                          std::chrono::steady_clock::time_point started) {
   using Clock = std::chrono::steady_clock;
   const Clock::time_point flushing = Clock::now();
@@ -444,6 +444,7 @@ EnsembleSummary EnsembleWriter::complete(const std::vector<double>& nominal,
   write_nominal(nominal);
   write_statistics(stats);
   answers_file::write_answers(file_.id(), spec_, answers);
+  answers_file::write_tolerance_check(file_.id(), spec_, tolerance);
   summary.wall_seconds = std::chrono::duration<double>(Clock::now() - started).count();
   finish(summary, run);
   return summary;

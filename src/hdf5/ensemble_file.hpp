@@ -49,7 +49,8 @@ class EnsembleWriter {
   // wall time from `started` to the attributes, the last chunks' time added
   // to the first rank's record writing.
   EnsembleSummary complete(const std::vector<double>& nominal, const ensemble::EnsembleStatistics& stats,
-                           const std::vector<ensemble::ResponseAnswer>& answers, EnsembleSummary summary,
+                           const std::vector<ensemble::ResponseAnswer>& answers,
+                           const ensemble::ToleranceCheck& tolerance, EnsembleSummary summary,
                            const RunProvenance& run, std::chrono::steady_clock::time_point started);
 
  private:

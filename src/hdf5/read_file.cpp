@@ -86,4 +86,15 @@ ensemble::ResponseTable response_table(const ReadFile& file, std::size_t inputs,
   }
 }
 
+ensemble::ToleranceCheck tolerance_check(const ReadFile& file) {
+  ensemble::ToleranceCheck check;
+  if (!file.has("/integration_check")) return check;
+  check.rtol = file.number_attribute("/integration_check", "rtol");
+  check.atol = file.number_attribute("/integration_check", "atol");
+  for (const long long k : file.integers("/integration_check/samples")) check.samples.push_back(static_cast<std::uint64_t>(k));
+  check.change = file.doubles("/integration_check/change");
+  check.spread = file.doubles("/integration_check/spread");
+  return check;
+}
+
 }  // namespace treedyn::h5

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "ensemble/response_table.hpp"
+#include "statistics/tolerance_check.hpp"
 #include "hdf5/hdf5.hpp"
 
 namespace treedyn::h5 {
@@ -33,5 +34,8 @@ class ReadFile {
 // An ensemble file's /samples/status, inputs and responses as a table (the
 // records rank 0 kept). Throws IoError when their shapes do not fit.
 ensemble::ResponseTable response_table(const ReadFile& file, std::size_t inputs, std::size_t responses);
+
+// Its /integration_check (the pilot's tolerance check), empty when it has none.
+ensemble::ToleranceCheck tolerance_check(const ReadFile& file);
 
 }  // namespace treedyn::h5

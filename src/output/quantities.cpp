@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <stdexcept>
 
 namespace treedyn {
@@ -35,7 +36,7 @@ double* body_vectors(const Recovered& s, const OutputSpec&, double* out) {
   return put_each(out, s.*member);
 }
 
-constexpr std::array<QuantityInfo, 16> kCatalogue{{
+constexpr std::array<QuantityInfo, 17> kCatalogue{{
     {"orientation", "1",
      "orientation of each body as a unit quaternion (q0 scalar first, q0 >= 0), rotating "
      "body-frame components into the inertial frame",
@@ -59,6 +60,19 @@ constexpr std::array<QuantityInfo, 16> kCatalogue{{
      body_vectors<&Recovered::com_velocity>},
     {"com_acceleration", "m/s^2", "acceleration of each body's centre of mass, inertial frame",
      body_xyz, body_vectors<&Recovered::com_acceleration>, kRecoverAccelerations},
+    {"com_offset", "m",
+     "each body's centre of mass from the base point, r_i - r0, inertial frame, and its horizontal length "
+     "sqrt(x^2 + y^2) (horizontal for gravity along z): how far a payload swings out from the point it "
+     "hangs from",
+     [](const Model& m, const OutputSpec&) { return per_body(m, {"x", "y", "z", "horizontal"}); },
+     [](const Recovered& s, const OutputSpec&, double* out) {
+       for (const Vec3& r : s.com_position) {
+         const Vec3 d = r - s.base.position;
+         out = put(out, d);
+         *out++ = std::hypot(d.x(), d.y());
+       }
+       return out;
+     }},
     {"joint_position", "m", "position of each body's inboard joint point, inertial frame", body_xyz,
      body_vectors<&Recovered::joint_position>},
     {"joint_reaction", "N",

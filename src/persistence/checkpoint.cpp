@@ -166,10 +166,11 @@ fs::path checkpoint_directory(const fs::path& output) {
 }
 
 void write_checkpoint_common(const fs::path& dir, const RunIdentity& id, const std::vector<double>& nominal,
-                             const Calibration& calibration) {
+                             const Calibration& calibration, const ToleranceCheck& tolerance) {
   StateFileWriter file(state_path(dir, "common"), StateKind::common, id);
   file.out().put_vector(nominal);
   calibration.write(file.out());
+  tolerance.write(file.out());
   file.commit(AtomicFile::Sync::yes);
 }
 
@@ -294,6 +295,7 @@ std::optional<RestoredRun> load_checkpoint(const fs::path& dir, const RunIdentit
     run.nominal = in.get_vector<double>();
     if (run.nominal.size() != shape.times * shape.columns) in.fail("a nominal run of another shape");
     run.calibration = Calibration::read(in, run.nominal.size());
+    run.tolerance = ToleranceCheck::read(in);
   } catch (const DecodeError& e) {
     refuse_damaged(e);
   }

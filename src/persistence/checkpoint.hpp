@@ -33,6 +33,7 @@
 
 #include "output/sample_record.hpp"
 #include "persistence/state_file.hpp"
+#include "statistics/tolerance_check.hpp"
 #include "statistics/ensemble_statistics.hpp"
 
 namespace treedyn::ensemble {
@@ -41,7 +42,8 @@ std::filesystem::path checkpoint_directory(const std::filesystem::path& output);
 
 // Rank 0, once the calibration is known. Throws process::FileError.
 void write_checkpoint_common(const std::filesystem::path& dir, const RunIdentity& id,
-                             const std::vector<double>& nominal, const Calibration& calibration);
+                             const std::vector<double>& nominal, const Calibration& calibration,
+                             const ToleranceCheck& tolerance);
 
 // One rank's checkpoint in generation `generation`: records are added as
 // they finish; save() appends them to the records file and rewrites the
@@ -126,6 +128,7 @@ struct RestoredRun {
   std::uint64_t generation = 0;  // the one loaded
   std::vector<double> nominal;
   Calibration calibration;
+  ToleranceCheck tolerance;                                       // the pilot's (analysis/tolerance_check.hpp)
   std::vector<SampleRecord> records;                              // sorted by sample index
   std::vector<std::pair<std::uint64_t, std::uint64_t>> finished;  // [first, end) intervals
   std::optional<EnsembleStatistics> statistics;                   // counts exactly the ok records

@@ -24,6 +24,7 @@ void write_part_file(const std::filesystem::path& path, const PartFile& part, co
   out.put(part.end);
   out.put_vector(part.nominal);
   part.calibration.write(out);
+  part.tolerance.write(out);
   file.put_large(stats.state());
   out.put(static_cast<std::uint64_t>(part.records.size()));
   for (const SampleRecord& r : part.records) {
@@ -44,6 +45,7 @@ PartFile read_part_file(const std::filesystem::path& path) {
     part.end = in.get<std::uint64_t>();
     part.nominal = in.get_vector<double>();
     part.calibration = Calibration::read(in, part.nominal.size());
+    part.tolerance = ToleranceCheck::read(in);
     part.statistics = in.get_vector<char>();
     const auto count = in.get<std::uint64_t>();
     if (count > in.left()) in.fail("more records than bytes");

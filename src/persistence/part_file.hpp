@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "statistics/tolerance_check.hpp"
 #include "output/sample_record.hpp"
 #include "persistence/state_file.hpp"
 #include "statistics/ensemble_statistics.hpp"
@@ -21,6 +22,7 @@ struct PartFile {
   std::uint64_t first = 0, end = 0;   // the sample indices it covers, [first, end)
   std::vector<double> nominal;
   Calibration calibration;
+  ToleranceCheck tolerance;           // the pilot's, the same in every part
   std::vector<char> statistics;       // its statistics' state (EnsembleStatistics::add_state)
   std::vector<SampleRecord> records;  // every sample of the range, by index
 };

@@ -49,7 +49,7 @@ struct Example {
 
 const std::vector<std::string> kCatalogue = {
     "orientation",  "angular_velocity", "angular_acceleration", "com_position",
-    "com_velocity", "com_acceleration", "joint_position",       "joint_reaction",
+    "com_velocity", "com_acceleration", "com_offset",           "joint_position",       "joint_reaction",
     "joint_angle",  "joint_axis",       "joint_moment",         "energy",               "angular_momentum",
     "base",         "point_position"};
 
@@ -81,7 +81,7 @@ const Example& example(const std::string& name) {
        // Bodies in the job file's order: the [[chain]] stands before the container.
        {"cable1", "cable2", "cable3", "cable4", "container"},
        {"container_corner"},
-       {"com_position", "orientation", "joint_reaction", "joint_reaction_magnitude", "joint_angle", "energy", "base",
+       {"com_position", "com_offset", "orientation", "joint_reaction", "joint_reaction_magnitude", "joint_angle", "energy", "base",
         "point_position"}},
       {"kapitza",
        5.0,
@@ -117,6 +117,7 @@ std::vector<std::string> expected_columns(const Example& e, const std::string& q
   if (quantity == "orientation") return per_body({"q0", "q1", "q2", "q3"});
   if (quantity == "joint_angle") return per_body({"angle"});
   if (quantity == "joint_reaction_magnitude") return per_body({"magnitude"});
+  if (quantity == "com_offset") return per_body({"x", "y", "z", "horizontal"});
   if (quantity == "energy") return {"kinetic", "potential", "spring", "total"};
   if (quantity == "angular_momentum") return {"x", "y", "z"};
   if (quantity == "base")

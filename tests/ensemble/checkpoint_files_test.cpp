@@ -53,7 +53,7 @@ class CheckpointFiles : public ::testing::Test {
     fs::create_directories(dir_);
     const std::vector<double> nominal = trajectory(0), zero(nominal.size(), 0.0), scale(kColumns, 1.0);
     calibration_ = calibrate(nominal, zero, zero, scale, kColumns, kBins);
-    write_checkpoint_common(dir_, id_, nominal, calibration_);
+    write_checkpoint_common(dir_, id_, nominal, calibration_, tolerance());
   }
   void TearDown() override { fs::remove_all(dir_); }
 
@@ -80,7 +80,14 @@ class CheckpointFiles : public ::testing::Test {
     return load_checkpoint(dir_, id_, {kTimes, kColumns, kBins}, shape);
   }
 
+  // The pilot's tolerance check, as common.state carries it.
+  static ToleranceCheck tolerance() { return check_tolerances(1e-8, 1e-10, 1, {1.0, 2.0, 4.0}, {1.25}); }
+
   static void expect_every_record(const RestoredRun& restored) {
+    EXPECT_EQ(restored.tolerance.samples, tolerance().samples);
+    EXPECT_EQ(restored.tolerance.change, tolerance().change);
+    EXPECT_EQ(restored.tolerance.spread, tolerance().spread);
+    EXPECT_EQ(restored.tolerance.rtol, 1e-8);
     ASSERT_EQ(restored.records.size(), kSamples);
     for (std::uint64_t k = 0; k < kSamples; ++k) {
       const SampleRecord& got = restored.records[k];

@@ -69,7 +69,7 @@ class CheckpointFlush : public ::testing::Test {
     create_checkpoint_directory(dir_);
     const std::vector<double> nominal(kTimes * kColumns, 1.0), zero(nominal.size(), 0.0), scale(kColumns, 1.0);
     calibration_ = calibrate(nominal, zero, zero, scale, kColumns, kBins);
-    write_checkpoint_common(dir_, id_, nominal, calibration_);
+    write_checkpoint_common(dir_, id_, nominal, calibration_, {});
     flushed.clear();
   }
 
@@ -229,7 +229,7 @@ TEST_F(CheckpointFlush, ALastSaveThatCannotBeFlushedLeavesTheStateBeforeIt) {
     EXPECT_EQ(records_restored(2), 1u) << "the state before the failed save";
     fs::remove_all(dir_);  // afresh for the next case
     create_checkpoint_directory(dir_);
-    write_checkpoint_common(dir_, id_, std::vector<double>(kTimes * kColumns, 1.0), calibration_);
+    write_checkpoint_common(dir_, id_, std::vector<double>(kTimes * kColumns, 1.0), calibration_, {});
   }
 }
 

@@ -187,7 +187,8 @@ TEST_F(Answers, SameBitsAloneAndOnOneTwoAndThreeRanks) {
     H5File f(output(i));
     ASSERT_TRUE(f.ok());
     expect_identical_datasets(reference.id(), describe(kRanks[0]), f.id(), describe(kRanks[i]),
-                              {"/stats", "/samples", "/responses", "/sensitivity", "/trajectories"});
+                              {"/stats", "/samples", "/responses", "/sensitivity", "/trajectories",
+                               "/integration_check"});
   }
 }
 

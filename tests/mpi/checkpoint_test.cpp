@@ -278,7 +278,8 @@ class Checkpoint : public ::testing::Test {
     H5File a(reference_), b(out);
     ASSERT_TRUE(a.ok() && b.ok());
     EXPECT_EQ(read_integer_attribute(b.id(), "samples_ok") + read_integer_attribute(b.id(), "samples_failed"), 64);
-    expect_identical_datasets(a.id(), "uninterrupted", b.id(), what, {"/stats", "/samples", "/responses", "/sensitivity"});
+    expect_identical_datasets(a.id(), "uninterrupted", b.id(), what,
+                              {"/stats", "/samples", "/responses", "/sensitivity", "/integration_check"});
   }
 
   void expect_clean_stop(const struct SignalCase& c, int index);

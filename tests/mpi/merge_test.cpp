@@ -65,7 +65,7 @@ TEST_F(Merge, ThreePartsOnDifferentRankCountsMergeIntoOneRunBitwise) {
   H5File ref(reference_), got(merged);
   ASSERT_TRUE(ref.ok() && got.ok());
   expect_identical_datasets(ref.id(), "one run", got.id(), "merged parts",
-                            {"/stats", "/samples", "/responses", "/sensitivity", "/nominal"});
+                            {"/stats", "/samples", "/responses", "/sensitivity", "/nominal", "/integration_check"});
   EXPECT_EQ(read_integer_attribute(got.id(), "samples"), 48);
   EXPECT_EQ(read_double_attribute(got.id(), "held_samples"), (std::vector<double>{0, 48}));
   EXPECT_EQ(read_string_attribute(got.id(), "merged_from").size(), 3u);

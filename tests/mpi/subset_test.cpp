@@ -254,6 +254,38 @@ TEST(SubsetExample, TheCraneJobRunsAsShippedAndShortened) {
             static_cast<long long>(shape(f.id(), "/samples/status").at(0)));
 }
 
+// The former rare-event example, whose probability is set by the container
+// mass's truncation at 2500 kg (tests/support/crane_truncated_mass.toml):
+// the failure region finds the runs beyond the limit at that bound, and the
+// summary warns that P depends on where the distribution is cut off.
+TEST(SubsetExample, ATruncationBoundThatSetsPIsFoundAndWarnedAbout) {
+  if (const std::string why = skipped_when_sanitized("crane_payload", false); !why.empty()) GTEST_SKIP() << why;
+  TempDir dir("subset_truncation");
+  std::string text = read_text(fs::path(TREEDYN_TEST_SUPPORT_DIR) / "crane_truncated_mass.toml");
+  const std::size_t at = text.find("samples = 1000 ");
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, 15, "samples = 200 ");
+  const fs::path job = dir.path() / "crane.toml";
+  write_text(job, text);
+  const auto r = run_ensemble(2, job, dir.path() / "crane.h5", dir.path() / "capture");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  H5File f(dir.path() / "crane.h5");
+  const std::string g = "/rare_event/peak_tension/failure_region/";
+  const std::vector<std::string> inputs = read_string_attribute(f.id(), g + "near_bound", "columns");
+  ASSERT_EQ(inputs.back(), "body.container.mass");
+  const std::vector<double> near = read_doubles(f.id(), g + "near_bound"), bound = read_doubles(f.id(), g + "bound");
+  std::printf("%.0f %% of the runs beyond the limit have the mass within 1 %% of its range of 2500 kg\n",
+              100.0 * near.back());
+  EXPECT_GE(near.back(), 0.5) << "the summary's warning needs half";
+  EXPECT_EQ(bound.back(), 2500.0);
+  const fs::path report = dir.path() / "report";
+  ASSERT_EQ(run_command(TREEDYN_BINARY, {"report", (dir.path() / "crane.h5").string(), "-o", report.string()},
+                        dir.path() / "capture_report").exit_code, 0);
+  const std::string summary = read_text(report / "summary.txt");
+  EXPECT_NE(summary.find("of them have body.container.mass within 1 % of its range of its bound 2500 kg: P depends on "
+                         "where that distribution is cut off"), std::string::npos) << summary;
+}
+
 }  // namespace
 
 namespace {

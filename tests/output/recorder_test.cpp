@@ -77,6 +77,11 @@ std::vector<double> expected(const Recording& r, std::size_t k, const std::strin
   if (q == "com_position") each(s.com_position);
   if (q == "com_velocity") each(s.com_velocity);
   if (q == "com_acceleration") each(s.com_acceleration);
+  if (q == "com_offset")
+    for (const Vec3& com : s.com_position) {
+      const Vec3 d = com - s.base.position;
+      out.insert(out.end(), {d.x(), d.y(), d.z(), std::hypot(d.x(), d.y())});
+    }
   if (q == "joint_position") each(s.joint_position);
   if (q == "joint_reaction") each(s.joint_reaction);
   if (q == "joint_reaction_magnitude")
