@@ -29,25 +29,46 @@ std::string index_text(const std::string& name, double v, const double* ci) {
 // The units in ranked order, ">" where the bootstrap tells neighbours apart
 // and "~" where it does not yet, then how many samples would tell the first
 // such pair apart.
+// The ranked units `hidden` does not hide (a list's entries, one by one:
+// noise to a reader), ">" between two shown neighbours where some pair
+// between them in the full order is told apart, "~" where none is yet.
 void print_ranking(std::ostream& out, const std::vector<std::string>& names, const Ranking& ranking,
-                   const std::vector<double>& measure, const std::vector<double>* ci, const char* samples_word) {
-  const std::size_t shown = std::min(ranking.order.size(), kRankedShown);
+                   const std::vector<double>& measure, const std::vector<double>* ci, const char* samples_word,
+                   const std::vector<bool>& hidden = {}) {
+  std::vector<std::size_t> places;  // places in ranking.order of the units shown
+  for (std::size_t k = 0; k < ranking.order.size(); ++k)
+    if (hidden.empty() || !hidden[ranking.order[k]]) places.push_back(k);
+  const std::size_t shown = std::min(places.size(), kRankedShown);
   std::string pending;
-  for (std::size_t k = 0; k < shown; ++k) {
-    const std::size_t u = ranking.order[k];
-    if (k > 0) out << (ranking.told_apart(k - 1) ? " > " : " ~ ");
+  for (std::size_t s = 0; s < shown; ++s) {
+    const std::size_t u = ranking.order[places[s]];
+    if (s > 0) {
+      bool apart = false;
+      for (std::size_t k = places[s - 1]; k < places[s]; ++k) apart = apart || ranking.told_apart(k);
+      out << (apart ? " > " : " ~ ");
+      if (!apart && pending.empty() && places[s] == places[s - 1] + 1 && std::isfinite(ranking.needed[places[s - 1]]))
+        pending = names[ranking.order[places[s - 1]]] + " from " + names[u] + ": about " +
+                  number(ranking.needed[places[s - 1]], "%.0f") + " " + samples_word;
+    }
     out << index_text(names[u], measure[u], ci ? ci->data() + 2 * u : nullptr);
-    if (k + 1 < shown && !ranking.told_apart(k) && pending.empty() && std::isfinite(ranking.needed[k]))
-      pending = names[u] + " from " + names[ranking.order[k + 1]] + ": about " + number(ranking.needed[k], "%.0f") +
-                " " + samples_word;
   }
-  if (ranking.order.size() > shown) out << " (and " << ranking.order.size() - shown << " more)";
+  if (places.size() > shown) out << " (and " << places.size() - shown << " more)";
+  if (places.size() < ranking.order.size())
+    out << " (not shown: " << ranking.order.size() - places.size() << " entries of lists, one by one)";
   out << "\n";
   if (ranking.resamples == 0)
     out << "      no bootstrap intervals: the order above is the point estimates' alone\n";
   else if (!pending.empty())
     out << "      ~: not told apart yet (95 % bootstrap interval of the difference holds 0); to tell " << pending
         << " would\n";
+}
+
+// Inputs that are entries of a list target (a sea state's phases).
+std::vector<bool> list_entries(const EnsembleSpec& spec) {
+  std::vector<bool> hidden;
+  for (const Perturbation& p : spec.perturbations)
+    for (int k = 0; k < p.dimensions(); ++k) hidden.push_back(p.kind == Perturbation::Kind::parameter_list);
+  return hidden;
 }
 
 std::vector<std::string> unit_names(const EnsembleSpec& spec) {
@@ -82,7 +103,7 @@ void print_drivers(std::ostream& out, const EnsembleSpec& spec, const ResponseAn
   std::vector<double> measure(r.spearman.size());
   for (std::size_t i = 0; i < measure.size(); ++i) measure[i] = std::abs(r.ranked_by_srrc ? r.srrc[i] : r.spearman[i]);
   out << "    drivers (" << (r.ranked_by_srrc ? "|SRRC|" : "|Spearman|") << ", over " << r.samples << " runs): ";
-  print_ranking(out, spec.input_names(), r.ranking, measure, nullptr, "runs");
+  print_ranking(out, spec.input_names(), r.ranking, measure, nullptr, "runs", list_entries(spec));
 }
 
 // One unit of the failure region: its importance and, for a single input,
