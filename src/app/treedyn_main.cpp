@@ -49,7 +49,8 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.footer(
       "Exit codes: 0 ok, 1 internal error, 2 bad input (job file or command line), "
-      "3 integration failure, 4 output (I/O) failure.");
+      "3 integration failure, 4 output (I/O) failure, 5 interrupted (treedyn-ensemble, resumable with --resume; "
+      "treedyn itself ends by the signal, its temporary file removed), 6 not enough memory.");
 
   std::string job_path, output_path;
   bool quiet = false;

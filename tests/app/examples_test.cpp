@@ -481,6 +481,16 @@ TEST(ExamplesCli, VersionPrintsTheVersion) {
   EXPECT_EQ(r.out, std::string("treedyn ") + TREEDYN_VERSION + "\n");
 }
 
+// Every exit code the commands use, in the top-level help.
+TEST(ExamplesCli, HelpListsEveryExitCode) {
+  TempDir dir("examples_test_cli");
+  const auto r = run_treedyn({"--help"}, dir.path());
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  for (const char* code : {"0 ok", "1 internal error", "2 bad input", "3 integration failure", "4 output (I/O) failure",
+                           "5 interrupted", "6 not enough memory"})
+    EXPECT_NE(r.out.find(code), std::string::npos) << code << " in\n" << r.out;
+}
+
 TEST(ExamplesCli, RunHelpExitsZeroAndDescribesTheOptions) {
   TempDir dir("examples_test_cli");
   const auto r = run_treedyn({"run", "--help"}, dir.path());
