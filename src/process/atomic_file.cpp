@@ -1,5 +1,7 @@
 #include "process/atomic_file.hpp"
 
+#include "process/output_lock.hpp"
+
 #include <fcntl.h>
 #include <signal.h>
 #include <unistd.h>
@@ -168,22 +170,6 @@ std::vector<char> read_file_prefix(const fs::path& path, std::uint64_t bytes) {
   return out;
 }
 
-namespace {
-
-// Whether process `pid` runs on this host: it exists and is not a zombie (a
-// dead process nobody has reaped yet, as the orphaned ranks of a killed
-// mpirun can stay where init does not reap them). One we may not signal
-// counts as running.
-bool runs(pid_t pid) {
-  if (::kill(pid, 0) != 0 && errno == ESRCH) return false;
-  std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
-  std::string text((std::istreambuf_iterator<char>(stat)), std::istreambuf_iterator<char>());
-  const std::size_t close = text.rfind(')');
-  return close == std::string::npos || close + 2 >= text.size() || text[close + 2] != 'Z';
-}
-
-}  // namespace
-
 std::vector<std::string> remove_stale_temporaries(const fs::path& dir, const std::string& name) {
   std::vector<std::string> removed;
   const std::string marker = name + ".tmp-";
@@ -195,7 +181,7 @@ std::vector<std::string> remove_stale_temporaries(const fs::path& dir, const std
     const std::string digits = file.substr(at + 5);
     if (digits.empty() || digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos) continue;
     const pid_t pid = static_cast<pid_t>(std::stol(digits));
-    if (pid == ::getpid() || runs(pid)) continue;
+    if (pid == ::getpid() || process_runs(pid)) continue;
     std::error_code remove_error;
     if (fs::remove(entry.path(), remove_error)) removed.push_back(entry.path().string());
   }
