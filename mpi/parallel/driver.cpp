@@ -83,8 +83,11 @@ int abandon(EnsembleRun& run, int code) {
 }
 
 int run_phases(EnsembleRun& run) {
-  for (auto* phase : {check_range, check_memory, open_output, share_restored, run_nominal, start_records})
-    if (const int code = phase(run); code != kExitOk) return abandon(run, code);
+  for (auto* phase : {check_range, check_memory, open_output, share_restored, run_nominal, start_records}) {
+    const int code = phase(run);
+    if (code == kAlreadyDone) return kExitOk;
+    if (code != kExitOk) return abandon(run, code);
+  }
   const int waves = run_waves(run);
   if (waves != kExitOk) return waves == kExitInterrupted ? waves : abandon(run, waves);
   const int code = finish_run(run);

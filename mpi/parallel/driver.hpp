@@ -49,6 +49,7 @@
 #include "hdf5/ensemble_file.hpp"
 #include "hdf5/provenance.hpp"
 #include "parallel/record_sink.hpp"
+#include "process/output_lock.hpp"
 
 namespace treedyn::parallel {
 
@@ -88,6 +89,9 @@ struct EnsembleRun {
   // A part's checkpoint belongs to its range (id); the part file to the job (job_id).
   ensemble::RunIdentity job_id, id;
   std::filesystem::path checkpoint_dir;
+  // Rank 0: the output's lock (process/output_lock.hpp), held from before
+  // anything of the output is touched to the end; released last.
+  std::optional<process::OutputLock> lock;
 
   std::optional<ensemble::RestoredRun> restored;  // rank 0's, whole; the others': calibration only
   ensemble::IndexRanges finished;                 // samples a resumed run already has
@@ -123,6 +127,10 @@ struct EnsembleRun {
 // Runs `work` on rank 0 alone and gives every rank its exit code. A file
 // error becomes exit 4, an unusable checkpoint exit 2, each with its message.
 int on_rank_zero(EnsembleRun& run, const std::function<int()>& work);
+
+// A phase's code for "the output is this job's, complete, and nothing is
+// left to resume": every rank ends at once with exit 0.
+inline constexpr int kAlreadyDone = -1;
 
 // Every rank failed to allocate alike (the statistics): all exit 6.
 struct OutOfMemoryEverywhere {};

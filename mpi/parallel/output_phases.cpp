@@ -7,15 +7,52 @@
 #include "app/exit_codes.hpp"
 #include "parallel/collectives.hpp"
 #include "parallel/driver.hpp"
+#include "hdf5/read_file.hpp"
+#include "persistence/part_file.hpp"
 #include "process/atomic_file.hpp"
 
 namespace treedyn::parallel {
 namespace fs = std::filesystem;
 namespace {
 
+// The job text an existing output was made from: an ensemble file's root
+// attribute, a part file's own; nullopt when it is neither.
+std::optional<std::string> output_job_text(const EnsembleRun& run, const fs::path& out) {
+  try {
+    if (run.options.part()) {
+      const ensemble::PartFile part = ensemble::read_part_file(out);
+      if (part.first != run.first || part.end != run.end) return std::string();  // another range: another output
+      return part.job_text;
+    }
+    const h5::ReadFile file(out);
+    if (!file.has_attribute("/", "job_text") || !file.has_attribute("/", "samples_ok")) return std::nullopt;
+    return file.string_attribute("/", "job_text");
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+}
+
 void note_stale(const std::vector<std::string>& removed) {
   for (const std::string& f : removed)
     std::cerr << "note: removed " << f << ", a temporary file left by a process that no longer runs\n";
+}
+
+// Rank 0, --resume without a checkpoint: an output already there is this
+// job's finished run (kAlreadyDone: nothing to do, never a recompute over
+// it), or another job's (refused), or none (kExitOk: start).
+int finished_output(EnsembleRun& run) {
+  const fs::path& out = run.options.output_path;
+  if (!fs::exists(out)) return kExitOk;
+  const std::optional<std::string> job = output_job_text(run, out);
+  if (job && *job == run.job.text) {
+    std::cerr << "note: " << out.string() << " is this job's " << (run.options.part() ? "part" : "ensemble")
+              << ", complete, and there is no checkpoint to resume: nothing to do (remove it to run the job "
+                 "again)\n";
+    return kAlreadyDone;
+  }
+  std::cerr << "error: " << out.string() << " is " << (job ? "another job's output (its job text differs)" : "not "
+            "an output of treedyn-ensemble") << ": give this run another -o, or remove it to run the job into it\n";
+  return kExitBadInput;
 }
 
 // Rank 0: load the checkpoint (--resume), or refuse to start over one, or
@@ -25,9 +62,11 @@ int open_checkpoint(EnsembleRun& run) {
   if (run.options.resume) {
     run.restored = ensemble::load_checkpoint(dir, run.id, ensemble::statistics_shape(run.runner),
                                              ensemble::record_shape(run.runner, run.first, run.end));
-    if (!run.restored)
+    if (!run.restored) {
+      if (const int code = finished_output(run); code != kExitOk) return code;
       std::cerr << "note: no checkpoint " << dir.string() << " to resume (or it was written before the pilot "
                 << "samples were done): starting from the beginning\n";
+    }
   } else if (ensemble::checkpoint_exists(dir)) {
     std::cerr << "error: " << dir.string() << " holds the checkpoint of an earlier run of this output: "
               << "resume it with --resume, or remove that directory to start afresh\n";
@@ -49,6 +88,12 @@ int open_checkpoint(EnsembleRun& run) {
 int open_output(EnsembleRun& run) {
   return on_rank_zero(run, [&run] {
     process::check_output_path(run.options.output_path);
+    try {
+      run.lock.emplace(run.options.output_path, run.options.provenance.command_line);
+    } catch (const process::OutputLocked& e) {
+      std::cerr << "error: " << e.what() << "\n";
+      return static_cast<int>(kExitBadInput);
+    }
     const fs::path output(run.options.output_path);
     note_stale(process::remove_stale_temporaries(output.parent_path(), output.filename().string()));
     if (fs::is_directory(run.checkpoint_dir)) note_stale(process::remove_stale_temporaries(run.checkpoint_dir, ""));

@@ -15,6 +15,8 @@
 #include "job/job_error.hpp"
 #include "job/sample_job.hpp"
 #include "persistence/part_file.hpp"
+#include "process/atomic_file.hpp"
+#include "process/output_lock.hpp"
 
 namespace treedyn {
 namespace {
@@ -131,6 +133,8 @@ int merge_parts(const std::vector<std::string>& names, const std::string& output
                 const RunProvenance& run) {
   const auto start = std::chrono::steady_clock::now();
   try {
+    process::check_output_path(output_path);
+    const process::OutputLock lock(output_path, run.command_line);  // one output, one owner (a run's or a merge's)
     std::vector<PartFile> parts = read_parts(names);
     const ensemble::IndexRanges held = held_samples(parts, names);
     const auto [job, spec] = ensemble::read_ensemble_job(JobDocument::parse(parts[0].job_text, parts[0].job_path));
@@ -167,6 +171,8 @@ int merge_parts(const std::vector<std::string>& names, const std::string& output
     return kExitOk;
   } catch (const Refused& r) {
     std::cerr << "error: " << r.what << "\n";
+  } catch (const process::OutputLocked& e) {
+    std::cerr << "error: " << e.what() << "\n";
   } catch (const JobError& e) {
     std::cerr << "error: the job inside " << names[0] << ": " << e.what() << "\n";
   } catch (const DecodeError& e) {

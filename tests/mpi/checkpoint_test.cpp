@@ -419,6 +419,50 @@ TEST_F(Checkpoint, KillNineOfMpirunOrOfOneRankThenResumeOnOtherRankCountsIsBitwi
   }
 }
 
+// One output, one owner: while a run holds its output (held 2 samples past
+// the pilot), a second run on it, alone and on 2 ranks, with and without
+// --resume, is refused at once (exit 2) naming the first's rank 0 and
+// touching nothing of it; the first, stopped (SIGUSR1) and resumed, is the
+// uninterrupted run bit for bit. Then the finished output submitted again
+// with --resume: nothing is recomputed (exit 0, "nothing to do").
+TEST_F(Checkpoint, ASecondRunOnOneOutputIsRefusedAtOnceAndTheFinishedOutputIsNotRecomputed) {
+  const fs::path out = fresh_output("two_runs");
+  const fs::path ckpt = out.string() + ".checkpoint";
+  {
+    Background first(job_, out, held_run(2, kRarely, 2), dir_.path() / "capture_first");
+    await_held(ckpt, 2, first);
+    const pid_t holder = held_ranks(ckpt).front().pid;
+    const std::vector<std::string> before = listing(ckpt);
+    for (const auto& [ranks, extra] : std::vector<std::pair<int, std::vector<std::string>>>{{0, {}}, {2, {"--resume"}}}) {
+      const CommandResult second = run_ensemble(ranks, job_, out, dir_.path() / "capture_second", extra);
+      std::printf("second run on %d ranks: exit %d in %.2f s\n", ranks, second.exit_code, second.seconds);
+      EXPECT_EQ(second.exit_code, 2) << second.err;
+      EXPECT_NE(second.err.find("ensemble.h5 is another run's output (host "), std::string::npos) << second.err;
+      EXPECT_NE(second.err.find("pid " + std::to_string(holder) + ","), std::string::npos) << second.err;
+      EXPECT_EQ(listing(ckpt), before) << "the refused run touched the first's checkpoint";
+    }
+    ::kill(first.pid(), SIGUSR1);  // forwarded by mpirun: a clean stop
+    EXPECT_EQ(first.wait(), 5) << first.err();
+  }
+  const auto resumed = run_ensemble(2, job_, out, dir_.path() / "capture", {"--resume"});
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  expect_like_reference(out, "held while a second run was refused, then resumed");
+  const auto modified = fs::last_write_time(out);
+  const auto again = run_ensemble(2, job_, out, dir_.path() / "capture", {"--resume"});
+  EXPECT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_NE(again.err.find("ensemble.h5 is this job's ensemble, complete, and there is no checkpoint to resume: "
+                           "nothing to do"), std::string::npos) << again.err;
+  EXPECT_EQ(fs::last_write_time(out), modified) << "the finished output was written again";
+  EXPECT_EQ(listing(out.parent_path()), std::vector<std::string>{"ensemble.h5"});
+  // Another job's output is refused, not overwritten.
+  const fs::path other = dir_.path() / "other.toml";
+  write_text(other, read_text(job_) + "\n# another job\n");
+  const auto refused = run_ensemble(0, other, out, dir_.path() / "capture", {"--resume"});
+  EXPECT_EQ(refused.exit_code, 2);
+  EXPECT_NE(refused.err.find("is another job's output (its job text differs)"), std::string::npos) << refused.err;
+  EXPECT_EQ(fs::last_write_time(out), modified);
+}
+
 // Two generations: a resumed run is killed too, and resumed again.
 TEST_F(Checkpoint, AResumedRunKilledAgainResumesAgain) {
   const fs::path out = fresh_output("twice");
