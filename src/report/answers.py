@@ -1,21 +1,27 @@
-"""The answers an analyst came for, first on the page: each response's mean and
-probability of exceeding its limit with a verdict on N, the ranked drivers,
-the warnings that matter, input-vs-response scatter plots and the extreme and
-failed samples with the commands that rerun them."""
+"""The answers an analyst came for, first on the page: what the failed runs change, each response's mean and
+probability of exceeding its limit with a verdict on N (and the Sobol' indices' verdict), the ranked drivers
+(drivers.py), what makes each response exceed its limit (failure_region.py), the warnings that matter,
+input-vs-response scatter plots over every run, and the extreme and failed samples with the commands that
+rerun them."""
 import math
-import re
 import shlex
 
 import numpy as np
 
+import matplotlib.pyplot as plt
+
+from drivers import RELIABLE_SHARE, drivers_section, reliable, unreliable_words
+from failure_region import exceeded, failure_region_section
 from page import legend_outside, subplot_grid
-from read import counted_rows, fail_side, folded_note, shown_inputs, strings, text
+from rankings import has_sobol, primary_ranking, rank_ranking, visible_units
+from rare_event import rare_event_answer, rare_event_levels
+from read import (column_units, counted_rows, fail_side, folded_note, held_rows, shown_inputs, strings,
+                  subset_response, text)
 
 MEAN_PRECISION = 0.05         # "N is enough" for a mean: 95 % half-width within 5 % of |mean|
 PROBABILITY_PRECISION = 0.20  # ... for P(exceeded): 95 % half-width within 20 % of P
-CORRELATED_INPUTS = 0.2       # |Spearman| between two inputs above which their rank measures mix
+INDEX_INTERVAL = 0.1          # ... for the indices: the widest total-index interval of a unit that matters
 LAST_TIME_SHARE = 0.1         # an extremum at the last output time in more runs than this: too short
-TOP_DRIVERS = 10
 SCATTER_DRIVERS = 4
 EXTREME_ROWS = 5
 POSITIVE_TARGETS = ("mass", "length", "inertia", "stiffness", "damping", "frequency")
@@ -27,6 +33,7 @@ def answers_section(f, page, file_name):
     page.heading("Answers")
     rows, counted = counted_rows(f)
     failure_banner(f, page)
+    rare_event_answer(f, page)
     if "samples/responses" not in f:
         page.paragraph("No [[ensemble.response]] in this job: name one (quantity, column, reduce, and a limit "
                        "for a probability) to get means, probabilities and drivers here.")
@@ -34,10 +41,12 @@ def answers_section(f, page, file_name):
     page.paragraph(f"Counted runs: {counted}.")
     if "stop_reason" in f.attrs and text(f.attrs["stop_reason"]):
         page.paragraph(f"Stopping rule: {text(f.attrs['stop_reason'])}.")
-    response_table(f, page, rows)
+    response_table(f, page)
     for warning in last_time_warnings(f, rows) + outside_range_warnings(f):
         page.note(warning)
-    drivers(f, page, rows)
+    drivers_section(f, page, rows)
+    failure_region_section(f, page, rows, counted)
+    rare_event_levels(f, page)
     scatter_figures(f, page, rows)
     extreme_samples(f, page, file_name)
 
@@ -58,7 +67,48 @@ def failure_banner(f, page):
     words = (f"{failed} of {ran.size} samples failed ({share:.1%}): {failed - invalid} integrations failed, "
              f"{invalid} sampled models were invalid. Every statistic below counts the successful ones only, "
              f"so a failure that depends on the inputs biases them; see 'Failed samples' for why.")
-    page.note(words, "alarm" if share > 0.01 else "warning")
+    page.note(" ".join([words] + failure_effects(f)), "alarm" if share > 0.01 else "warning")
+
+
+def failure_effects(f):
+    """What the failed runs change: each P with the failed counted runs taken either way (the file's
+    with_failed), and the base points the Sobol' indices rest on, of those run."""
+    if "samples/responses" not in f or "responses" not in f:
+        return []
+    values = f["samples/responses"]
+    names, units = strings(values.attrs["columns"]), column_units(values)
+    out = []
+    for r, name in enumerate(names):
+        e = f["responses"][name].get("exceedance")
+        if e is None or name == subset_response(f) or int(e["failed"][()]) == 0 or "with_failed" not in e:
+            continue
+        n, failed = int(e["successful"][()]), int(e["failed"][()])
+        out.append(f"{probability_name(values, r, name, units[r])} = {e['probability'][()]:.4g} rests on {n} of "
+                   f"{n + failed} counted runs; with the {failed} failed ones counted as not exceeding or as "
+                   f"exceeding it would be {e['with_failed'][0]:.4g} to {e['with_failed'][1]:.4g}.")
+    return out + block_effects(f, names)
+
+
+def block_effects(f, names):
+    """The base points the Sobol' indices rest on, said once when every response's are the same."""
+    said = {}
+    for name in names:
+        s = f["sensitivity"][name] if "sensitivity" in f and name in f["sensitivity"] else None
+        if s is None or "sobol_blocks" not in s.attrs:
+            continue
+        base, blocks = int(s.attrs["sobol_base_samples"]), int(s.attrs["sobol_blocks"])
+        if base < blocks:
+            said.setdefault((base, blocks, reliable(s)), []).append(name)
+    block = int(f.attrs.get("saltelli_block", 0))
+    return ["The Sobol' indices" + (f" of {', '.join(who)}" if len(said) > 1 else "") +
+            f" rest on {base} of {blocks} base points (a base point counts when all its {block} runs succeeded)"
+            + (f"; unreliable: fewer than {100 * RELIABLE_SHARE:.0f} %." if not ok else ".")
+            for (base, blocks, ok), who in said.items()]
+
+
+def probability_name(values, r, name, unit):
+    side = ">" if fail_side(values, r) == "above" else "<"
+    return f"P({name} {side} {values.attrs['limit'][r]:.6g} {unit})"
 
 
 def mean_verdict(mean, sem, used, per_used=1.0):
@@ -100,35 +150,66 @@ def counted_runs_meaning(f):
     return ""
 
 
-def response_table(f, page, rows):
+def response_table(f, page):
     values = f["samples/responses"]
-    names, units = strings(values.attrs["columns"]), strings(values.attrs["column_units"])
+    names, units = strings(values.attrs["columns"]), column_units(values)
     if "responses" not in f:
         page.paragraph("No /responses: the file holds only some of the samples (root attribute held_samples).")
         return
-    table = []
-    for r, name in enumerate(names):
-        g = f["responses"][name]
-        mean, sem, used = g["mean"][()], g["sem"][()], int(g["used"][()])
-        infinite = int(g["not_finite"][()]) if "not_finite" in g else 0
-        runs = f"{used} ({int(g['failed'][()])} failed" + (f", {infinite} not finite: never crossed, not in the mean)"
-                                                           if infinite else ")")
-        row = [name, f"{mean:.6g} ± {sem:.3g} {units[r]}" + (" (over the finite ones)" if infinite else ""), runs,
-               mean_verdict(mean, sem, used, (used + infinite) / used if used else 1.0), "", ""]
-        e = g.get("exceedance")
-        if e is not None:
-            side = ">" if fail_side(values, r) == "above" else "<"
-            p, count, n = e["probability"][()], int(e["count"][()]), int(e["successful"][()])
-            low, high = e["interval"][0], e["interval"][1]
-            row[4] = (f"P({name} {side} {values.attrs['limit'][r]:.6g} {units[r]}) = {p:.4g} ({count} of {n}), "
-                      f"95 % [{low:.3g}, {high:.3g}]")
-            row[5] = probability_verdict(count, n, p, low, high)
-        table.append(row)
+    sensitivity = [f["sensitivity"][n] if "sensitivity" in f and n in f["sensitivity"] else None for n in names]
+    indices = any(s is not None and has_sobol(s) for s in sensitivity)
+    table = [response_row(f, values, r, name, units[r]) + ([index_verdict(sensitivity[r])] if indices else [])
+             for r, name in enumerate(names)]
     page.table(["response", "mean ± standard error", "runs used", f"is N enough for the mean "
                 f"(±{MEAN_PRECISION:.0%})?", "probability of exceeding the limit (Wilson interval)",
-                f"is N enough for P (±{PROBABILITY_PRECISION:.0%})?"], table)
+                f"is N enough for P (±{PROBABILITY_PRECISION:.0%})?"] +
+               ([f"is N enough for the Sobol' indices (intervals within {INDEX_INTERVAL})?"] if indices else []), table)
     if counted_runs_meaning(f):
         page.paragraph(counted_runs_meaning(f))
+
+
+def response_row(f, values, r, name, unit):
+    g = f["responses"][name]
+    mean, sem, used = g["mean"][()], g["sem"][()], int(g["used"][()])
+    infinite = int(g["not_finite"][()]) if "not_finite" in g else 0
+    runs = f"{used} ({int(g['failed'][()])} failed" + (f", {infinite} not finite: never crossed, not in the mean)"
+                                                       if infinite else ")")
+    row = [name, f"{mean:.6g} ± {sem:.3g} {unit}" + (" (over the finite ones)" if infinite else ""), runs,
+           mean_verdict(mean, sem, used, (used + infinite) / used if used else 1.0), "", ""]
+    e = g.get("exceedance")
+    if e is not None and name == subset_response(f):  # level 0's P is not the answer
+        rare = f["rare_event"][name]
+        row[4] = (f"{probability_name(values, r, name, unit)} = {rare['probability'][()]:.4g}: the subset "
+                  "simulation's, above (level 0 alone is not the answer)")
+        row[5] = f"cov {rare['cov'][()]:.3g}, 95 % [{rare['interval'][0]:.3g}, {rare['interval'][1]:.3g}]"
+    elif e is not None:
+        p, count, n = e["probability"][()], int(e["count"][()]), int(e["successful"][()])
+        low, high = e["interval"][0], e["interval"][1]
+        row[4] = (f"{probability_name(values, r, name, unit)} = {p:.4g} ({count} of {n}), 95 % [{low:.3g}, "
+                  f"{high:.3g}]")
+        if int(e["failed"][()]) and "with_failed" in e:
+            row[4] += (f"; with the {int(e['failed'][()])} failed runs counted either way: "
+                       f"{e['with_failed'][0]:.4g} to {e['with_failed'][1]:.4g}")
+        row[5] = probability_verdict(count, n, p, low, high)
+    return row
+
+
+def index_verdict(s):
+    """Whether N is enough for the Sobol' indices, as the file's attributes say (the text summary's verdict)."""
+    if s is None or "sobol_blocks" not in s.attrs:
+        return ""
+    widest, unit = float(s.attrs["index_widest_interval"]), text(s.attrs.get("index_widest_unit", ""))
+    blocks = f" (from {int(s.attrs['sobol_base_samples'])} of {int(s.attrs['sobol_blocks'])} base points)"
+    if not np.isfinite(widest):
+        words = "no interval of a total index that matters (no bootstrap, or no complete block)" + blocks
+        return f"no: unreliable, {unreliable_words(s)}; {words}" if not reliable(s) else f"no verdict: {words}"
+    words = f"the widest total-index interval of an input that matters is {widest:.2g} ({unit})"
+    more = f"; about {float(s.attrs['index_base_points_needed']):.0f} base points would do"
+    if not reliable(s):
+        return f"no: unreliable, {unreliable_words(s)}; {words}" + ("" if int(s.attrs["indices_enough"]) else more)
+    if int(s.attrs["indices_enough"]):
+        return f"yes: {words}" + blocks
+    return f"not for {INDEX_INTERVAL}: {words}{more}" + blocks
 
 
 def last_time_warnings(f, rows):
@@ -177,222 +258,99 @@ def outside_range_warnings(f):
     return out
 
 
-def ranks(x):
-    order = np.argsort(x, kind="stable")
-    r = np.empty(x.size)
-    r[order] = np.arange(x.size)
-    return r
-
-
-def input_correlations(f, rows):
-    """Pairs of inputs whose Spearman correlation in the counted successful runs is large."""
-    inputs = f["samples/inputs"][:][rows]
-    ok = (f["samples/status"][:][rows] == 0) & np.all(np.isfinite(inputs), axis=1)
-    names = strings(f["samples/inputs"].attrs["columns"])
-    shown, _ = shown_inputs(f["samples/inputs"])  # a list's entries (random phases) are not read one by one
-    if ok.sum() < 4 or not shown:
-        return {}, names, int(ok.sum())
-    ranked = np.array([ranks(inputs[ok, i]) for i in shown])
-    rho = np.corrcoef(ranked) if len(shown) > 1 else np.ones((1, 1))
-    pairs = {}
-    for a, i in enumerate(shown):
-        for b in range(a + 1, len(shown)):
-            j = shown[b]
-            if abs(rho[a, b]) >= CORRELATED_INPUTS:
-                pairs.setdefault(i, []).append((j, rho[a, b]))
-                pairs.setdefault(j, []).append((i, rho[a, b]))
-    return pairs, names, int(ok.sum())
-
-
-def per_input_sobol(s):
-    """Whether the per-input Sobol' indices are there: a grouped design has them per group."""
-    return "total_order" in s and "group_total_order" not in s
-
-
-def ranking(s):
-    """The per-input key of the ranking and its name: the total Sobol' index where there is one per input,
-    else |SRRC|, else (more inputs than runs leave the rank regression undetermined) |Spearman|."""
-    if per_input_sobol(s):
-        return s["total_order"][:], "total Sobol' index"
-    if np.isfinite(s["srrc"][:]).any():
-        return np.abs(s["srrc"][:]), "|SRRC|"
-    return np.abs(s["spearman"][:]), "|Spearman|"
-
-
-def driver_order(s, shown=None):
-    """Inputs ranked by ranking(s), only those in `shown` when given."""
-    key, _ = ranking(s)
-    order = np.argsort(-np.nan_to_num(key, nan=-1.0), kind="stable")
-    return order if shown is None else np.array([i for i in order if i in set(shown)], dtype=int)
-
-
-def asked_correlations(f):
-    """The input pairs the job correlates on purpose ([[ensemble.correlation]]), as written in the file
-    ("A ~ B: normal copula rho, Spearman r")."""
-    return strings(f["samples/inputs"].attrs.get("correlated_pairs", []))
-
-
-def asked_pair(asked, a, b):
-    return any(set(text.split(": ")[0].split(" ~ ")) == {a, b} for text in asked)
-
-
-def group_drivers(page, name, s):
-    """A grouped Saltelli design: one total and first-order index per group of inputs taken together."""
-    groups = strings(s["group_total_order"].attrs["columns"])
-    members = strings(s.attrs.get("group_inputs", [""] * len(groups)))
-    total, first = s["group_total_order"][:], s["group_first_order"][:]
-    order = np.argsort(-np.nan_to_num(total, nan=-1.0), kind="stable")
-    strong = [i for i in order if np.isfinite(total[i]) and total[i] >= 0.05]
-    words = f"{name} is driven by " + (", ".join(f"{groups[i]} (total Sobol' index {total[i]:.2g})" for i in strong)
-                                       if strong else "no single group")
-    weak = [groups[i] for i in order if i not in strong]
-    if weak:
-        words += f"; {', '.join(weak)} matter little (total Sobol' index below 0.05)"
-    page.note(words + " (groups: the inputs of each taken together).", "good")
-    page.table(["group", "its inputs", "total Sobol' [95 %]", "first order [95 %]"],
-               [[groups[i], folded_members(members[i]), interval(total[i], s["group_total_order_ci"][i]),
-                 interval(first[i], s["group_first_order_ci"][i])] for i in order])
-
-
-def folded_members(members):
-    """'base.z.phases[1], ..., base.z.phases[64]' as 'base.z.phases[1..64]': a list's entries in one name."""
-    out, runs = [], {}
-    for name in members.split(", "):
-        m = re.fullmatch(r"(.*)\[(\d+)\]", name)
-        if m:
-            if m.group(1) not in runs:
-                out.append(m.group(1))
-            runs.setdefault(m.group(1), []).append(int(m.group(2)))
-        else:
-            out.append(name)
-    return ", ".join(f"{n}[{min(runs[n])}..{max(runs[n])}]" if n in runs and len(runs[n]) > 1 else
-                     (f"{n}[{runs[n][0]}]" if n in runs else n) for n in out)
-
-
-def interval(v, ci):
-    return f"{v:.3g} [{ci[0]:.3g}, {ci[1]:.3g}]" if np.isfinite(v) else "n/a"
-
-
-def conclusion(name, s, order, names):
-    """One sentence: what drives the response, and what does not matter."""
-    key, measure = ranking(s)
-    strong = [i for i in order if np.isfinite(key[i]) and key[i] >= 0.05]
-    weak = [names[i] for i in order if i not in strong]
-    words = f"{name} is driven by " + (", ".join(f"{names[i]} ({measure} {key[i]:.2g})" for i in strong)
-                                       if strong else "no single input")
-    if weak:
-        words += f"; {', '.join(weak)} matter little ({measure} below 0.05)"
-    return words + "."
-
-
-def drivers(f, page, rows):
-    if "sensitivity" not in f:
-        return
-    pairs, names, n = input_correlations(f, rows)
-    page.heading("Which inputs drive each response", 3)
-    page.paragraph("Ranked by the total Sobol' index where the design gives one (the share of the response's "
-                   "variance that goes away if the input were known), else by the standardised rank regression "
-                   "coefficient (SRRC: the input's own effect with the others held fixed). Spearman's rank "
-                   "correlation is each input alone; with inputs correlated in the sample it mixes their effects.")
-    asked = asked_correlations(f)
-    if asked:
-        page.note("Inputs correlated on purpose by the job ([[ensemble.correlation]], a normal copula on each "
-                  "input's own distribution): " + "; ".join(asked) + ". Their Spearman coefficients below mix "
-                  "each other's effects; the SRRC separate them.")
-    shown, folded = shown_inputs(f["samples/inputs"])
-    if folded:
-        page.note("Per input below: the inputs one by one. " + folded_note(folded) + " Their effect together is "
-                  "the group's Sobol' index where the job groups them ([[ensemble.group]]).")
-    responses = strings(f["samples/responses"].attrs["columns"])
-    for name in [r for r in responses if r in f["sensitivity"]]:
-        s = f["sensitivity"][name]
-        order = driver_order(s, shown)[:TOP_DRIVERS]
-        sobol = per_input_sobol(s)
-        r2 = s.attrs.get("rank_r_squared", float("nan"))
-        if "group_total_order" in s:
-            group_drivers(page, name, s)
-        page.note(conclusion(name, s, order, names), "good")
-        header = ["input"] + (["total Sobol' [95 %]", "first order [95 %]"] if sobol else []) + \
-                 ["SRRC", "Spearman", "note"]
-        table = []
-        for i in order:
-            row = [names[i]]
-            if sobol:
-                row += [interval(s["total_order"][i], s["total_order_ci"][i]),
-                        interval(s["first_order"][i], s["first_order_ci"][i])]
-            chance = 2 / math.sqrt(n - 1) if n > 1 else 1.0
-            note = "; ".join(f"correlated with {names[j]} in these runs (rho = {rho:.2f}; "
-                             + ("asked by the job)" if asked_pair(asked, names[i], names[j]) else
-                                f"chance alone gives |rho| up to about {chance:.2f} at n = {n})")
-                             for j, rho in pairs.get(i, []))
-            row += [f"{s['srrc'][i]:.3f}", f"{s['spearman'][i]:.3f}", note]
-            table.append(row)
-        used = int(s.attrs.get("rank_samples", n))
-        if np.isfinite(r2):
-            page.paragraph(f"{name}: rank R² = {r2:.2f} over {used} runs (how much of the response's rank variance "
-                           f"the SRRC explain; near 1 the ranking by SRRC is trustworthy).")
-        else:
-            page.paragraph(f"{name}: no rank regression (SRRC, R²): it needs more runs than inputs ({len(names)} "
-                           f"inputs, {used} runs), or an input or the response is constant; the inputs are ranked "
-                           f"by Spearman alone.")
-        if r2 < 0.7 and "total_order" not in s:
-            page.note(f"{name}: the SRRC explain only {r2:.0%} of its rank variance: the response is not monotone "
-                      f"in the inputs or they interact, so this ranking is uncertain; a saltelli design gives "
-                      f"Sobol' indices that do not assume monotonicity.")
-        page.table(header, table)
-    if pairs:
-        page.note(f"Some inputs are correlated in the sample (|rho| >= {CORRELATED_INPUTS}, see the notes): their "
-                  "Spearman coefficients mix each other's effects; read the SRRC or the Sobol' indices instead.")
+def scatter_inputs(f, name):
+    """A response's strongest inputs one by one: the single inputs of the design's own ranking, then the rest
+    by the rank measure."""
+    s, inputs = f["sensitivity"][name], f["samples/inputs"]
+    names = strings(inputs.attrs["columns"])
+    primary, ranks = primary_ranking(s, names), rank_ranking(s, names)
+    visible, rank_visible = set(visible_units(primary, inputs)), set(visible_units(ranks, inputs))
+    order = [primary.members[int(u)][0] for u in primary.order
+             if int(u) in visible and len(primary.members[int(u)]) == 1]
+    order += [int(i) for i in ranks.order if int(i) in rank_visible and int(i) not in order]
+    return order[:SCATTER_DRIVERS]
 
 
 def scatter_figures(f, page, rows):
-    """Each response against its strongest inputs: ok, exceeded and failed runs in three colours."""
+    """Each response against its strongest inputs, over every run the file holds (so every run of the
+    extremes table is inside the axes): by level for subset simulation, else the counted runs and the others
+    (Saltelli's AB runs) apart."""
     if "sensitivity" not in f or "samples/inputs" not in f:
         return
     values = f["samples/responses"]
-    names, units = strings(values.attrs["columns"]), strings(values.attrs["column_units"])
-    inputs = f["samples/inputs"][:][rows]
-    input_names = strings(f["samples/inputs"].attrs["columns"])
-    input_units = strings(f["samples/inputs"].attrs["column_units"])
-    status = f["samples/status"][:][rows]
+    names, units = strings(values.attrs["columns"]), column_units(values)
+    inputs = f["samples/inputs"][:]
+    input_names, input_units = strings(f["samples/inputs"].attrs["columns"]), column_units(f["samples/inputs"])
+    status, held = f["samples/status"][:], held_rows(f)
+    level = f["samples/level"][:] if "samples/level" in f else None
     for r, name in enumerate(names):
-        if name not in f["sensitivity"]:
+        order = scatter_inputs(f, name) if name in f["sensitivity"] else []
+        if not order:
             continue
-        y = values[:, r][rows]
-        order = driver_order(f["sensitivity"][name], shown_inputs(f["samples/inputs"])[0])[:SCATTER_DRIVERS]
-        exceeded = exceeded_mask(values, r, y)
-        ok = (status == 0) & np.isfinite(y)
-        infinite = (status == 0) & ~np.isfinite(y)
-        failed = status != 0
-        low, high = (np.min(y[ok]), np.max(y[ok])) if ok.any() else (0.0, 1.0)
+        y = values[:, r]
         fig, axes = subplot_grid(len(order), width=3.6, height=2.8, columns=4)
         for ax, i in zip(axes, order):
-            x = inputs[:, i]
-            ax.plot(x[ok & ~exceeded], y[ok & ~exceeded], ".", color="tab:blue", ms=4, label="ok")
-            if exceeded.any():
-                ax.plot(x[ok & exceeded], y[ok & exceeded], ".", color="tab:red", ms=5, label="limit exceeded")
-            if infinite.any():
-                ax.plot(x[infinite], np.full(infinite.sum(), high), "^", color="tab:green", ms=4,
-                        label="not finite, e.g. never crossed (drawn at the top)")
-            if failed.any():
-                ax.plot(x[failed], np.full(failed.sum(), low), "x", color="0.3", ms=5,
-                        label="failed (drawn at the bottom)")
-            limit = values.attrs["limit"][r]
-            if np.isfinite(limit):
-                ax.axhline(limit, color="tab:red", ls="--", lw=0.8, label="limit")
+            if level is not None:
+                level_scatter(ax, inputs[:, i], y, status, held, level)
+            else:
+                run_scatter(ax, inputs[:, i], y, status, (rows & held, held & ~rows), exceeded(values, r, y))
+            if np.isfinite(values.attrs["limit"][r]):
+                ax.axhline(values.attrs["limit"][r], color="tab:red", ls="--", lw=0.8, label="limit")
             ax.set_xlabel(f"{input_names[i]} ({input_units[i]})", fontsize=8)
             ax.set_ylabel(f"{name} ({units[r]})", fontsize=8)
         legend_outside(axes)
-        page.figure(fig, f"{name} against its {len(order)} strongest inputs, over the counted runs",
-                    f"scatter_{name}")
+        failed = bool((held & (status != 0)).any())
+        page.figure(fig, scatter_caption(f, name, len(order), (rows & held, held & ~rows), failed), f"scatter_{name}")
 
 
-def exceeded_mask(values, r, y):
-    limit = values.attrs["limit"][r]
-    if not np.isfinite(limit):
-        return np.zeros(y.size, dtype=bool)
-    with np.errstate(invalid="ignore"):
-        return y > limit if fail_side(values, r) == "above" else y < limit
+def scatter_caption(f, name, count, sets, failed):
+    counted, others = sets
+    runs = (f"every run of every level ({int((counted | others).sum())}), coloured by level (level 0: the "
+            "Monte-Carlo sample; level j: the chains beyond level j - 1's threshold)" if "samples/level" in f else
+            f"the {int(counted.sum())} counted runs (dots)" +
+            (f" and the {int(others.sum())} AB runs (+: A's inputs with one from B, in the extremes table too)"
+             if others.any() else ""))
+    return f"{name} against its {count} strongest inputs: {runs}" + ("; failed runs drawn at the bottom of the axes"
+                                                                    if failed else "")
+
+
+def drawn_range(y, ok):
+    return (float(np.min(y[ok])), float(np.max(y[ok]))) if ok.any() else (0.0, 1.0)
+
+
+def run_scatter(ax, x, y, status, sets, beyond):
+    """The counted runs as dots, the others (+) fainter; blue ok, red beyond the limit."""
+    ok, infinite, failed = (status == 0) & np.isfinite(y), (status == 0) & np.isinf(y), (status != 0) & (status != 3)
+    low, high = drawn_range(y, ok & (sets[0] | sets[1]))
+    for rows, marker, alpha, words in ((sets[0], ".", 1.0, ""), (sets[1], "+", 0.45, ", AB run")):
+        if not rows.any():
+            continue
+        ax.plot(x[rows & ok & ~beyond], y[rows & ok & ~beyond], marker, color="tab:blue", ms=4, alpha=alpha,
+                label="ok" + words)
+        if (rows & ok & beyond).any():
+            ax.plot(x[rows & ok & beyond], y[rows & ok & beyond], marker, color="tab:red", ms=5, alpha=alpha,
+                    label="limit exceeded" + words)
+    shown = sets[0] | sets[1]
+    if (infinite & shown).any():
+        ax.plot(x[infinite & shown], np.full(int((infinite & shown).sum()), high), "^", color="tab:green", ms=4,
+                label="not finite, e.g. never crossed (drawn at the top)")
+    if (failed & shown).any():
+        ax.plot(x[failed & shown], np.full(int((failed & shown).sum()), low), "x", color="0.3", ms=5,
+                label="failed (drawn at the bottom)")
+
+
+def level_scatter(ax, x, y, status, held, level):
+    """Subset simulation: every run, coloured by its level."""
+    ok = held & (status == 0) & np.isfinite(y)
+    levels = np.unique(level[held])
+    colours = plt.get_cmap("viridis", max(len(levels), 2))
+    for k, j in enumerate(levels):
+        m = ok & (level == j)
+        ax.plot(x[m], y[m], ".", color=colours(k), ms=3, label=f"level {j}")
+    failed = held & (status != 0)
+    if failed.any():
+        ax.plot(x[failed], np.full(int(failed.sum()), drawn_range(y, ok)[0]), "x", color="0.3", ms=5,
+                label="failed (drawn at the bottom)")
 
 
 def rerun_commands(f, file_name, k):
@@ -405,14 +363,17 @@ def rerun_commands(f, file_name, k):
 def extreme_samples(f, page, file_name):
     """The top runs of each response towards its limit (every run counts here) and the failed ones."""
     values = f["samples/responses"]
-    names = strings(values.attrs["columns"])
+    names, units = strings(values.attrs["columns"]), column_units(values)
     shown, folded = shown_inputs(f["samples/inputs"]) if "samples/inputs" in f else ([], {})
     inputs = f["samples/inputs"][:][:, shown] if "samples/inputs" in f else np.zeros((values.shape[0], 0))
-    input_names = [strings(f["samples/inputs"].attrs["columns"])[i] for i in shown] if "samples/inputs" in f else []
+    input_names = [f"{strings(f['samples/inputs'].attrs['columns'])[i]} ({column_units(f['samples/inputs'])[i]})"
+                   for i in shown] if "samples/inputs" in f else []
     status = f["samples/status"][:]
+    level = f["samples/level"][:] if "samples/level" in f else None
     page.heading("Extreme and failed samples", 3)
-    page.paragraph("Every run counts here (for Saltelli designs the AB runs too: each is a real sample). "
-                   "The commands rerun one sample alone, bit for bit, or write it as a standalone job.")
+    page.paragraph("Every run counts here (for Saltelli designs the AB runs too, for subset simulation every "
+                   "level: each is a real sample). The commands rerun one sample alone, bit for bit, or write it "
+                   "as a standalone job.")
     table = []
     for r, name in enumerate(names):
         y = np.where(status == 0, values[:, r], np.nan)
@@ -420,12 +381,13 @@ def extreme_samples(f, page, file_name):
         finite = np.flatnonzero(np.isfinite(y))
         picks = finite[np.argsort(-y[finite] if toward == "above" else y[finite], kind="stable")][:EXTREME_ROWS]
         for k in picks:
-            table.append(extreme_row(f, file_name, k, f"{'largest' if toward == 'above' else 'smallest'} {name}",
-                                     f"{y[k]:.6g}", inputs[k]))
+            why = f"{'largest' if toward == 'above' else 'smallest'} {name}" + \
+                  (f" (level {level[k]})" if level is not None else "")
+            table.append(extreme_row(f, file_name, k, why, f"{y[k]:.6g} {units[r]}", inputs[k]))
     for k in np.flatnonzero((status == 1) | (status == 2))[:EXTREME_ROWS]:
         table.append(extreme_row(f, file_name, k, "failed", text(f["samples/reason"][k]), inputs[k]))
-    page.table(["sample", "why listed", "value or reason"] + input_names + ["rerun alone", "as a job"], table,
-               code_columns=(3 + len(input_names), 4 + len(input_names)))
+    page.table(["sample", "why listed", "value (with its unit) or reason"] + input_names + ["rerun alone", "as a job"],
+               table, code_columns=(3 + len(input_names), 4 + len(input_names)))
     if folded:
         page.paragraph(folded_note(folded))
 

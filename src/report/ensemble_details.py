@@ -1,38 +1,74 @@
-"""The supporting evidence after the answers: the responses' histograms over the counted runs and their
-convergence with N, the sensitivity measures side by side, and every failed sample."""
+"""The supporting evidence after the answers: the responses' histograms (the counted runs, and the others
+outlined) and their convergence with N, the rank measures side by side, and every failed sample."""
 import numpy as np
 
 import matplotlib.pyplot as plt
 
-from history import histogram
 from page import subplot_grid
-from read import folded_note, shown_inputs, strings, text
+from read import column_units, folded_note, held_rows, shown_inputs, strings, subset_response, text
 
 MAX_FAILED_ROWS = 50
+MAX_BINS = 60
+
+
+def other_runs_words(f, others):
+    """What the runs outside the counted ones are, for a caption."""
+    if "samples/level" in f:
+        return f"the {others} runs of levels 1 and up (chains beyond each level's threshold, not draws of the inputs)"
+    return f"the {others} AB runs (A's inputs with one from B: real samples, not independent draws)"
 
 
 def response_figures(f, page, rows, counted):
     if "samples/responses" not in f:
         return
     values = f["samples/responses"]
-    names, units = strings(values.attrs["columns"]), strings(values.attrs["column_units"])
-    data = values[:][rows]
+    names, units = strings(values.attrs["columns"]), column_units(values)
+    data = values[:]
+    others = held_rows(f) & ~rows  # drawn too, outlined: every run the extremes table lists is inside the axes
     fig, axes = subplot_grid(len(names), height=2.6)
     for r, ax in enumerate(axes):
-        histogram(ax, data[:, r], names[r], units[r])
-        finite = int(np.count_nonzero(np.isfinite(data[:, r])))
-        if finite < data.shape[0]:
-            ax.set_title(f"{finite} of {data.shape[0]} finite (failed: NaN, never crossed: inf)", fontsize=8)
+        response_histogram(ax, data[rows, r], data[others, r], f"{names[r]} ({units[r]})")
         if np.isfinite(values.attrs["limit"][r]):
             ax.axvline(values.attrs["limit"][r], color="tab:red", ls="--", lw=1)
-    page.figure(fig, f"histograms of the responses over {counted}, their finite values (dashed: the limit)",
+    outlined = f"; outlined, {other_runs_words(f, int(others.sum()))}" if others.any() else ""
+    page.figure(fig, f"histograms of the responses' finite values: filled, {counted}{outlined} (dashed: the limit)",
                 "responses_histograms")
     if "responses" in f:
         convergence_figure(f, page, names, units)
 
 
+def response_histogram(ax, counted, others, label):
+    finite, other = counted[np.isfinite(counted)], others[np.isfinite(others)]
+    both = np.r_[finite, other]
+    if both.size == 0:
+        ax.text(0.5, 0.5, "no finite values", ha="center", transform=ax.transAxes)
+    else:
+        bins = np.histogram_bin_edges(both, bins="auto" if both.size > 1 else 1)
+        bins = bins if bins.size <= MAX_BINS + 1 else np.linspace(both.min(), both.max(), MAX_BINS + 1)
+        ax.hist(finite, bins, color="tab:blue", alpha=0.8)
+        if other.size:
+            ax.hist(other, bins, histtype="step", color="0.25", lw=1)
+        if other.size > 2 * finite.size:  # the counted runs stay readable beside many more others
+            ax.set_yscale("log")
+    if finite.size < counted.size:
+        ax.set_title(f"{finite.size} of {counted.size} counted runs finite (failed: NaN, never crossed: inf)",
+                     fontsize=8)
+    ax.set_xlabel(label, fontsize=8)
+    ax.set_ylabel("runs", fontsize=8)
+
+
+def probability_panels(f, names):
+    """The responses whose P the convergence figure draws: with a limit, and not a subset simulation's
+    (its level 0 alone is not the answer)."""
+    subset = subset_response(f)
+    return [np.isfinite(f["responses"][n]["convergence"][:, 4]).any() and n != subset for n in names]
+
+
 def convergence_figure(f, page, names, units):
-    fig, axes = plt.subplots(len(names), 2, figsize=(10, 2.7 * len(names)), squeeze=False, layout="constrained")
+    with_p = probability_panels(f, names)
+    columns = 2 if any(with_p) else 1
+    fig, axes = plt.subplots(len(names), columns, figsize=(5 * columns, 2.7 * len(names)), squeeze=False,
+                             layout="constrained")
     for r in range(len(names)):
         c = f["responses"][names[r]]["convergence"][:]
         n, mean, sem = c[:, 0], c[:, 2], c[:, 3]
@@ -42,52 +78,64 @@ def convergence_figure(f, page, names, units):
         ax.set_xscale("log")
         ax.set_xlabel("samples", fontsize=8)
         ax.set_ylabel(f"mean {names[r]} ({units[r]})", fontsize=8)
-        ax = axes[r][1]
-        if np.isfinite(c[:, 4]).any():
+        if columns == 2 and with_p[r]:
+            ax = axes[r][1]
             ax.fill_between(n, c[:, 5], c[:, 6], color="tab:red", alpha=0.2, lw=0)
             ax.plot(n, c[:, 4], "s-", color="tab:red", ms=3)
             ax.set_xscale("log")
             ax.set_xlabel("samples", fontsize=8)
             ax.set_ylabel(f"P({names[r]} limit exceeded)", fontsize=8)
-        else:
-            ax.set_visible(False)
-    page.figure(fig, "convergence: each response's mean ± 2 standard errors (left) and the probability that it "
-                     "exceeds its limit with its 95 % Wilson interval (right) against the number of samples "
-                     "(the first m samples in index order)", "responses_convergence")
+        elif columns == 2:
+            axes[r][1].set_visible(False)
+    page.figure(fig, "convergence: each response's mean ± 2 standard errors" +
+                (" (left) and the probability that it exceeds its limit with its 95 % Wilson interval (right)"
+                 if columns == 2 else "") + " against the number of samples: the first m in index order, of "
+                "which the counted runs count" + (" (level 0: the subset simulation's P is in the answers)"
+                                                  if subset_response(f) else ""), "responses_convergence")
 
 
 def sensitivity_figures(f, page):
-    """Spearman, SRRC and (Saltelli) total Sobol' index of every input for every response, side by side."""
+    """Spearman and SRRC of every input shown one by one for every response, side by side; the SRRC only
+    where the rank regression could be computed."""
     if "sensitivity" not in f:
         return
     names = list(f["sensitivity"].keys())
     inputs = strings(f["sensitivity"][names[0]]["spearman"].attrs["columns"])
-    shown, folded = shown_inputs(f["samples/inputs"]) if "samples/inputs" in f else (list(range(len(inputs))), {})
+    shown, folded = shown_inputs(f["samples/inputs"]) if "samples/inputs" in f and \
+        "column_targets" in f["samples/inputs"].attrs else (list(range(len(inputs))), {})
     if not shown:
         return
     inputs = [inputs[i] for i in shown]
-    measures = [("Spearman", "spearman", "RdBu_r", -1), ("SRRC", "srrc", "RdBu_r", -1)]
-    if "total_order" in f["sensitivity"][names[0]] and "group_total_order" not in f["sensitivity"][names[0]]:
-        measures.append(("total Sobol'", "total_order", "Oranges", 0))  # a grouped design's are per group
+    measures = [("Spearman", "spearman")]
+    srrc = np.array([f["sensitivity"][n]["srrc"][:][shown] for n in names])
+    if np.isfinite(srrc).any():
+        measures.append(("SRRC", "srrc"))
+    else:
+        s = f["sensitivity"][names[0]]
+        page.paragraph(f"No SRRC map: the rank regression needs more runs than inputs ({len(s['srrc'])} inputs, "
+                       f"{int(s.attrs.get('rank_samples', 0))} runs).")
     fig, axes = plt.subplots(1, len(measures), figsize=(2.2 + 1.6 * len(names) * len(measures),
                                                         1.2 + 0.35 * len(inputs)), squeeze=False,
                              layout="constrained")
-    for ax, (title, key, cmap, low) in zip(axes[0], measures):
-        v = np.array([f["sensitivity"][n][key][:][shown] for n in names])
-        image = ax.imshow(v.T, cmap=cmap, vmin=low, vmax=1, aspect="auto")
-        ax.set_xticks(range(len(names)), names, rotation=30, ha="right", fontsize=8)
-        ax.set_yticks(range(len(inputs)), inputs if ax is axes[0][0] else [""] * len(inputs), fontsize=8)
+    for ax, (title, key) in zip(axes[0], measures):
+        measure_map(ax, np.array([f["sensitivity"][n][key][:][shown] for n in names]), names, inputs,
+                    ax is axes[0][0])
         ax.set_title(title, fontsize=9)
-        for i in range(len(names)):
-            for j in range(len(inputs)):
-                if np.isfinite(v[i, j]):
-                    ax.text(i, j, f"{v[i, j]:.2f}", ha="center", va="center", fontsize=7,
-                            color="white" if abs(v[i, j]) > 0.6 else "black")
-        fig.colorbar(image, ax=ax, shrink=0.8)
-    page.figure(fig, "every input (rows) against every response (columns): Spearman rank correlation, standardised "
-                     "rank regression coefficient" + (" and total Sobol' index" if len(measures) > 2 else "") +
-                     (". " + folded_note(folded) if folded else ""),
-                "sensitivity_measures")
+    page.figure(fig, "every input (rows) against every response (columns): Spearman rank correlation" +
+                (" and standardised rank regression coefficient" if len(measures) > 1 else "") +
+                ", over the counted runs (n/a: not defined, e.g. a constant response)" +
+                (". " + folded_note(folded) if folded else ""), "sensitivity_measures")
+
+
+def measure_map(ax, v, names, inputs, labelled):
+    image = ax.imshow(v.T, cmap="RdBu_r", vmin=-1, vmax=1, aspect="auto")
+    ax.set_xticks(range(len(names)), names, rotation=30, ha="right", fontsize=8)
+    ax.set_yticks(range(len(inputs)), inputs if labelled else [""] * len(inputs), fontsize=8)
+    for i in range(len(names)):
+        for j in range(len(inputs)):
+            ax.text(i, j, f"{v[i, j]:.2f}" if np.isfinite(v[i, j]) else "n/a", ha="center", va="center",
+                    fontsize=7, color="white" if np.isfinite(v[i, j]) and abs(v[i, j]) > 0.6 else "black")
+    ax.figure.colorbar(image, ax=ax, shrink=0.8)
 
 
 def failed_table(f, page):
@@ -99,7 +147,8 @@ def failed_table(f, page):
     reason, reached = f["samples/reason"], f["samples/time_reached"]
     inputs = f["samples/inputs"] if "samples/inputs" in f else None
     shown, folded = shown_inputs(inputs) if inputs is not None else ([], {})
-    names = [strings(inputs.attrs["columns"])[i] for i in shown] if inputs is not None else []
+    names = [f"{strings(inputs.attrs['columns'])[i]} ({column_units(inputs)[i]})" for i in shown] \
+        if inputs is not None else []
     rows = []
     for k in failed[:MAX_FAILED_ROWS]:
         row = [int(k), int(status[k]), text(reason[k]), f"{reached[k]:.6g}"]

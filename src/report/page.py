@@ -97,10 +97,10 @@ def subplot_grid(count, width=4.2, height=2.9, columns=3):
     return fig, list(axes.flat[:count])
 
 
-def legend_outside(axes):
+def legend_outside(axes, entries=None):
     """The legend outside every data area: in a spare cell of the grid if there is one, else right of the
-    top-right axes (constrained layout makes room)."""
-    handles, labels = axes[0].get_legend_handles_labels()
+    top-right axes (constrained layout makes room). `entries`: (handles, labels), else the first axes'."""
+    handles, labels = entries or axes[0].get_legend_handles_labels()
     if not handles:
         return
     spare = [a for a in axes[0].figure.axes if not a.get_visible()]

@@ -1,5 +1,6 @@
-"""Subset simulation's answer: the probability, its cov and interval, the runs beside crude Monte Carlo's,
-and the exceedance curve its levels trace (P(g > b_j) = p0^(j+1) at each level's threshold)."""
+"""Subset simulation's answer: the probability, its cov and interval, the runs beside crude Monte Carlo's
+(first, in the answers), and the levels with the exceedance curve they trace (P(g > b_j) = p0^(j+1) at each
+level's threshold), after what makes the response exceed its limit."""
 import numpy as np
 
 import matplotlib.pyplot as plt
@@ -7,17 +8,31 @@ import matplotlib.pyplot as plt
 from read import text
 
 
-def rare_event_section(f, page):
+def rare_event_answer(f, page):
     if "rare_event" not in f:
         return
     page.heading("Rare event (subset simulation)", 3)
     for name, g in f["rare_event"].items():
         answer_table(page, name, g)
+        if int(g.attrs.get("no_threshold", 0)):
+            page.note("The last level has no threshold (more than N (1 - p0) of its runs failed, or its responses "
+                      "pile up at one value): the estimate counts that level's exceedances and may be far off; see "
+                      "'Failed samples'.", "alarm")
+
+
+def rare_event_levels(f, page):
+    if "rare_event" not in f:
+        return
+    for name, g in f["rare_event"].items():
+        page.heading(f"The subset simulation's levels ({name})", 3)
         units, side = text(g.attrs["units"]), ">" if text(g.attrs["fail_if"]) == "above" else "<"
         thresholds, conditional = g["thresholds"][:], g["conditional_probability"][:]
-        page.table(["level", f"threshold ({units})", "conditional probability", "gamma", "acceptance rate", "runs"],
+        failed = g["failed_per_level"][:] if "failed_per_level" in g else np.zeros(len(thresholds))
+        page.table(["level", f"threshold ({units})", "conditional probability", "gamma", "acceptance rate", "runs",
+                    "failed runs"],
                    [[j, f"{thresholds[j]:.6g}", f"{conditional[j]:.4g}", f"{g['gamma'][j]:.3g}",
-                     f"{g['acceptance_rate'][j]:.3g}", int(g["runs_per_level"][j])] for j in range(len(thresholds))])
+                     f"{g['acceptance_rate'][j]:.3g}", int(g["runs_per_level"][j]), int(failed[j])]
+                    for j in range(len(thresholds))])
         fig, ax = plt.subplots(figsize=(6, 3.5), layout="constrained")
         ax.semilogy(thresholds, np.cumprod(conditional), "o-", color="tab:red")
         ax.set_xlabel(f"{name} ({units})")
@@ -33,7 +48,7 @@ def answer_table(page, name, g):
         [f"P({name} {side} {g.attrs['limit']:.6g} {units})", f"{p:.4g}"],
         ["coefficient of variation (levels taken as uncorrelated)", f"{cov:.3g}"],
         ["95 % interval (lognormal with that cov)", f"[{g['interval'][0]:.4g}, {g['interval'][1]:.4g}]"],
-        ["model runs (every proposal is a run)", f"{runs}"],
+        ["model runs (every proposal is a run)", f"{runs} in {len(g['thresholds'])} levels"],
         ["crude Monte Carlo for the same cov, (1 - P) / (P cov²)", f"{g['crude_monte_carlo_runs'][()]:.3g}"],
         ["the threshold reached the limit", "yes" if int(g.attrs["reached_limit"]) else
          "no: max_levels ran out (raise it)"]])

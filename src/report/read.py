@@ -10,6 +10,13 @@ def strings(v):
     return [text(x) for x in v]
 
 
+def column_units(dataset):
+    """Each column's unit ('column_units'), '' where the file gives none."""
+    if "column_units" in dataset.attrs:
+        return strings(dataset.attrs["column_units"])
+    return [""] * dataset.shape[-1]
+
+
 def units_of(dataset, column=None):
     if column is not None and "column_units" in dataset.attrs:
         return text(dataset.attrs["column_units"][column])
@@ -19,6 +26,17 @@ def units_of(dataset, column=None):
 def fail_side(responses, r):
     """'above', 'below' or '' for response column r of /samples/responses."""
     return text(responses.attrs["fail_if"][r]) if "fail_if" in responses.attrs else ""
+
+
+def held_rows(f):
+    """The rows this file holds (a merge of some parts leaves the others at status 3)."""
+    return f["samples/status"][:] != 3
+
+
+def subset_response(f):
+    """The response a subset simulation estimates P for ('' for other designs): its level 0 alone is not
+    the answer."""
+    return next(iter(f["rare_event"].keys()), "") if "rare_event" in f else ""
 
 
 def counted_rows(f):

@@ -9,9 +9,15 @@ import unittest
 import h5py
 import numpy as np
 
-from answers import (asked_pair, conclusion, driver_order, group_drivers, input_correlations, last_time_warnings,
-                     mean_verdict, outside_range_warnings, probability_verdict)
+from answers import (extreme_samples, failure_effects, index_verdict, last_time_warnings, mean_verdict,
+                     outside_range_warnings, probability_verdict, response_row, scatter_figures)
+from drivers import (asked_pair, disagreement_note, drivers_section, first_order_cell, index_notes,
+                     input_correlations)
+from ensemble_details import response_figures, sensitivity_figures
+from failure_region import failure_region_section
 from history import constant_columns, rotation_angle_degrees, valid_range
+from index_figures import index_figures
+from rankings import Ranking, chain, driven_by, primary_ranking, visible_units
 from read import counted_rows
 from trajectory import advice, lines
 from view3d import bounds_of, grid_step, length_words, script_json
@@ -70,7 +76,7 @@ class FromFiles(unittest.TestCase):
             f["samples/inputs"].attrs["columns"] = ["a", "b", "c"]
         write(self.path, build)
         with h5py.File(self.path) as f:
-            pairs, names, n = input_correlations(f, np.ones(2000, dtype=bool))
+            pairs, n = input_correlations(f, np.ones(2000, dtype=bool))
         self.assertEqual(n, 2000)
         self.assertEqual(sorted(pairs), [0, 1])
         self.assertGreater(pairs[0][0][1], 0.9)
@@ -207,47 +213,6 @@ class FromFiles(unittest.TestCase):
         with h5py.File(self.path) as f:
             self.assertEqual(constant_columns(f["stats/q"]), {0})
 
-    def test_drivers_sentence(self):
-        def build(f):
-            f["s/total_order"] = np.array([0.01, 0.9])
-            f["s/srrc"] = np.array([0.1, 0.9])
-        write(self.path, build)
-        with h5py.File(self.path) as f:
-            words = conclusion("y", f["s"], [1, 0], ["a", "b"])
-        self.assertEqual(words, "y is driven by b (total Sobol' index 0.9); a matter little (total Sobol' index "
-                                "below 0.05).")
-
-
-    def test_a_grouped_design_ranks_groups_by_their_indices_and_inputs_by_srrc(self):
-        def build(f):
-            f["s/total_order"] = np.array([np.nan, np.nan, 0.02])  # inputs 0 and 1 are one group
-            f["s/srrc"] = np.array([0.1, 0.8, 0.05])
-            f["s/group_total_order"] = np.array([0.97, 0.02])
-            f["s/group_total_order"].attrs["columns"] = ["start", "c"]
-            f["s/group_first_order"] = np.array([0.95, 0.01])
-            f["s/group_total_order_ci"] = np.array([[0.9, 1.0], [0.0, 0.05]])
-            f["s/group_first_order_ci"] = np.array([[0.9, 1.0], [0.0, 0.04]])
-            f["s"].attrs["group_inputs"] = ["a, b", "c"]
-        write(self.path, build)
-
-        class Collect:
-            def __init__(self):
-                self.notes, self.tables = [], []
-
-            def note(self, words, kind="warning"):
-                self.notes.append(words)
-
-            def table(self, header, rows, code_columns=()):
-                self.tables.append(rows)
-
-        page = Collect()
-        with h5py.File(self.path) as f:
-            self.assertEqual(list(driver_order(f["s"])), [1, 0, 2])  # by |SRRC|: the Sobol' ones are per group
-            group_drivers(page, "y", f["s"])
-        self.assertEqual(page.notes, ["y is driven by start (total Sobol' index 0.97); c matter little (total "
-                                      "Sobol' index below 0.05) (groups: the inputs of each taken together)."])
-        self.assertEqual([row[:2] for row in page.tables[0]], [["start", "a, b"], ["c", "c"]])
-
     def test_asked_pairs_are_matched_by_name_not_by_substring(self):
         asked = ["body.a.mass ~ body.b.mass: normal copula 0.5, Spearman 0.48"]
         self.assertTrue(asked_pair(asked, "body.b.mass", "body.a.mass"))
@@ -334,6 +299,431 @@ class Readings(unittest.TestCase):
         self.assertEqual(valid_range("joint_angle", "rod.angle"), (0.0, math.pi))
         self.assertEqual(valid_range("energy", "kinetic"), (0.0, math.inf))
         self.assertEqual(valid_range("energy", "total"), (-math.inf, math.inf))
+
+class Collect:
+    """A page that keeps what the report would write, for the tests to read."""
+    def __init__(self):
+        self.parts, self.figures = [], []
+
+    def heading(self, words, level=2):
+        self.parts.append(("heading", words))
+
+    def paragraph(self, words):
+        self.parts.append(("paragraph", words))
+
+    def note(self, words, kind="warning"):
+        self.parts.append((kind, words))
+
+    def table(self, header, rows, code_columns=()):
+        self.parts.append(("table", (header, rows)))
+
+    def figure(self, fig, caption, name):
+        self.figures.append((fig, caption, name))
+        self.parts.append(("figure", caption))
+
+    def words(self, kind=None):
+        return [w for k, w in self.parts if (kind is None or k == kind) and isinstance(w, str)]
+
+    def tables(self):
+        return [w for k, w in self.parts if k == "table"]
+
+
+def ranking(value, ci, order, told_apart, needed, units=None, resamples=1000, members=None):
+    units = units or [chr(ord("A") + i) for i in range(len(value))]
+    return Ranking("total Sobol' index", units, members or [[i] for i in range(len(units))], np.array(value, float),
+                   np.array(ci, float), np.array(order), np.array(told_apart, bool), np.array(needed, float),
+                   resamples, "base points")
+
+
+class Rankings(unittest.TestCase):
+    def test_an_order_only_where_told_apart_and_how_many_would_tell_the_rest(self):
+        r = ranking([0.84, 0.3, 0.25, 0.01], [[0.6, 1.2], [0.02, 0.6], [-0.1, 0.6], [0.0, 0.04]], [0, 1, 2, 3],
+                    [1, 0, 1], [np.nan, 2261.6, np.nan])
+        self.assertEqual(driven_by("y", r, [0, 1, 2, 3], "from 16 of 16 base points"),
+                         "y is driven by A 0.84 [0.6, 1] > B 0.3 [0.02, 0.6] ~ C 0.25 [0, 0.6] (total Sobol' index "
+                         "[95 %], from 16 of 16 base points). B and C cannot yet be told apart (about 2262 base "
+                         "points would tell them apart). D matters little (the 95 % interval of the total Sobol' "
+                         "index ends below 0.05).")
+
+    def test_negligible_only_where_the_interval_ends_below_5_percent(self):
+        r = ranking([0.9, 0.03, 0.02], [[0.8, 1.0], [0.0, 0.08], [0.0, 0.049]], [0, 1, 2], [1, 0], [np.nan, 50.0])
+        words = driven_by("y", r, [0, 1, 2], "w")
+        self.assertIn("A 0.9 [0.8, 1] > B 0.03 [0, 0.08] (", words)  # its estimate is small, its interval not
+        self.assertIn("C matters little", words)
+        self.assertNotIn("B matters little", words)
+
+    def test_units_left_out_between_two_shown_ones_carry_their_told_apart_pairs(self):
+        # order A, p1, p2, B, p3, C: A > p1 told apart, so A > B; nothing between B and C is: B ~ C, and the
+        # least of the pairs between them is what would tell them apart
+        r = ranking([0.9, 0.5, 0.4, 0.3, 0.2, 0.1], np.tile([0.06, 1.0], (6, 1)), [0, 3, 4, 1, 5, 2],
+                    [1, 0, 0, 0, 0], [np.nan, 900.0, 800.0, 700.0, np.inf], units=["A", "B", "C", "p1", "p2", "p3"])
+        links = chain(r, [0, 1, 2])
+        self.assertEqual([(link.unit, link.apart) for link in links], [(0, True), (1, True), (2, False)])
+        self.assertEqual(links[2].needed, 700.0)
+        self.assertTrue(driven_by("y", r, [0, 1, 2], "w").startswith("y is driven by A 0.9 [0.06, 1] > B 0.5 "
+                                                                     "[0.06, 1] ~ C 0.4 [0.06, 1]"))
+
+    def test_equal_measures_and_no_bootstrap(self):
+        r = ranking([0.5, 0.5], [[0.4, 0.6], [0.4, 0.6]], [0, 1], [0], [np.inf])
+        self.assertIn("A and B cannot yet be told apart (their estimates are equal: more base points would not tell "
+                      "them apart).", driven_by("y", r, [0, 1], "w"))
+        bare = ranking([0.5, 0.2], np.full((2, 2), np.nan), [0, 1], [0], [np.nan], resamples=0)
+        self.assertEqual(driven_by("y", bare, [0, 1], "w"), "y is driven by A 0.5, B 0.2 (total Sobol' index, w). No "
+                         "bootstrap intervals (bootstrap_resamples = 0): the order is the estimates' alone.")
+
+    def test_first_order_above_total_is_within_noise_only_where_the_intervals_overlap(self):
+        self.assertEqual(first_order_cell(0.298, [0.0078, 0.655], 0.214, [0.06, 0.63]),
+                         "0.298 [0.0078, 0.655]: within noise of the total")
+        self.assertEqual(first_order_cell(0.9, [0.8, 1.2], 0.3, [0.2, 0.4]),
+                         "0.9 [0.8, 1]: above the total beyond the intervals")
+        self.assertEqual(first_order_cell(0.1, [-0.2, 0.3], 0.2, [0.1, 0.3]), "0.1 [0, 0.3]")
+        r = ranking([0.214, 0.3, 1.07], [[0.06, 0.63], [0.2, 0.4], [0.78, 1.3]], [2, 1, 0], [0, 0], [10.0, 10.0],
+                    units=["phases", "mass", "Hs"])
+        notes = index_notes(r, [0, 1, 2], np.array([0.298, 0.9, 0.6]), np.array([[0.0078, 0.655], [0.8, 1.2],
+                                                                                   [0.3, 0.9]]))
+        self.assertEqual(len(notes), 3)
+        self.assertTrue(notes[0].startswith("First order above total (phases): within noise. Where an input does "
+                                            "not interact, both estimate the same share of variance"))
+        self.assertTrue(notes[1].startswith("First order above total beyond their intervals (mass)"))
+        self.assertTrue(notes[2].startswith("An estimate outside [0, 1] (Hs 1.1) is estimation noise"))
+
+    def test_one_note_where_the_rank_measure_puts_another_input_first(self):
+        sobol = ranking([0.7, 0.3, 0.1], [[0.3, 1], [0.1, 0.6], [0.06, 0.2]], [2, 1, 0], [0, 0], [10.0, 10.0],
+                        units=["Hs", "mass", "sea phases"], members=[[0], [1], [2, 3, 4, 5]])
+        ranks = ranking([0.35, 0.09, 0.1, 0.1, 0.1, 0.1], np.tile([0.0, 1.0], (6, 1)), [0, 2, 1, 3, 4, 5],
+                        [0] * 5, [np.nan] * 5, units=["Hs", "mass", "p1", "p2", "p3", "p4"])
+        ranks = ranks._replace(measure="|Spearman|", word="runs")
+        note = disagreement_note("swing", sobol, [0, 1, 2], ranks, [0, 1])
+        self.assertTrue(note.startswith("swing: the rank measures put another input first: Hs 0.35 [0, 1] by "
+                                        "|Spearman|, sea phases 0.1 [0.06, 0.2] by the total Sobol' index. They "
+                                        "measure different things: |Spearman| how monotonically"), note)
+        self.assertIn("sea phases is a group", note)
+        same = sobol._replace(order=np.array([0, 1, 2]))
+        self.assertEqual(disagreement_note("swing", same, [0, 1, 2], ranks, [0, 1]), "")
+
+
+def sensitivity_group(f, name, total, ci, order, told, needed, **attrs):
+    """A saltelli response's /sensitivity group over the inputs of saltelli_file."""
+    s = f.create_group(f"sensitivity/{name}")
+    d = len(total)
+    s["total_order"], s["total_order_ci"] = np.array(total, float), np.array(ci, float)
+    s["first_order"], s["first_order_ci"] = np.array(total, float) * 0.9, np.array(ci, float) * 0.9
+    s["spearman"], s["srrc"] = np.linspace(0.9, 0.1, d), np.full(d, np.nan)
+    s["spearman"].attrs["columns"] = ["a", "b"][:d]
+    s["rank_measure_ci"] = np.tile([0.0, 1.0], (d, 1))
+    for key, measure, k in (("sobol_ranking", "total Sobol' index", order), ("rank_ranking", "|Spearman|", range(d))):
+        g = s.create_group(key)
+        g.attrs["measure"], g.attrs["resamples"] = measure, 1000
+        g["order"], g["told_apart"] = np.array(list(k)), np.array(told)
+        g["needed"], g["difference_ci"] = np.array(needed, float), np.zeros((d - 1, 2))
+    s.attrs.update({"sobol_blocks": 16, "sobol_base_samples": 16, "sobol_reliable": 1, "rank_samples": 32,
+                    "rank_r_squared": np.nan, "index_widest_interval": 0.57, "index_widest_unit": "b",
+                    "index_base_points_needed": 526.0, "indices_enough": 0, **attrs})
+    return s
+
+
+def saltelli_file(f, blocks=4, big_ab=None, limit=25.0):
+    """Two inputs (a in kg, b in m), one response y (N) with a limit, a Saltelli design (block of 4: A, B,
+    AB_1, AB_2); `big_ab`: a value given to the first AB run, beyond every counted one."""
+    n = 4 * blocks
+    f.attrs["design"], f.attrs["saltelli_block"] = "saltelli", 4
+    f["samples/status"] = np.zeros(n, dtype=np.int32)
+    rng = np.random.default_rng(3)
+    x = rng.uniform(size=(n, 2))
+    f["samples/inputs"] = x
+    f["samples/inputs"].attrs.update({"columns": ["a", "b"], "column_units": ["kg", "m"],
+                                      "column_targets": ["a", "b"]})
+    y = 20 + 10 * x[:, 0]
+    if big_ab is not None:
+        y[2] = big_ab
+    r = f.create_dataset("samples/responses", data=y[:, None])
+    r.attrs.update({"columns": ["y"], "column_units": ["N"], "limit": [limit], "fail_if": ["above"]})
+    f.create_dataset("samples/reason", data=[""] * n, dtype=h5py.string_dtype())
+    return y
+
+
+class FromAnswerFiles(unittest.TestCase):
+    def setUp(self):
+        self.dir = tempfile.TemporaryDirectory()
+        self.path = os.path.join(self.dir.name, "e.h5")
+
+    def tearDown(self):
+        self.dir.cleanup()
+
+    def test_the_sobol_ranking_is_the_primary_one_where_there_is_one(self):
+        def build(f):
+            saltelli_file(f)
+            sensitivity_group(f, "y", [0.2, 0.8], [[0.1, 0.3], [0.6, 1.1]], [1, 0], [1], [np.nan])
+            del f["sensitivity/y/total_order"]  # a Monte-Carlo design: the rank measure ranks
+            del f["sensitivity/y/total_order_ci"]
+        write(self.path, build)
+        with h5py.File(self.path, "a") as f:
+            self.assertEqual(primary_ranking(f["sensitivity/y"], ["a", "b"]).measure, "|Spearman|")
+            f["sensitivity/y/total_order"] = np.array([0.2, 0.8])
+            f["sensitivity/y/total_order_ci"] = np.array([[0.1, 0.3], [0.6, 1.1]])
+            r = primary_ranking(f["sensitivity/y"], ["a", "b"])
+            self.assertEqual((r.measure, list(r.order), r.word), ("total Sobol' index", [1, 0], "base points"))
+            page = Collect()
+            drivers_section(f, page, counted_rows(f)[0])
+        self.assertEqual(page.words("good"), ["y is driven by b 0.8 [0.6, 1] > a 0.2 [0.1, 0.3] (total Sobol' index "
+                                              "[95 %], from 16 of 16 base points)."])
+        self.assertIn("No rank regression (SRRC, R²): it needs more runs than inputs (2 inputs, 32 runs), or an "
+                      "input or the response is constant; the rank measure is then Spearman's.", page.words())
+
+    def test_a_list_s_entries_are_not_ranked_one_by_one_but_a_group_is(self):
+        names = ["a", "b"] + [f"p[{k}]" for k in range(1, 5)]
+
+        def build(f):
+            f["samples/inputs"] = np.zeros((4, 6))
+            f["samples/inputs"].attrs.update({"columns": names, "column_targets": ["a", "b"] + ["p"] * 4})
+        write(self.path, build)
+        per_input = ranking(np.linspace(0.9, 0.1, 6), np.tile([0.06, 1.0], (6, 1)), [2, 0, 3, 1, 4, 5], [1] * 5,
+                            [np.nan] * 5, units=names)
+        grouped = per_input._replace(units=["a", "b", "p"], members=[[0], [1], [2, 3, 4, 5]])
+        with h5py.File(self.path) as f:
+            self.assertEqual(visible_units(per_input, f["samples/inputs"]), [0, 1])
+            self.assertEqual(visible_units(grouped, f["samples/inputs"]), [0, 1, 2])
+
+    def test_the_verdict_on_n_for_the_indices(self):
+        def build(f):
+            f.create_group("s")
+        write(self.path, build)
+        with h5py.File(self.path, "a") as f:
+            s = f["s"]
+            self.assertEqual(index_verdict(s), "")  # not a saltelli design
+            s.attrs.update({"sobol_blocks": 16, "sobol_base_samples": 16, "sobol_reliable": 1,
+                            "index_widest_interval": 0.57, "index_widest_unit": "sea phases",
+                            "index_base_points_needed": 526.0, "indices_enough": 0})
+            self.assertEqual(index_verdict(s), "not for 0.1: the widest total-index interval of an input that "
+                                                "matters is 0.57 (sea phases); about 526 base points would do (from "
+                                                "16 of 16 base points)")
+            s.attrs.update({"index_widest_interval": 0.08, "indices_enough": 1})
+            self.assertTrue(index_verdict(s).startswith("yes: the widest total-index interval of an input that "
+                                                        "matters is 0.08 (sea phases)"))
+            s.attrs.update({"sobol_base_samples": 7, "sobol_reliable": 0})
+            self.assertTrue(index_verdict(s).startswith("no: unreliable, failed runs left 7 of 16 base points "
+                                                        "complete (fewer than 80 %)"), index_verdict(s))
+
+    def failing_file(self, f):
+        y = saltelli_file(f)
+        f["samples/status"][5] = 1
+        f["responses/y/exceedance/probability"], f["responses/y/exceedance/failed"] = 3 / 29, 3
+        f["responses/y/exceedance/successful"], f["responses/y/exceedance/count"] = 29, 3
+        f["responses/y/exceedance/interval"] = np.array([0.0358, 0.264])
+        f["responses/y/exceedance/with_failed"] = np.array([0.09375, 0.1875])
+        for key, v in (("mean", 22.0), ("sem", 0.4), ("used", 29), ("failed", 3), ("not_finite", 0)):
+            f[f"responses/y/{key}"] = v
+        sensitivity_group(f, "y", [0.2, 0.8], [[0.1, 0.3], [0.6, 1.1]], [1, 0], [1], [np.nan],
+                          sobol_base_samples=7, sobol_reliable=0)
+        return y
+
+    def test_what_the_failed_runs_change_is_said_first(self):
+        write(self.path, self.failing_file)
+        with h5py.File(self.path) as f:
+            effects = failure_effects(f)
+            row = response_row(f, f["samples/responses"], 0, "y", "N")
+            page = Collect()
+            drivers_section(f, page, counted_rows(f)[0])
+        self.assertEqual(effects, ["P(y > 25 N) = 0.1034 rests on 29 of 32 counted runs; with the 3 failed ones "
+                                   "counted as not exceeding or as exceeding it would be 0.09375 to 0.1875.",
+                                   "The Sobol' indices rest on 7 of 16 base points (a base point counts when all "
+                                   "its 4 runs succeeded); unreliable: fewer than 80 %."])
+        self.assertTrue(row[4].endswith("; with the 3 failed runs counted either way: 0.09375 to 0.1875"), row[4])
+        self.assertEqual(page.words("good"), [])
+        self.assertTrue(page.words("alarm")[0].startswith("Unreliable: failed runs left 7 of 16 base points "
+                                                          "complete (fewer than 80 %)"))
+
+    def test_a_subset_simulation_page_does_not_give_level_0_as_the_answer(self):
+        def build(f):
+            saltelli_file(f)
+            del f.attrs["design"]
+            f["samples/level"] = np.repeat([0, 1, 2, 3], 4)
+            for key, v in (("mean", 22.0), ("sem", 0.4), ("used", 4), ("failed", 0), ("not_finite", 0)):
+                f[f"responses/y/{key}"] = v
+            e = f.create_group("responses/y/exceedance")
+            e["probability"], e["count"], e["successful"], e["failed"] = 0.0, 0, 4, 0
+            e["interval"] = np.array([0.0, 0.49])
+            r = f.create_group("rare_event/y")
+            r["probability"], r["cov"], r["interval"] = 2.6e-6, 0.73, np.array([7.1e-7, 9.3e-6])
+        write(self.path, build)
+        with h5py.File(self.path) as f:
+            row = response_row(f, f["samples/responses"], 0, "y", "N")
+        self.assertEqual(row[4], "P(y > 25 N) = 2.6e-06: the subset simulation's, above (level 0 alone is not the "
+                                 "answer)")
+        self.assertNotIn("subset simulation", row[5])
+        self.assertNotIn("no exceedance", " ".join(row))
+
+    def region_file(self, f, runs=4, effective=None, near=(0.0, 0.0), with_group=True):
+        saltelli_file(f)
+        g = f.create_group("responses/y/exceedance/failure_region")
+        f["responses/y/exceedance/failed"] = 2
+        g.attrs["runs"] = runs
+        if effective is not None:
+            g.attrs["effective_runs"] = effective
+        if runs == 0:
+            return
+        for key, v in (("mean_u", [1.9, -0.1]), ("mean_u2", [4.2, 1.1]), ("near_bound", near),
+                       ("bound", [1.0, 2.0]), ("design_point", [0.99, 0.45]), ("importance", [0.9, 0.1])):
+            g[key] = np.array(v)
+            g[key].attrs["columns"] = ["a", "b"]
+        g["unit_importance"] = np.array([0.9, 0.1]) if with_group else np.array([0.9])
+        g["unit_importance"].attrs["columns"] = ["a", "b"] if with_group else ["both"]
+        g.attrs["unit_inputs"] = ["a", "b"] if with_group else ["a, b"]
+
+    def region_page(self, build):
+        write(self.path, build)
+        page = Collect()
+        with h5py.File(self.path) as f:
+            rows, counted = counted_rows(f)
+            failure_region_section(f, page, rows, counted)
+        return page
+
+    def test_the_failure_region_table_and_its_rough_note(self):
+        page = self.region_page(lambda f: self.region_file(f))
+        header, rows = page.tables()[0]
+        self.assertEqual(header, ["input or group", "importance", "mean u", "mean u²", "design point", "near a bound"])
+        self.assertEqual(rows[0], ["a", "0.90", "1.90", "4.20", "0.99 kg", "0 % (bound 1 kg)"])
+        self.assertIn("Rough: 4 runs beyond the limit for 2 inputs; chance alone moves each input's share (at least "
+                      "20 would tell).", page.words("warning"))
+        self.assertEqual(len(page.figures), 1)
+        self.assertNotIn("P depends on where", " ".join(page.words()))
+        grouped = self.region_page(lambda f: self.region_file(f, runs=40, effective=40.0, with_group=False))
+        self.assertEqual(grouped.tables()[0][1], [["both", "0.90", "(2 inputs: per input in the file)", "", "", ""]])
+        self.assertEqual(grouped.words("warning"), [])  # 40 runs for 2 inputs: not rough
+
+    def test_chain_states_count_as_fewer_runs(self):
+        page = self.region_page(lambda f: self.region_file(f, runs=30, effective=9.6))
+        self.assertIn("Rough: 30 runs beyond the limit (as 10 independent ones: chain states) for 2 inputs; chance "
+                      "alone moves each input's share (at least 20 would tell).", page.words("warning"))
+
+    def test_a_bound_that_sets_p_is_warned_about(self):
+        page = self.region_page(lambda f: self.region_file(f, runs=40, near=(0.95, 0.0)))
+        self.assertIn("95 % of the failing runs have a within 1 % of its upper bound 1 kg: P depends on where that "
+                      "distribution is cut off, not only on the dynamics.", page.words("warning"))
+
+        def two_sided(f):
+            self.region_file(f, runs=40, near=(0.95, 0.0))
+            f["responses/y/exceedance/failure_region/mean_u"][0] = 0.05  # on both sides: |u| large, mean u ~ 0
+        page = self.region_page(two_sided)
+        self.assertIn("95 % of the failing runs have a within 1 % of the range of one of its bounds (most near 1 kg)",
+                      " ".join(page.words("warning")))
+
+    def test_no_failing_run_is_one_line_and_no_limit_is_nothing(self):
+        page = self.region_page(lambda f: self.region_file(f, runs=0))
+        self.assertEqual(page.words("paragraph")[-1], "y: no successful run exceeds the limit; 2 failed runs might "
+                                                      "have.")
+        self.assertEqual((page.tables(), page.figures), ([], []))
+
+        def no_limit(f):
+            saltelli_file(f, limit=np.nan)
+            f.create_group("responses/y")
+        page = self.region_page(no_limit)
+        self.assertEqual(page.parts, [])
+
+    def test_subset_simulation_uses_every_level_s_failure_region(self):
+        def build(f):
+            self.region_file(f, runs=0)  # level 0 alone: none beyond the limit
+            f["samples/level"] = np.repeat([0, 1, 2, 3], 4)
+            f["samples/responses"][12:, 0] = 30.0
+            r = f.create_group("rare_event/y")
+            r["failed_per_level"] = np.zeros(4)
+            g = r.create_group("failure_region")
+            g.attrs.update({"runs": 4, "unit_inputs": ["a", "b"]})
+            for key, v in (("mean_u", [1.9, -0.1]), ("mean_u2", [4.2, 1.1]), ("near_bound", [0.0, 0.0]),
+                           ("bound", [1.0, 2.0]), ("design_point", [0.99, 0.45])):
+                g[key] = np.array(v)
+                g[key].attrs["columns"] = ["a", "b"]
+            g["unit_importance"] = np.array([0.3, 0.7])
+            g["unit_importance"].attrs["columns"] = ["a", "b"]
+        page = self.region_page(build)
+        self.assertIn("y: the 4 runs beyond the limit, any level of the subset simulation.", page.words("paragraph"))
+        self.assertEqual([row[0] for row in page.tables()[0][1]], ["b", "a"])
+        self.assertNotIn("no successful run", " ".join(page.words()))
+        self.assertIn("(level 0, the Monte-Carlo sample, 4 runs; grey, left axis)", page.figures[0][1])
+
+    def test_every_run_of_the_extremes_table_is_inside_the_plots(self):
+        def build(f):
+            saltelli_file(f, big_ab=33.0)  # an AB run beyond every counted one
+            sensitivity_group(f, "y", [0.2, 0.8], [[0.1, 0.3], [0.6, 1.1]], [1, 0], [1], [np.nan])
+        write(self.path, build)
+        page = Collect()
+        with h5py.File(self.path) as f:
+            rows, counted = counted_rows(f)
+            scatter_figures(f, page, rows)
+            response_figures(f, page, rows, counted)
+        for ax in page.figures[0][0].axes[:2]:
+            self.assertGreaterEqual(ax.get_ylim()[1], 33.0)
+        self.assertIn("the 8 counted runs (dots) and the 8 AB runs (+", page.figures[0][1])
+        self.assertGreaterEqual(page.figures[1][0].axes[0].get_xlim()[1], 33.0)
+        self.assertIn("outlined, the 8 AB runs", page.figures[1][1])
+
+    def test_subset_scatter_plots_are_coloured_by_level(self):
+        def build(f):
+            saltelli_file(f)
+            del f.attrs["design"]
+            f["samples/level"] = np.repeat([0, 1, 2, 3], 4)
+            sensitivity_group(f, "y", [0.2, 0.8], [[0.1, 0.3], [0.6, 1.1]], [1, 0], [1], [np.nan])
+        write(self.path, build)
+        page = Collect()
+        with h5py.File(self.path) as f:
+            scatter_figures(f, page, counted_rows(f)[0])
+        labels = [line.get_label() for line in page.figures[0][0].axes[0].get_lines()]
+        self.assertEqual(labels[:4], ["level 0", "level 1", "level 2", "level 3"])
+        self.assertIn("every run of every level (16), coloured by level", page.figures[0][1])
+
+    def test_no_empty_srrc_map(self):
+        def build(f):
+            saltelli_file(f)
+            sensitivity_group(f, "y", [0.2, 0.8], [[0.1, 0.3], [0.6, 1.1]], [1, 0], [1], [np.nan])
+        write(self.path, build)
+        page = Collect()
+        with h5py.File(self.path, "a") as f:
+            sensitivity_figures(f, page)
+            f["sensitivity/y/srrc"][:] = [0.3, -0.5]
+            sensitivity_figures(f, page)
+        self.assertEqual(page.words("paragraph"), ["No SRRC map: the rank regression needs more runs than inputs (2 "
+                                                   "inputs, 32 runs)."])
+        self.assertEqual([len([a for a in fig.axes if a.get_title()]) for fig, _, _ in page.figures], [1, 2])
+
+    def test_index_bars_stay_within_0_and_1(self):
+        def build(f):
+            saltelli_file(f)
+            s = sensitivity_group(f, "y", [1.1, 0.3], [[0.8, 1.3], [-0.1, 0.5]], [0, 1], [1], [np.nan])
+            c = s.create_group("sobol_convergence")
+            c["base_points"], c["used"] = np.array([1.0, 2.0, 4.0]), np.array([1.0, 2.0, 4.0])
+            for key in ("first_order", "total_order"):
+                c[key] = np.full((3, 2), 0.5)
+                c[key].attrs["columns"] = ["a", "b"]
+                c[key + "_ci"] = np.tile([-0.2, 1.4], (3, 2, 1))
+        write(self.path, build)
+        page = Collect()
+        with h5py.File(self.path) as f:
+            index_figures(f, page)
+        fig, caption, name = page.figures[0]
+        bars = [p.get_width() for p in fig.axes[0].patches]
+        self.assertEqual(len(bars), 4)
+        self.assertTrue(all(0 <= w <= 1 for w in bars), bars)
+        self.assertEqual(name, "sobol_indices_y")
+        self.assertIn("from 16 of 16 base points", caption)
+        self.assertEqual(fig.axes[1].get_ylim(), (0, 1.02))
+
+    def test_the_extremes_table_gives_units_and_decodes_reasons(self):
+        def build(f):
+            saltelli_file(f)
+            f["samples/status"][3] = 1
+            f["samples/responses"][3, 0] = np.nan
+            del f["samples/reason"]
+            f.create_dataset("samples/reason", data=[""] * 3 + ["too_much_work at t = 1 s"] + [""] * 12,
+                             dtype=h5py.string_dtype())
+        write(self.path, build)
+        page = Collect()
+        with h5py.File(self.path) as f:
+            self.assertIsInstance(f["samples/reason"][3], bytes)  # h5py 3: a string dataset reads as bytes
+            extreme_samples(f, page, "e.h5")
+        header, rows = page.tables()[0]
+        self.assertEqual(header[2:5], ["value (with its unit) or reason", "a (kg)", "b (m)"])
+        self.assertTrue(rows[0][2].endswith(" N"), rows[0])
+        self.assertEqual(rows[-1][1:3], ["failed", "too_much_work at t = 1 s"])
 
 
 if __name__ == "__main__":

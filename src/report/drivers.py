@@ -1,0 +1,257 @@
+"""Which inputs drive each response: one sentence per response from the design's own ranking (the total
+Sobol' index where the design gives one, else |SRRC| or |Spearman|) that orders two inputs only where the
+bootstrap tells them apart, the measures with their intervals, and one note where the rank measures and the
+Sobol' indices rank differently."""
+import math
+import re
+
+import numpy as np
+
+from rankings import (clipped, driven_by, has_sobol, primary_ranking, rank_ranking, top_unit, value_text,
+                      visible_units)
+from read import folded_note, shown_inputs, strings
+
+CORRELATED_INPUTS = 0.2  # |Spearman| between two inputs above which their rank measures mix
+RELIABLE_SHARE = 0.8     # the file's sobol_reliable: at least this share of the base points complete
+TABLE_ROWS = 20
+
+
+def drivers_section(f, page, rows):
+    if "sensitivity" not in f or "samples/inputs" not in f or "samples/responses" not in f:
+        return
+    inputs = f["samples/inputs"]
+    page.heading("Which inputs drive each response", 3)
+    page.paragraph("An order (A > B) is stated only where the 95 % bootstrap interval of the difference excludes "
+                   "0; A ~ B: not told apart yet. The total Sobol' index is the share of the response's variance "
+                   "that goes with an input, its interactions included; |SRRC| and |Spearman| measure how "
+                   "monotonically the response's ranks follow the input's (SRRC: the others held fixed).")
+    asked = asked_correlations(f)
+    if asked:
+        page.note("Inputs correlated on purpose by the job ([[ensemble.correlation]], a normal copula on each "
+                  "input's own distribution): " + "; ".join(asked) + ". Their Spearman coefficients below mix "
+                  "each other's effects; the SRRC separate them.")
+    _, folded = shown_inputs(inputs) if "column_targets" in inputs.attrs else ([], {})
+    if folded:
+        page.paragraph(folded_note(folded) + " Their effect together is a group's Sobol' index where the job "
+                       "groups them ([[ensemble.group]]).")
+    correlations = input_correlations(f, rows)
+    no_regression = set()
+    for name in [r for r in strings(f["samples/responses"].attrs["columns"]) if r in f["sensitivity"]]:
+        no_regression.add(response_drivers(page, name, f["sensitivity"][name], inputs, correlations, asked,
+                                           "level 0's " if "samples/level" in f else ""))
+    for line in sorted(no_regression - {""}):  # said once: it is about the design, not a response
+        page.paragraph(line)
+    if correlations[0]:
+        page.note(f"Some inputs are correlated in the sample (|rho| >= {CORRELATED_INPUTS}, see the notes): their "
+                  "Spearman coefficients mix each other's effects; read the SRRC or the Sobol' indices instead.")
+
+
+def where_words(s, ranking, runs_of=""):
+    """Which runs a ranking rests on: `runs_of` names them where they are not all (a subset simulation's
+    level 0)."""
+    if ranking.word == "base points":
+        return f"from {int(s.attrs.get('sobol_base_samples', 0))} of {int(s.attrs.get('sobol_blocks', 0))} base points"
+    return f"over {runs_of}{int(s.attrs.get('rank_samples', 0))} runs"
+
+
+def unreliable_words(s):
+    return (f"failed runs left {int(s.attrs['sobol_base_samples'])} of {int(s.attrs['sobol_blocks'])} base points "
+            f"complete (fewer than {100 * RELIABLE_SHARE:.0f} %); failures that depend on the inputs bias what remains")
+
+
+def reliable(s):
+    return int(s.attrs.get("sobol_reliable", 1)) != 0
+
+
+def response_drivers(page, name, s, inputs, correlations, asked, runs_of):
+    """The sentence, the table and the notes of one response; returns why there is no rank regression ('' when
+    there is one)."""
+    names = strings(inputs.attrs["columns"])
+    primary = primary_ranking(s, names)
+    visible = visible_units(primary, inputs)
+    words = driven_by(name, primary, visible, where_words(s, primary, runs_of))
+    if has_sobol(s) and not reliable(s):
+        page.note(f"Unreliable: {unreliable_words(s)}. {words}", "alarm")
+    else:
+        page.note(words, "good")
+    ranks = rank_ranking(s, names)
+    if has_sobol(s):
+        sobol_table(page, s, primary, visible, ranks, (correlations, asked))
+        disagreement = disagreement_note(name, primary, visible, ranks, visible_units(ranks, inputs))
+        if disagreement:
+            page.note(disagreement)
+    else:
+        rank_table(page, s, ranks, visible, (correlations, asked))
+    line = rank_regression_line(name, s, has_sobol(s))
+    if line:
+        page.paragraph(line)
+    return no_regression_line(s, len(names))
+
+
+def first_order_cell(first, first_ci, total, total_ci):
+    """A first-order index above its total one (they estimate the same share where nothing interacts) is
+    within noise where the intervals overlap."""
+    cell = interval_text(first, first_ci)
+    if np.isfinite(first) and np.isfinite(total) and first > total:
+        overlap = first_ci[0] <= total_ci[1]
+        cell += ": within noise of the total" if overlap else ": above the total beyond the intervals"
+    return cell
+
+
+def interval_text(v, ci):
+    if not np.isfinite(v):
+        return "n/a"
+    return f"{v:.3g}" + (f" [{clipped(ci[0]):.3g}, {clipped(ci[1]):.3g}]" if np.isfinite(ci[0]) else "")
+
+
+def sobol_first(s):
+    key = "group_first_order" if "group_total_order" in s else "first_order"
+    return s[key][:], s[key + "_ci"][:]
+
+
+def sobol_table(page, s, sobol, visible, ranks, correlations):
+    grouped = "group_total_order" in s
+    first, first_ci = sobol_first(s)
+    header = ["input or group" if grouped else "input"] + (["its inputs"] if grouped else []) + \
+             ["total Sobol' [95 %]", "first order [95 %]", f"{ranks.measure} [95 %]", "Spearman", "note"]
+    table = []
+    for u in [int(u) for u in sobol.order if int(u) in set(visible)][:TABLE_ROWS]:
+        members = sobol.members[u]
+        row = [sobol.units[u]] + ([folded_members(members, ranks.units)] if grouped else [])
+        row += [interval_text(sobol.value[u], sobol.ci[u]),
+                first_order_cell(first[u], first_ci[u], sobol.value[u], sobol.ci[u])]
+        if len(members) == 1:
+            i = members[0]
+            row += [interval_text(ranks.value[i], ranks.ci[i]), f"{s['spearman'][i]:.3f}",
+                    correlation_note(i, ranks.units, correlations)]
+        else:
+            row += ["(a group: its inputs one by one are not ranked)", "", ""]
+        table.append(row)
+    page.table(header, table)
+    for words in index_notes(sobol, visible, first, first_ci):
+        page.paragraph(words)
+
+
+def index_notes(sobol, visible, first, first_ci):
+    """Why a first-order index above its total one, or an estimate outside [0, 1], is read as noise."""
+    out = []
+    above = [u for u in visible if np.isfinite(first[u]) and first[u] > sobol.value[u]]
+    noise = [sobol.units[u] for u in above if first_ci[u][0] <= sobol.ci[u][1]]
+    beyond = [sobol.units[u] for u in above if first_ci[u][0] > sobol.ci[u][1]]
+    if noise:
+        out.append(f"First order above total ({', '.join(noise)}): within noise. Where an input does not interact, "
+                   "both estimate the same share of variance, and here their difference lies within their "
+                   "intervals: read both as about the total index.")
+    if beyond:
+        out.append(f"First order above total beyond their intervals ({', '.join(beyond)}): the estimates disagree "
+                   "more than the bootstrap allows; more base points are needed before reading these first-order "
+                   "indices.")
+    outside = [f"{sobol.units[u]} {sobol.value[u]:.2g}" for u in visible
+               if np.isfinite(sobol.value[u]) and not 0 <= sobol.value[u] <= 1]
+    if outside:
+        out.append(f"An estimate outside [0, 1] ({', '.join(outside)}) is estimation noise: an index is a share of "
+                   "variance; its interval, clipped to [0, 1], is what the data say.")
+    return out
+
+
+def disagreement_note(name, sobol, visible, ranks, rank_visible):
+    """One note where the two rankings put a different unit first, saying what each measures."""
+    top, rank_top = top_unit(sobol, visible), top_unit(ranks, rank_visible)
+    if top is None or rank_top is None or sobol.members[top] == [rank_top]:
+        return ""
+    group = (f" {sobol.units[top]} is a group: its inputs one by one show little in a rank measure, its effect "
+             "together only in its Sobol' index." if len(sobol.members[top]) > 1 else "")
+    return (f"{name}: the rank measures put another input first: {value_text(ranks, rank_top)} by "
+            f"{ranks.measure}, {value_text(sobol, top)} by the total Sobol' index. They measure different "
+            f"things: {ranks.measure} how monotonically the response's ranks follow one input's, over the A and "
+            "B runs; the total Sobol' index the share of the response's variance that goes with the input, its "
+            "interactions and non-monotone effects included." + group + " The ranking above is the Sobol' one.")
+
+
+def rank_table(page, s, ranks, visible, correlations):
+    header = ["input", f"{ranks.measure} [95 %]", "SRRC", "Spearman", "note"]
+    table = [[ranks.units[i], interval_text(ranks.value[i], ranks.ci[i]), f"{s['srrc'][i]:.3f}",
+              f"{s['spearman'][i]:.3f}", correlation_note(i, ranks.units, correlations)]
+             for i in [int(i) for i in ranks.order if int(i) in set(visible)][:TABLE_ROWS]]
+    page.table(header, table)
+
+
+def no_regression_line(s, inputs):
+    r2, used = s.attrs.get("rank_r_squared", float("nan")), int(s.attrs.get("rank_samples", 0))
+    if np.isfinite(r2):
+        return ""
+    return (f"No rank regression (SRRC, R²): it needs more runs than inputs ({inputs} inputs, {used} runs), or an "
+            "input or the response is constant; the rank measure is then Spearman's.")
+
+
+def rank_regression_line(name, s, sobol):
+    """How far the rank regression can be trusted ('' where there is none, or Sobol' indices rank)."""
+    r2, used = s.attrs.get("rank_r_squared", float("nan")), int(s.attrs.get("rank_samples", 0))
+    if sobol or not np.isfinite(r2):
+        return ""
+    line = (f"{name}: rank R² = {r2:.2f} over {used} runs (how much of the response's rank variance the SRRC "
+            "explain; near 1 the ranking by SRRC is trustworthy).")
+    if r2 < 0.7:
+        line += (f" Only {r2:.0%}: the response is not monotone in the inputs or they interact, so this ranking is "
+                 "uncertain; a saltelli design gives Sobol' indices that do not assume monotonicity.")
+    return line
+
+
+def folded_members(members, input_names):
+    """'base.z.phases[1], ..., base.z.phases[64]' as 'base.z.phases[1..64]': a list's entries in one name."""
+    out, runs = [], {}
+    for name in (input_names[i] for i in members):
+        m = re.fullmatch(r"(.*)\[(\d+)\]", name)
+        if not m:
+            out.append(name)
+            continue
+        if m.group(1) not in runs:
+            out.append(m.group(1))
+        runs.setdefault(m.group(1), []).append(int(m.group(2)))
+    return ", ".join(f"{n}[{min(runs[n])}..{max(runs[n])}]" if n in runs and len(runs[n]) > 1 else
+                     (f"{n}[{runs[n][0]}]" if n in runs else n) for n in out)
+
+
+def ranks_of(x):
+    order = np.argsort(x, kind="stable")
+    r = np.empty(x.size)
+    r[order] = np.arange(x.size)
+    return r
+
+
+def input_correlations(f, rows):
+    """Pairs of inputs whose Spearman correlation in the counted successful runs is large, and how many runs."""
+    inputs = f["samples/inputs"][:][rows]
+    ok = (f["samples/status"][:][rows] == 0) & np.all(np.isfinite(inputs), axis=1)
+    shown, _ = shown_inputs(f["samples/inputs"]) if "column_targets" in f["samples/inputs"].attrs else \
+        (list(range(inputs.shape[1])), {})
+    if ok.sum() < 4 or not shown:
+        return {}, int(ok.sum())
+    ranked = np.array([ranks_of(inputs[ok, i]) for i in shown])
+    rho = np.corrcoef(ranked) if len(shown) > 1 else np.ones((1, 1))
+    pairs = {}
+    for a, i in enumerate(shown):
+        for b in range(a + 1, len(shown)):
+            if abs(rho[a, b]) >= CORRELATED_INPUTS:
+                pairs.setdefault(i, []).append((shown[b], rho[a, b]))
+                pairs.setdefault(shown[b], []).append((i, rho[a, b]))
+    return pairs, int(ok.sum())
+
+
+def correlation_note(i, names, correlations):
+    (pairs, n), asked = correlations
+    chance = 2 / math.sqrt(n - 1) if n > 1 else 1.0
+    return "; ".join(f"correlated with {names[j]} in these runs (rho = {rho:.2f}; "
+                     + ("asked by the job)" if asked_pair(asked, names[i], names[j]) else
+                        f"chance alone gives |rho| up to about {chance:.2f} at n = {n})")
+                     for j, rho in pairs.get(i, []))
+
+
+def asked_correlations(f):
+    """The input pairs the job correlates on purpose ([[ensemble.correlation]]), as written in the file
+    ("A ~ B: normal copula rho, Spearman r")."""
+    return strings(f["samples/inputs"].attrs.get("correlated_pairs", []))
+
+
+def asked_pair(asked, a, b):
+    return any(set(words.split(": ")[0].split(" ~ ")) == {a, b} for words in asked)

@@ -1,0 +1,85 @@
+"""The Sobol' indices drawn per response: bars of the first-order and total indices with their 95 % intervals
+(a group as one bar), and the indices of the first m base points against m (/sensitivity/<r>/sobol_convergence)
+with their interval bands. Estimates and intervals are drawn within [0, 1]: an index is a share of variance."""
+import numpy as np
+
+import matplotlib.pyplot as plt
+
+from drivers import sobol_first
+from rankings import has_sobol, sobol_ranking, visible_units
+from read import folded_note, shown_inputs, strings
+
+MAX_BARS = 12
+MAX_LINES = 5
+COLOURS = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+
+
+def index_figures(f, page):
+    if "sensitivity" not in f or "samples/inputs" not in f or "samples/responses" not in f:
+        return
+    inputs = f["samples/inputs"]
+    names = strings(inputs.attrs["columns"])
+    _, folded = shown_inputs(inputs) if "column_targets" in inputs.attrs else ([], {})
+    for name in [r for r in strings(f["samples/responses"].attrs["columns"]) if r in f["sensitivity"]]:
+        s = f["sensitivity"][name]
+        if not has_sobol(s):
+            continue
+        sobol = sobol_ranking(s, names)
+        visible = set(visible_units(sobol, inputs))
+        units = [int(u) for u in sobol.order if int(u) in visible][:MAX_BARS]
+        convergence = s.get("sobol_convergence")
+        fig, axes = plt.subplots(1, 2 if convergence is not None else 1, figsize=(12, 1.8 + 0.42 * len(units)),
+                                 squeeze=False, layout="constrained")
+        index_bars(axes[0][0], sobol, sobol_first(s), units)
+        if convergence is not None:
+            index_convergence(axes[0][1], convergence, sobol, units[:MAX_LINES])
+        grouped = " (a group as one bar)" if "group_total_order" in s else ""
+        page.figure(fig, f"{name}: left, the total (dark) and first-order (light) Sobol' indices{grouped} with their "
+                         f"95 % bootstrap intervals, from {int(s.attrs.get('sobol_base_samples', 0))} of "
+                         f"{int(s.attrs.get('sobol_blocks', 0))} base points; "
+                    + ("right, the indices of the first m base points (their complete blocks) against m: total "
+                       "solid with its interval as a band, first order dashed; " if convergence is not None else "")
+                    + "estimates and intervals drawn within [0, 1], the estimate written beside its bar"
+                    + (". " + folded_note(folded) if folded and not grouped else ""), f"sobol_indices_{name}")
+
+
+def clipped_errors(v, ci):
+    """Estimate and asymmetric error bars, all within [0, 1] (no bar where the interval is unknown)."""
+    point = np.clip(v, 0.0, 1.0)
+    low, high = np.clip(ci[:, 0], 0.0, 1.0), np.clip(ci[:, 1], 0.0, 1.0)
+    errors = np.vstack([np.maximum(point - low, 0.0), np.maximum(high - point, 0.0)])
+    return point, np.nan_to_num(errors, nan=0.0)
+
+
+def index_bars(ax, sobol, first, units):
+    y = np.arange(len(units))[::-1]
+    for offset, (v, ci), label, alpha in ((-0.2, (sobol.value, sobol.ci), "total", 0.9),
+                                         (0.2, first, "first order", 0.45)):
+        point, errors = clipped_errors(v[units], ci[units])
+        ax.barh(y - offset, np.nan_to_num(point), height=0.38, color="tab:blue", alpha=alpha, label=label,
+                xerr=errors, error_kw={"ecolor": "0.2", "capsize": 2, "lw": 0.8})
+        for yk, value, top in zip(y - offset, v[units], point + errors[1]):
+            if np.isfinite(value):
+                ax.text(min(np.nan_to_num(top), 1.0) + 0.02, yk, f"{value:.2g}", va="center", fontsize=7)
+    ax.set_yticks(y, [sobol.units[u] for u in units], fontsize=8)
+    ax.set_xlim(0, 1.15)
+    ax.set_xlabel("Sobol' index (share of the response's variance)", fontsize=8)
+    ax.legend(fontsize=7, loc="lower right")
+
+
+def index_convergence(ax, g, sobol, units):
+    m = g["base_points"][:]
+    columns = strings(g["total_order"].attrs["columns"])
+    total, total_ci, first = g["total_order"][:], g["total_order_ci"][:], g["first_order"][:]
+    for k, u in enumerate(units):
+        c = columns.index(sobol.units[u])
+        colour = COLOURS[k % len(COLOURS)]
+        ax.fill_between(m, np.clip(total_ci[:, c, 0], 0, 1), np.clip(total_ci[:, c, 1], 0, 1), color=colour,
+                        alpha=0.15, lw=0)
+        ax.plot(m, np.clip(total[:, c], 0, 1), "o-", color=colour, ms=3, label=sobol.units[u])
+        ax.plot(m, np.clip(first[:, c], 0, 1), "--", color=colour, lw=0.9)
+    ax.set_xscale("log", base=2)
+    ax.set_ylim(0, 1.02)
+    ax.set_xlabel("base points m (the first m)", fontsize=8)
+    ax.set_ylabel("Sobol' index", fontsize=8)
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
