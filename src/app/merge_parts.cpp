@@ -40,7 +40,8 @@ std::vector<PartFile> read_parts(const std::vector<std::string>& names) {
     try {
       parts.push_back(ensemble::read_part_file(name));
     } catch (const ensemble::CheckpointError& e) {
-      throw Refused{e.what()};
+      throw Refused{std::string(e.what()) + "; run that part again with its --samples range (into `" + name +
+                    "`) and merge again: the other parts are kept"};
     } catch (const process::FileError& e) {
       throw Refused{e.what()};
     }

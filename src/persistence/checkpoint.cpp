@@ -105,10 +105,37 @@ std::vector<SampleRecord> load_part(const fs::path& dir, const std::string& stem
     return r.status == SampleStatus::ok && r.index < shape.statistics_end;
   });
   if (records.size() != records_count || static_cast<std::uint64_t>(ok) != part.samples())
-    throw CheckpointError("checkpoint " + path.string() +
-                          " is damaged (its records and statistics do not agree); remove it to start afresh");
+    throw CheckpointError("checkpoint " + path.string() + " is damaged (its records and statistics do not agree)");
   total.merge(part);
   return records;
+}
+
+// Whether a refusal is damage, not a checkpoint of another job or build
+// (which the whole directory is, and its message says so).
+bool damage(const CheckpointError& e) {
+  const std::string what = e.what();
+  return what.find(" belongs to another job file") == std::string::npos && what.find(" another build ") == std::string::npos;
+}
+
+// A damaged or half-missing part (its state or its records): refused with
+// the one thing that works, removing both of its files. Its samples then
+// run again; every other part is kept.
+std::vector<SampleRecord> load_part_or_advise(const fs::path& dir, const std::string& stem, const RunIdentity& id,
+                                              const RecordShape& shape, EnsembleStatistics& total) {
+  const fs::path state = state_path(dir, stem), records = records_path(dir, stem);
+  const std::string advice =
+      fs::exists(records) ? "; remove `" + state.string() + "` and `" + records.string() +
+                                "` together: the samples they hold run again, the rest of the checkpoint is kept"
+                          : "; remove `" + state.string() +
+                                "`: the samples it counts run again, the rest of the checkpoint is kept";
+  try {
+    return load_part(dir, stem, id, shape, total);
+  } catch (const CheckpointError& e) {
+    if (!damage(e)) throw;
+    throw CheckpointError(e.what() + advice);
+  } catch (const process::FileError& e) {
+    throw CheckpointError(std::string(e.what()) + advice);
+  }
 }
 
 // "part-3-rank7" -> 3; -1 when `stem` is not of that form.
@@ -129,12 +156,21 @@ std::vector<std::string> state_stems(const fs::path& dir) {
   return stems;
 }
 
-// The stems of the newest complete generation: its base (G >= 1) and parts.
+// The stems of the newest generation: its base (G >= 1) and parts. A part
+// of generation G exists only once base-G does, so G is the newest of
+// either: a base removed for damage leaves its generation's parts in use.
 std::pair<std::uint64_t, std::vector<std::string>> newest_generation(const fs::path& dir) {
   std::uint64_t generation = 0;
   const std::vector<std::string> all = state_stems(dir);
   for (const std::string& stem : all)
-    generation = std::max<std::uint64_t>(generation, static_cast<std::uint64_t>(std::max(0LL, generation_of(stem, "base-"))));
+    generation = std::max<std::uint64_t>(
+        generation, static_cast<std::uint64_t>(std::max({0LL, generation_of(stem, "base-"), generation_of(stem, "part-")})));
+  if (generation > 0 && !fs::exists(state_path(dir, base_stem(generation)))) {
+    std::vector<std::string> stems;
+    for (const std::string& stem : all)
+      if (generation_of(stem, "part-") == static_cast<long long>(generation)) stems.push_back(stem);
+    return {generation, stems};
+  }
   std::vector<std::string> stems;
   if (generation > 0) stems.push_back(base_stem(generation));
   for (const std::string& stem : all)
@@ -149,7 +185,8 @@ void index_records(RestoredRun& run, const fs::path& dir) {
     const std::uint64_t i = run.records[k].index;
     if (k > 0 && run.records[k - 1].index == i)
       throw CheckpointError("checkpoint " + dir.string() + " is damaged (sample " + std::to_string(i) +
-                            " twice); remove it to start afresh");
+                            " twice); remove the directory `" + dir.string() + "` to start afresh (nothing in it "
+                            "says which copy to keep)");
     if (!run.finished.empty() && run.finished.back().second == i)
       ++run.finished.back().second;
     else
@@ -289,21 +326,28 @@ std::optional<RestoredRun> load_checkpoint(const fs::path& dir, const RunIdentit
   if (!checkpoint_exists(dir)) return std::nullopt;
   RestoredRun run;
   const fs::path common = state_path(dir, "common");
-  const std::vector<char> bytes = process::read_file(common);
-  ByteReader in = open_state_file(bytes, StateKind::common, common, &id);
   try {
+    const std::vector<char> bytes = process::read_file(common);
+    ByteReader in = open_state_file(bytes, StateKind::common, common, &id);
     run.nominal = in.get_vector<double>();
     if (run.nominal.size() != shape.times * shape.columns) in.fail("a nominal run of another shape");
     run.calibration = Calibration::read(in, run.nominal.size());
     run.tolerance = ToleranceCheck::read(in);
   } catch (const DecodeError& e) {
-    refuse_damaged(e);
+    throw CheckpointError(std::string(e.what()) + "; remove the directory `" + dir.string() +
+                          "` to start afresh (common.state holds the pilot's calibration, which every part needs)");
+  } catch (const CheckpointError& e) {
+    if (!damage(e)) throw;
+    throw CheckpointError(std::string(e.what()) + "; remove the directory `" + dir.string() +
+                          "` to start afresh (common.state holds the pilot's calibration, which every part needs)");
+  } catch (const process::FileError& e) {
+    throw CheckpointError(std::string(e.what()) + "; remove the directory `" + dir.string() + "` to start afresh");
   }
   run.statistics.emplace(shape.times, shape.columns, shape.bins, run.calibration);
   const auto [generation, stems] = newest_generation(dir);
   run.generation = generation;
   for (const std::string& stem : stems)
-    for (auto& r : load_part(dir, stem, id, record_shape, *run.statistics)) run.records.push_back(std::move(r));
+    for (auto& r : load_part_or_advise(dir, stem, id, record_shape, *run.statistics)) run.records.push_back(std::move(r));
   index_records(run, dir);
   return run;
 }

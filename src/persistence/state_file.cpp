@@ -75,8 +75,6 @@ ByteReader open_state_file(const std::vector<char>& bytes, StateKind kind, const
   return in;
 }
 
-void refuse_damaged(const DecodeError& e) {
-  throw CheckpointError(std::string(e.what()) + "; remove it to start afresh");
-}
+void refuse_damaged(const DecodeError& e) { throw CheckpointError(e.what()); }
 
 }  // namespace treedyn::ensemble

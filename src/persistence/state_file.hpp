@@ -60,7 +60,8 @@ class StateFileWriter {
 ByteReader open_state_file(const std::vector<char>& bytes, StateKind kind, const std::filesystem::path& path,
                            const RunIdentity* expected, RunIdentity* found = nullptr);
 
-// CheckpointError for a DecodeError: "... is damaged (why); remove it to start afresh".
+// CheckpointError for a DecodeError: "... is damaged (why)". What to remove
+// is said by whoever knows what the file is part of (checkpoint.cpp).
 [[noreturn]] void refuse_damaged(const DecodeError& e);
 
 }  // namespace treedyn::ensemble

@@ -24,6 +24,7 @@
 #include <cstdlib>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <fstream>
 #include <optional>
 #include <sstream>
@@ -461,6 +462,81 @@ TEST_F(Checkpoint, ASecondRunOnOneOutputIsRefusedAtOnceAndTheFinishedOutputIsNot
   EXPECT_EQ(refused.exit_code, 2);
   EXPECT_NE(refused.err.find("is another job's output (its job text differs)"), std::string::npos) << refused.err;
   EXPECT_EQ(fs::last_write_time(out), modified);
+}
+
+// The paths a message puts in backticks: what its advice says to remove.
+std::vector<fs::path> quoted_paths(const std::string& message) {
+  std::vector<fs::path> paths;
+  for (std::size_t at = message.find('`'); at != std::string::npos; at = message.find('`', at + 1)) {
+    const std::size_t end = message.find('`', at + 1);
+    if (end == std::string::npos) break;
+    paths.emplace_back(message.substr(at + 1, end - at - 1));
+    at = end;
+  }
+  return paths;
+}
+
+void flip_a_byte(const fs::path& file, std::uintmax_t at) {
+  std::fstream f(file, std::ios::in | std::ios::out | std::ios::binary);
+  f.seekg(static_cast<std::streamoff>(at));
+  const char c = static_cast<char>(f.get());
+  f.seekp(static_cast<std::streamoff>(at));
+  f.put(static_cast<char>(c ^ 0x5a));
+}
+
+// Every "damaged" message names what to remove, and doing exactly that
+// works: the next --resume runs, restores what is left, and ends bitwise
+// the uninterrupted run. A checkpoint of two generations (a run stopped,
+// resumed, stopped again: base-1 and part-1-rankR) is damaged one way per
+// case, in a copy of its own.
+TEST_F(Checkpoint, EveryDamagedMessagesAdviceFollowedLeadsToAWorkingRun) {
+  const fs::path made = fresh_output("damaged_source");
+  const fs::path ckpt = made.string() + ".checkpoint";
+  for (int round = 0; round < 2; ++round) {
+    std::vector<std::string> extra = kRarely;
+    if (round == 1) extra.push_back("--resume");
+    fs::remove(ckpt / "held-rank0");
+    fs::remove(ckpt / "held-rank1");
+    Background run(job_, made, held_run(2, extra, 3), dir_.path() / "capture_bg");
+    await_held(ckpt, 2, run);
+    ::kill(run.pid(), SIGUSR1);
+    ASSERT_EQ(run.wait(), 5) << run.err();
+  }
+  ASSERT_TRUE(fs::exists(ckpt / "base-1.records"));
+  ASSERT_TRUE(fs::exists(ckpt / "part-1-rank1.records"));
+  struct Case {
+    const char* what;
+    std::function<void(const fs::path&)> damage;
+  };
+  const Case cases[] = {
+      {"a part's records cut short", [](const fs::path& d) { fs::resize_file(d / "part-1-rank1.records", fs::file_size(d / "part-1-rank1.records") - 9); }},
+      {"a part's state with a byte changed", [](const fs::path& d) { flip_a_byte(d / "part-1-rank0.state", fs::file_size(d / "part-1-rank0.state") / 2); }},
+      {"a part's records removed alone", [](const fs::path& d) { fs::remove(d / "part-1-rank1.records"); }},
+      {"the base's records with a byte changed", [](const fs::path& d) { flip_a_byte(d / "base-1.records", 40); }},
+      {"common.state with a byte changed", [](const fs::path& d) { flip_a_byte(d / "common.state", 60); }},
+  };
+  int index = 0;
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.what);
+    const fs::path out = fresh_output("damaged" + std::to_string(index++));
+    const fs::path copy = out.string() + ".checkpoint";
+    fs::copy(ckpt, copy, fs::copy_options::recursive);
+    fs::remove(copy / "held-rank0");
+    fs::remove(copy / "held-rank1");
+    c.damage(copy);
+    const auto refused = run_ensemble(2, job_, out, dir_.path() / "capture", {"--resume"});
+    std::printf("[%s] exit %d: %s", c.what, refused.exit_code, refused.err.c_str());
+    EXPECT_EQ(refused.exit_code, 2);
+    const std::vector<fs::path> remove = quoted_paths(refused.err);
+    ASSERT_FALSE(remove.empty()) << "no advice: " << refused.err;
+    for (const fs::path& p : remove) {
+      EXPECT_TRUE(fs::exists(p)) << "the advice names a path that is not there: " << p;
+      fs::remove_all(p);
+    }
+    const auto resumed = run_ensemble(2, job_, out, dir_.path() / "capture", {"--resume"});
+    ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+    expect_like_reference(out, c.what);
+  }
 }
 
 // Two generations: a resumed run is killed too, and resumed again.

@@ -115,7 +115,16 @@ TEST_F(Merge, OverlapsOtherJobsAndBadRangesAreRefusedAndGapsAreReported) {
       EXPECT_EQ(r.exit_code, 2) << r.err;
       EXPECT_NE(r.err.find("is damaged"), std::string::npos) << r.err;
       EXPECT_FALSE(fs::exists(dir_.path() / "x.h5"));
+      EXPECT_FALSE(fs::exists(dir_.path() / "x.h5.lock")) << "a refused merge leaves no lock";
     }
+    // The advice followed: the damaged part (a's range, 0:20) run again into
+    // the path it names, and the merge works.
+    EXPECT_NE(r.err.find("run that part again with its --samples range (into `" + flipped.string() + "`)"),
+              std::string::npos) << r.err;
+    ASSERT_EQ(run_ensemble(0, job_, flipped, capture(), {"--samples", "0:20"}).exit_code, 0);
+    r = merge({flipped.string(), c.string()}, dir_.path() / "x.h5", capture());
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    fs::remove(dir_.path() / "x.h5");
   }
   // Bad ranges.
   for (const char* range : {"30:20", "0:49", "a:b", "5"}) {
