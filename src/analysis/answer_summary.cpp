@@ -47,8 +47,8 @@ void print_ranking(std::ostream& out, const std::vector<std::string>& names, con
       for (std::size_t k = places[s - 1]; k < places[s]; ++k) apart = apart || ranking.told_apart(k);
       out << (apart ? " > " : " ~ ");
       if (!apart && pending.empty() && places[s] == places[s - 1] + 1 && std::isfinite(ranking.needed[places[s - 1]]))
-        pending = names[ranking.order[places[s - 1]]] + " from " + names[u] + ": about " +
-                  number(ranking.needed[places[s - 1]], "%.0f") + " " + samples_word;
+        pending = "about " + number(ranking.needed[places[s - 1]], "%.0f") + " " + samples_word + " would tell " +
+                  names[ranking.order[places[s - 1]]] + " from " + names[u];
     }
     out << index_text(names[u], measure[u], ci ? ci->data() + 2 * u : nullptr);
   }
@@ -59,8 +59,12 @@ void print_ranking(std::ostream& out, const std::vector<std::string>& names, con
   if (ranking.resamples == 0)
     out << "      no bootstrap intervals: the order above is the point estimates' alone\n";
   else if (!pending.empty())
-    out << "      ~: not told apart yet (95 % bootstrap interval of the difference holds 0); to tell " << pending
-        << " would\n";
+    out << "      ~: not told apart yet (95 % bootstrap interval of the difference holds 0); " << pending << "\n";
+  if (ci && std::any_of(places.begin(), places.begin() + static_cast<std::ptrdiff_t>(shown), [&](std::size_t k) {
+        const double v = measure[ranking.order[k]];
+        return v < 0.0 || v > 1.0;
+      }))
+    out << "      an index estimated outside [0, 1] is noise of a small sample; its interval is shown within [0, 1]\n";
 }
 
 // Inputs that are entries of a list target (a sea state's phases).

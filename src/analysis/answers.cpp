@@ -78,7 +78,8 @@ void answer_sobol(const EnsembleSpec& spec, const ResponseTable& table, std::siz
   const std::uint64_t blocks = table.samples() / spec.saltelli_block();
   a.sobol_blocks = blocks;
   a.sobol = sobol_of(spec, table, r, blocks);
-  for (std::uint64_t m = 1; m < blocks; m *= 2) a.sobol_convergence.push_back({m, sobol_of(spec, table, r, m)});
+  // From 4 base points: with 1 or 2 the bootstrap has nothing to resample.
+  for (std::uint64_t m = 4; m < blocks; m *= 2) a.sobol_convergence.push_back({m, sobol_of(spec, table, r, m)});
   if (blocks > 0) a.sobol_convergence.push_back({blocks, *a.sobol});
 }
 
@@ -156,7 +157,10 @@ ResponseAnswer answer_response(const EnsembleSpec& spec, const ResponseTable& ta
   if (!with_sensitivity) return a;
   if (table.input_count() > 0) a.ranks = ranks_of(spec, table, r);
   if (spec.design == Design::saltelli) answer_sobol(spec, table, r, a);
-  if (response.has_limit() && table.input_count() > 0)
+  // Subset simulation's response has its failure region in its answer
+  // (answer_rare_event): level 0 alone rarely reaches the limit.
+  const bool subset_answer = spec.subset && spec.subset->response == r;
+  if (response.has_limit() && table.input_count() > 0 && !subset_answer)
     a.failure_region = failure_region(spec, table, r, [&](std::uint64_t k) { return k < n && independent_draw(spec, k); });
   return a;
 }

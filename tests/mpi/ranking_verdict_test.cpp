@@ -98,7 +98,7 @@ TEST(RankingVerdict, NotToldApartAtEightBasePointsToldApartAt4096) {
               few.total_x, few.total_y, few.told_apart, many.total_x, many.total_y, many.told_apart);
   EXPECT_EQ(few.told_apart, 0);
   EXPECT_NE(few.summary.find(" ~ body.ball.angular_velocity."), std::string::npos) << few.summary;
-  EXPECT_NE(few.summary.find("~: not told apart yet (95 % bootstrap interval of the difference holds 0); to tell "),
+  EXPECT_NE(few.summary.find("~: not told apart yet (95 % bootstrap interval of the difference holds 0); about "),
             std::string::npos) << few.summary;
   EXPECT_NE(few.summary.find("is N enough for the indices? no: "), std::string::npos) << few.summary;
 
