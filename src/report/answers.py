@@ -158,14 +158,26 @@ def response_table(f, page):
         return
     sensitivity = [f["sensitivity"][n] if "sensitivity" in f and n in f["sensitivity"] else None for n in names]
     indices = any(s is not None and has_sobol(s) for s in sensitivity)
-    table = [response_row(f, values, r, name, units[r]) + ([index_verdict(sensitivity[r])] if indices else [])
-             for r, name in enumerate(names)]
+    accuracy = integration_verdicts(f)
+    table = [response_row(f, values, r, name, units[r]) + ([index_verdict(sensitivity[r])] if indices else []) +
+             ([accuracy[r]] if accuracy else []) for r, name in enumerate(names)]
     page.table(["response", "mean ± standard error", "runs used", f"is N enough for the mean "
                 f"(±{MEAN_PRECISION:.0%})?", "probability of exceeding the limit (Wilson interval)",
                 f"is N enough for P (±{PROBABILITY_PRECISION:.0%})?"] +
-               ([f"is N enough for the Sobol' indices (intervals within {INDEX_INTERVAL})?"] if indices else []), table)
+               ([f"is N enough for the Sobol' indices (intervals within {INDEX_INTERVAL})?"] if indices else []) +
+               (["is the integration accurate enough?"] if accuracy else []), table)
     if counted_runs_meaning(f):
         page.paragraph(counted_runs_meaning(f))
+    for r, verdict in enumerate(accuracy):
+        if verdict.startswith("too loose"):
+            page.note(f"{names[r]}: the integration is {verdict}.", "alarm")
+    if accuracy:
+        g = f["integration_check"]
+        page.paragraph(f"The integration check: pilot samples {', '.join(str(k) for k in g['samples'][:])} run "
+                       f"again with rtol {float(g.attrs['rerun_rtol']):.0e} and atol {float(g.attrs['rerun_atol']):.0e}"
+                       f" (the job's {float(g.attrs['rtol']):.0e} and {float(g.attrs['atol']):.0e}); each response's "
+                       "largest change against its spread over the pilot: above 0.1 too loose, below 0.001 far "
+                       "tighter than the answer needs.")
 
 
 def response_row(f, values, r, name, unit):
@@ -192,6 +204,14 @@ def response_row(f, values, r, name, unit):
                        f"{e['with_failed'][0]:.4g} to {e['with_failed'][1]:.4g}")
         row[5] = probability_verdict(count, n, p, low, high)
     return row
+
+
+def integration_verdicts(f):
+    """Per response, what the pilot's tolerance check says (/integration_check, as the text summary words it);
+    empty when the file has none."""
+    if "integration_check" not in f:
+        return []
+    return strings(f["integration_check"].attrs["verdicts"])
 
 
 def index_verdict(s):

@@ -16,7 +16,7 @@ PER_FIGURE = 9      # subplots in one figure when the columns are not grouped by
 
 # Where a quantity's values can lie: a mean ± std band is clipped to it.
 VALID_RANGE = {"joint_angle": (0.0, math.pi), "joint_reaction_magnitude": (0.0, math.inf)}
-VALID_COLUMN_RANGE = {("energy", "kinetic"): (0.0, math.inf)}
+VALID_COLUMN_RANGE = {("energy", "kinetic"): (0.0, math.inf), ("com_offset", "horizontal"): (0.0, math.inf)}
 
 
 def groups_of(columns):

@@ -110,6 +110,15 @@ TEST(ToleranceCheckEnsemble, TooLooseIsWarnedAboutAndTightIsSaidToBe) {
     if (loose) {
       EXPECT_NE(r.err.find("warning: the integration is too loose for this answer"), std::string::npos) << r.err;
       EXPECT_NE(r.out.find("    integration: too loose for this answer: "), std::string::npos) << r.out;
+      // The page says it too, in red, and the summary it writes again.
+      const fs::path page = dir.path() / "page";
+      const CommandResult report = run_command(TREEDYN_BINARY, {"report", (dir.path() / "out.h5").string(), "-o",
+                                                                page.string()}, dir.path() / "capture_report");
+      ASSERT_EQ(report.exit_code, 0) << report.err;
+      const std::string html = read_text(page / "index.html");
+      EXPECT_NE(html.find("<div class=\"alarm\">tip_height: the integration is too loose for this answer: "),
+                std::string::npos);
+      EXPECT_NE(read_text(page / "summary.txt").find("    integration: too loose for this answer: "), std::string::npos);
     } else {
       EXPECT_EQ(r.err.find("warning: the integration"), std::string::npos) << r.err;
       EXPECT_NE(r.out.find("    integration: far tighter than this answer needs: "), std::string::npos) << r.out;

@@ -9,7 +9,7 @@ import unittest
 import h5py
 import numpy as np
 
-from answers import (extreme_samples, failure_effects, index_verdict, last_time_warnings, mean_verdict,
+from answers import (extreme_samples, integration_verdicts, failure_effects, index_verdict, last_time_warnings, mean_verdict,
                      outside_range_warnings, probability_verdict, response_row, scatter_figures)
 from drivers import (asked_pair, disagreement_note, drivers_section, first_order_cell, index_notes,
                      input_correlations)
@@ -40,6 +40,21 @@ class Verdicts(unittest.TestCase):
         # half-width 0.05 of P = 0.1: 50 %; runs for 20 %: 100 * (0.5 / 0.2)^2 = 625
         self.assertIn("about 625 counted runs", probability_verdict(10, 100, 0.1, 0.05, 0.15))
         self.assertEqual(probability_verdict(0, 0, float("nan"), 0.0, 1.0), "no successful run")
+
+
+class IntegrationCheck(unittest.TestCase):
+    def test_each_response_gets_the_files_verdict_and_a_loose_one_an_alarm(self):
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, "e.h5")
+            with h5py.File(path, "w") as f:
+                g = f.create_group("integration_check")
+                g.attrs["verdicts"] = ["enough: its change ...", "too loose for this answer: its change is 0.5 ..."]
+            with h5py.File(path) as f:
+                self.assertEqual(integration_verdicts(f)[1], "too loose for this answer: its change is 0.5 ...")
+            with h5py.File(path, "w") as f:
+                f.create_group("samples")
+            with h5py.File(path) as f:
+                self.assertEqual(integration_verdicts(f), [], "an older file without the check")
 
 
 def write(path, build):
@@ -299,6 +314,8 @@ class Readings(unittest.TestCase):
         self.assertEqual(valid_range("joint_angle", "rod.angle"), (0.0, math.pi))
         self.assertEqual(valid_range("energy", "kinetic"), (0.0, math.inf))
         self.assertEqual(valid_range("energy", "total"), (-math.inf, math.inf))
+        self.assertEqual(valid_range("com_offset", "container.horizontal"), (0.0, math.inf))
+        self.assertEqual(valid_range("com_offset", "container.y"), (-math.inf, math.inf))
 
 class Collect:
     """A page that keeps what the report would write, for the tests to read."""
