@@ -116,9 +116,12 @@ def trajectory_page(f, page, file_name, quantities, out_dir):
     trajectory_report(f, page, set(quantities))
     xmf, why = write_xdmf(f, file_name)
     if xmf:
-        page.paragraph(f"For ParaView or VisIt: {os.path.basename(xmf)} beside the file (File > Open, XDMF reader) "
-                       "holds the stick figure as poly-lines at every output time, read from /motion.")
-        say(f"wrote {xmf}")
+        companion = os.path.splitext(xmf)[0] + ".motion.h5"
+        page.paragraph(f"For ParaView, VisIt or meshio: {os.path.basename(xmf)} beside the file (File > Open, any of "
+                       f"ParaView's XDMF readers) holds the stick figure as poly-lines at every output time; its "
+                       f"points are in {os.path.basename(companion)}, one dataset per output time, copied from "
+                       "/motion/points (the readers cannot all take a slice of one dataset).")
+        say(f"wrote {xmf} and {companion}")
     else:
         page.paragraph(f"No XDMF file for ParaView: {why}.")
         print(f"warning: no XDMF file: {why}", file=sys.stderr)
