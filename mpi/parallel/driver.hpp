@@ -109,7 +109,7 @@ struct EnsembleRun {
   bool checkpoints = false;  // on, and common.state written (or restored)
   std::optional<ensemble::EnsembleStatistics> restored_statistics;  // rank 0
 
-  double busy_seconds = 0.0;
+  double busy_seconds = 0.0, busy_cpu_seconds = 0.0;
   std::uint64_t samples_run = 0;
 
   // Fault injection for the tests of kills and signals (never set by users):

@@ -25,9 +25,12 @@ namespace {
 EnsembleSummary gather_loads(const EnsembleRun& run) {
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
-  constexpr int kLoads = 4;
+  constexpr int kLoads = 7;
+  const double cpu = static_cast<double>(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
+                     1e-6 * static_cast<double>(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
   const double mine[kLoads] = {static_cast<double>(usage.ru_maxrss) / 1024.0, static_cast<double>(run.samples_run),
-                               run.busy_seconds, run.sink->writing_seconds()};
+                               run.busy_seconds, run.sink->writing_seconds(), run.busy_cpu_seconds,
+                               run.sink->writing_cpu_seconds(), cpu};
   std::vector<double> all(kLoads * static_cast<std::size_t>(run.size));
   MPI_Gather(mine, kLoads, MPI_DOUBLE, all.data(), kLoads, MPI_DOUBLE, 0, run.comm);
   EnsembleSummary summary;
@@ -38,6 +41,9 @@ EnsembleSummary gather_loads(const EnsembleRun& run) {
     summary.samples_per_rank.push_back(static_cast<long long>(loads[1]));
     summary.busy_seconds.push_back(loads[2]);
     summary.writing_seconds.push_back(loads[3]);
+    summary.busy_cpu_seconds.push_back(loads[4]);
+    summary.writing_cpu_seconds.push_back(loads[5]);
+    summary.cpu_seconds.push_back(loads[6]);
   }
   return summary;
 }

@@ -68,12 +68,21 @@ void RecordSink::poll() {
 // The clock run_sample times samples with, so that the writing inside a
 // sample can be taken out of it.
 RecordSink::Writing::Writing(RecordSink& sink) : sink_(sink) {
-  if (sink_.writing_depth_++ == 0) start_ = std::chrono::steady_clock::now();
+  if (sink_.writing_depth_++ != 0) return;
+  start_ = std::chrono::steady_clock::now();
+  start_cpu_ = thread_cpu_seconds();
 }
 
 RecordSink::Writing::~Writing() {
-  if (--sink_.writing_depth_ == 0)
-    sink_.writing_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  if (--sink_.writing_depth_ != 0) return;
+  sink_.writing_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  sink_.writing_cpu_seconds_ += thread_cpu_seconds() - start_cpu_;
+}
+
+double thread_cpu_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
 
 RecordWriter::RecordWriter(MPI_Comm comm, int ranks, EnsembleWriter* writer, ensemble::Progress& progress,

@@ -20,6 +20,9 @@
 
 namespace treedyn::parallel {
 
+// CPU time of the calling thread (CLOCK_THREAD_CPUTIME_ID), s.
+double thread_cpu_seconds();
+
 class RecordSink {
  public:
   virtual ~RecordSink() = default;
@@ -37,6 +40,8 @@ class RecordSink {
   // leave it out); 0 on the other ranks, which encode their records as part
   // of the sample (keep()) and hand them to MPI in batches (RecordSender).
   double writing_seconds() const { return writing_seconds_; }
+  // ... as CPU time of this thread (thread_cpu_seconds()).
+  double writing_cpu_seconds() const { return writing_cpu_seconds_; }
 
  protected:
   virtual void make_progress() = 0;
@@ -52,11 +57,12 @@ class RecordSink {
    private:
     RecordSink& sink_;
     std::chrono::steady_clock::time_point start_;
+    double start_cpu_ = 0.0;
   };
 
  private:
   std::int64_t last_poll_ns_ = 0;  // CLOCK_MONOTONIC_COARSE
-  double writing_seconds_ = 0.0;
+  double writing_seconds_ = 0.0, writing_cpu_seconds_ = 0.0;
   int writing_depth_ = 0;
 };
 

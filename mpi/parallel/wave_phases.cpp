@@ -37,7 +37,8 @@ std::optional<SampleRecord> run_sample(EnsembleRun& run, std::uint64_t k, std::v
                                        ensemble::SampleRunner* runner = nullptr) {
   ensemble::SampleRunner& by = runner ? *runner : run.runner;
   const auto start = std::chrono::steady_clock::now();
-  const double writing_before = run.sink->writing_seconds();
+  const double start_cpu = thread_cpu_seconds();
+  const double writing_before = run.sink->writing_seconds(), writing_cpu_before = run.sink->writing_cpu_seconds();
   std::optional<SampleRecord> r;
   const auto between_outputs = [&run] {
     run.sink->poll();
@@ -54,6 +55,8 @@ std::optional<SampleRecord> run_sample(EnsembleRun& run, std::uint64_t k, std::v
   }
   run.busy_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() -
                       (run.sink->writing_seconds() - writing_before);
+  run.busy_cpu_seconds +=
+      thread_cpu_seconds() - start_cpu - (run.sink->writing_cpu_seconds() - writing_cpu_before);
   if (r && !runner) ++run.samples_run;
   return r;
 }

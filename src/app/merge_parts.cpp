@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <iostream>
 #include <numeric>
 #include <optional>
@@ -125,6 +126,10 @@ EnsembleSummary merge_summary(const std::vector<SampleRecord>& records) {
   summary.peak_rss_mib = {static_cast<double>(usage.ru_maxrss) / 1024.0};
   summary.samples_per_rank = {0};
   summary.busy_seconds = {0.0};
+  summary.busy_cpu_seconds = {0.0};
+  summary.writing_cpu_seconds = {0.0};
+  summary.cpu_seconds = {static_cast<double>(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
+                         1e-6 * static_cast<double>(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec)};
   return summary;
 }
 
@@ -161,8 +166,10 @@ int merge_parts(const std::vector<std::string>& names, const std::string& output
                                    : "merged parts: " + std::to_string(held.count()) + " of the samples were run";
     EnsembleWriter writer(output_path, job, spec, runner.layout(), runner.final_state_size());
     const auto writing = std::chrono::steady_clock::now();
+    const std::clock_t writing_cpu = std::clock();
     writer.write_records(std::move(records));
     summary.writing_seconds = {std::chrono::duration<double>(std::chrono::steady_clock::now() - writing).count()};
+    summary.writing_cpu_seconds = {static_cast<double>(std::clock() - writing_cpu) / CLOCKS_PER_SEC};
     writer.write_merge_origin(names, held.ranges());
     writer.complete(parts[0].nominal, stats, answers, parts[0].tolerance, std::move(summary), provenance, start);
     if (!quiet && !answers.empty()) ensemble::print_response_summary(std::cout, spec, answers, parts[0].tolerance);

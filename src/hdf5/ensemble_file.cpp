@@ -473,6 +473,9 @@ void EnsembleWriter::finish(const EnsembleSummary& summary, const RunProvenance&
   h5::write_attribute(root, "samples_run_here", static_cast<long long>(summary.samples_run_here()));
   h5::write_attribute(root, "busy_seconds_per_rank", std::span<const double>(summary.busy_seconds));
   h5::write_attribute(root, "record_writing_seconds_per_rank", std::span<const double>(summary.writing_seconds));
+  h5::write_attribute(root, "busy_cpu_seconds_per_rank", std::span<const double>(summary.busy_cpu_seconds));
+  h5::write_attribute(root, "record_writing_cpu_seconds_per_rank", std::span<const double>(summary.writing_cpu_seconds));
+  h5::write_attribute(root, "cpu_seconds_per_rank", std::span<const double>(summary.cpu_seconds));
   h5::write_attribute(root, "method", std::string(name(job_.request.settings.method)));
   h5::write_attribute(root, "parameterisation", std::string(name(job_.request.parameterisation)));
   h5::write_attribute(root, "solver", std::string(name(resolve_solver(job_.request.solver))));
