@@ -12,6 +12,7 @@
 #include "app/merge_parts.hpp"
 #include "app/rerun_sample.hpp"
 #include "job/sample_job.hpp"
+#include "ensemble/capacity.hpp"
 #include "job/ensemble_spec.hpp"
 #include "job/job_error.hpp"
 #include "parallel/driver.hpp"
@@ -26,6 +27,7 @@ int check(const std::string& job_path) {
     const auto [job, spec] = treedyn::ensemble::read_ensemble_job(treedyn::JobDocument::read(job_path));
     treedyn::print_model_summary(std::cout, job);
     treedyn::ensemble::print_ensemble_summary(std::cout, job, spec);
+    treedyn::ensemble::print_capacity(std::cout, treedyn::ensemble::measure_capacity(job, spec), "sample 0, timed now");
     std::cout << job_path << ": OK\n";
     return treedyn::kExitOk;
   } catch (const treedyn::JobError& e) {
@@ -86,7 +88,7 @@ void define_options(CLI::App& app, CommandLine& c) {
   app.add_option("JOB", c.options.job_path, "job file (TOML) with an [ensemble] section")->required();
   auto* output = app.add_option("-o,--output", c.options.output_path,
                                 "output file (HDF5), written atomically (required unless --check)");
-  app.add_flag("--check", c.check_only, "validate the job and its [ensemble], print the model and the ensemble, run nothing")
+  app.add_flag("--check", c.check_only, "validate the job and its [ensemble], print the model and the ensemble and how many ranks it can keep busy (timing its nominal run and sample 0); write nothing")
       ->excludes(output);
   app.add_flag("-q,--quiet", c.options.quiet, "no progress and no summary");
   c.sample_option = app.add_option(

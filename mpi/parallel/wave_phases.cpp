@@ -11,6 +11,8 @@
 
 #include "app/exit_codes.hpp"
 #include "analysis/subset_replay.hpp"
+#include "ensemble/capacity.hpp"
+#include "persistence/record_codec.hpp"
 #include "parallel/collectives.hpp"
 #include "parallel/driver.hpp"
 #include "parallel/work_queue.hpp"
@@ -111,6 +113,26 @@ class PilotCheck {
   std::vector<double> pilot_, rerun_;
 };
 
+// Collective: rank 0 says, once the pilot is done, how many ranks this job
+// can keep busy before rank 0 limits it (ensemble/capacity.hpp), and warns
+// when this run has more.
+// The median of the pilot samples' CPU times: the first samples of each rank
+// run slower (first touches of memory), and would inflate a mean.
+void report_capacity(EnsembleRun& run, std::vector<double> pilot_cpu, double record_bytes) {
+  std::vector<double> largest{record_bytes};
+  all_reduce(run.comm, pilot_cpu, MPI_SUM);  // each sample's slot filled by the rank that ran it
+  all_reduce(run.comm, largest, MPI_MAX);
+  if (run.rank != 0 || run.options.quiet || pilot_cpu.empty()) return;
+  std::nth_element(pilot_cpu.begin(), pilot_cpu.begin() + static_cast<std::ptrdiff_t>(pilot_cpu.size() / 2), pilot_cpu.end());
+  ensemble::Capacity c;
+  c.record_bytes = static_cast<std::size_t>(largest[0]);
+  c.record_seconds = ensemble::rank_zero_seconds_per_record(c.record_bytes);
+  c.sample_seconds = pilot_cpu[pilot_cpu.size() / 2];
+  ensemble::print_capacity(std::cerr, c, "the pilot's");
+  if (static_cast<double>(run.size) > c.ranks())
+    std::cerr << "warning: this run has " << run.size << " ranks: rank 0 will limit it (fewer ranks would do as well)\n";
+}
+
 // Rank 0: a response whose integration error is too large for it, said at
 // once (the run goes on; the summary and the page say it again).
 void warn_too_loose(const EnsembleRun& run, const ensemble::ToleranceCheck& check) {
@@ -197,13 +219,18 @@ bool run_pilot_wave(EnsembleRun& run, std::uint64_t pilot_end) {
   std::vector<double> high(entries, -std::numeric_limits<double>::infinity());
   std::vector<std::vector<double>> kept;
   PilotCheck check(run, pilot_end);
+  std::vector<double> pilot_cpu(pilot_end, 0.0);  // each sample's CPU, for rank 0's capacity
+  double record_bytes = 0.0;
   {
     WorkQueue queue(run.comm, 0, pilot_end, run.spec.block_size);
     std::uint64_t begin = 0, end = 0;
     std::vector<double> trajectory;
     while (queue.next(begin, end)) {
       for (std::uint64_t k = begin; k < end && may_go_on(queue); ++k) {
+        const double busy_before = run.busy_cpu_seconds;
         std::optional<SampleRecord> r = run_sample(run, k, trajectory);
+        pilot_cpu[k] = run.busy_cpu_seconds - busy_before;
+        if (r && record_bytes == 0.0) record_bytes = static_cast<double>(ensemble::encoded_size(*r));
         if (!r || !check.add(run, *r)) break;
         const bool ok = r->status == SampleStatus::ok;
         for (std::size_t e = 0; ok && e < entries; ++e) {
@@ -223,6 +250,7 @@ bool run_pilot_wave(EnsembleRun& run, std::uint64_t pilot_end) {
   all_reduce(run.comm, high, MPI_MAX);
   run.tolerance = check.finish(run.comm);
   if (run.rank == 0 && !run.options.quiet) warn_too_loose(run, run.tolerance);
+  report_capacity(run, pilot_cpu, record_bytes);
   const std::size_t columns = run.runner.layout().columns;
   return start_statistics(run, ensemble::calibrate(run.nominal, low, high, ensemble::column_scales(run.nominal, columns),
                                                    columns, run.spec.histogram_bins),

@@ -24,6 +24,13 @@ SampleRecord read_record(ByteReader& in) {
   return r;
 }
 
+std::size_t encoded_size(const SampleRecord& r) {
+  std::size_t doubles = 0;
+  for (const auto* v : {&r.inputs, &r.reductions, &r.responses, &r.final_state, &r.trajectory}) doubles += v->size();
+  return sizeof r.index + sizeof r.status + sizeof r.time_reached + kIntegratorStatFields.size() * sizeof(long) +
+         sizeof(std::uint64_t) + r.reason.size() + 5 * sizeof(std::uint64_t) + doubles * sizeof(double);
+}
+
 void append_record(const SampleRecord& record, std::vector<char>& buffer) {
   ByteWriter out(buffer);
   write_record(record, out);

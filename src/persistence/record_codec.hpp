@@ -14,6 +14,9 @@ namespace treedyn::ensemble {
 void write_record(const SampleRecord& record, ByteWriter& out);
 SampleRecord read_record(ByteReader& in);
 
+// The bytes write_record makes of `record`, without making them.
+std::size_t encoded_size(const SampleRecord& record);
+
 // A buffer of records one after the other.
 void append_record(const SampleRecord& record, std::vector<char>& buffer);
 // Every record of such a buffer; throws DecodeError naming `what`.

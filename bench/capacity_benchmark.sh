@@ -1,0 +1,84 @@
+#!/usr/bin/env bash
+# Rank 0's capacity (BENCHMARKS.md, "Rank 0's capacity"): for each shipped
+# example, runs of 2 to 64 oversubscribed ranks, and from their files rank
+# 0's CPU time per record it took in (receiving, decoding, writing: the
+# attribute record_writing_cpu_seconds_per_rank), the samples' own CPU time
+# (busy_cpu_seconds_per_rank), both per sample between a run of N and one of
+# 4 N samples, and the ranks that would keep rank 0 fully busy with records
+# alone: sample CPU / record CPU.
+# CPU time, not wall time, so that oversubscribed ranks do not distort it.
+# Then rank 0's CPU per work-queue request, from two runs that differ only in
+# their block size (1 and 64 samples per request): the difference in rank 0's
+# CPU outside its samples and its record writing, over the difference in
+# requests.
+#
+#   bash bench/capacity_benchmark.sh [BUILD_DIR] [RANKS...]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+build=${1:-build}
+shift || true
+ranks=("$@")
+[ ${#ranks[@]} -gt 0 ] || ranks=(2 4 8 16 32 64)
+ensemble=$build/mpi/treedyn-ensemble
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+
+# Samples per example (N; each P runs N and 4 N): about 10-30 s of CPU.
+declare -A samples=([spherical_pendulum]=4096 [double_pendulum]=1024 [chain10]=512 [y_tree]=512
+                    [crane_payload]=256 [kapitza]=4096)
+
+# FILE -> "record_cpu_s sample_cpu_s other_cpu_s samples" from its root attributes (sums over the run).
+measure() {
+  /usr/bin/python3 - "$1" <<'PY'
+import sys, h5py
+with h5py.File(sys.argv[1]) as f:
+    a = f.attrs
+    writing, busy, cpu = a["record_writing_cpu_seconds_per_rank"], a["busy_cpu_seconds_per_rank"], a["cpu_seconds_per_rank"]
+    print(f"{writing[0]:.6f} {busy.sum():.6f} {cpu[0] - busy[0] - writing[0]:.6f} {int(a['samples_used'])}")
+PY
+}
+
+# JOB N BLOCK OUT -> a copy of JOB with samples = N, the block size BLOCK, no stored trajectories
+edited() {
+  sed -E -e "s/^samples = [0-9]+/samples = $2\nblock_size = $3/" -e "s/^store_trajectories = [0-9]+//" "$1" > "$4"
+}
+
+# Rank 0's record writing has a part that does not grow with the samples
+# (the first chunks of each dataset are always deflated, to judge whether
+# deflate pays); the marginal cost, between N and 4 N samples, is what a
+# long run pays per record.
+echo "| example | record (bytes) | ranks | rank 0 CPU per record (us) | sample CPU (ms) | scales to (ranks) |"
+echo "|---|---:|---:|---:|---:|---:|"
+for name in spherical_pendulum double_pendulum chain10 y_tree crane_payload kapitza; do
+  n=${samples[$name]}
+  for p in "${ranks[@]}"; do
+    for m in "$n" "$((4 * n))"; do
+      edited "jobs/$name.toml" "$m" 4 "$work/$name.toml"
+      mpirun -np "$p" --oversubscribe "$ensemble" "$work/$name.toml" -o "$work/run_$m.h5" -q --checkpoint-every 0 \
+        > /dev/null 2>&1
+    done
+    read -r w1 b1 _ _ <<< "$(measure "$work/run_$n.h5")"
+    read -r w4 b4 _ _ <<< "$(measure "$work/run_$((4 * n)).h5")"
+    bytes=$("$ensemble" --check "$work/$name.toml" | sed -n 's/.*(\([0-9]*\) bytes each.*/\1/p')
+    /usr/bin/python3 -c "
+record = ($w4 - $w1) / (3 * $n)
+sample = ($b4 - $b1) / (3 * $n)
+print(f'| $name | $bytes | $p | {record * 1e6:.2f} | {sample * 1e3:.3f} | {int(sample / record)} |')"
+    rm -f "$work"/run_*.h5
+  done
+done
+
+echo
+echo "| requests (block 1 / block 64) | rank 0 CPU outside samples and records (s) | difference per request (us) |"
+echo "|---|---:|---:|"
+for block in 1 64; do
+  edited jobs/kapitza.toml 16384 "$block" "$work/queue_$block.toml"
+  mpirun -np 2 --oversubscribe "$ensemble" "$work/queue_$block.toml" -o "$work/queue_$block.h5" -q \
+    --checkpoint-every 0 > /dev/null 2>&1
+  read -r _ _ other_b _ <<< "$(measure "$work/queue_$block.h5")"
+  declare "other_$block=$other_b"
+done
+/usr/bin/python3 -c "
+requests = 16384 - 16384 // 64
+print(f'| 16384 / 256 | {$other_1:.3f} / {$other_64:.3f} | {($other_1 - $other_64) / requests * 1e6:.2f} |')"
