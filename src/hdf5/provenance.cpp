@@ -1,5 +1,7 @@
 #include "hdf5/provenance.hpp"
 
+#include "common/host_time.hpp"
+
 #include "common/hash.hpp"
 
 #include <sundials/sundials_config.h>
@@ -29,12 +31,6 @@
 namespace treedyn {
 namespace {
 
-std::string host_name() {
-  char name[256] = {};
-  if (gethostname(name, sizeof name - 1) != 0) return "unknown";
-  return name;
-}
-
 // A word as a shell would need it to mean the same.
 std::string shell_word(const std::string& word) {
   if (!word.empty() && word.find_first_not_of(
@@ -49,15 +45,6 @@ std::string shell_word(const std::string& word) {
 std::string number(int v) { return std::to_string(v); }
 
 }  // namespace
-
-std::string utc_now() {
-  const std::time_t now = std::time(nullptr);
-  std::tm utc{};
-  gmtime_r(&now, &utc);
-  char text[32];
-  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &utc);
-  return text;
-}
 
 RunProvenance start_provenance(int argc, const char* const* argv, const std::string& job_path) {
   RunProvenance p;

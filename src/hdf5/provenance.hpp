@@ -23,7 +23,6 @@ struct RunProvenance {
 // The run's start: now, this host, the command line.
 RunProvenance start_provenance(int argc, const char* const* argv, const std::string& job_path);
 
-std::string utc_now();
 
 // "treedyn VERSION, commit C, BUILD_TYPE, COMPILER": what a checkpoint must
 // match to be resumed.

@@ -13,17 +13,12 @@
 #include <iterator>
 #include <sstream>
 
+#include "common/host_time.hpp"
 #include "process/atomic_file.hpp"
 
 namespace treedyn::process {
 namespace fs = std::filesystem;
 namespace {
-
-std::string this_host() {
-  char name[256] = "";
-  ::gethostname(name, sizeof name - 1);
-  return name;
-}
 
 // The batch system's job id, where there is one.
 std::string batch_job() {
@@ -32,18 +27,9 @@ std::string batch_job() {
   return "";
 }
 
-std::string now_utc() {
-  const std::time_t t = std::time(nullptr);
-  std::tm tm{};
-  gmtime_r(&t, &tm);
-  char text[32];
-  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &tm);
-  return text;
-}
-
 std::string holder_text(const std::string& command) {
-  return "host=" + this_host() + "\npid=" + std::to_string(::getpid()) + "\njob=" + batch_job() +
-         "\nstarted=" + now_utc() + "\ncommand=" + command + "\n";
+  return "host=" + host_name() + "\npid=" + std::to_string(::getpid()) + "\njob=" + batch_job() +
+         "\nstarted=" + utc_now() + "\ncommand=" + command + "\n";
 }
 
 LockHolder read_holder(const fs::path& path) {
@@ -156,7 +142,7 @@ void OutputLock::take_exclusive_file(const std::string& command) {
     }
     if (errno != EEXIST) throw FileError(path_.string() + ": cannot make the lock file (" + std::strerror(errno) + ")");
     const LockHolder h = read_holder(path_);
-    if (attempt > 0 || h.host != this_host() || process_runs(std::atol(h.pid.c_str()))) refuse(path_, h, false);
+    if (attempt > 0 || h.host != host_name() || process_runs(std::atol(h.pid.c_str()))) refuse(path_, h, false);
     // Left by a run of this host that no longer runs (killed): ours now.
     std::error_code ec;
     fs::remove(path_, ec);

@@ -198,40 +198,8 @@ TEST_F(ReportAnswers, FailuresOnTheFirstScreen) {
 // E0 + 0.275 |w|^2 with the kick(s) random; `inputs` are the perturbation
 // tables, `design` goes into [ensemble].
 std::string ball_job(const std::string& design, const std::string& inputs, double limit, bool with_limit = true) {
-  std::string text = R"(title = "kicked ball"
-
-[[body]]
-name = "ball"
-mass = 1.0
-inertia = [[0.3, 0.0, 0.0], [0.0, 0.3, 0.0], [0.0, 0.0, 0.55]]
-parent = "base"
-joint_on_child = [0.0, 0.0, 0.5]
-
-[integrator]
-rtol = 1e-10
-atol = 1e-12
-
-[output]
-end_time = 0.2
-step = 0.1
-quantities = ["energy"]
-
-[ensemble]
-seed = 5
-)" + design + "\n" + inputs + R"(
-[[ensemble.perturbation]]
-target = "base.position.x"
-distribution = "normal"
-std = 0.5
-
-[[ensemble.response]]
-name = "energy"
-quantity = "energy"
-column = "total"
-reduce = "final"
-)";
-  if (with_limit) text += "limit = " + formatted("%.17g", limit) + "\nfail_if = \"above\"\n";
-  return text;
+  return ball_job_text("seed = 5\n" + design, inputs + normal_input("base.position.x", 0.5) +
+                                              energy_response(with_limit ? std::optional<double>(limit) : std::nullopt));
 }
 
 const std::string kTwoKicks = R"(

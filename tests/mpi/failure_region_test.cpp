@@ -40,49 +40,14 @@ namespace fs = std::filesystem;
 // energy as the response with the limit E0 + J_O a^2 / 2.
 std::string kicked_ball_job(double a, int samples, const std::string& design_lines, const std::vector<std::string>& kicks,
                             const std::string& kick_law = "distribution = \"normal\"\nstd = 1.0\n") {
-  char limit[64];
-  std::snprintf(limit, sizeof limit, "%.17g", kBallE0 + kBallHalfInertia * a * a);
-  std::string text = R"(title = "kicked ball"
-
-[[body]]
-name = "ball"
-mass = 1.0
-inertia = [[0.3, 0.0, 0.0], [0.0, 0.3, 0.0], [0.0, 0.0, 0.55]]
-parent = "base"
-joint_on_child = [0.0, 0.0, 0.5]
-
-[integrator]
-rtol = 1e-10
-atol = 1e-12
-
-[output]
-end_time = 0.2
-step = 0.1
-quantities = ["energy"]
-
-[ensemble]
-samples = )" + std::to_string(samples) + "\nseed = 5\n" + design_lines + "\n";
+  std::string tables;
   for (const std::string& axis : kicks)
-    text += "\n[[ensemble.perturbation]]\ntarget = \"body.ball.angular_velocity." + axis + "\"\n" + kick_law;
-  text += R"(
-[[ensemble.perturbation]]
-target = "base.position.x"
-distribution = "normal"
-std = 0.5
-
-[[ensemble.perturbation]]
-target = "base.position.y"
-distribution = "uniform"
-lower = -1.0
-upper = 1.0
-
-[[ensemble.response]]
-name = "energy"
-quantity = "energy"
-column = "total"
-reduce = "final"
-limit = )" + std::string(limit) + "\nfail_if = \"above\"\n";
-  return text;
+    tables += "\n[[ensemble.perturbation]]\ntarget = \"body.ball.angular_velocity." + axis + "\"\n" + kick_law;
+  tables += normal_input("base.position.x", 0.5) +
+            "\n[[ensemble.perturbation]]\ntarget = \"base.position.y\"\ndistribution = \"uniform\"\nlower = -1.0\n"
+            "upper = 1.0\n" +
+            energy_response(kBallE0 + kBallHalfInertia * a * a);
+  return ball_job_text("samples = " + std::to_string(samples) + "\nseed = 5\n" + design_lines, tables);
 }
 
 double exact_mean_u2(double a) {

@@ -24,46 +24,10 @@ using namespace treedyn::testing;
 namespace fs = std::filesystem;
 
 std::string two_kicks_job(int base_points) {
-  return R"(title = "two kicks of different size"
-
-[[body]]
-name = "ball"
-mass = 1.0
-inertia = [[0.3, 0.0, 0.0], [0.0, 0.3, 0.0], [0.0, 0.0, 0.55]]
-parent = "base"
-joint_on_child = [0.0, 0.0, 0.5]
-
-[integrator]
-rtol = 1e-10
-atol = 1e-12
-
-[output]
-end_time = 0.1
-step = 0.1
-quantities = ["energy"]
-
-[ensemble]
-samples = )" + std::to_string(base_points) + R"(
-seed = 3
-design = "saltelli"
-pilot_samples = 8
-
-[[ensemble.perturbation]]
-target = "body.ball.angular_velocity.x"
-distribution = "normal"
-std = 1.0
-
-[[ensemble.perturbation]]
-target = "body.ball.angular_velocity.y"
-distribution = "normal"
-std = 0.8
-
-[[ensemble.response]]
-name = "energy"
-quantity = "energy"
-column = "total"
-reduce = "final"
-)";
+  return ball_job_text("samples = " + std::to_string(base_points) + "\nseed = 3\ndesign = \"saltelli\"\npilot_samples = 8",
+                       normal_input("body.ball.angular_velocity.x", 1.0) +
+                           normal_input("body.ball.angular_velocity.y", 0.8) + energy_response(std::nullopt),
+                       0.1);
 }
 
 struct Verdict {

@@ -7,6 +7,7 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -90,10 +91,17 @@ inline double ball_limit_for(double probability) {
 
 // The job: w ~ N(0, I) rad/s as three inputs, the final total energy as the
 // response with `limit`; `design_lines` go into [ensemble].
-inline std::string isotropic_ball_job(double limit, int samples, const std::string& design_lines) {
-  char limit_text[64];
-  std::snprintf(limit_text, sizeof limit_text, "%.17g", limit);
-  std::string text = R"(title = "isotropic ball on a spherical joint"
+inline std::string isotropic_ball_job(double limit, int samples, const std::string& design_lines);
+
+// The ball's job: `ensemble` lines under [ensemble] (samples, seed, design,
+// ...), then `tables` (its [[ensemble.perturbation]] and
+// [[ensemble.response]] tables as TOML text), over `end_time` seconds.
+// Every test of the ball builds on it (subset simulation, the failure
+// region, the rankings, the page's answers).
+inline std::string ball_job_text(const std::string& ensemble, const std::string& tables, double end_time = 0.2) {
+  char end[32];
+  std::snprintf(end, sizeof end, "%g", end_time);
+  return R"(title = "isotropic ball on a spherical joint"
 
 [[body]]
 name = "ball"
@@ -109,19 +117,38 @@ rtol = 1e-10
 atol = 1e-12
 
 [output]
-end_time = 0.2
+end_time = )" + std::string(end) + R"(
 step = 0.1
 quantities = ["energy"]
 
 [ensemble]
-samples = )" + std::to_string(samples) +
-                     "\nseed = 5\n" + design_lines + "\n";
-  for (const char* axis : {"x", "y", "z"})
-    text += std::string("\n[[ensemble.perturbation]]\ntarget = \"body.ball.angular_velocity.") + axis +
-            "\"\ndistribution = \"normal\"\nstd = 1.0\n";
-  text += std::string("\n[[ensemble.response]]\nname = \"energy\"\nquantity = \"energy\"\ncolumn = \"total\"\n") +
-          "reduce = \"final\"\nlimit = " + limit_text + "\nfail_if = \"above\"\n";
+)" + ensemble + "\n" + tables;
+}
+
+// A normal perturbation of `target` with standard deviation `std`, and the
+// final total energy as a response with an optional limit (exceeded above).
+inline std::string normal_input(const std::string& target, double std) {
+  char text[200];
+  std::snprintf(text, sizeof text, "\n[[ensemble.perturbation]]\ntarget = \"%s\"\ndistribution = \"normal\"\nstd = %.17g\n",
+                target.c_str(), std);
   return text;
+}
+inline std::string energy_response(const std::optional<double>& limit) {
+  std::string text = "\n[[ensemble.response]]\nname = \"energy\"\nquantity = \"energy\"\ncolumn = \"total\"\n"
+                     "reduce = \"final\"\n";
+  if (limit) {
+    char value[64];
+    std::snprintf(value, sizeof value, "%.17g", *limit);
+    text += std::string("limit = ") + value + "\nfail_if = \"above\"\n";
+  }
+  return text;
+}
+
+inline std::string isotropic_ball_job(double limit, int samples, const std::string& design_lines) {
+  return ball_job_text("samples = " + std::to_string(samples) + "\nseed = 5\n" + design_lines,
+                       normal_input("body.ball.angular_velocity.x", 1.0) +
+                           normal_input("body.ball.angular_velocity.y", 1.0) +
+                           normal_input("body.ball.angular_velocity.z", 1.0) + energy_response(limit));
 }
 
 inline const std::string kBallSubset = "design = \"subset_simulation\"\n\n[ensemble.subset]\nresponse = \"energy\"";
