@@ -59,6 +59,8 @@ int finished_output(EnsembleRun& run) {
 // create an empty directory for this run's. Returns an exit code.
 int open_checkpoint(EnsembleRun& run) {
   const fs::path& dir = run.checkpoint_dir;
+  std::error_code ignored;
+  fs::remove(dir / "stopped", ignored);  // an earlier stop's marker: this run is not stopped (yet)
   if (run.options.resume) {
     run.restored = ensemble::load_checkpoint(dir, run.id, ensemble::statistics_shape(run.runner),
                                              ensemble::record_shape(run.runner, run.first, run.end));

@@ -106,7 +106,10 @@ void RecordWriter::end_block() {
 // window. finish_run writes them (write_held) once the run is complete.
 void RecordWriter::end_wave() {
   end_block();
-  while (finished_ranks_ < ranks_ - 1) drain(true);
+  // Every rank's done message comes after its records (MPI does not let a
+  // sender's messages overtake each other in matching), but a posted
+  // receive of records may complete after it: wait for those too.
+  while (finished_ranks_ < ranks_ - 1 || !receiving_.empty()) drain(true);
   finished_ranks_ = 0;
 }
 
@@ -138,33 +141,85 @@ void RecordWriter::write_held() {
   batch_bytes_ = 0;
 }
 
-// Receives what has arrived (blocking for one message if `wait`).
+// Receives what has arrived: every message matched is posted (MPI_Imrecv),
+// every posted one that has completed is written. With `wait`, blocks
+// until at least one message has completed.
 void RecordWriter::drain(bool wait) {
+  post_arrived();
+  bool progressed = complete_received(false);
+  while (wait && !progressed) {
+    if (receiving_.empty()) {  // nothing posted: wait for a message to match
+      MPI_Message message;
+      MPI_Status status;
+      MPI_Mprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, comm_, &message, &status);
+      post(message, status);
+    }
+    progressed = complete_received(true);
+  }
+}
+
+// Every message that has arrived, matched and posted.
+void RecordWriter::post_arrived() {
   for (;;) {
     int flag = 0;
+    MPI_Message message;
     MPI_Status status;
-    if (wait) {
-      MPI_Probe(MPI_ANY_SOURCE, MPI_ANY_TAG, comm_, &status);
-      flag = 1;
-      wait = false;
-    } else {
-      MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, comm_, &flag, &status);
-    }
+    MPI_Improbe(MPI_ANY_SOURCE, MPI_ANY_TAG, comm_, &flag, &message, &status);
     if (!flag) return;
-    // From here on receiving and writing, not waiting for a message (the
-    // probe above). A message past the eager limit may still make MPI_Recv
-    // wait for its sender's progress: counted as receiving.
-    const Writing writing(*this);
-    int bytes = 0;
-    MPI_Get_count(&status, MPI_BYTE, &bytes);
-    if (received_.size() < static_cast<std::size_t>(bytes)) received_.resize(static_cast<std::size_t>(bytes));
-    MPI_Recv(received_.data(), bytes, MPI_BYTE, status.MPI_SOURCE, status.MPI_TAG, comm_, MPI_STATUS_IGNORE);
-    if (status.MPI_TAG == kTagDone)
-      ++finished_ranks_;
-    else
-      write(ensemble::read_records(std::span<const char>(received_.data(), static_cast<std::size_t>(bytes)),
-                                   "the records of rank " + std::to_string(status.MPI_SOURCE)));
+    post(message, status);
   }
+}
+
+// A matched message's receive, into a spare buffer.
+void RecordWriter::post(MPI_Message& message, const MPI_Status& status) {
+  const Writing writing(*this);
+  int count = 0;
+  MPI_Get_count(&status, MPI_BYTE, &count);
+  Receiving r{std::vector<char>(), count, status.MPI_SOURCE, status.MPI_TAG};
+  if (!spare_.empty()) {
+    r.bytes = std::move(spare_.back());
+    spare_.pop_back();
+  }
+  if (r.bytes.size() < static_cast<std::size_t>(count)) r.bytes.resize(static_cast<std::size_t>(count));
+  requests_.emplace_back();
+  MPI_Imrecv(r.bytes.data(), count, MPI_BYTE, &message, &requests_.back());
+  receiving_.push_back(std::move(r));
+}
+
+// The posted messages that have completed, handled; with `wait`, waits for
+// one first (the waiting is not writing). Whether any completed.
+bool RecordWriter::complete_received(bool wait) {
+  if (receiving_.empty()) return false;
+  if (wait) {
+    int index = MPI_UNDEFINED;
+    MPI_Waitany(static_cast<int>(requests_.size()), requests_.data(), &index, MPI_STATUS_IGNORE);
+    requests_[static_cast<std::size_t>(index)] = MPI_REQUEST_NULL;  // done: the sweep below takes it
+  }
+  const Writing writing(*this);
+  bool any = false;
+  for (std::size_t k = 0; k < receiving_.size();) {
+    int done = requests_[k] == MPI_REQUEST_NULL ? 1 : 0;
+    if (!done) MPI_Test(&requests_[k], &done, MPI_STATUS_IGNORE);
+    if (!done) {
+      ++k;
+      continue;
+    }
+    Receiving r = std::move(receiving_[k]);
+    receiving_.erase(receiving_.begin() + static_cast<std::ptrdiff_t>(k));
+    requests_.erase(requests_.begin() + static_cast<std::ptrdiff_t>(k));
+    handle(r.bytes, r.count, r.source, r.tag);
+    spare_.push_back(std::move(r.bytes));
+    any = true;
+  }
+  return any;
+}
+
+void RecordWriter::handle(std::vector<char>& bytes, int count, int source, int tag) {
+  if (tag == kTagDone)
+    ++finished_ranks_;
+  else
+    write(ensemble::read_records(std::span<const char>(bytes.data(), static_cast<std::size_t>(count)),
+                                 "the records of rank " + std::to_string(source)));
 }
 
 RecordSender::RecordSender(MPI_Comm comm, int ranks)

@@ -102,7 +102,20 @@ class RecordWriter final : public RecordSink {
  private:
   void make_progress() override { drain(false); }
   void drain(bool wait);
+  void post_arrived();
+  void post(MPI_Message& message, const MPI_Status& status);
+  bool complete_received(bool wait);
+  void handle(std::vector<char>& bytes, int count, int source, int tag);
   void write(std::vector<ensemble::SampleRecord> records);
+
+  // A message matched and being received (MPI_Imrecv): rank 0 never waits
+  // in a receive for a sender busy with a sample (a message past MPI's
+  // eager limit needs its sender's progress too), it goes on and takes the
+  // message at a later poll.
+  struct Receiving {
+    std::vector<char> bytes;
+    int count = 0, source = 0, tag = 0;
+  };
 
   MPI_Comm comm_;
   int ranks_;
@@ -112,7 +125,9 @@ class RecordWriter final : public RecordSink {
   std::vector<ensemble::SampleRecord>* collected_;
   std::vector<ensemble::SampleRecord> local_;
   std::vector<ensemble::SampleRecord> batch_;  // counted, not yet in the file
-  std::vector<char> received_;  // the last message, in storage reused: no allocation per message
+  std::vector<Receiving> receiving_;        // posted, in the order matched
+  std::vector<MPI_Request> requests_;       // theirs, in the same order
+  std::vector<std::vector<char>> spare_;    // buffers of completed messages, reused: no allocation per message
   std::size_t batch_bytes_ = 0;
   int finished_ranks_ = 0;
   std::uint64_t done_ = 0, failed_ = 0;

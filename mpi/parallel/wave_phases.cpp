@@ -432,6 +432,19 @@ int run_waves(EnsembleRun& run) {
 namespace {
 
 // Rank 0: the temporary output removed, and what a resume will find.
+// The clean stop's line, also as DIR/stopped: a launcher that ends the job
+// itself (mpirun on Ctrl-C, SIGTERM; Open MPI 5's in every case) exits 1
+// and may not pass the line on, so a batch script tells a clean stop by this
+// file (jobs/slurm_ensemble.sh). Written before the line is printed; a run
+// that starts on the checkpoint removes it (open_checkpoint).
+void write_stopped_marker(const EnsembleRun& run, const std::string& line) {
+  try {
+    process::write_file_atomically(run.checkpoint_dir / "stopped", line);
+  } catch (const process::FileError& e) {
+    std::cerr << "warning: " << e.what() << " (the marker of a clean stop)\n";
+  }
+}
+
 void report_interruption(EnsembleRun& run, bool resumable, bool all_saved, std::uint64_t kept, int signal_number) {
   run.records->finish_progress();
   run.writer.reset();  // removes the temporary output
@@ -447,8 +460,11 @@ void report_interruption(EnsembleRun& run, bool resumable, bool all_saved, std::
     std::cerr << "interrupted by " << what << "; a rank could not write its checkpoint (see above): --resume "
               << "keeps what " << dir << " holds\n";
   } else {
-    std::cerr << "interrupted by " << what << " after " << kept << " of " << run.end - run.first
-              << " samples; resume with --resume (checkpoint " << dir << ")\n";
+    const std::string line = "interrupted by " + what + " after " + std::to_string(kept) + " of " +
+                             std::to_string(run.end - run.first) + " samples; resume with --resume (checkpoint " +
+                             dir + ")\n";
+    write_stopped_marker(run, line);
+    std::cerr << line;
   }
 }
 
