@@ -444,6 +444,10 @@ TEST_F(Checkpoint, ASecondRunOnOneOutputIsRefusedAtOnceAndTheFinishedOutputIsNot
     }
     ::kill(first.pid(), SIGUSR1);  // forwarded by mpirun: a clean stop
     EXPECT_EQ(first.wait(), 5) << first.err();
+    // Rank 0's line, also as a file for scripts whose mpirun hides it.
+    const std::string marker = read_text(ckpt / "stopped");
+    EXPECT_EQ(marker.rfind("interrupted by SIGUSR1 after ", 0), 0u) << marker;
+    EXPECT_NE(first.err().find(marker), std::string::npos) << "the same line as printed: " << marker;
   }
   const auto resumed = run_ensemble(2, job_, out, dir_.path() / "capture", {"--resume"});
   ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
