@@ -46,11 +46,11 @@ Costs measure(const Job& job, const ensemble::EnsembleSpec& spec, const std::vec
   std::vector<char> message;
   double t = cpu_seconds();
   for (const auto& r : all) ensemble::append_record(r, message);
-  c.encode = (cpu_seconds() - t) / kRecords;
+  c.encode = (cpu_seconds() - t) / static_cast<double>(kRecords);
   c.bytes = message.size() / kRecords;
   t = cpu_seconds();
   const std::vector<ensemble::SampleRecord> decoded = ensemble::read_records(message, "benchmark");
-  c.decode = (cpu_seconds() - t) / kRecords;
+  c.decode = (cpu_seconds() - t) / static_cast<double>(kRecords);
   ensemble::EnsembleSpec sized = spec;
   sized.samples = kRecords;
   {
@@ -59,7 +59,7 @@ Costs measure(const Job& job, const ensemble::EnsembleSpec& spec, const std::vec
     for (std::size_t first = 0; first < kRecords; first += kBatch)
       writer.write_records(std::vector<ensemble::SampleRecord>(decoded.begin() + static_cast<std::ptrdiff_t>(first),
                                                                 decoded.begin() + static_cast<std::ptrdiff_t>(first + kBatch)));
-    c.write = (cpu_seconds() - t) / kRecords;
+    c.write = (cpu_seconds() - t) / static_cast<double>(kRecords);
   }  // the temporary file goes with the writer
   return c;
 }

@@ -12,7 +12,6 @@
 #include "app/exit_codes.hpp"
 #include "analysis/subset_replay.hpp"
 #include "ensemble/capacity.hpp"
-#include "persistence/record_codec.hpp"
 #include "parallel/collectives.hpp"
 #include "parallel/driver.hpp"
 #include "parallel/work_queue.hpp"
@@ -230,7 +229,7 @@ bool run_pilot_wave(EnsembleRun& run, std::uint64_t pilot_end) {
         const double busy_before = run.busy_cpu_seconds;
         std::optional<SampleRecord> r = run_sample(run, k, trajectory);
         pilot_cpu[k] = run.busy_cpu_seconds - busy_before;
-        if (r && record_bytes == 0.0) record_bytes = static_cast<double>(ensemble::encoded_size(*r));
+        if (r && record_bytes == 0.0) record_bytes = static_cast<double>(ensemble::typical_record_bytes(*r));
         if (!r || !check.add(run, *r)) break;
         const bool ok = r->status == SampleStatus::ok;
         for (std::size_t e = 0; ok && e < entries; ++e) {

@@ -25,11 +25,14 @@ struct OverBudget {};
 }  // namespace
 
 double rank_zero_seconds_per_record(std::size_t bytes) {
-  // A least-squares line through the six examples' costs at 32 ranks
-  // (BENCHMARKS.md, "Rank 0's capacity"): a fixed part per record (the
-  // message's share, the scatter into every per-sample dataset, the
-  // response table) and a part per byte (copies and deflate).
+  // A fixed part per record (the message's share, the response table) and
+  // a part per byte (decoding, the scatter into every per-sample dataset,
+  // deflate).
   return kRankZeroFixedSeconds + kRankZeroSecondsPerByte * static_cast<double>(bytes);
+}
+
+std::size_t typical_record_bytes(const SampleRecord& record) {
+  return encoded_size(record) - record.trajectory.size() * sizeof(double);
 }
 
 Capacity measure_capacity(const Job& job, const EnsembleSpec& spec, double budget) {
@@ -53,7 +56,7 @@ Capacity measure_capacity(const Job& job, const EnsembleSpec& spec, double budge
       record = runner.failed_record(0, SampleStatus::integration_failed, "");
     }
     if (k == 0 || !c.sample_cut) c.sample_seconds = std::min(c.sample_seconds, thread_cpu() - from);
-    c.record_bytes = std::max(c.record_bytes, encoded_size(record));
+    c.record_bytes = std::max(c.record_bytes, typical_record_bytes(record));
     if (c.sample_cut) break;
   }
   c.record_seconds = rank_zero_seconds_per_record(c.record_bytes);

@@ -52,6 +52,25 @@ TEST(Capacity, ASampleIsTimedAndItsRecordModelled) {
   EXPECT_EQ(out.str().find("more than"), std::string::npos) << out.str();
 }
 
+// Sample 0 stores its trajectory when store_trajectories > 0, but only the
+// first few samples do: the record modelled is a typical one, without it
+// (the crane's sample 0 is 466 kB with its trajectory, 4.8 kB without).
+TEST(Capacity, TheRecordModelledHasNoStoredTrajectory) {
+  auto [job, spec] = spherical();
+  spec.store_trajectories = 2;
+  SampleRunner runner(job, spec);
+  std::vector<double> trajectory;
+  SampleRecord record = runner.run(0, false, trajectory);
+  ASSERT_FALSE(record.trajectory.empty());
+  const std::size_t with_trajectory = encoded_size(record);
+  const std::size_t typical = typical_record_bytes(record);
+  record.trajectory.clear();
+  EXPECT_EQ(typical, encoded_size(record));
+  const Capacity c = measure_capacity(job, spec);
+  EXPECT_EQ(c.record_bytes, typical);
+  EXPECT_LT(c.record_bytes * 10, with_trajectory);
+}
+
 // A budget of nothing: the sample is stopped at its first output time and
 // the line says the sample takes more than that, and the ranks more too.
 TEST(Capacity, ASampleOverItsBudgetIsStoppedAndSaidToTakeMore) {
