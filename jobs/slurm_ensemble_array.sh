@@ -18,6 +18,11 @@
 #
 #   treedyn-ensemble merge -o OUT.h5 JOBNAME_parts/8/part_*.part
 #
+# Self-contained on purpose, like slurm_ensemble.sh, whose launch, signal
+# and clean-stop code it repeats: sbatch runs a copy of a script from its
+# spool directory, where no sibling file can be sourced, and users copy one
+# script (tests/jobs/slurm_scripts_test.sh checks both the same way).
+#
 # Part k of P = SLURM_ARRAY_TASK_COUNT holds the sample indices
 # [k S / P, (k + 1) S / P) of S samples (saltelli: all N (D + 2) runs); every
 # part also runs the pilot samples, so that all parts share one calibration and
