@@ -9,7 +9,7 @@
 //                                      HarmonicBase (a sincos per term), 1 = a
 //                                      sea state (a complex recurrence).
 //
-// solver: 0 = recursive (section 8, the default), 1 = sparse_ldlt.
+// solver: 0 = recursive (docs/wittenburg.md, section 8, the default), 1 = sparse_ldlt.
 //
 // Models and states: benchmark_models.hpp. Times are per evaluation.
 #include <benchmark/benchmark.h>

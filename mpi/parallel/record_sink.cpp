@@ -12,25 +12,23 @@ namespace {
 
 constexpr int kTagRecords = 1;
 constexpr int kTagDone = 2;
-// Batches in flight per rank. A batch above Open MPI's eager limit (4 KiB
-// in shared memory) is sent only once rank 0 receives it, and rank 0 does
-// not receive while it writes a batch of records (tens of ms): the other
-// ranks go on integrating as long as they may keep this much in flight.
+// Batches in flight per rank. A batch above MPI's eager limit is sent only
+// once rank 0 receives it, and rank 0 does not receive while it writes a
+// batch of records: the other ranks go on integrating as long as they may
+// keep this much in flight.
 constexpr std::size_t kMaxPendingSends = 64;
 constexpr std::size_t kMaxPendingBytes = std::size_t{8} << 20;
 constexpr std::int64_t kPollIntervalNs = 2'000'000;
 constexpr std::size_t kWriteBatchBytes = std::size_t{4} << 20;  // rank 0's records held before a write
 constexpr std::size_t kWriteBatchRecords = 4096;
 // A sending rank holds the records of its blocks until they make a message
-// of 64 KiB, or the first has waited kMaxHoldSeconds. Rank 0 pays about
-// 20 us per message it receives, whatever its size (the probe, MPI's
-// rendezvous above the eager limit, the decode's set-up), and a block of 4
-// spherical-pendulum records is 9 KB: one message per block was a sixth of
-// rank 0's record writing. The records all senders hold together stay
-// under kAllHeldBytes: held records are rows rank 0 has not got, and it
-// keeps only a few chunks (of at least 910 rows) waiting for their rows
-// (h5::RowDataset), so with many ranks a message is smaller (8 KiB at 64
-// ranks: a block of spherical-pendulum records, as before).
+// of kSendBytes, or the first has waited kMaxHoldSeconds: rank 0 pays a
+// fixed cost per message it receives, whatever its size (the probe, MPI's
+// rendezvous above the eager limit, the decode's set-up; BENCHMARKS.md,
+// "One message per 64 KiB of records"). The records all senders hold
+// together stay under kAllHeldBytes: held records are rows rank 0 has not
+// got, and it keeps only a few chunks waiting for their rows
+// (h5::RowDataset), so with many ranks a message is smaller.
 constexpr std::size_t kSendBytes = std::size_t{64} << 10;
 constexpr std::size_t kAllHeldBytes = std::size_t{512} << 10;
 constexpr double kMaxHoldSeconds = 0.5;
@@ -50,12 +48,12 @@ std::size_t record_bytes(const ensemble::SampleRecord& r) {
 
 }  // namespace
 
-// The coarse clock is a value the kernel updates every tick (4 ms on the
-// development VM, 10 ms with HZ = 100), read without the time-stamp
-// counter: poll() runs at every output time, and the precise clock there
-// cost 1 % of a spherical-pendulum sample (perf). So MPI progresses once a
-// tick rather than every 2 ms, which the sends in flight (up to 64 batches
-// per rank) absorb. Linux-only, as the project is.
+// The coarse clock (a value the kernel updates every tick, read without the
+// time-stamp counter), since poll() runs at every output time and the
+// precise clock there is a visible share of a small model's sample
+// (BENCHMARKS.md, "Longer runs"). So MPI progresses once a tick rather than
+// every kPollIntervalNs, which the sends in flight absorb. Linux-only, as
+// the project is.
 void RecordSink::poll() {
   timespec now{};
   clock_gettime(CLOCK_MONOTONIC_COARSE, &now);

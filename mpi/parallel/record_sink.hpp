@@ -71,10 +71,10 @@ class RecordSink {
 // (exit 4). Records are counted (progress, `table`) as they arrive but go to
 // the file in batches, once those held pass 4 MiB or 4096 records (checked
 // after each message, so a batch may pass them by one message): every write
-// touches each of the /samples datasets once (86 for the spherical
-// pendulum's 16 quantities), and a few rows at a time cost rank 0 about
-// 30 us per record, time in which it runs no sample. The batch is bounded:
-// memory does not grow with N.
+// touches each of the /samples datasets once, so a few rows at a time cost
+// rank 0 time in which it runs no sample (BENCHMARKS.md, "Two ranks: rank 0
+// writes the records in batches"). The batch is bounded: memory does not
+// grow with N.
 class RecordWriter final : public RecordSink {
  public:
   // Every record also goes into `table` (status, inputs, responses), if

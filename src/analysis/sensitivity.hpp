@@ -32,7 +32,7 @@ struct RankSensitivity {
 
 // Bootstrap work above which rank_sensitivity draws fewer resamples than
 // asked: about n (D + 1)^2 / 2 multiply-adds per resample (a covariance
-// matrix of the ranks), so about 10 s on one core at this many.
+// matrix of the ranks); this many keeps the bootstrap to seconds on one core.
 inline constexpr double kRankBootstrapBudget = 2e10;
 inline constexpr int kRankBootstrapMinimum = 50;  // fewer than this: no intervals at all
 
@@ -69,7 +69,7 @@ struct SobolIndices {
 // estimator of the closed index of all inputs but i, taken from 1 (Jansen's
 // numerator over the variance of the pair it is computed from). Of the
 // published estimators compared on Ishigami's and Sobol's g function over
-// 200 design seeds (tests/ensemble/sobol_estimator_test.cpp, README), these
+// 200 design seeds (tests/ensemble/sobol_estimator_test.cpp, docs/design.md), these
 // two have the smallest error at N = 16, 64 and 256. Intervals:
 // first_ci[2i], [2i+1] = low, high. The bootstrap treats the blocks as
 // independent draws; with scrambled Sobol points the actual error is

@@ -1,4 +1,4 @@
-// Exit codes of the treedyn commands (documented in the README).
+// Exit codes of the treedyn commands (documented in docs/commands.md).
 #pragma once
 
 namespace treedyn {

@@ -1,8 +1,8 @@
 // Cholesky factorisation H = L L^T of a symmetric positive-definite 3x3 matrix
 // and its triangular solves, written out for 3x3. Eigen's LLT<Matrix3d> reaches
-// general-size triangular-solve routines (17-31 % of the old forward dynamics);
-// these are straight-line code on the six entries of L, with the reciprocals
-// of its diagonal stored so that a solve has no division.
+// general-size triangular-solve routines (BENCHMARKS.md, "Profile, before and
+// after"); these are straight-line code on the six entries of L, with the
+// reciprocals of its diagonal stored so that a solve has no division.
 #pragma once
 
 #include <cmath>

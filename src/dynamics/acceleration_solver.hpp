@@ -1,5 +1,5 @@
 // Which acceleration stage solves for w': the O(n) recursion of section 8 of
-// the theory page, or the tree-sparse L^T D L of K (section 4, eq. 59). Both
+// docs/wittenburg.md, or the tree-sparse L^T D L of K (section 4, eq. 59). Both
 // read the same position, velocity and force stages and give the same w'.
 #pragma once
 

@@ -1,4 +1,4 @@
-// Workspace of the recursive acceleration stage (theory page, section 8):
+// Workspace of the recursive acceleration stage (docs/wittenburg.md, section 8):
 // per body the kinematic couplings to its parent, the sums its children
 // contribute, and the factors that the root-to-leaves sweep reuses. All
 // vectors and matrices are inertial. Sized once; the sweeps never allocate.

@@ -1,4 +1,4 @@
-// Acceleration stage, recursive (theory page, section 8): w' from one 3x3
+// Acceleration stage, recursive (docs/wittenburg.md, section 8): w' from one 3x3
 // articulated mass per body, leaves to root, then the joint accelerations and
 // w' root to leaves. No K is formed; O(n) for any tree. Every vector is
 // inertial; children have larger indices than their parents.

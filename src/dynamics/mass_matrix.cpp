@@ -1,4 +1,4 @@
-// Acceleration stage, parts 2 and 3: the mass matrix K of section 4 in its
+// Acceleration stage, parts 2 and 3: the mass matrix K of docs/wittenburg.md, section 4 in its
 // branch-induced sparsity, factored K = L^T D L without fill-in (Featherstone's
 // LTDL in 3x3 blocks, children after parents), then w' = K^-1 Q.
 #include <algorithm>

@@ -1,5 +1,5 @@
 // Storage of the tree-sparse factorisation K = L^T D L of the mass matrix of
-// section 4: one 3x3 block per body (its diagonal) and one per (body, strict
+// docs/wittenburg.md, section 4: one 3x3 block per body (its diagonal) and one per (body, strict
 // ancestor) pair, the only non-zero blocks (no fill-in). Its layout depends
 // on the tree alone.
 #pragma once

@@ -1,6 +1,7 @@
 // The staged forward-dynamics pipeline: positions, velocities, forces,
 // accelerations. Each stage reads what the earlier ones wrote into Data.
-// Indices are in the regular order of the Model.
+// Indices are in the regular order of the Model; sections are those of
+// docs/wittenburg.md.
 #pragma once
 
 #include "dynamics/data.hpp"

@@ -1,5 +1,6 @@
-// Quantities recovered from a state after forward_dynamics (section 6), in the
-// user's body order (index = position in ModelSpec::bodies).
+// Quantities recovered from a state after forward_dynamics (docs/wittenburg.md,
+// section 6), in the user's body order (index = position in
+// ModelSpec::bodies).
 #pragma once
 
 #include <vector>

@@ -19,15 +19,16 @@ namespace treedyn::ensemble {
 // Rank 0's CPU time per record of `bytes` (encoded, as a sender sends it),
 // at 64 ranks (it grows with the ranks: smaller messages), s: a fixed part
 // and a part per byte, a least-squares line through the six examples
-// (BENCHMARKS.md: within 0.8-1.8 of each; deflate is most of the per-byte
-// part, and how well a job's rows compress moves it).
+// (BENCHMARKS.md, "Rank 0's capacity": the fit against each example;
+// deflate is most of the per-byte part, and how well a job's rows compress
+// moves it).
 inline constexpr double kRankZeroFixedSeconds = 7.7e-6;
 inline constexpr double kRankZeroSecondsPerByte = 13e-9;
 double rank_zero_seconds_per_record(std::size_t bytes);
 
 // A record's encoded size without its stored trajectory: only samples below
 // store_trajectories carry one, so rank 0's steady cost is for records
-// without (the crane's sample 0: 466 kB with, 4.8 kB without).
+// without (a trajectory can be a hundred times the rest).
 std::size_t typical_record_bytes(const SampleRecord& record);
 
 struct Capacity {

@@ -57,12 +57,11 @@ class RankResults {
   // final write leaves everything for --resume), hands the statistics over
   // for the reduction, and ends the signal thread's part: keep(), save()
   // and stop() do nothing from now on. The save is written here; its
-  // flush and rename run on a thread of their own (0.07-0.08 s of fsync on
-  // the development VM), overlapping the reduction and the output's
-  // writing. Flushed although a run that ends well removes it: unflushed, a
-  // crash of the machine after its rename could leave a state naming
-  // records the disk never got, and --resume would refuse the whole
-  // checkpoint (tried in a401d31, reverted).
+  // flush and rename run on a thread of their own, overlapping the
+  // reduction and the output's writing. Flushed although a run that ends
+  // well removes it: unflushed, a crash of the machine after its rename
+  // could leave a state naming records the disk never got, and --resume
+  // would refuse the whole checkpoint.
   EnsembleStatistics finish();
   // Waits until finish()'s save is on the disk (a failure turns this rank's
   // checkpoints off, and its warning is printed here, on the main thread,

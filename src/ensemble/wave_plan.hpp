@@ -7,8 +7,9 @@
 // and the engine sends the decision to every rank. A resumed run replays the
 // decisions from its restored records, so a plan keeps no state of its own.
 //
-// The engine (mpi/parallel/driver.cpp) runs every wave the same way: its
-// blocks go out through the work queue, finished samples are skipped, each
+// The engine (run_waves, mpi/parallel/wave_phases.cpp) runs every wave the
+// same way: its blocks (or, for a wave of chains, whole chains) go out
+// through the work queue, finished samples are skipped, each
 // sample's record and statistics are kept, and checkpoints cover whatever
 // is finished. Before the first wave's other samples it runs that wave's
 // first `pilot_samples` as the pilot wave, whose deviations fix the
@@ -17,9 +18,13 @@
 // make_wave_plan (analysis/wave_plans.hpp) picks the plan of a job: plans
 // that decide from the answers so far live beside the answers.
 //
-// What a new design provides: a WavePlan (first_wave, next_wave) and, where
-// its samples' inputs depend on earlier waves, a way for SampleRunner to get
-// them (today every input is a pure function of the seed and the index).
+// A run's inputs are a pure function of (seed, index) for the fixed designs
+// and subset simulation's level 0; a chain's runs are not: each starts from
+// the wave's `start` (decided by rank 0 from earlier waves) and the chain's
+// own earlier states, and runs through SampleRunner::run_at. So a new design
+// provides a WavePlan (first_wave, next_wave) and, where its inputs depend on
+// earlier waves, its own runs as wave_phases.cpp has for chains; today it
+// also touches the Design table (sampling/design.hpp) and the switches on it.
 #pragma once
 
 #include <cstdint>

@@ -20,8 +20,8 @@ struct FreeDecompressor {
 };
 
 // One coder per level, made when first used and kept: making one allocates
-// its tables (up to about 1 MB), which zlib's compress2 did again for every
-// chunk. Per thread, as libdeflate asks.
+// its tables (up to about 1 MB), too much to do for every chunk. Per thread,
+// as libdeflate asks.
 libdeflate_compressor& compressor(unsigned level) {
   thread_local std::array<std::unique_ptr<libdeflate_compressor, FreeCompressor>, 10> by_level;
   if (level >= by_level.size()) throw IoError("deflate level " + std::to_string(level) + ": 0-9 only");

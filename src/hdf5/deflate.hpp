@@ -1,9 +1,9 @@
 // Deflate (a zlib stream, RFC 1950: what HDF5's deflate filter stores in a
 // chunk) coded by libdeflate, for the chunks treedyn compresses itself
-// (row_dataset.hpp). libdeflate writes the same format as zlib, about twice
-// as fast at level 1 on the per-sample rows (73.5 MB of them from 32,768
-// spherical-pendulum samples: zlib's compress2 0.85 s, libdeflate 0.40 s,
-// 0.3 % smaller), so every reader decodes the chunks with its own zlib.
+// (row_dataset.hpp): libdeflate is about twice as fast as zlib at level 1
+// on the per-sample rows (BENCHMARKS.md, "Rank 0 compresses each chunk
+// once, with libdeflate") and writes the same format, so every reader
+// decodes the chunks with its own zlib.
 #pragma once
 
 #include <cstddef>

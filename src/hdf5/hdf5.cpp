@@ -36,10 +36,10 @@ std::vector<const char*> pointers_to(const std::vector<std::string>& values) {
   return out;
 }
 
-// About 64 KiB a chunk, whole rows. Each chunk costs a fixed amount (zlib
-// set up and cleared its tables, a few hundred KiB, for every one; HDF5
-// indexes and writes each): chunks of a few rows spent more of rank 0's
-// time on that than on compressing, and compressed worse. A chunk whose
+// About 64 KiB a chunk, whole rows. Each chunk costs a fixed amount (the
+// filter's set-up; HDF5 indexes and writes each): chunks of a few rows cost
+// rank 0 more in that than in compressing, and compress worse
+// (BENCHMARKS.md, "Longer runs"). A chunk whose
 // rows arrive in several writes waits in memory until it is whole: the
 // numbers' in RowDataset (row_dataset.hpp), the strings' in the chunk cache
 // (rows_cache).
@@ -49,10 +49,9 @@ hsize_t rows_per_chunk(hsize_t row_bytes, hsize_t rows) {
 
 // A row dataset's chunk cache: 4 chunks, the ones whose rows are still
 // arriving (the records of other ranks' samples in flight), not HDF5's
-// default 1 MiB, which rank 0 filled for each of the 80-odd per-sample
-// datasets (+86 MB) when they all went through it; now /samples/reason
-// does, and the others when HDF5 cuts them (keep_rows). w0 = 1: a chunk
-// written whole leaves the cache first.
+// default 1 MiB, which rank 0 would fill for each per-sample dataset it
+// serves: /samples/reason, and the others when HDF5 cuts them (keep_rows).
+// w0 = 1: a chunk written whole leaves the cache first.
 Handle rows_cache() {
   Handle access(H5Pcreate(H5P_DATASET_ACCESS), H5Pclose, "creating dataset access properties");
   check(H5Pset_chunk_cache(access.id(), 101, 4 * 65536, 1.0), "setting the chunk cache");
@@ -265,9 +264,9 @@ void write_string_rows(hid_t dataset, std::size_t first_row, const std::vector<s
   const std::vector<const char*> pointers = pointers_to(rows);
   Handle type = text_type();
   // Variable-length strings go through HDF5's type conversion, whose buffer
-  // (1 MiB by default) is allocated and zeroed on every write: for a few
-  // rows that was most of an ensemble's time on rank 0 (3330 writes, 3.5 GB
-  // zeroed, for 20,000 samples). A buffer for these rows is enough.
+  // (1 MiB by default) is allocated and zeroed on every write, a large cost
+  // for a few rows (BENCHMARKS.md, "Samples per second"). A buffer for these
+  // rows is enough.
   Handle transfer(H5Pcreate(H5P_DATASET_XFER), H5Pclose, "creating transfer properties");
   check(H5Pset_buffer(transfer.id(), std::max<std::size_t>(4096, 64 * rows.size()), nullptr, nullptr),
         "sizing the conversion buffer");

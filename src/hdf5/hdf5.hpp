@@ -97,9 +97,9 @@ Handle write_scalar(hid_t parent, const std::string& name, std::uint64_t value);
 Handle create_rows(hid_t parent, const std::string& name, hid_t type, std::size_t rows,
                    std::span<const hsize_t> row_shape, std::size_t chunk_rows = 0, const void* fill = nullptr);
 // Rows are written while the samples run, by rank 0, which integrates too:
-// deflate level 1 compressed the per-sample rows 28 % faster than level 4
-// (zlib), for a file 2 % larger (131,072 spherical-pendulum samples); with
-// libdeflate, 0.34 against 0.46 s for 32,768 samples' rows, 2 % larger.
+// level 1 writes them markedly faster than level 4 for a file barely larger
+// (BENCHMARKS.md, "Longer runs" and "Where the code's design numbers come
+// from").
 constexpr unsigned kRowsDeflateLevel = 1;
 // Strings, one per row, filled later. Every string this layer writes
 // (datasets and attributes) is variable-length UTF-8: h5py gives `str`.

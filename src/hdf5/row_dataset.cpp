@@ -143,8 +143,8 @@ RowDataset::Chunk RowDataset::load(std::size_t c) {
 
 // Deflated unless the dataset's trial found deflate not worth it. Always
 // deflated: a chunk with rows missing, or the dataset's last, shorter one,
-// since the fill in their place shrinks to nothing (stored raw, they made
-// 1.8 MB of a 40.3 MB spherical-pendulum file of 32,768 samples); and the
+// since the fill in their place shrinks to nothing (BENCHMARKS.md, "A run's
+// fixed costs"); and the
 // chunk a cut goes through: HDF5 rewrites that chunk (the rows past the
 // cut become the fill) through its deflate filter and, as for a direct
 // write, records the new mask only where the size changed.

@@ -56,8 +56,8 @@ class RowDataset {
   // later whole chunks are stored raw, deflate skipped in their filter mask
   // (bit 0, which HDF5 sets where an optional filter fails); readers built
   // on the HDF5 library honour it. Such rows are random numbers: inputs,
-  // final states, extremes (38 of the spherical pendulum's datasets, which
-  // deflate shrank by about 6 % for 40 % of rank 0's deflate time).
+  // final states, extremes, which deflate barely shrinks at a large share
+  // of rank 0's deflate time (BENCHMARKS.md, "Rows deflate cannot shrink").
   static constexpr std::size_t kTrialChunks = 4;
   static constexpr double kWorthShrinking = 0.10;
   bool deflating() const { return deflating_; }
@@ -96,8 +96,7 @@ class RowDataset {
   std::vector<unsigned char> stream_;                      // the compressed chunk, reused
   // A chunk of nothing but the fill, deflated once: the datasets of a
   // column that never moves (a fixed base's position, its extremes) are
-  // such chunks throughout, and deflating them was 0.12 s of rank 0's time
-  // at 131,072 spherical-pendulum samples.
+  // such chunks throughout (BENCHMARKS.md, "A run's fixed costs").
   std::vector<unsigned char> fill_stream_;
   std::uint64_t writes_ = 0;
   std::size_t stores_ = 0;

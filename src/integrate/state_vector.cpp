@@ -209,8 +209,8 @@ sunrealtype* array(N_Vector v) { return NV_DATA_S(v); }
 // The data of an empty N_VSerial `v` on whole cache lines of their own,
 // owned by `v` (N_VDestroy_Serial frees them). The operations above run
 // over 7 to 700 values; where malloc happened to put them (16 bytes
-// aligned, anywhere in a line) moved a build's speed by a few per cent
-// (BENCHMARKS.md, "No allocation per output time"). False when out of memory.
+// aligned, anywhere in a line) moved a build's speed (BENCHMARKS.md, "No
+// allocation per output time"). False when out of memory.
 bool own_aligned_data(N_Vector v) {
   const std::size_t bytes = (static_cast<std::size_t>(NV_LENGTH_S(v)) * sizeof(sunrealtype) + 63) / 64 * 64;
   void* p = std::aligned_alloc(64, bytes == 0 ? 64 : bytes);

@@ -6,8 +6,9 @@
 // N_VDestroy_Serial).
 //
 // Why: Debian 12's and 13's libsundials are built without optimisation
-// (-O0: every loop index lives in memory), and on the shipped examples the
-// serial vector's operations were 57-63 % of an integration. The
+// (-O0: every loop index lives in memory), and the serial vector's
+// operations are then most of an integration (BENCHMARKS.md, "Samples per
+// second"). The
 // replacements compute what N_VSerial computes, operation by operation,
 // in the same order and with the same special cases (a == b in a linear
 // sum is a * (x + y), not a * x + b * y), and the fused operations do what

@@ -13,7 +13,7 @@
 
 namespace treedyn {
 
-// The largest model treedyn supports (README, "[[body]]"); larger ones are
+// The largest model treedyn supports (docs/jobs.md, "[[body]]"); larger ones are
 // refused before anything is built.
 inline constexpr long long kMaxBodies = 10000;
 

@@ -1,4 +1,5 @@
-// The four orientation parameterisations of section 5 and their charts.
+// The four orientation parameterisations of docs/wittenburg.md, section 5,
+// and their charts.
 //
 // A body's orientation is A = C * R(q): q are the integrated coordinates and C
 // a constant "chart base" rotation. For quaternions and direction cosines C is

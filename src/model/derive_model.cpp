@@ -1,5 +1,5 @@
 // derive_model: a parameter vector into a Model, with the physical checks and
-// the body-frame constants of section 3 of the theory page.
+// the body-frame constants of section 3 of docs/wittenburg.md.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>

@@ -1,6 +1,6 @@
 // One physical model: the shared, immutable tree plus everything a parameter
 // vector fixes (masses, inertias, joint points, springs, loads, base motion)
-// and the body-frame constants of section 3 of the theory page derived from
+// and the body-frame constants of section 3 of docs/wittenburg.md derived from
 // them. Built by derive_model() (model/definition.hpp) and not changed while
 // a trajectory runs; the solver's workspace lives in Data, not here.
 #pragma once

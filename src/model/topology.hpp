@@ -1,5 +1,5 @@
 // The tree's shape, fixed once a job is read: which body hangs from which,
-// the regular order of the theory page (parent p(a) < a, body 0 = base;
+// the regular order of docs/wittenburg.md (parent p(a) < a, body 0 = base;
 // depth-first preorder, so every subtree is a contiguous index range), and the
 // names. Immutable; every Model derived from one job shares it.
 #pragma once

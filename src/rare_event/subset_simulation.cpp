@@ -35,7 +35,7 @@ std::vector<std::uint64_t> descending(std::span<const double> g) {
   return order;
 }
 
-// gamma_j of the theory page: the chains' indicator sequences I_{c,l}
+// gamma_j of docs/rare_events.md, section 3: the chains' indicator sequences I_{c,l}
 // = [g_{c,l} > threshold], their autocovariance R(k) over lags k < N_s.
 double chain_correlation(const SubsetSettings& settings, std::span<const double> g, double threshold, double p) {
   const std::uint64_t Nc = settings.chains(), Ns = settings.states(), N = settings.samples;

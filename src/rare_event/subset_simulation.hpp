@@ -1,5 +1,5 @@
 // Subset simulation (Au and Beck 2001) in standard normal space, as stated
-// in ../shared/theory/rare_events.md, section 3: P(g(u) > b) for u ~ N(0, I)
+// in docs/rare_events.md, section 3: P(g(u) > b) for u ~ N(0, I)
 // through levels of conditional samples, each level's threshold the
 // (1 - p0) quantile of the one before.
 //

@@ -1,6 +1,7 @@
 // Sampling designs: the uniform number u in (0, 1) of input dimension d of
 // sample k is a pure function of (seed, k, d), so sample k is the same
-// whichever rank computes it and in whatever order.
+// whichever rank computes it and in whatever order. (Subset simulation's
+// chains, after its level 0, draw their own: rare_event/subset_simulation.hpp.)
 #pragma once
 
 #include <cstdint>

@@ -1,4 +1,4 @@
-// Correlated inputs through a normal copula (../shared/theory/rare_events.md,
+// Correlated inputs through a normal copula (docs/rare_events.md,
 // section 2): a sample's independent uniforms u of the correlated inputs are
 // mapped to standard normals z = Phi^-1(u), correlated as z' = L z with
 // L L^T = R (R: the copula's correlation matrix), and mapped back,

@@ -1,11 +1,10 @@
 // Memory for the statistics' histogram counters: tens of megabytes, every
 // part of which a fold touches. From the C++ allocator each 4 KiB page costs
-// a fault on its first touch: 41 MB took 0.10 s on the development VM, where
-// a fault is several microseconds, every run, on every rank. Here the array
-// gets a mapping of its own, aligned to 2 MiB and marked for transparent
-// huge pages (honoured where the kernel's THP setting is `madvise` or
-// `always`): 3-60 ms there, depending on how many free huge pages the
-// kernel has. Without THP the pages stay 4 KiB, as before.
+// a fault on its first touch, every run, on every rank. Here the array gets
+// a mapping of its own, aligned to 2 MiB and marked for transparent huge
+// pages (honoured where the kernel's THP setting is `madvise` or `always`),
+// so a few faults do it (BENCHMARKS.md, "A run's fixed costs"). Without THP
+// the pages stay 4 KiB.
 #pragma once
 
 #include <cstddef>

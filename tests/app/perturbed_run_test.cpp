@@ -186,7 +186,7 @@ TEST(PerturbedRun, ShapeDensityEqualsTheDensityWrittenIn) {
 }
 
 // The mass of a solid the job gives by density: the sample sets the density
-// to mass x (1 / nominal volume), as the README says; the rerun writes that
+// to mass x (1 / nominal volume), as docs/jobs.md says; the rerun writes that
 // density (the ball's volume computed as model/solids.cpp does). Its mass is
 // then the sampled one to a rounding (parameters_test checks 1e-15).
 TEST(PerturbedRun, MassOfASolidGivenByDensityEqualsItsDensityWrittenIn) {

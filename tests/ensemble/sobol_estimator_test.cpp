@@ -14,7 +14,7 @@
 // must equal the chosen ones (Saltelli 2010 first order, Janon total), which
 // must have the smallest root-mean-square error over all indices at N = 16
 // and 64 on both functions (within 1 %: Janon and Martinez tie). The test also measures how often the reported
-// 95 % bootstrap intervals hold the exact index (printed; README).
+// 95 % bootstrap intervals hold the exact index (printed; docs/design.md).
 #include <gtest/gtest.h>
 
 #include <array>

@@ -6,7 +6,7 @@
 // points exactly as a run applies it, over 400 seeds. Re-testing after
 // every check point makes an interval's stated 95 % optimistic (the run
 // stops when the estimate happens to look precise); what is measured here
-// is stated in the README beside the rule. With 400 seeds the coverage
+// is stated in docs/jobs.md beside the rule. With 400 seeds the coverage
 // itself has a standard error of 1.1 %: the bounds [0.90, 0.99] fail a
 // rule that is broken, not one that is 1 % off.
 #include <gtest/gtest.h>

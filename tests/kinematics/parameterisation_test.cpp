@@ -1,6 +1,7 @@
-// The four orientation parameterisations of section 5 and their charts:
-// unit tests of kinematics/parameterisation.hpp, then whole runs showing that
-// every parameterisation (with its chart changes) integrates the same motion.
+// The four orientation parameterisations of docs/wittenburg.md, section 5,
+// and their charts: unit tests of kinematics/parameterisation.hpp, then whole
+// runs showing that every parameterisation (with its chart changes)
+// integrates the same motion.
 #include <gtest/gtest.h>
 
 #include <algorithm>

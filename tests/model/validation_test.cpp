@@ -2,7 +2,7 @@
 // offending body or joint and says what is wrong; valid models in any order
 // are relabelled into the regular order; the section-3 constants (subtree
 // masses, barycentres, b_i0, K_i) match a hand computation and the identities
-// of the theory page on random trees.
+// of docs/wittenburg.md on random trees.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -570,7 +570,7 @@ TEST(Constants, HandComputedYTree) {
   EXPECT_LT(sum.norm(), 1e-14);
 }
 
-// The b- and d-vectors of the theory page, built from the model's fields.
+// The b- and d-vectors of docs/wittenburg.md, built from the model's fields.
 Vec3 b_vector(const Model& m, int i, int j) {
   const Vec3& beta = m.barycentre[i];
   if (i == j) return -beta;

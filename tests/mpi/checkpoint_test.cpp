@@ -649,7 +649,7 @@ TEST_F(Checkpoint, SigtermAndSigintGiveExitFiveAMessageAndACheckpointAndNoTempor
 // `timeout` exits 124 when its time is up. What the ranks do is the same
 // in every case: they stop cleanly and keep every finished sample. A plain
 // `timeout` signals mpirun twice (itself and its process group), which
-// Open MPI takes as "kill now": the README says to give it -s USR1 or
+// Open MPI takes as "kill now": docs/cluster.md says to give it -s USR1 or
 // --foreground, the two tested here (SIGALRM is how its time comes up).
 TEST_F(Checkpoint, CtrlCInATerminalAndSigtermToMpirunOrTimeoutStopCleanly) {
   const SignalCase cases[] = {

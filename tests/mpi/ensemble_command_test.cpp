@@ -371,7 +371,7 @@ TEST(EnsembleBadAnswers, AnAllocationThatFailsExitsSixAndLeavesNothing) {
   unsetenv("TREEDYN_MEMORY_AVAILABLE");
 }
 
-// A job file over 64 KiB (a 3000-point tabulated base, as the README allows)
+// A job file over 64 KiB (a 3000-point tabulated base, as docs/jobs.md allows)
 // used to fail after the whole run ("creating attribute job_text failed"):
 // the job text is a variable-length string now, of any size, in both files.
 TEST(EnsembleLongJob, AJobFileOver64KiBIsStoredWholeByBothCommands) {

@@ -21,7 +21,7 @@
 //      no output or temporary file left.
 //   4. Every shipped example (jobs/*.toml) runs its [ensemble] on 2 ranks:
 //      exit 0, every sample ok, and /stats, /samples and /nominal have the
-//      documented shapes (README, "HDF5 ensemble layout").
+//      documented shapes (docs/hdf5.md, "HDF5 ensemble layout").
 #include <gtest/gtest.h>
 #include <hdf5.h>
 
@@ -532,7 +532,7 @@ TEST_F(EnsembleFailures, OneAndTwoRanksGiveIdenticalStatisticsAndSamples) {
                             {"/stats", "/samples", "/nominal"});
 }
 
-// README and the dataset's description: /samples/final_state is "NaN when
+// docs/hdf5.md and the dataset's description: /samples/final_state is "NaN when
 // failed", for either kind of failure.
 TEST_F(EnsembleFailures, FailedSamplesHaveNaNFinalState) {
   H5File file(outputs_[1]);

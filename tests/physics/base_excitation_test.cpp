@@ -1,6 +1,6 @@
 // Prescribed base motion r0(t) and joint spring-dampers: the equivalence of
 // base acceleration and gravity, the energy balance E(t) - E(0) = base work -
-// damper losses (section 6), tabulated vs analytic base motion, and energy
+// damper losses (docs/wittenburg.md, section 6), tabulated vs analytic base motion, and energy
 // conservation with springs on a fixed base.
 #include <gtest/gtest.h>
 
