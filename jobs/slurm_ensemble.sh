@@ -41,7 +41,7 @@
 #   during this run), and keeps mpirun's code otherwise. (In an allocation,
 #   Open MPI 4.1's mpirun drops that line once it is signalled.)
 # * 2: the script refused its settings; other codes: treedyn-ensemble's (see
-#   its README), or the launcher's own. scancel -s KILL or a node failure
+#   docs/commands.md, "Exit codes"), or the launcher's own. scancel -s KILL or a node failure
 #   leave the last periodic checkpoint (at most CHECKPOINT_EVERY s old): the
 #   same submission resumes from it.
 #SBATCH --job-name=treedyn-ensemble
