@@ -213,11 +213,11 @@ struct Alone {
 };
 
 // The largest |x - reference| / (rtol |reference| + atol) over a state.
-double error_in_tolerances(std::span<const double> x, std::span<const double> reference,
-                           const IntegratorSettings& s) {
+double error_in_tolerances(std::span<const double> x, std::span<const double> reference, const IntegratorSettings& s) {
   double largest = 0.0;
   for (std::size_t i = 0; i < x.size(); ++i) {
-    const double e = std::abs(x[i] - reference[i]) / (s.relative_tolerance * std::abs(reference[i]) + s.absolute_tolerance);
+    const double e =
+        std::abs(x[i] - reference[i]) / (s.relative_tolerance * std::abs(reference[i]) + s.absolute_tolerance);
     if (!(e <= largest)) largest = e;  // a NaN stays NaN
   }
   return largest;
@@ -264,9 +264,11 @@ Row run_batched(ensemble::SampleRunner& runner, const Job& job, const std::vecto
     for (int b = 0; b < size; ++b) {
       const std::vector<double>& reference = alone.references[first + b].final_state;
       own_steps += static_cast<double>(alone.outcomes[first + b].steps);
-      row.error_alone = std::max(row.error_alone, error_in_tolerances(alone.outcomes[first + b].final_state, reference, s));
-      row.error_batched = std::max(row.error_batched,
-          error_in_tolerances(std::span(out.final_state).subspan(b * batch.n, batch.n), reference, s));
+      row.error_alone =
+          std::max(row.error_alone, error_in_tolerances(alone.outcomes[first + b].final_state, reference, s));
+      row.error_batched =
+          std::max(row.error_batched,
+                   error_in_tolerances(std::span(out.final_state).subspan(b * batch.n, batch.n), reference, s));
     }
   }
   const double counted = static_cast<double>(samples.size() - samples.size() % size);
@@ -281,7 +283,8 @@ void measure(const std::string& name, const std::string& path, int count) {
   const auto [job, spec] = ensemble::read_ensemble_job(JobDocument::read(path));
   ensemble::SampleRunner runner(job, spec);
   std::vector<std::uint64_t> samples;
-  for (int i = 0; i < count; ++i) samples.push_back((spec.pilot_samples + static_cast<std::uint64_t>(i)) % spec.samples);
+  for (int i = 0; i < count; ++i)
+    samples.push_back((spec.pilot_samples + static_cast<std::uint64_t>(i)) % spec.samples);
   if (job.request.settings.method != Method::cvode_adams) {
     std::printf("| %s | not measured: the batch is CVODE Adams, the job is %s |\n", name.c_str(),
                 std::string(treedyn::name(job.request.settings.method)).c_str());
@@ -293,9 +296,10 @@ void measure(const std::string& name, const std::string& path, int count) {
     const Row r = run_batched(runner, job, samples, alone, size);
     std::printf("| %s | %d | %.3f | %.2f | %.2f | %.0f | %.3g | %.3g |%s\n", name.c_str(), r.batch,
                 1e3 * r.seconds_per_sample, r.alone_seconds_per_sample / r.seconds_per_sample, r.steps_ratio,
-                r.rhs_per_sample,
-                r.error_alone, r.error_batched,
-                !r.ok ? " a run failed: its errors are not comparable" : r.needs_chart_change ? " (a chart change was due)" : "");
+                r.rhs_per_sample, r.error_alone, r.error_batched,
+                !r.ok                  ? " a run failed: its errors are not comparable"
+                : r.needs_chart_change ? " (a chart change was due)"
+                                       : "");
     std::fflush(stdout);
   }
 }
@@ -309,13 +313,16 @@ int main(int argc, char** argv) {
                                                        {"double_pendulum", jobs + "/double_pendulum.toml"},
                                                        {"kapitza", jobs + "/kapitza.toml"},
                                                        {"heterogeneous", bench + "/heterogeneous.toml"}};
-  std::printf("| job | B | integration per sample (ms) | speed-up over B = 1 | steps / own steps | rhs per sample "
-              "| final-state error alone (tolerances) | in the batch |\n|---|---:|---:|---:|---:|---:|---:|---:|\n");
+  std::printf(
+      "| job | B | integration per sample (ms) | speed-up over B = 1 | steps / own steps | rhs per sample "
+      "| final-state error alone (tolerances) | in the batch |\n|---|---:|---:|---:|---:|---:|---:|---:|\n");
   const std::vector<std::string> only(argv + std::min(argc, 2), argv + argc);
   for (const std::string& name : only)
     if (std::none_of(std::begin(cases), std::end(cases), [&](const auto& c) { return c.first == name; })) {
-      std::fprintf(stderr, "batch_benchmark: no job %s; the jobs are spherical_pendulum, double_pendulum, kapitza, "
-                           "heterogeneous\n", name.c_str());
+      std::fprintf(stderr,
+                   "batch_benchmark: no job %s; the jobs are spherical_pendulum, double_pendulum, kapitza, "
+                   "heterogeneous\n",
+                   name.c_str());
       return 2;
     }
   try {

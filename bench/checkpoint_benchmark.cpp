@@ -22,10 +22,10 @@
 #include <string>
 #include <vector>
 
-#include "persistence/checkpoint.hpp"
+#include "ensemble/sample_runner.hpp"
 #include "job/ensemble_spec.hpp"
 #include "job/sample_job.hpp"
-#include "ensemble/sample_runner.hpp"
+#include "persistence/checkpoint.hpp"
 #include "statistics/ensemble_statistics.hpp"
 #include "timing.hpp"
 
@@ -45,10 +45,11 @@ int main(int argc, char** argv) {
   constexpr int kSamples = 10000;
   constexpr double kInterval = 300.0;
   const char* jobs[] = {"spherical_pendulum", "double_pendulum", "chain10", "y_tree", "crane_payload", "kapitza"};
-  std::printf("| job | sample (ms) | statistics per checkpoint (MiB) | one checkpoint (ms) | on a stop signal, "
-              "not flushed (ms) | 10,000 records (MiB) | appending them (ms) | overhead at 300 s, %d ranks |\n"
-              "|---|---:|---:|---:|---:|---:|---:|---:|\n",
-              ranks);
+  std::printf(
+      "| job | sample (ms) | statistics per checkpoint (MiB) | one checkpoint (ms) | on a stop signal, "
+      "not flushed (ms) | 10,000 records (MiB) | appending them (ms) | overhead at 300 s, %d ranks |\n"
+      "|---|---:|---:|---:|---:|---:|---:|---:|\n",
+      ranks);
   for (const char* name : jobs) {
     const auto [job, spec] =
         ensemble::read_ensemble_job(JobDocument::read(std::string(TREEDYN_JOBS_DIR) + "/" + name + ".toml"));
@@ -93,8 +94,10 @@ int main(int argc, char** argv) {
     const auto t0 = Clock::now();
     for (int k = 0; k < kSamples; ++k) {
       record.index = static_cast<std::uint64_t>(k);
-      if (record.index < spec.store_trajectories) record.trajectory = stored;
-      else record.trajectory.clear();
+      if (record.index < spec.store_trajectories)
+        record.trajectory = stored;
+      else
+        record.trajectory.clear();
       checkpoint.add(record);
     }
     checkpoint.save(stats);

@@ -15,6 +15,10 @@
 //   peer_benchmark --accuracy     accuracy per cost instead (see accuracy_table)
 //
 // Exit 1 when the engines disagree by more than 1e-8 relative.
+#include <Eigen/Eigenvalues>
+#include <dart/dynamics/BallJoint.hpp>
+#include <dart/dynamics/BodyNode.hpp>
+#include <dart/dynamics/Skeleton.hpp>
 #include <mujoco/mujoco.h>
 #include <sched.h>
 #include <time.h>
@@ -23,16 +27,12 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <Eigen/Eigenvalues>
-#include <dart/dynamics/BallJoint.hpp>
-#include <dart/dynamics/BodyNode.hpp>
-#include <dart/dynamics/Skeleton.hpp>
 #include <functional>
 #include <memory>
 #include <sstream>
-#include <utility>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "benchmark_models.hpp"
@@ -58,12 +58,12 @@ double thread_cpu_ns() {
 // parent before its children.
 struct Tree {
   int n = 0;
-  std::vector<int> parent;        // -1: the base
+  std::vector<int> parent;  // -1: the base
   std::vector<double> mass;
-  std::vector<Mat3> inertia;      // central, body frame
-  std::vector<Vec3> on_parent;    // joint from the parent's CoM, parent frame (0 for the root)
-  std::vector<Vec3> on_child;     // joint from the body's CoM, body frame
-  std::vector<Mat3> rotation;     // A_i, absolute
+  std::vector<Mat3> inertia;           // central, body frame
+  std::vector<Vec3> on_parent;         // joint from the parent's CoM, parent frame (0 for the root)
+  std::vector<Vec3> on_child;          // joint from the body's CoM, body frame
+  std::vector<Mat3> rotation;          // A_i, absolute
   std::vector<Vec3> angular_velocity;  // w_i, absolute
   // Relative joint coordinates: R_rel = A_p^T A_i, v = A_i^T (w_i - w_p).
   std::vector<Mat3> relative_rotation;
@@ -116,8 +116,7 @@ struct TreedynEngine {
   }
   Accelerations accelerations() const {
     Accelerations out(static_cast<std::size_t>(model.n));
-    for (int i = 0; i < model.n; ++i)
-      out[model.tree().user_index[i]] = data.angular_acceleration.segment<3>(3 * i);
+    for (int i = 0; i < model.n; ++i) out[model.tree().user_index[i]] = data.angular_acceleration.segment<3>(3 * i);
     return out;
   }
   Model model;
@@ -221,11 +220,12 @@ XmlFiles mujoco_xml(const Tree& t, double rk4_step) {
   std::string world;
   for (int i = 0; i < t.n; ++i)
     if (t.parent[i] < 0) world += body(i, 0);
-  files.emplace_back("tree.xml", "<mujoco model='tree'><compiler inertiafromgeom='false' angle='radian'/>"
-                                 "<option gravity='0 0 " + number(kGravity) + "'" +
-                                     (rk4_step > 0.0 ? " integrator='RK4' timestep='" + number(rk4_step) + "'" : "") +
-                                     "><flag contact='disable'/></option><worldbody>" + world +
-                                     "</worldbody></mujoco>");
+  files.emplace_back("tree.xml",
+                     "<mujoco model='tree'><compiler inertiafromgeom='false' angle='radian'/>"
+                     "<option gravity='0 0 " +
+                         number(kGravity) + "'" +
+                         (rk4_step > 0.0 ? " integrator='RK4' timestep='" + number(rk4_step) + "'" : "") +
+                         "><flag contact='disable'/></option><worldbody>" + world + "</worldbody></mujoco>");
   return files;
 }
 
@@ -353,8 +353,8 @@ struct TimedRun {
   long rhs = 0;
 };
 
-TimedRun treedyn_run(const Model& model, const InitialState& initial, Method method, Parameterisation p,
-                     double tol, double end = kAccuracyEnd) {
+TimedRun treedyn_run(const Model& model, const InitialState& initial, Method method, Parameterisation p, double tol,
+                     double end = kAccuracyEnd) {
   SimulationRequest request;
   request.output_times = {end};
   request.parameterisation = p;
@@ -386,8 +386,8 @@ TimedRun mujoco_run(const Tree& tree, double step) {
   r.cpu_ms = (thread_cpu_ns() - start) * 1e-6;
   r.rhs = 4 * steps;
   for (int i = 0; i < tree.n; ++i)
-    r.rotation.push_back(Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(
-        mj.data->xmat + 9 * mj.body_id(i)));
+    r.rotation.push_back(
+        Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(mj.data->xmat + 9 * mj.body_id(i)));
   return r;
 }
 
@@ -405,12 +405,14 @@ void accuracy_table() {
   }
   const Model model = build_model(spec);
   const Tree tree = describe(spec, initial);
-  const TimedRun reference = treedyn_run(model, initial, Method::erk_verner, Parameterisation::direction_cosines, 1e-14);
+  const TimedRun reference =
+      treedyn_run(model, initial, Method::erk_verner, Parameterisation::direction_cosines, 1e-14);
   const TimedRun check = treedyn_run(model, initial, Method::erk_verner, Parameterisation::quaternion, 1e-14);
-  std::printf("\naccuracy per cost: chain-10, 10 s; reference spread (quaternion vs direction cosines at 1e-14) "
-              "%.1e rad\n\n| integrator | setting | final-orientation error (rad) | CPU (ms) | rhs evaluations |\n"
-              "|---|---|---:|---:|---:|\n",
-              worst_angle(check.rotation, reference.rotation));
+  std::printf(
+      "\naccuracy per cost: chain-10, 10 s; reference spread (quaternion vs direction cosines at 1e-14) "
+      "%.1e rad\n\n| integrator | setting | final-orientation error (rad) | CPU (ms) | rhs evaluations |\n"
+      "|---|---|---:|---:|---:|\n",
+      worst_angle(check.rotation, reference.rotation));
   for (Method m : {Method::cvode_adams, Method::cvode_bdf, Method::erk_dormand_prince, Method::erk_verner}) {
     for (double tol : {1e-6, 1e-8, 1e-10, 1e-12}) {
       const TimedRun r = treedyn_run(model, initial, m, Parameterisation::quaternion, tol);
@@ -441,9 +443,12 @@ int main(int argc, char** argv) {
     } else if (a + 1 >= argc) {
       std::fprintf(stderr, "%s needs a value\n", key.c_str());
       return 2;
-    } else if (key == "--rounds") rounds = std::atoi(argv[a + 1]);
-    else if (key == "--min-ms") min_ms = std::atof(argv[a + 1]);
-    else if (key == "--cpu") cpu = std::atoi(argv[a + 1]);
+    } else if (key == "--rounds")
+      rounds = std::atoi(argv[a + 1]);
+    else if (key == "--min-ms")
+      min_ms = std::atof(argv[a + 1]);
+    else if (key == "--cpu")
+      cpu = std::atoi(argv[a + 1]);
     else {
       std::fprintf(stderr, "usage: peer_benchmark [--rounds R] [--min-ms T] [--cpu C] [--accuracy]\n");
       return 2;
@@ -452,8 +457,10 @@ int main(int argc, char** argv) {
   cpu_set_t set;
   CPU_ZERO(&set);
   CPU_SET(cpu, &set);
-  if (sched_setaffinity(0, sizeof set, &set) != 0) std::perror("sched_setaffinity (not pinned)");
-  else std::printf("pinned to CPU %d; %d rounds of >= %.0f ms CPU per engine and model\n", cpu, rounds, min_ms);
+  if (sched_setaffinity(0, sizeof set, &set) != 0)
+    std::perror("sched_setaffinity (not pinned)");
+  else
+    std::printf("pinned to CPU %d; %d rounds of >= %.0f ms CPU per engine and model\n", cpu, rounds, min_ms);
   mju_user_warning = [](const char* msg) { std::fprintf(stderr, "mujoco warning: %s\n", msg); };
   if (accuracy) {
     accuracy_table();
@@ -464,11 +471,12 @@ int main(int argc, char** argv) {
     Shape shape;
     int n;
   };
-  const Case cases[] = {{bench::kChain, 1},  {bench::kChain, 3},   {bench::kChain, 10},
-                        {bench::kChain, 30}, {bench::kChain, 100}, {bench::kBinary, 3},
+  const Case cases[] = {{bench::kChain, 1},   {bench::kChain, 3},   {bench::kChain, 10},
+                        {bench::kChain, 30},  {bench::kChain, 100}, {bench::kBinary, 3},
                         {bench::kBinary, 10}, {bench::kBinary, 30}, {bench::kBinary, 100}};
-  std::printf("\n| model | treedyn (ns) | DART (ns) | MuJoCo (ns) | treedyn / DART | treedyn / MuJoCo | "
-              "w' vs DART | w' vs MuJoCo |\n|---|---:|---:|---:|---:|---:|---:|---:|\n");
+  std::printf(
+      "\n| model | treedyn (ns) | DART (ns) | MuJoCo (ns) | treedyn / DART | treedyn / MuJoCo | "
+      "w' vs DART | w' vs MuJoCo |\n|---|---:|---:|---:|---:|---:|---:|---:|\n");
   double worst_diff = 0.0, chain10 = 0.0, chain100 = 0.0;
   for (const Case& c : cases) {
     const ModelSpec spec = bench::make_tree(c.n, c.shape);
@@ -496,8 +504,8 @@ int main(int argc, char** argv) {
     const double a = median(t_td), b = median(t_dart), m = median(t_mj);
     if (c.shape == bench::kChain && c.n == 10) chain10 = a;
     if (c.shape == bench::kChain && c.n == 100) chain100 = a;
-    std::printf("| %s-%d | %.0f | %.0f | %.0f | %.2f | %.2f | %.1e | %.1e |\n", bench::shape_name(c.shape), c.n, a,
-                b, m, a / b, a / m, dart_diff, mj_diff);
+    std::printf("| %s-%d | %.0f | %.0f | %.0f | %.2f | %.2f | %.1e | %.1e |\n", bench::shape_name(c.shape), c.n, a, b,
+                m, a / b, a / m, dart_diff, mj_diff);
     std::fflush(stdout);
   }
   std::printf("\ntreedyn t(chain-100) / t(chain-10) = %.1f\n", chain100 / chain10);

@@ -57,8 +57,9 @@ Costs measure(const Job& job, const ensemble::EnsembleSpec& spec, const std::vec
     EnsembleWriter writer(file, job, sized, runner.layout(), runner.final_state_size());
     t = cpu_seconds();
     for (std::size_t first = 0; first < kRecords; first += kBatch)
-      writer.write_records(std::vector<ensemble::SampleRecord>(decoded.begin() + static_cast<std::ptrdiff_t>(first),
-                                                                decoded.begin() + static_cast<std::ptrdiff_t>(first + kBatch)));
+      writer.write_records(
+          std::vector<ensemble::SampleRecord>(decoded.begin() + static_cast<std::ptrdiff_t>(first),
+                                              decoded.begin() + static_cast<std::ptrdiff_t>(first + kBatch)));
     c.write = (cpu_seconds() - t) / static_cast<double>(kRecords);
   }  // the temporary file goes with the writer
   return c;
@@ -68,8 +69,9 @@ Costs measure(const Job& job, const ensemble::EnsembleSpec& spec, const std::vec
 
 int main(int argc, char** argv) {
   const std::filesystem::path dir = argc > 1 ? argv[1] : std::filesystem::temp_directory_path();
-  std::printf("| job | record (bytes, encoded) | encode (us) | decode (us) | write (us) | rank 0 per received record (us) |\n"
-              "|---|---:|---:|---:|---:|---:|\n");
+  std::printf(
+      "| job | record (bytes, encoded) | encode (us) | decode (us) | write (us) | rank 0 per received record (us) |\n"
+      "|---|---:|---:|---:|---:|---:|\n");
   for (const char* name : {"spherical_pendulum", "double_pendulum", "chain10", "y_tree", "crane_payload", "kapitza"}) {
     if (argc > 2 && std::string(argv[2]) != name) continue;
     auto [job, spec] =
@@ -80,7 +82,8 @@ int main(int argc, char** argv) {
     // About 10 s of samples, in whole batches.
     const auto start = bench::Clock::now();
     std::vector<ensemble::SampleRecord> real;
-    while (real.size() < kBatch || (real.size() % kBatch != 0) || (bench::seconds_since(start) < 10.0 && real.size() < 16 * kBatch)) {
+    while (real.size() < kBatch || (real.size() % kBatch != 0) ||
+           (bench::seconds_since(start) < 10.0 && real.size() < 16 * kBatch)) {
       real.push_back(runner.run(real.size(), false, trajectory));
       real.back().trajectory.clear();  // stored trajectories are a few samples' only
     }

@@ -13,7 +13,6 @@
 //
 // Models and states: benchmark_models.hpp. Times are per evaluation.
 #include <benchmark/benchmark.h>
-
 #include <malloc.h>
 
 #include <cstdint>

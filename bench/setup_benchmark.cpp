@@ -20,16 +20,16 @@
 #include <string>
 #include <vector>
 
-#include "job/ensemble_spec.hpp"
 #include "ensemble/sample_runner.hpp"
+#include "job/ensemble_spec.hpp"
 #include "job/job.hpp"
 
 namespace {
 
 using namespace treedyn;
 
-const std::vector<std::string> kJobs = {"spherical_pendulum", "double_pendulum", "kapitza",
-                                        "chain10",            "y_tree",          "crane_payload"};
+const std::vector<std::string> kJobs = {"spherical_pendulum", "double_pendulum", "kapitza", "chain10", "y_tree",
+                                        "crane_payload"};
 
 struct Loaded {
   Job job;
@@ -88,10 +88,8 @@ class RatioReporter : public benchmark::ConsoleReporter {
 
 int main(int argc, char** argv) {
   for (const std::string& job : kJobs) {
-    benchmark::RegisterBenchmark(("BM_SampleSetup/" + job).c_str(), BM_SampleSetup, job)
-        ->Unit(benchmark::kMicrosecond);
-    benchmark::RegisterBenchmark(("BM_Sample/" + job).c_str(), BM_Sample, job)
-        ->Unit(benchmark::kMicrosecond);
+    benchmark::RegisterBenchmark(("BM_SampleSetup/" + job).c_str(), BM_SampleSetup, job)->Unit(benchmark::kMicrosecond);
+    benchmark::RegisterBenchmark(("BM_Sample/" + job).c_str(), BM_Sample, job)->Unit(benchmark::kMicrosecond);
   }
   benchmark::Initialize(&argc, argv);
   RatioReporter reporter;
@@ -100,8 +98,7 @@ int main(int argc, char** argv) {
   for (const std::string& job : kJobs) {
     const auto s = reporter.cpu_ns.find("BM_SampleSetup/" + job), w = reporter.cpu_ns.find("BM_Sample/" + job);
     if (s == reporter.cpu_ns.end() || w == reporter.cpu_ns.end()) continue;
-    std::printf("%-20s %14.2f %14.1f %9.3f%%\n", job.c_str(), s->second, w->second,
-                100.0 * s->second / w->second);
+    std::printf("%-20s %14.2f %14.1f %9.3f%%\n", job.c_str(), s->second, w->second, 100.0 * s->second / w->second);
   }
   benchmark::Shutdown();
 }

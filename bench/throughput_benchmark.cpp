@@ -110,7 +110,7 @@ Row measure(const std::string& name, const std::string& path, int samples, int f
     run.push_back(seconds_since(t0));
     t0 = Clock::now();
     if (record.status == ensemble::SampleStatus::ok) stats.take_sample(trajectory);  // as RankResults::keep
-    if (i + 1 == samples) (void)stats.mean(0);  // folds the last, partial block
+    if (i + 1 == samples) (void)stats.mean(0);                                       // folds the last, partial block
     statistics.push_back(seconds_since(t0));
     t0 = Clock::now();
     encoded.clear();
@@ -119,8 +119,9 @@ Row measure(const std::string& name, const std::string& path, int samples, int f
   }
   double mean_statistics = 0.0;
   for (double t : statistics) mean_statistics += t / static_cast<double>(statistics.size());
-  Row row{name, job.model.n, median(rhs), time_rhs(job), median(integration),
-          median(run) + mean_statistics + median(encoding), mean_statistics};
+  Row row{name,           job.model.n,         median(rhs),
+          time_rhs(job),  median(integration), median(run) + mean_statistics + median(encoding),
+          mean_statistics};
   row.recording = std::max(0.0, median(run) - row.integration);
   return row;
 }
@@ -138,14 +139,18 @@ int main(int argc, char** argv) {
     return 2;
   }
   std::printf("The statistics' fold: %d lanes.\n\n", fold_lanes != 0 ? fold_lanes : ensemble::widest_fold_lanes());
-  const std::pair<std::string, std::string> cases[] = {
-      {"spherical_pendulum", jobs + "/spherical_pendulum.toml"}, {"double_pendulum", jobs + "/double_pendulum.toml"},
-      {"kapitza", jobs + "/kapitza.toml"},                       {"chain10", jobs + "/chain10.toml"},
-      {"y_tree", jobs + "/y_tree.toml"},                         {"crane_payload", jobs + "/crane_payload.toml"},
-      {"chain30", bench + "/chain30.toml"},                      {"chain100", bench + "/chain100.toml"}};
-  std::printf("| job | bodies | rhs/sample | t_rhs (us) | integration (ms) | sample (ms) | samples/s | statistics "
-              "(%% of sample) | recording (%% of sample) | F_int | F_ens |\n"
-              "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  const std::pair<std::string, std::string> cases[] = {{"spherical_pendulum", jobs + "/spherical_pendulum.toml"},
+                                                       {"double_pendulum", jobs + "/double_pendulum.toml"},
+                                                       {"kapitza", jobs + "/kapitza.toml"},
+                                                       {"chain10", jobs + "/chain10.toml"},
+                                                       {"y_tree", jobs + "/y_tree.toml"},
+                                                       {"crane_payload", jobs + "/crane_payload.toml"},
+                                                       {"chain30", bench + "/chain30.toml"},
+                                                       {"chain100", bench + "/chain100.toml"}};
+  std::printf(
+      "| job | bodies | rhs/sample | t_rhs (us) | integration (ms) | sample (ms) | samples/s | statistics "
+      "(%% of sample) | recording (%% of sample) | F_int | F_ens |\n"
+      "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   std::vector<std::pair<std::string, std::string>> rows;
   for (int i = 2; i < argc; ++i) {  // NAME (a row above) or NAME=PATH (any job file)
     const std::string arg = argv[i];
@@ -163,8 +168,8 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "throughput_benchmark: %s: %s\n", path.c_str(), e.what());
       return 1;
     }
-    std::printf("| %s | %d | %.0f | %.3f | %.3f | %.3f | %.0f | %.1f | %.1f | %.2f | %.2f |\n", r.name.c_str(), r.bodies,
-                r.rhs, 1e6 * r.t_rhs, 1e3 * r.integration, 1e3 * r.sample, 1.0 / r.sample,
+    std::printf("| %s | %d | %.0f | %.3f | %.3f | %.3f | %.0f | %.1f | %.1f | %.2f | %.2f |\n", r.name.c_str(),
+                r.bodies, r.rhs, 1e6 * r.t_rhs, 1e3 * r.integration, 1e3 * r.sample, 1.0 / r.sample,
                 100.0 * r.statistics / r.sample, 100.0 * r.recording / r.sample, r.integration / (r.rhs * r.t_rhs),
                 r.sample / r.integration);
     std::fflush(stdout);

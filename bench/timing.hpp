@@ -9,9 +9,7 @@ namespace treedyn::bench {
 
 using Clock = std::chrono::steady_clock;
 
-inline double seconds_since(Clock::time_point t) {
-  return std::chrono::duration<double>(Clock::now() - t).count();
-}
+inline double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 // The median of `v` (the upper one of an even count); 0 for none.
 inline double median(std::vector<double> v) {

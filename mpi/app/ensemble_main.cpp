@@ -7,14 +7,14 @@
 
 #include "app/command_errors.hpp"
 #include "app/exit_codes.hpp"
-#include "hdf5/hdf5.hpp"
-#include "app/model_summary.hpp"
 #include "app/merge_parts.hpp"
+#include "app/model_summary.hpp"
 #include "app/rerun_sample.hpp"
-#include "job/sample_job.hpp"
 #include "ensemble/capacity.hpp"
+#include "hdf5/hdf5.hpp"
 #include "job/ensemble_spec.hpp"
 #include "job/job_error.hpp"
+#include "job/sample_job.hpp"
 #include "parallel/driver.hpp"
 #include "parallel/mpi_handles.hpp"
 #include "process/signals.hpp"
@@ -48,8 +48,9 @@ int end_all(const treedyn::parallel::Session& session, int code) {
 // `merge -o OUT.h5 PART...`: serial, on rank 0.
 int merge_command(int argc, char** argv, int rank) {
   using namespace treedyn;
-  CLI::App app{"treedyn-ensemble merge: the part files of a split ensemble (--samples FIRST:END) into one "
-               "ensemble file, bitwise identical in /stats and /samples to one run over the union"};
+  CLI::App app{
+      "treedyn-ensemble merge: the part files of a split ensemble (--samples FIRST:END) into one "
+      "ensemble file, bitwise identical in /stats and /samples to one run over the union"};
   std::vector<std::string> parts;
   std::string output;
   bool quiet = false;
@@ -88,17 +89,19 @@ void define_options(CLI::App& app, CommandLine& c) {
   app.add_option("JOB", c.options.job_path, "job file (TOML) with an [ensemble] section")->required();
   auto* output = app.add_option("-o,--output", c.options.output_path,
                                 "output file (HDF5), written atomically (required unless --check)");
-  app.add_flag("--check", c.check_only, "validate the job and its [ensemble], print the model and the ensemble and how many ranks it can keep busy (timing its nominal run and sample 0); write nothing")
+  app.add_flag("--check", c.check_only,
+               "validate the job and its [ensemble], print the model and the ensemble and how many ranks it can keep "
+               "busy (timing its nominal run and sample 0); write nothing")
       ->excludes(output);
   app.add_flag("-q,--quiet", c.options.quiet, "no progress and no summary");
-  c.sample_option = app.add_option(
-      "--sample", c.sample,
-      "integrate sample K alone and write its full trajectory (treedyn run layout, with "
-      "/sample/inputs) to --output; its final state is bitwise the ensemble's /samples/final_state[K]");
-  c.write_job_option = app.add_option(
-      "--write-job", c.job_sample,
-      "write sample K as a standalone job file to --output (the job without [ensemble], plus a "
-      "[sample] section with its inputs); treedyn run of it reproduces the sample");
+  c.sample_option =
+      app.add_option("--sample", c.sample,
+                     "integrate sample K alone and write its full trajectory (treedyn run layout, with "
+                     "/sample/inputs) to --output; its final state is bitwise the ensemble's /samples/final_state[K]");
+  c.write_job_option =
+      app.add_option("--write-job", c.job_sample,
+                     "write sample K as a standalone job file to --output (the job without [ensemble], plus a "
+                     "[sample] section with its inputs); treedyn run of it reproduces the sample");
   for (auto* o : {c.sample_option, c.write_job_option}) o->check(CLI::NonNegativeNumber)->excludes("--check");
   c.sample_option->excludes(c.write_job_option);
   app.add_option("--from", c.from,

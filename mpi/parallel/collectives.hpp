@@ -38,8 +38,8 @@ inline std::uint64_t broadcast(MPI_Comm comm, std::uint64_t value) {
 inline void all_reduce(MPI_Comm comm, std::vector<double>& v, MPI_Op op) {
   constexpr std::size_t kChunk = std::size_t{1} << 26;
   for (std::size_t first = 0; first < v.size(); first += kChunk)
-    MPI_Allreduce(MPI_IN_PLACE, v.data() + first, static_cast<int>(std::min(kChunk, v.size() - first)),
-                  MPI_DOUBLE, op, comm);
+    MPI_Allreduce(MPI_IN_PLACE, v.data() + first, static_cast<int>(std::min(kChunk, v.size() - first)), MPI_DOUBLE, op,
+                  comm);
 }
 
 inline std::uint64_t sum_over_ranks(MPI_Comm comm, std::uint64_t mine) {

@@ -24,12 +24,13 @@ EnsembleRun::EnsembleRun(MPI_Comm c, const EnsembleOptions& o, const Job& j, con
   first = options.part() ? options.first_sample : 0;
   end = options.part() ? options.end_sample : spec.samples;
   job_id = ensemble::run_identity(job.text, build_identity());
-  id = options.part() ? ensemble::run_identity(job.text + "\n# --samples " + std::to_string(first) + ":" +
-                                                   std::to_string(end),
-                                               build_identity())
-                      : job_id;
+  id = options.part()
+           ? ensemble::run_identity(job.text + "\n# --samples " + std::to_string(first) + ":" + std::to_string(end),
+                                    build_identity())
+           : job_id;
   checkpoint_dir = ensemble::checkpoint_directory(options.output_path);
-  if (const char* hold = std::getenv("TREEDYN_TEST_HOLD_AFTER"); hold && *hold) hold_after = std::strtoull(hold, nullptr, 10);
+  if (const char* hold = std::getenv("TREEDYN_TEST_HOLD_AFTER"); hold && *hold)
+    hold_after = std::strtoull(hold, nullptr, 10);
   if (const char* unsaved = std::getenv("TREEDYN_TEST_HOLD_UNSAVED")) hold_unsaved = std::string(unsaved) == "1";
 }
 
@@ -53,7 +54,8 @@ int read_job(MPI_Comm comm, int rank, const std::string& path, Job& job, ensembl
   std::vector<char> bytes(text.begin(), text.end());
   broadcast(comm, bytes);
   try {
-    ensemble::EnsembleJob read = ensemble::read_ensemble_job(JobDocument::parse(std::string(bytes.begin(), bytes.end()), path));
+    ensemble::EnsembleJob read =
+        ensemble::read_ensemble_job(JobDocument::parse(std::string(bytes.begin(), bytes.end()), path));
     job = std::move(read.job);
     spec = std::move(read.spec);
   } catch (const JobError& e) {

@@ -41,11 +41,11 @@
 #include <vector>
 
 #include "analysis/answers.hpp"
+#include "analysis/wave_plans.hpp"
 #include "ensemble/index_ranges.hpp"
 #include "ensemble/progress.hpp"
 #include "ensemble/rank_results.hpp"
 #include "ensemble/sample_runner.hpp"
-#include "analysis/wave_plans.hpp"
 #include "hdf5/ensemble_file.hpp"
 #include "hdf5/provenance.hpp"
 #include "parallel/record_sink.hpp"
@@ -101,12 +101,12 @@ struct EnsembleRun {
 
   std::unique_ptr<EnsembleWriter> writer;  // rank 0, whole ensembles
   std::unique_ptr<ensemble::Progress> progress;
-  std::optional<ensemble::ResponseTable> table;    // rank 0, with responses
+  std::optional<ensemble::ResponseTable> table;      // rank 0, with responses
   std::vector<ensemble::SampleRecord> part_records;  // rank 0, parts
   std::unique_ptr<RecordSink> sink;
   RecordWriter* records = nullptr;  // rank 0's view of the sink
   ensemble::RankResults results;
-  bool checkpoints = false;  // on, and common.state written (or restored)
+  bool checkpoints = false;                                         // on, and common.state written (or restored)
   std::optional<ensemble::EnsembleStatistics> restored_statistics;  // rank 0
 
   double busy_seconds = 0.0, busy_cpu_seconds = 0.0;

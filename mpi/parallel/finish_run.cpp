@@ -28,9 +28,13 @@ EnsembleSummary gather_loads(const EnsembleRun& run) {
   constexpr int kLoads = 7;
   const double cpu = static_cast<double>(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
                      1e-6 * static_cast<double>(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
-  const double mine[kLoads] = {static_cast<double>(usage.ru_maxrss) / 1024.0, static_cast<double>(run.samples_run),
-                               run.busy_seconds, run.sink->writing_seconds(), run.busy_cpu_seconds,
-                               run.sink->writing_cpu_seconds(), cpu};
+  const double mine[kLoads] = {static_cast<double>(usage.ru_maxrss) / 1024.0,
+                               static_cast<double>(run.samples_run),
+                               run.busy_seconds,
+                               run.sink->writing_seconds(),
+                               run.busy_cpu_seconds,
+                               run.sink->writing_cpu_seconds(),
+                               cpu};
   std::vector<double> all(kLoads * static_cast<std::size_t>(run.size));
   MPI_Gather(mine, kLoads, MPI_DOUBLE, all.data(), kLoads, MPI_DOUBLE, 0, run.comm);
   EnsembleSummary summary;
@@ -111,11 +115,13 @@ std::string stop_reason_of(const EnsembleRun& run, const rare_event::SubsetResul
   if (rare) {
     const std::string levels = std::to_string(rare->levels.size() - 1);
     if (rare->no_threshold)
-      return "subset simulation: level " + levels + " has no threshold (more than N (1 - p0) of its runs failed, "
+      return "subset simulation: level " + levels +
+             " has no threshold (more than N (1 - p0) of its runs failed, "
              "or its responses pile up at one value); the estimate counts that level's exceedances";
     return rare->reached_limit ? "subset simulation: the threshold reached the limit at level " + levels
-                               : "subset simulation: max_levels (" + levels + ") reached before the limit; the "
-                                 "estimate counts the last level's exceedances";
+                               : "subset simulation: max_levels (" + levels +
+                                     ") reached before the limit; the "
+                                     "estimate counts the last level's exceedances";
   }
   if (!run.spec.stop) return "no stopping rule: every sample of the design was run";
   if (run.table)
@@ -141,8 +147,8 @@ int write_ensemble(EnsembleRun& run, const ensemble::EnsembleStatistics& stats, 
     if (!run.records->io_error().empty()) throw process::FileError(run.records->io_error());
     if (run.samples_used < run.spec.samples) run.writer->keep_samples(run.samples_used);
     if (rare) run.writer->write_rare_event(ensemble::subset_settings(run.spec), *rare, run.samples_used);
-    summary = run.writer->complete(run.nominal, stats, answers, run.tolerance, std::move(summary), provenance,
-                                   run.start);
+    summary =
+        run.writer->complete(run.nominal, stats, answers, run.tolerance, std::move(summary), provenance, run.start);
   } catch (const process::FileError& e) {
     std::cerr << "error: " << e.what() << "\n";
     return kExitIo;

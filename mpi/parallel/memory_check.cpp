@@ -59,8 +59,8 @@ bool memory_fits(MPI_Comm comm, double bytes_per_rank) {
       char host[256] = "this host";
       gethostname(host, sizeof host - 1);
       std::cerr << "error: not enough memory on " << host << ": the statistics need about " << gib(bytes_per_rank)
-                << " per rank (--check prints it), " << local_size << " rank(s) there: " << gib(needed)
-                << ", but only " << gib(available)
+                << " per rank (--check prints it), " << local_size << " rank(s) there: " << gib(needed) << ", but only "
+                << gib(available)
                 << " are available; use fewer ranks per node, fewer histogram_bins, output times or quantities\n";
       fits = 0;
     }

@@ -5,9 +5,9 @@
 #include <iostream>
 
 #include "app/exit_codes.hpp"
+#include "hdf5/read_file.hpp"
 #include "parallel/collectives.hpp"
 #include "parallel/driver.hpp"
-#include "hdf5/read_file.hpp"
 #include "persistence/part_file.hpp"
 #include "process/atomic_file.hpp"
 
@@ -50,8 +50,11 @@ int finished_output(EnsembleRun& run) {
                  "again)\n";
     return kAlreadyDone;
   }
-  std::cerr << "error: " << out.string() << " is " << (job ? "another job's output (its job text differs)" : "not "
-            "an output of treedyn-ensemble") << ": give this run another -o, or remove it to run the job into it\n";
+  std::cerr << "error: " << out.string() << " is "
+            << (job ? "another job's output (its job text differs)"
+                    : "not "
+                      "an output of treedyn-ensemble")
+            << ": give this run another -o, or remove it to run the job into it\n";
   return kExitBadInput;
 }
 
@@ -145,7 +148,7 @@ int restore_on_rank_zero(EnsembleRun& run) {
 
 int start_records(EnsembleRun& run) {
   run.progress = std::make_unique<ensemble::Progress>(run.end - run.first, run.options.progress_interval,
-                                                       run.rank == 0 && !run.options.quiet);
+                                                      run.rank == 0 && !run.options.quiet);
   if (run.rank == 0 && !run.spec.responses.empty() && !run.options.part())
     run.table.emplace(run.spec.samples, run.spec.input_dimensions(), run.spec.responses.size());
   if (run.rank == 0) {

@@ -220,8 +220,7 @@ void RecordWriter::handle(std::vector<char>& bytes, int count, int source, int t
                                  "the records of rank " + std::to_string(source)));
 }
 
-RecordSender::RecordSender(MPI_Comm comm, int ranks)
-    : comm_(comm), send_bytes_(message_bytes(ranks)) {}
+RecordSender::RecordSender(MPI_Comm comm, int ranks) : comm_(comm), send_bytes_(message_bytes(ranks)) {}
 
 void RecordSender::add(ensemble::SampleRecord record) {
   if (batch_.empty()) held_since_ = std::chrono::steady_clock::now();

@@ -13,10 +13,10 @@
 #include <string>
 #include <vector>
 
-#include "ensemble/response_table.hpp"
-#include "output/sample_record.hpp"
-#include "hdf5/ensemble_file.hpp"
 #include "ensemble/progress.hpp"
+#include "ensemble/response_table.hpp"
+#include "hdf5/ensemble_file.hpp"
+#include "output/sample_record.hpp"
 
 namespace treedyn::parallel {
 
@@ -125,9 +125,9 @@ class RecordWriter final : public RecordSink {
   std::vector<ensemble::SampleRecord>* collected_;
   std::vector<ensemble::SampleRecord> local_;
   std::vector<ensemble::SampleRecord> batch_;  // counted, not yet in the file
-  std::vector<Receiving> receiving_;        // posted, in the order matched
-  std::vector<MPI_Request> requests_;       // theirs, in the same order
-  std::vector<std::vector<char>> spare_;    // buffers of completed messages, reused: no allocation per message
+  std::vector<Receiving> receiving_;           // posted, in the order matched
+  std::vector<MPI_Request> requests_;          // theirs, in the same order
+  std::vector<std::vector<char>> spare_;       // buffers of completed messages, reused: no allocation per message
   std::size_t batch_bytes_ = 0;
   int finished_ranks_ = 0;
   std::uint64_t done_ = 0, failed_ = 0;
@@ -152,8 +152,8 @@ class RecordSender final : public RecordSink {
   void retire_oldest_send();
 
   MPI_Comm comm_;
-  std::size_t send_bytes_;  // a message's size: records held until they make it
-  std::vector<char> batch_;  // encoded records not yet sent
+  std::size_t send_bytes_;                            // a message's size: records held until they make it
+  std::vector<char> batch_;                           // encoded records not yet sent
   std::chrono::steady_clock::time_point held_since_;  // when batch_'s first record came
   std::deque<std::pair<MPI_Request, std::vector<char>>> pending_;
   std::size_t pending_bytes_ = 0;  // of the batches in `pending_`

@@ -9,8 +9,8 @@
 #include <limits>
 #include <thread>
 
-#include "app/exit_codes.hpp"
 #include "analysis/subset_replay.hpp"
+#include "app/exit_codes.hpp"
 #include "ensemble/capacity.hpp"
 #include "parallel/collectives.hpp"
 #include "parallel/driver.hpp"
@@ -56,8 +56,7 @@ std::optional<SampleRecord> run_sample(EnsembleRun& run, std::uint64_t k, std::v
   }
   run.busy_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() -
                       (run.sink->writing_seconds() - writing_before);
-  run.busy_cpu_seconds +=
-      thread_cpu_seconds() - start_cpu - (run.sink->writing_cpu_seconds() - writing_cpu_before);
+  run.busy_cpu_seconds += thread_cpu_seconds() - start_cpu - (run.sink->writing_cpu_seconds() - writing_cpu_before);
   if (r && !runner) ++run.samples_run;
   return r;
 }
@@ -84,7 +83,8 @@ class PilotCheck {
   // Sample k's record, and its rerun when it is one of the first. False
   // when a stop signal abandoned the rerun.
   bool add(EnsembleRun& run, const SampleRecord& r) {
-    std::copy(r.responses.begin(), r.responses.end(), pilot_.begin() + static_cast<std::ptrdiff_t>(r.index * responses_));
+    std::copy(r.responses.begin(), r.responses.end(),
+              pilot_.begin() + static_cast<std::ptrdiff_t>(r.index * responses_));
     if (r.index >= reruns_) return true;
     std::vector<double> trajectory;
     const std::optional<SampleRecord> again = run_sample(run, r.index, trajectory, {}, &*tight_);
@@ -122,14 +122,16 @@ void report_capacity(EnsembleRun& run, std::vector<double> pilot_cpu, double rec
   all_reduce(run.comm, pilot_cpu, MPI_SUM);  // each sample's slot filled by the rank that ran it
   all_reduce(run.comm, largest, MPI_MAX);
   if (run.rank != 0 || run.options.quiet || pilot_cpu.empty()) return;
-  std::nth_element(pilot_cpu.begin(), pilot_cpu.begin() + static_cast<std::ptrdiff_t>(pilot_cpu.size() / 2), pilot_cpu.end());
+  std::nth_element(pilot_cpu.begin(), pilot_cpu.begin() + static_cast<std::ptrdiff_t>(pilot_cpu.size() / 2),
+                   pilot_cpu.end());
   ensemble::Capacity c;
   c.record_bytes = static_cast<std::size_t>(largest[0]);
   c.record_seconds = ensemble::rank_zero_seconds_per_record(c.record_bytes);
   c.sample_seconds = pilot_cpu[pilot_cpu.size() / 2];
   ensemble::print_capacity(std::cerr, c, "the pilot's");
   if (static_cast<double>(run.size) > c.ranks())
-    std::cerr << "warning: this run has " << run.size << " ranks: rank 0 will limit it (fewer ranks would do as well)\n";
+    std::cerr << "warning: this run has " << run.size
+              << " ranks: rank 0 will limit it (fewer ranks would do as well)\n";
 }
 
 // Rank 0: a response whose integration error is too large for it, said at
@@ -251,8 +253,9 @@ bool run_pilot_wave(EnsembleRun& run, std::uint64_t pilot_end) {
   if (run.rank == 0 && !run.options.quiet) warn_too_loose(run, run.tolerance);
   report_capacity(run, pilot_cpu, record_bytes);
   const std::size_t columns = run.runner.layout().columns;
-  return start_statistics(run, ensemble::calibrate(run.nominal, low, high, ensemble::column_scales(run.nominal, columns),
-                                                   columns, run.spec.histogram_bins),
+  return start_statistics(run,
+                          ensemble::calibrate(run.nominal, low, high, ensemble::column_scales(run.nominal, columns),
+                                              columns, run.spec.histogram_bins),
                           kept);
 }
 
@@ -262,8 +265,8 @@ void save_common(EnsembleRun& run) {
   int written = 1;
   if (run.rank == 0 && run.results.checkpointing()) {
     try {
-      ensemble::write_checkpoint_common(run.checkpoint_dir, run.id, run.nominal,
-                                        run.results.statistics().calibration(), run.tolerance);
+      ensemble::write_checkpoint_common(run.checkpoint_dir, run.id, run.nominal, run.results.statistics().calibration(),
+                                        run.tolerance);
     } catch (const process::FileError& e) {
       std::cerr << "warning: " << e.what() << "; the run goes on without checkpoints\n";
       written = 0;
@@ -319,7 +322,8 @@ void run_chain(EnsembleRun& run, WorkQueue& queue, const rare_event::LevelStart&
     std::optional<SampleRecord> r = run_sample(run, k, trajectory, uniforms);
     if (!r) throw ChainStopped{};
     const double g = ensemble::subset_response(run.spec, *r);
-    if (!run.finished.contains(k)) keep_after_pilot(run, std::move(*r), nullptr);  // not into /stats: level 0 alone is one
+    if (!run.finished.contains(k))
+      keep_after_pilot(run, std::move(*r), nullptr);  // not into /stats: level 0 alone is one
     return g;
   };
   rare_event::run_chain(ensemble::subset_settings(run.spec), start.level, c, start.threshold, start.spread,
@@ -414,9 +418,8 @@ int run_waves(EnsembleRun& run) {
   for (;;) {
     if (run.rank == 0 && run.spec.subset) run.progress->wave(wave.end, wave.name);
     const std::uint64_t first = std::max({wave.first, from, run.first});
-    const bool interrupted = wave.chain_length > 0
-                                 ? run_chain_wave(run, wave)
-                                 : run_wave(run, first, std::max(first, std::min(wave.end, run.end)));
+    const bool interrupted = wave.chain_length > 0 ? run_chain_wave(run, wave)
+                                                   : run_wave(run, first, std::max(first, std::min(wave.end, run.end)));
     if (any_rank(run.comm, interrupted)) return stop_interrupted(run, true);
     const std::optional<ensemble::Wave> next = next_wave(run, wave);
     if (!next) {
@@ -460,8 +463,8 @@ void report_interruption(EnsembleRun& run, bool resumable, bool all_saved, std::
               << "keeps what " << dir << " holds\n";
   } else {
     const std::string line = "interrupted by " + what + " after " + std::to_string(kept) + " of " +
-                             std::to_string(run.end - run.first) + " samples; resume with --resume (checkpoint " +
-                             dir + ")\n";
+                             std::to_string(run.end - run.first) + " samples; resume with --resume (checkpoint " + dir +
+                             ")\n";
     write_stopped_marker(run, line);
     std::cerr << line;
   }

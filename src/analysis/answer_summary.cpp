@@ -14,7 +14,7 @@ std::string number(double v, const char* format = "%.6g") {
   return buffer;
 }
 
-constexpr std::size_t kRankedShown = 5;  // units on a drivers line
+constexpr std::size_t kRankedShown = 5;   // units on a drivers line
 constexpr std::size_t kFailureShown = 3;  // inputs on a "what makes it exceed" line
 
 std::string clipped(double v) { return number(std::clamp(v, 0.0, 1.0), "%.2g"); }
@@ -91,15 +91,19 @@ void print_drivers(std::ostream& out, const EnsembleSpec& spec, const ResponseAn
     out << "    drivers (" << (spec.grouped ? "groups, " : "") << "total Sobol' index [95 %], from " << s.base_samples
         << " of " << a.sobol_blocks << " base points): ";
     print_ranking(out, unit_names(spec), s.ranking, s.total, &s.total_ci, "base points");
-    if (a.sobol_blocks > 0 && static_cast<double>(s.base_samples) < kReliableBlockShare * static_cast<double>(a.sobol_blocks))
+    if (a.sobol_blocks > 0 &&
+        static_cast<double>(s.base_samples) < kReliableBlockShare * static_cast<double>(a.sobol_blocks))
       out << "      unreliable: failed runs left " << s.base_samples << " of " << a.sobol_blocks
           << " base points complete; failures that depend on the inputs bias what remains\n";
     const IndexVerdict v = index_verdict(s);
     if (std::isfinite(v.widest))
-      out << "      is N enough for the indices? " << (v.enough ? "yes" : "no") << ": the widest interval of a total index "
+      out << "      is N enough for the indices? " << (v.enough ? "yes" : "no")
+          << ": the widest interval of a total index "
           << "that matters is " << number(v.widest, "%.2g") << " (" << unit_names(spec)[v.unit] << ")"
-          << (v.enough ? "" : "; about " + number(v.needed, "%.0f") + " base points would make it " +
-                                  number(kIndexIntervalWidth, "%.1f")) << "\n";
+          << (v.enough ? ""
+                       : "; about " + number(v.needed, "%.0f") + " base points would make it " +
+                             number(kIndexIntervalWidth, "%.1f"))
+          << "\n";
     return;
   }
   const RankSensitivity& r = a.ranks;
@@ -126,7 +130,8 @@ void print_failure_region(std::ostream& out, const EnsembleSpec& spec, const Fai
   if (region.runs == 0 || region.unit_importance.empty()) return;
   const std::size_t inputs = region.mean_u.size();
   out << "    what makes it exceed (" << region.runs << " " << what << "; importance):";
-  if (std::none_of(region.unit_importance.begin(), region.unit_importance.end(), [](double v) { return std::isfinite(v); }))
+  if (std::none_of(region.unit_importance.begin(), region.unit_importance.end(),
+                   [](double v) { return std::isfinite(v); }))
     out << " no input departs from its own distribution beyond chance";
   const Ranking order = rank_units(region.unit_importance, {}, region.runs);
   for (std::size_t k = 0; k < std::min(order.order.size(), kFailureShown); ++k) {
@@ -153,8 +158,8 @@ void print_failure_region(std::ostream& out, const EnsembleSpec& spec, const Fai
 
 }  // namespace
 
-void print_response_summary(std::ostream& out, const EnsembleSpec& spec,
-                            const std::vector<ResponseAnswer>& answers, const ToleranceCheck& tolerance) {
+void print_response_summary(std::ostream& out, const EnsembleSpec& spec, const std::vector<ResponseAnswer>& answers,
+                            const ToleranceCheck& tolerance) {
   if (answers.empty()) return;
   out << "responses: mean +- standard error (successful samples with finite values"
       << (spec.design == Design::saltelli            ? "; saltelli: the A and B runs"
@@ -168,8 +173,8 @@ void print_response_summary(std::ostream& out, const EnsembleSpec& spec,
     if (response.reduce == Response::Reduce::at_time) what += " at t = " + number(response.time) + " s";
     if (response.reduce == Response::Reduce::first_time_above || response.reduce == Response::Reduce::first_time_below)
       what += " " + number(response.threshold);
-    out << "  " << response.name << " (" << what << "): " << number(a.mean) << " +- "
-        << number(a.sem, "%.3g") << " " << response.units << "  [" << a.used << " used";
+    out << "  " << response.name << " (" << what << "): " << number(a.mean) << " +- " << number(a.sem, "%.3g") << " "
+        << response.units << "  [" << a.used << " used";
     if (a.not_finite > 0) out << ", " << a.not_finite << " never crossed (+inf)";
     if (a.failed > 0) out << ", " << a.failed << " failed";
     out << "]\n";
@@ -183,9 +188,9 @@ void print_response_summary(std::ostream& out, const EnsembleSpec& spec,
     }
     if (const auto& e = a.exceedance) {
       out << "    P(" << response.name << (response.fail_if == Response::FailIf::above ? " > " : " < ")
-          << number(response.limit) << " " << response.units << ") = " << number(e->probability, "%.4g")
-          << " (" << e->exceeded << " of " << e->successful << "), 95 % Wilson interval ["
-          << number(e->interval.low, "%.4g") << ", " << number(e->interval.high, "%.4g") << "]";
+          << number(response.limit) << " " << response.units << ") = " << number(e->probability, "%.4g") << " ("
+          << e->exceeded << " of " << e->successful << "), 95 % Wilson interval [" << number(e->interval.low, "%.4g")
+          << ", " << number(e->interval.high, "%.4g") << "]";
       out << "\n";
       if (e->failed > 0)
         out << "      " << e->failed << " failed samples are not in the count: counted as not exceeding or as "
@@ -206,7 +211,8 @@ void print_rare_event(std::ostream& out, const EnsembleSpec& spec, const RareEve
       << ") = " << number(result.probability, "%.4g") << ", cov " << number(result.cov, "%.3g")
       << " (levels taken as uncorrelated), 95 % interval [" << number(result.interval_low, "%.4g") << ", "
       << number(result.interval_high, "%.4g") << "]"
-      << (result.probability > 0.0 ? " (lognormal)\n" : " (none beyond the limit: the rule of three at the last level)\n");
+      << (result.probability > 0.0 ? " (lognormal)\n"
+                                   : " (none beyond the limit: the rule of three at the last level)\n");
   out << "  " << result.runs << " runs in " << result.levels.size() << " levels of " << spec.base_samples
       << "; thresholds:";
   for (const rare_event::LevelSummary& level : result.levels) out << " " << number(sign * level.threshold, "%.5g");

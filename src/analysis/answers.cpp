@@ -1,11 +1,11 @@
 #include "analysis/answers.hpp"
 
-#include "analysis/subset_replay.hpp"
-
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
 #include <limits>
+#include <stdexcept>
+
+#include "analysis/subset_replay.hpp"
 
 namespace treedyn::ensemble {
 namespace {
@@ -110,8 +110,7 @@ ResponseAnswer answer_response(const EnsembleSpec& spec, const ResponseTable& ta
   Running running;
   // Convergence at 1, 2, 4, ... samples; for saltelli at 1, 2, 4, ...
   // whole blocks (2 independent draws each).
-  const std::uint64_t unit =
-      spec.design == Design::saltelli ? spec.saltelli_block() : 1;
+  const std::uint64_t unit = spec.design == Design::saltelli ? spec.saltelli_block() : 1;
   std::uint64_t successful = 0, exceeded = 0, next_report = unit;
   for (std::uint64_t k = 0; k < n; ++k) {
     if (!independent_draw(spec, k)) {
@@ -161,7 +160,8 @@ ResponseAnswer answer_response(const EnsembleSpec& spec, const ResponseTable& ta
   // (answer_rare_event): level 0 alone rarely reaches the limit.
   const bool subset_answer = spec.subset && spec.subset->response == r;
   if (response.has_limit() && table.input_count() > 0 && !subset_answer)
-    a.failure_region = failure_region(spec, table, r, [&](std::uint64_t k) { return k < n && independent_draw(spec, k); });
+    a.failure_region =
+        failure_region(spec, table, r, [&](std::uint64_t k) { return k < n && independent_draw(spec, k); });
   return a;
 }
 
@@ -190,8 +190,8 @@ RareEventAnswer answer_rare_event(const EnsembleSpec& spec, const ResponseTable&
   RareEventAnswer answer{replay_subset(spec, table, spec.subset->max_levels).result(), {}};
   // The runs beyond the limit are mostly the last level's chain states.
   const double gamma = answer.result.levels.empty() ? 0.0 : answer.result.levels.back().gamma;
-  answer.region =
-      failure_region(spec, table, spec.subset->response, [](std::uint64_t) { return true; }, std::isfinite(gamma) ? gamma : 0.0);
+  answer.region = failure_region(
+      spec, table, spec.subset->response, [](std::uint64_t) { return true; }, std::isfinite(gamma) ? gamma : 0.0);
   return answer;
 }
 

@@ -10,10 +10,10 @@
 #include <ostream>
 #include <vector>
 
-#include "job/ensemble_spec.hpp"
-#include "ensemble/response_table.hpp"
 #include "analysis/failure_region.hpp"
 #include "analysis/sensitivity.hpp"
+#include "ensemble/response_table.hpp"
+#include "job/ensemble_spec.hpp"
 #include "rare_event/subset_simulation.hpp"
 #include "statistics/tolerance_check.hpp"
 
@@ -44,7 +44,7 @@ struct ConvergencePoint {
   std::uint64_t samples = 0;  // m
   std::uint64_t used = 0;     // successful with a finite value
   double mean = 0.0, sem = 0.0;
-  double probability = 0.0;   // of exceeding the limit (NaN without a limit)
+  double probability = 0.0;  // of exceeding the limit (NaN without a limit)
   Interval interval;
 };
 
@@ -83,10 +83,10 @@ struct ResponseAnswer {
   double mean = 0.0, std = 0.0, sem = 0.0;  // std: n - 1; sem = std / sqrt(used)
   std::optional<Exceedance> exceedance;
   std::vector<ConvergencePoint> convergence;
-  RankSensitivity ranks;          // needs inputs (empty without perturbations)
-  std::optional<SobolIndices> sobol;  // design = "saltelli" only
-  std::uint64_t sobol_blocks = 0;     // base points run; sobol->base_samples of them complete
-  std::vector<SobolPrefix> sobol_convergence;  // on 1, 2, 4, ... base points, and all
+  RankSensitivity ranks;                        // needs inputs (empty without perturbations)
+  std::optional<SobolIndices> sobol;            // design = "saltelli" only
+  std::uint64_t sobol_blocks = 0;               // base points run; sobol->base_samples of them complete
+  std::vector<SobolPrefix> sobol_convergence;   // on 1, 2, 4, ... base points, and all
   std::optional<FailureRegion> failure_region;  // with a limit and inputs: of the counted runs
 };
 
@@ -103,8 +103,8 @@ std::vector<ResponseAnswer> answer_responses(const EnsembleSpec& spec, const Res
 // The end-of-run lines: each response's mean +- standard error, and each
 // exceedance probability with its interval (answer_summary.cpp).
 // With `tolerance`, each response's line on the integration's accuracy.
-void print_response_summary(std::ostream& out, const EnsembleSpec& spec,
-                            const std::vector<ResponseAnswer>& answers, const ToleranceCheck& tolerance = {});
+void print_response_summary(std::ostream& out, const EnsembleSpec& spec, const std::vector<ResponseAnswer>& answers,
+                            const ToleranceCheck& tolerance = {});
 
 // Subset simulation's answer: its levels' result, and the failure region of
 // every run beyond the limit (any level: each is a draw of the inputs given

@@ -13,8 +13,8 @@
 #include "analysis/answers.hpp"
 #include "ensemble/run_summary.hpp"
 #include "job/job.hpp"
-#include "statistics/ensemble_statistics.hpp"
 #include "output/quantities.hpp"
+#include "statistics/ensemble_statistics.hpp"
 
 namespace treedyn::ensemble {
 

@@ -53,7 +53,8 @@ std::vector<double> inputs_at(const std::vector<const Perturbation*>& owner, con
                               const std::vector<double>& u) {
   const boost::math::normal standard;
   std::vector<double> uniform(u.size()), x(u.size());
-  for (std::size_t i = 0; i < u.size(); ++i) uniform[i] = std::clamp(boost::math::cdf(standard, u[i]), 0x1p-53, 1.0 - 0x1p-53);
+  for (std::size_t i = 0; i < u.size(); ++i)
+    uniform[i] = std::clamp(boost::math::cdf(standard, u[i]), 0x1p-53, 1.0 - 0x1p-53);
   if (!copula.empty()) copula.correlate(uniform);
   for (std::size_t i = 0; i < u.size(); ++i) x[i] = owner[i]->distribution.quantile(uniform[i]) * owner[i]->unit;
   return x;
@@ -116,7 +117,8 @@ FailureRegion failure_region(const EnsembleSpec& spec, const ResponseTable& tabl
   if (rows.empty() || d == 0) return region;
 
   const std::vector<const Perturbation*> owner = owners(spec);
-  const NormalCopula copula = spec.correlations.empty() ? NormalCopula() : NormalCopula(static_cast<unsigned>(d), spec.correlations);
+  const NormalCopula copula =
+      spec.correlations.empty() ? NormalCopula() : NormalCopula(static_cast<unsigned>(d), spec.correlations);
   std::vector<double> sum(d, 0.0), squares(d, 0.0);
   for (const std::uint64_t k : rows) {
     const std::vector<double> u = normal_point(spec, owner, copula, table, k);

@@ -35,8 +35,7 @@ double samples_to_separate(double d, double sd, std::size_t n) {
 }  // namespace
 
 double percentile(std::vector<double>& values, double p) {
-  if (values.empty() || std::any_of(values.begin(), values.end(), [](double v) { return std::isnan(v); }))
-    return kNaN;
+  if (values.empty() || std::any_of(values.begin(), values.end(), [](double v) { return std::isnan(v); })) return kNaN;
   std::sort(values.begin(), values.end());
   const double position = p * static_cast<double>(values.size() - 1);
   const auto below = static_cast<std::size_t>(std::floor(position));
@@ -65,8 +64,7 @@ Ranking rank_units(std::span<const double> point, std::span<const double> replic
   std::vector<double> differences(resamples);
   for (std::size_t k = 0; k < pairs; ++k) {
     const std::size_t a = ranking.order[k], b = ranking.order[k + 1];
-    for (std::size_t r = 0; r < resamples; ++r)
-      differences[r] = replicates[r * units + a] - replicates[r * units + b];
+    for (std::size_t r = 0; r < resamples; ++r) differences[r] = replicates[r * units + a] - replicates[r * units + b];
     const double sd = std::any_of(differences.begin(), differences.end(), [](double v) { return std::isnan(v); })
                           ? kNaN
                           : standard_deviation(differences);

@@ -117,7 +117,8 @@ std::vector<double> rank_replicates(const Eigen::MatrixXd& ranks, bool srrc, int
   for (int r = 0; r < resamples; ++r) {
     weight.setZero();
     for (Eigen::Index k = 0; k < n; ++k) {
-      const double u = counter_uniform(seed, static_cast<std::uint64_t>(r), static_cast<std::uint64_t>(k), kRowBootstrapStream);
+      const double u =
+          counter_uniform(seed, static_cast<std::uint64_t>(r), static_cast<std::uint64_t>(k), kRowBootstrapStream);
       weight(std::min<Eigen::Index>(static_cast<Eigen::Index>(u * static_cast<double>(n)), n - 1)) += 1.0;
     }
     const Eigen::RowVectorXd mean = (weight.transpose() * ranks) / static_cast<double>(n);
@@ -164,8 +165,8 @@ struct SaltelliEstimate {
 // covariance, D its variance, both about m_i) is the ratio below, computed
 // from deviations so that a large offset does not cancel. A pair without
 // spread has no effect of i to show: 0.
-double janon_total(std::span<const double> f_a, std::span<const double> f_ab, std::size_t dimensions,
-                   std::size_t i, std::span<const std::size_t> blocks, double pair_mean) {
+double janon_total(std::span<const double> f_a, std::span<const double> f_ab, std::size_t dimensions, std::size_t i,
+                   std::span<const std::size_t> blocks, double pair_mean) {
   double differences = 0.0, spread = 0.0;
   for (const std::size_t j : blocks) {
     const double a = f_a[j], ab = f_ab[j * dimensions + i];
@@ -175,9 +176,8 @@ double janon_total(std::span<const double> f_a, std::span<const double> f_ab, st
   return differences == 0.0 ? 0.0 : differences / spread;
 }
 
-SaltelliEstimate estimate(std::span<const double> f_a, std::span<const double> f_b,
-                          std::span<const double> f_ab, std::size_t dimensions,
-                          std::span<const std::size_t> blocks) {
+SaltelliEstimate estimate(std::span<const double> f_a, std::span<const double> f_b, std::span<const double> f_ab,
+                          std::size_t dimensions, std::span<const std::size_t> blocks) {
   const std::size_t n = blocks.size();
   SaltelliEstimate e;
   e.first.assign(dimensions, kNaN);
@@ -225,8 +225,7 @@ std::vector<double> average_ranks(std::span<const double> values) {
   std::iota(order.begin(), order.end(), std::size_t{0});
   // Stable, so equal values keep their input order (the ranks do not depend
   // on it, but the procedure is then fully specified).
-  std::stable_sort(order.begin(), order.end(),
-                   [&](std::size_t a, std::size_t b) { return values[a] < values[b]; });
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return values[a] < values[b]; });
   std::vector<double> ranks(n);
   for (std::size_t first = 0; first < n;) {
     std::size_t last = first;  // the run [first, last] of equal values
@@ -258,28 +257,28 @@ RankSensitivity rank_sensitivity(std::span<const double> inputs, std::size_t dim
     result.spearman[i] = pearson(column_of(ranks, static_cast<Eigen::Index>(i)), column_of(ranks, response_column));
   rank_regression(ranks, result);
 
-  result.ranked_by_srrc = std::all_of(result.srrc.begin(), result.srrc.end(), [](double v) { return std::isfinite(v); });
+  result.ranked_by_srrc =
+      std::all_of(result.srrc.begin(), result.srrc.end(), [](double v) { return std::isfinite(v); });
   std::vector<double> point(dimensions);
   for (std::size_t i = 0; i < dimensions; ++i)
     point[i] = std::abs(result.ranked_by_srrc ? result.srrc[i] : result.spearman[i]);
   const int affordable = static_cast<int>(std::min<double>(
-      resamples, kRankBootstrapBudget / (0.5 * static_cast<double>(n) * static_cast<double>((dimensions + 1) * (dimensions + 1)))));
-  const std::vector<double> replicates =
-      n >= 2 && affordable >= kRankBootstrapMinimum ? rank_replicates(ranks, result.ranked_by_srrc, affordable, seed)
-                                          : std::vector<double>{};
+      resamples, kRankBootstrapBudget /
+                     (0.5 * static_cast<double>(n) * static_cast<double>((dimensions + 1) * (dimensions + 1)))));
+  const std::vector<double> replicates = n >= 2 && affordable >= kRankBootstrapMinimum
+                                             ? rank_replicates(ranks, result.ranked_by_srrc, affordable, seed)
+                                             : std::vector<double>{};
   result.ranking = rank_units(point, replicates, n);
   result.measure_ci.assign(2 * dimensions, kNaN);
   if (!replicates.empty()) percentile_intervals(replicates, dimensions, result.measure_ci);
   return result;
 }
 
-SobolIndices saltelli_indices(std::span<const double> f_a, std::span<const double> f_b,
-                              std::span<const double> f_ab, std::size_t dimensions, int resamples,
-                              std::uint64_t seed) {
+SobolIndices saltelli_indices(std::span<const double> f_a, std::span<const double> f_b, std::span<const double> f_ab,
+                              std::size_t dimensions, int resamples, std::uint64_t seed) {
   const std::size_t n = f_a.size();
   if (f_b.size() != n) throw std::invalid_argument("saltelli_indices: f_a and f_b differ in size");
-  if (f_ab.size() != n * dimensions)
-    throw std::invalid_argument("saltelli_indices: f_ab is not N rows x dimensions");
+  if (f_ab.size() != n * dimensions) throw std::invalid_argument("saltelli_indices: f_ab is not N rows x dimensions");
 
   std::vector<std::size_t> blocks(n);
   std::iota(blocks.begin(), blocks.end(), std::size_t{0});

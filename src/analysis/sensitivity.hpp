@@ -46,8 +46,7 @@ inline constexpr int kRankBootstrapMinimum = 50;  // fewer than this: no interva
 // far less than their sampling error). Throws std::invalid_argument for
 // mismatched sizes, no inputs or a NaN value.
 RankSensitivity rank_sensitivity(std::span<const double> inputs, std::size_t dimensions,
-                                 std::span<const double> response, int resamples = 0,
-                                 std::uint64_t seed = 0);
+                                 std::span<const double> response, int resamples = 0, std::uint64_t seed = 0);
 
 struct SobolIndices {
   std::vector<double> first;     // per input: first-order index (Saltelli 2010)
@@ -78,8 +77,7 @@ struct SobolIndices {
 // The intervals are percentile intervals of `resamples` bootstrap
 // resamplings of the N blocks, drawn from a counter-based generator keyed
 // by `seed` (reproducible). Zero variance gives NaN indices.
-SobolIndices saltelli_indices(std::span<const double> f_a, std::span<const double> f_b,
-                              std::span<const double> f_ab, std::size_t dimensions, int resamples,
-                              std::uint64_t seed);
+SobolIndices saltelli_indices(std::span<const double> f_a, std::span<const double> f_b, std::span<const double> f_ab,
+                              std::size_t dimensions, int resamples, std::uint64_t seed);
 
 }  // namespace treedyn::ensemble

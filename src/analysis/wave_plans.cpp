@@ -15,14 +15,13 @@ std::string held(const std::string& target, const std::string& response, double 
                  std::uint64_t prefix) {
   char reached[32];
   std::snprintf(reached, sizeof reached, "%.3g", value);
-  return target + " of " + response + ": " + reached + " <= " + format_number(bound) + " at " +
-         std::to_string(prefix) + " samples";
+  return target + " of " + response + ": " + reached + " <= " + format_number(bound) + " at " + std::to_string(prefix) +
+         " samples";
 }
 
 }  // namespace
 
-std::optional<std::string> stop_reason(const EnsembleSpec& spec, const ResponseTable& table,
-                                       std::uint64_t prefix) {
+std::optional<std::string> stop_reason(const EnsembleSpec& spec, const ResponseTable& table, std::uint64_t prefix) {
   if (!spec.stop) return std::nullopt;
   const StopRule& rule = *spec.stop;
   const std::string& name = spec.responses[rule.response].name;

@@ -13,8 +13,7 @@ namespace treedyn::ensemble {
 // Which of spec.stop's targets holds on samples 0 .. prefix-1 of `table`,
 // said as a sentence with the value reached ("exceedance_cov of
 // peak_tension: 0.098 <= 0.1 at 3200 samples"); nullopt when none holds.
-std::optional<std::string> stop_reason(const EnsembleSpec& spec, const ResponseTable& table,
-                                       std::uint64_t prefix);
+std::optional<std::string> stop_reason(const EnsembleSpec& spec, const ResponseTable& table, std::uint64_t prefix);
 
 // Waves [0, every), [every, 2 every), ... up to `samples`; after each, the
 // ensemble ends when stop_reason holds on everything before the wave's end.

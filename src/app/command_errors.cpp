@@ -4,8 +4,8 @@
 #include <new>
 
 #include "app/exit_codes.hpp"
-#include "process/atomic_file.hpp"
 #include "job/job_error.hpp"
+#include "process/atomic_file.hpp"
 
 namespace treedyn {
 

@@ -46,8 +46,8 @@ void print_subset(std::ostream& out, const EnsembleSpec& s) {
   if (!s.subset) return;
   const double p0 = s.subset->level_probability;
   const double n = static_cast<double>(s.base_samples);
-  out << "  subset_simulation: " << s.base_samples << " runs per level, level_probability " << format_number(p0)
-      << " (" << static_cast<std::uint64_t>(std::llround(n * p0)) << " chains of " << std::llround(1.0 / p0)
+  out << "  subset_simulation: " << s.base_samples << " runs per level, level_probability " << format_number(p0) << " ("
+      << static_cast<std::uint64_t>(std::llround(n * p0)) << " chains of " << std::llround(1.0 / p0)
       << " states), at most " << s.subset->max_levels << " levels after level 0, for P("
       << s.responses[s.subset->response].name << " beyond its limit) down to about "
       << format_digits(std::pow(p0, s.subset->max_levels + 1), 2) << "\n";
@@ -89,7 +89,9 @@ void print_band_share(std::ostream& out, const Perturbation& p, const ModelDefin
     out << "      the components' band keeps";
     for (double q : {0.001, 0.999}) {
       const double x = p.distribution.quantile(q) * p.unit;
-      a.peak_period = p.mode == Perturbation::Mode::scale ? nominal * x : p.mode == Perturbation::Mode::add ? nominal + x : x;
+      a.peak_period = p.mode == Perturbation::Mode::scale ? nominal * x
+                      : p.mode == Perturbation::Mode::add ? nominal + x
+                                                          : x;
       if (!(a.peak_period > 0.0)) continue;
       const SeaStateSummary share = summarize(a);
       worst = std::min(worst, share.m0_components / share.m0_spectrum);
@@ -98,8 +100,8 @@ void print_band_share(std::ostream& out, const Perturbation& p, const ModelDefin
     }
     out << " (the 0.1 % and 99.9 % quantiles)\n";
     if (worst < 0.97)
-      out << "      warning: below 97 %: widen [base." << "xyz"[axis]
-          << "] min_frequency and max_frequency to hold the spectrum at these periods\n";
+      out << "      warning: below 97 %: widen [base."
+          << "xyz"[axis] << "] min_frequency and max_frequency to hold the spectrum at these periods\n";
   }
 }
 
@@ -119,8 +121,10 @@ void print_groups(std::ostream& out, const EnsembleSpec& s) {
     out << "    group " << g << " " << unit.name << ":";
     for (unsigned d : unit.inputs) {
       const auto [p, k] = owner[d];
-      if (p->kind != Perturbation::Kind::parameter_list) out << " " << names[d];
-      else if (k == 0) out << " " << p->target << "[1.." << p->entries << "]";
+      if (p->kind != Perturbation::Kind::parameter_list)
+        out << " " << names[d];
+      else if (k == 0)
+        out << " " << p->target << "[1.." << p->entries << "]";
     }
     out << "\n";
   }
@@ -141,9 +145,9 @@ void print_correlations(std::ostream& out, const EnsembleSpec& s) {
 }  // namespace
 
 void print_ensemble_summary(std::ostream& out, const Job& job, const EnsembleSpec& s) {
-  out << "ensemble: " << (s.subset ? "at most " : "") << s.samples << (s.subset ? " runs (below: how many for which P)" : " samples")
-      << ", seed " << s.seed << ", design " << name(s.design)
-      << ", " << s.perturbations.size() << " perturbation" << (s.perturbations.size() == 1 ? "" : "s")
+  out << "ensemble: " << (s.subset ? "at most " : "") << s.samples
+      << (s.subset ? " runs (below: how many for which P)" : " samples") << ", seed " << s.seed << ", design "
+      << name(s.design) << ", " << s.perturbations.size() << " perturbation" << (s.perturbations.size() == 1 ? "" : "s")
       << " (" << s.input_dimensions() << " sampled inputs)\n";
   if (s.design == Design::saltelli && !s.grouped)
     out << "  saltelli: base size N = " << s.base_samples << ", N (D + 2) = " << s.base_samples << " x "
@@ -172,10 +176,11 @@ void print_ensemble_summary(std::ostream& out, const Job& job, const EnsembleSpe
               : p.mode == Mode::add ? " x E is added to the matrix"
                                     : " x E replaces the matrix");
     else
-      out << (p.mode == Mode::scale ? " multiplies" : p.mode == Mode::add ? " is added to" : " replaces")
+      out << (p.mode == Mode::scale ? " multiplies"
+              : p.mode == Mode::add ? " is added to"
+                                    : " replaces")
           << " the nominal "
-          << (p.kind == Kind::parameter ? nominal[p.first] / p.factor
-                                        : job.initial.angular_velocity[p.first][p.axis])
+          << (p.kind == Kind::parameter ? nominal[p.first] / p.factor : job.initial.angular_velocity[p.first][p.axis])
           << " " << p.si_unit;
     out << "\n      " << p.enters << "\n";
     print_invalid_mass(out, p, job.definition);
@@ -183,9 +188,9 @@ void print_ensemble_summary(std::ostream& out, const Job& job, const EnsembleSpe
   }
   out << "statistics: quantiles";
   for (double q : s.quantiles) out << " " << format_number(q);
-  out << "; " << s.histogram_bins << " histogram bins; pilot samples 0-" << s.pilot_samples - 1
-      << "; blocks of " << s.block_size << "; about "
-      << format_number(std::round(statistics_bytes(job, s) / (1024.0 * 1024.0))) << " MiB per rank\n";
+  out << "; " << s.histogram_bins << " histogram bins; pilot samples 0-" << s.pilot_samples - 1 << "; blocks of "
+      << s.block_size << "; about " << format_number(std::round(statistics_bytes(job, s) / (1024.0 * 1024.0)))
+      << " MiB per rank\n";
   out << "per sample: ";
   for (std::size_t k = 0; k < s.per_sample.size(); ++k) out << (k ? ", " : "") << name(s.per_sample[k]);
   if (s.per_sample.empty()) out << "no reductions";
@@ -202,8 +207,8 @@ void print_ensemble_summary(std::ostream& out, const Job& job, const EnsembleSpe
       out << ", threshold " << format_number(r.threshold);
     out << " (" << r.units << ")";
     if (r.has_limit())
-      out << "; fails " << (r.fail_if == Response::FailIf::above ? "above " : "below ") << format_number(r.limit)
-          << " " << r.units;
+      out << "; fails " << (r.fail_if == Response::FailIf::above ? "above " : "below ") << format_number(r.limit) << " "
+          << r.units;
     out << "\n";
   }
 }

@@ -118,8 +118,10 @@ void note_incomplete(const ensemble::IndexRanges& held, std::uint64_t samples) {
 EnsembleSummary merge_summary(const std::vector<SampleRecord>& records) {
   EnsembleSummary summary;
   for (const SampleRecord& r : records) {
-    if (r.status == ensemble::SampleStatus::ok) ++summary.ok;
-    else if (r.status != ensemble::SampleStatus::not_run) ++summary.failed;
+    if (r.status == ensemble::SampleStatus::ok)
+      ++summary.ok;
+    else if (r.status != ensemble::SampleStatus::not_run)
+      ++summary.failed;
   }
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);

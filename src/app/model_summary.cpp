@@ -1,9 +1,9 @@
 #include "app/model_summary.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
-#include <algorithm>
 #include <vector>
 
 namespace treedyn {
@@ -62,14 +62,17 @@ void print_sea_state(std::ostream& out, const BaseMotionSpec& base, double end_t
     if (!sea->axes[axis]) continue;
     const SeaStateAxis& a = *sea->axes[axis];
     const SeaStateSummary s = summarize(a);
-    out << "base: sea state along " << "xyz"[axis] << ": ";
+    out << "base: sea state along "
+        << "xyz"[axis] << ": ";
     if (a.wave_of >= 0) {
-      out << "the waves of " << "xyz"[a.wave_of] << fmt(" through its own RAO: the base's variance is %.6g m^2", s.base_variance)
+      out << "the waves of "
+          << "xyz"[a.wave_of] << fmt(" through its own RAO: the base's variance is %.6g m^2", s.base_variance)
           << fmt(" (std %.4g m)\n", std::sqrt(s.base_variance));
       continue;
     }
     out << kSpectrum[static_cast<int>(a.spectrum)];
-    if (a.spectrum != WaveSpectrum::tabulated) out << fmt(", Hs %.6g m, Tp %.6g s", a.significant_height, a.peak_period);
+    if (a.spectrum != WaveSpectrum::tabulated)
+      out << fmt(", Hs %.6g m, Tp %.6g s", a.significant_height, a.peak_period);
     if (a.spectrum == WaveSpectrum::jonswap) out << fmt(", gamma %.4g", a.gamma);
     out << "; " << a.components() << fmt(" components on [%.6g, %.6g] Hz", a.min_frequency, a.max_frequency)
         << fmt(" (df %.4g Hz: the sea repeats every %.4g s)\n", s.df, 1.0 / s.df);
@@ -103,13 +106,11 @@ void print_model_summary(std::ostream& out, const Job& job) {
     out << "  " << m.tree().body_name[i] << ":\n";
     for (int r = 0; r < 3; ++r) out << fmt("    [% .6e % .6e", K(r, 0), K(r, 1)) << fmt(" % .6e]\n", K(r, 2));
   }
-  out << "integration: " << name(job.request.settings.method) << ", "
-      << name(job.request.parameterisation) << ", solver "
-      << name(resolve_solver(job.request.solver)) << ", rtol " << job.request.settings.relative_tolerance
+  out << "integration: " << name(job.request.settings.method) << ", " << name(job.request.parameterisation)
+      << ", solver " << name(resolve_solver(job.request.solver)) << ", rtol " << job.request.settings.relative_tolerance
       << ", atol " << job.request.settings.absolute_tolerance << "\n";
-  out << "output: " << job.request.output_times.size() << " times from "
-      << job.request.output_times.front() << " s to " << job.request.output_times.back()
-      << " s; quantities:";
+  out << "output: " << job.request.output_times.size() << " times from " << job.request.output_times.front() << " s to "
+      << job.request.output_times.back() << " s; quantities:";
   for (const auto& q : job.output.quantities) out << " " << q;
   out << "\n";
 }
@@ -135,12 +136,11 @@ void print_parameters(std::ostream& out, const ParameterTable& table, std::size_
     out << (p.unit == "1" ? "" : " " + p.unit) << ": " << p.enters << "\n";
   }
   if (parameters.size() > at_most)
-    out << "  ... and " << parameters.size() - at_most
-        << " more (treedyn check --parameters JOB lists them all)\n";
+    out << "  ... and " << parameters.size() - at_most << " more (treedyn check --parameters JOB lists them all)\n";
 }
 
-void print_run_summary(std::ostream& out, const Job& job, const Recorder& recorder,
-                       const IntegrationOutcome& outcome, double wall_seconds) {
+void print_run_summary(std::ostream& out, const Job& job, const Recorder& recorder, const IntegrationOutcome& outcome,
+                       double wall_seconds) {
   const Model& m = job.model;
   if (recorder.empty()) return;
   const Recovered& last = recorder.last();
@@ -159,13 +159,11 @@ void print_run_summary(std::ostream& out, const Job& job, const Recorder& record
   out << fmt("energy: start %.10g J, end %.10g J", e0, last.energy.total())
       << fmt(", max |E - E0| %.3g J (%.3g relative)\n", recorder.max_energy_change(),
              scale > 0 ? recorder.max_energy_change() / scale : 0.0);
-  if (!m.base_motion.is_fixed())
-    out << "  (the base moves: energy is not expected to be conserved)\n";
+  if (!m.base_motion.is_fixed()) out << "  (the base moves: energy is not expected to be conserved)\n";
   const IntegratorStats& s = outcome.stats;
-  out << "integrator: " << name(job.request.settings.method) << ", " << s.steps << " steps, "
-      << s.rhs_evaluations << " right-hand sides, " << s.error_test_failures
-      << " error-test failures, " << s.chart_changes << " chart changes"
-      << fmt(", %.3f s wall\n", wall_seconds);
+  out << "integrator: " << name(job.request.settings.method) << ", " << s.steps << " steps, " << s.rhs_evaluations
+      << " right-hand sides, " << s.error_test_failures << " error-test failures, " << s.chart_changes
+      << " chart changes" << fmt(", %.3f s wall\n", wall_seconds);
 }
 
 }  // namespace treedyn

@@ -20,8 +20,8 @@ void print_model_summary(std::ostream& out, const Job& job);
 void print_parameters(std::ostream& out, const ParameterTable& table, std::size_t at_most);
 
 // Final state, energy drift and integrator statistics.
-void print_run_summary(std::ostream& out, const Job& job, const Recorder& recorder,
-                       const IntegrationOutcome& outcome, double wall_seconds);
+void print_run_summary(std::ostream& out, const Job& job, const Recorder& recorder, const IntegrationOutcome& outcome,
+                       double wall_seconds);
 
 }  // namespace treedyn
 

@@ -13,14 +13,14 @@
 #include <iostream>
 #include <sstream>
 
-#include "app/exit_codes.hpp"
 #include "analysis/answers.hpp"
 #include "analysis/digest.hpp"
 #include "analysis/subset_replay.hpp"
-#include "job/ensemble_spec.hpp"
-#include "job/sample_job.hpp"
+#include "app/exit_codes.hpp"
 #include "hdf5/read_file.hpp"
+#include "job/ensemble_spec.hpp"
 #include "job/job_error.hpp"
+#include "job/sample_job.hpp"
 #include "output/final_state.hpp"
 #include "process/atomic_file.hpp"
 #include "process/signals.hpp"
@@ -45,8 +45,8 @@ struct Refused {
 Job stored_job(const h5::ReadFile& f, const std::string& file) {
   if (!f.has_attribute("/", "job_text")) throw Refused{file + ": not a treedyn file (no job_text attribute)"};
   try {
-    return ensemble::read_sample_job(JobDocument::parse(f.string_attribute("/", "job_text"),
-                                                        f.string_attribute("/", "job_file")));
+    return ensemble::read_sample_job(
+        JobDocument::parse(f.string_attribute("/", "job_text"), f.string_attribute("/", "job_file")));
   } catch (const JobError& e) {
     throw Refused{file + ": its stored job no longer reads with this treedyn (" + std::string(e.what()) + ")"};
   }
@@ -104,8 +104,7 @@ void ensemble_summary(std::ostream& out, const h5::ReadFile& f, const std::strin
   try {
     const ensemble::ResponseTable table = h5::response_table(f, spec.input_dimensions(), spec.responses.size());
     ensemble::print_response_summary(out, spec, ensemble::answer_responses(spec, table), h5::tolerance_check(f));
-    if (spec.subset)
-      ensemble::print_rare_event(out, spec, ensemble::answer_rare_event(spec, table));
+    if (spec.subset) ensemble::print_rare_event(out, spec, ensemble::answer_rare_event(spec, table));
   } catch (const h5::IoError& e) {
     throw Refused{file + ": " + e.what()};
   }
@@ -123,7 +122,8 @@ void trajectory_summary(std::ostream& out, const h5::ReadFile& f, const std::str
   const std::vector<double> t = f.doubles("/time");
   out << "trajectory: " << job.model.n << (job.model.n == 1 ? " body, " : " bodies, ") << t.size()
       << " output times to t = " << (t.empty() ? 0.0 : t.back()) << " s";
-  if (f.has_attribute("/", "steps")) out << ", " << static_cast<long long>(f.number_attribute("/", "steps")) << " steps";
+  if (f.has_attribute("/", "steps"))
+    out << ", " << static_cast<long long>(f.number_attribute("/", "steps")) << " steps";
   out << "\n";
   if (f.has("/final_state")) {
     const std::vector<double> s = f.doubles("/final_state");
@@ -164,7 +164,8 @@ int run_plotter(const std::string& file, const fs::path& out, const std::vector<
   pid_t pid = 0;
   const process::SpawnAttributes attributes;  // the child gets no blocked signals
   if (posix_spawnp(&pid, argv[0], nullptr, attributes.get(), argv.data(), environ) != 0) {
-    std::cerr << "error: cannot start " << args[0] << " for the figures: install python3 (apt-get install "
+    std::cerr << "error: cannot start " << args[0]
+              << " for the figures: install python3 (apt-get install "
                  "python3-h5py python3-matplotlib) or set TREEDYN_PYTHON\n";
     return kExitBadInput;
   }

@@ -4,17 +4,17 @@
 #include <iostream>
 #include <optional>
 
+#include "analysis/subset_replay.hpp"
 #include "app/command_errors.hpp"
 #include "app/exit_codes.hpp"
 #include "app/run_trajectory.hpp"
 #include "common/error.hpp"
-#include "job/ensemble_spec.hpp"
-#include "job/sample_job.hpp"
 #include "ensemble/sample_runner.hpp"
-#include "process/atomic_file.hpp"
-#include "job/job_error.hpp"
-#include "analysis/subset_replay.hpp"
 #include "hdf5/read_file.hpp"
+#include "job/ensemble_spec.hpp"
+#include "job/job_error.hpp"
+#include "job/sample_job.hpp"
+#include "process/atomic_file.hpp"
 
 namespace treedyn {
 namespace {
@@ -22,11 +22,12 @@ namespace {
 // Sample k must exist: the message says how many there are.
 void require_sample(const Job& job, const ensemble::EnsembleSpec& spec, std::uint64_t k) {
   if (k >= spec.samples)
-    throw JobError(job.file, 0, 0, "ensemble.samples",
-                   "there is no sample " + std::to_string(k) + ": the ensemble has " +
-                       std::to_string(spec.samples) + " samples, 0 .. " +
-                       std::to_string(spec.samples - 1) +
-                       (spec.design == ensemble::Design::saltelli ? " (saltelli: samples x (D + 2) runs, or x (G + 2) with groups)" : ""));
+    throw JobError(
+        job.file, 0, 0, "ensemble.samples",
+        "there is no sample " + std::to_string(k) + ": the ensemble has " + std::to_string(spec.samples) +
+            " samples, 0 .. " + std::to_string(spec.samples - 1) +
+            (spec.design == ensemble::Design::saltelli ? " (saltelli: samples x (D + 2) runs, or x (G + 2) with groups)"
+                                                       : ""));
 }
 
 // Refused with what to do instead: a subset simulation's run k after level
@@ -40,7 +41,8 @@ std::vector<double> inputs_of(const Job& job, const ensemble::EnsembleSpec& spec
                               std::uint64_t k, const std::string& from) {
   if (!spec.subset || k < spec.base_samples) return runner.sample_inputs(k);
   if (from.empty())
-    refuse("run " + std::to_string(k) + " is in a level after level 0 of this subset simulation: its inputs follow "
+    refuse("run " + std::to_string(k) +
+           " is in a level after level 0 of this subset simulation: its inputs follow "
            "from the runs before it; give the ensemble's output file with --from FILE.h5");
   std::vector<double> inputs;
   std::optional<ensemble::ResponseTable> table;
@@ -57,15 +59,16 @@ std::vector<double> inputs_of(const Job& job, const ensemble::EnsembleSpec& spec
   }
   for (std::size_t d = 0; d < inputs.size(); ++d)
     if (inputs[d] != table->input(k, d) && !(std::isnan(inputs[d]) && std::isnan(table->input(k, d))))
-      refuse(from + ": the replayed inputs of run " + std::to_string(k) + " differ from those the file recorded "
+      refuse(from + ": the replayed inputs of run " + std::to_string(k) +
+             " differ from those the file recorded "
              "(another build, or a file changed since)");
   return inputs;
 }
 
 }  // namespace
 
-int rerun_sample(const std::string& job_path, std::uint64_t k, const std::string& output_path,
-                 bool quiet, const RunProvenance& run, const std::string& from) {
+int rerun_sample(const std::string& job_path, std::uint64_t k, const std::string& output_path, bool quiet,
+                 const RunProvenance& run, const std::string& from) {
   return exit_code_of([&]() -> int {
     const auto [job, spec] = ensemble::read_ensemble_job(JobDocument::read(job_path));
     require_sample(job, spec, k);
@@ -78,8 +81,8 @@ int rerun_sample(const std::string& job_path, std::uint64_t k, const std::string
     try {
       runner.prepare_inputs(origin.inputs);
     } catch (const ModelError& e) {
-      std::cerr << job_path << ", sample " << k << ": the sampled inputs give an invalid model: "
-                << e.what() << "\n(the ensemble records this sample with status 2); no output written\n";
+      std::cerr << job_path << ", sample " << k << ": the sampled inputs give an invalid model: " << e.what()
+                << "\n(the ensemble records this sample with status 2); no output written\n";
       return kExitIntegration;
     }
     return run_trajectory(job, runner.model(), runner.initial_state(), output_path, quiet, run, &origin);
@@ -95,8 +98,7 @@ int write_sample_job(const std::string& job_path, std::uint64_t k, const std::st
     ensemble::SampleRunner runner(job, spec);
     const std::vector<double> inputs = inputs_of(job, spec, runner, k, from);
     process::write_file_atomically(output_path, ensemble::sample_job_text(job, spec, k, inputs));
-    std::cout << "wrote " << output_path << " (sample " << k << " of " << job_path
-              << "; run it with treedyn run)\n";
+    std::cout << "wrote " << output_path << " (sample " << k << " of " << job_path << "; run it with treedyn run)\n";
     return kExitOk;
   });
 }

@@ -1,21 +1,20 @@
 #include "app/run_trajectory.hpp"
 
 #include <chrono>
+#include <iostream>
 #include <optional>
 #include <string>
-#include <iostream>
 
 #include "app/exit_codes.hpp"
 #include "app/model_summary.hpp"
-#include "process/atomic_file.hpp"
 #include "common/format.hpp"
 #include "output/recorder.hpp"
+#include "process/atomic_file.hpp"
 
 namespace treedyn {
 
-int run_trajectory(const Job& job, const Model& model, const InitialState& initial,
-                   const std::string& output_path, bool quiet, const RunProvenance& run,
-                   const SampleOrigin* sample) {
+int run_trajectory(const Job& job, const Model& model, const InitialState& initial, const std::string& output_path,
+                   bool quiet, const RunProvenance& run, const SampleOrigin* sample) {
   process::check_output_path(output_path);  // refuse before integrating, not after
   Recorder recorder(model, job.output, EnergyTracking::on);
   const OutputSpec motion_spec = motion_output();
@@ -23,15 +22,14 @@ int run_trajectory(const Job& job, const Model& model, const InitialState& initi
   SimulationRequest request = job.request;
   request.accelerations_at_outputs = recorder.needs_accelerations();
   const auto start = std::chrono::steady_clock::now();
-  const IntegrationOutcome outcome = simulate(
-      model, initial, request, [&](const Model& m, const Data& d) {
-        recorder.record(m, d);
-        motion.record(m, d);
-      });
+  const IntegrationOutcome outcome = simulate(model, initial, request, [&](const Model& m, const Data& d) {
+    recorder.record(m, d);
+    motion.record(m, d);
+  });
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (!outcome.ok() && !sample) {
-    std::cerr << job.file << ": integration failed (" << name(outcome.failure) << ") at t = "
-              << outcome.time_reached << " s after " << outcome.stats.steps << " steps";
+    std::cerr << job.file << ": integration failed (" << name(outcome.failure) << ") at t = " << outcome.time_reached
+              << " s after " << outcome.stats.steps << " steps";
     if (!outcome.message.empty()) std::cerr << ": " << outcome.message;
     std::cerr << "\nno output written. Loosen the tolerances, raise [integrator] max_steps, or "
                  "check the model.\n";

@@ -10,8 +10,7 @@
 namespace treedyn {
 
 // Returns the exit code (app/exit_codes.hpp). Throws h5::IoError.
-int run_trajectory(const Job& job, const Model& model, const InitialState& initial,
-                   const std::string& output_path, bool quiet, const RunProvenance& run,
-                   const SampleOrigin* sample = nullptr);
+int run_trajectory(const Job& job, const Model& model, const InitialState& initial, const std::string& output_path,
+                   bool quiet, const RunProvenance& run, const SampleOrigin* sample = nullptr);
 
 }  // namespace treedyn

@@ -6,12 +6,12 @@
 
 #include "app/command_errors.hpp"
 #include "app/exit_codes.hpp"
-#include "hdf5/hdf5.hpp"
 #include "app/model_summary.hpp"
 #include "app/report_command.hpp"
 #include "app/run_trajectory.hpp"
-#include "job/sample_job.hpp"
+#include "hdf5/hdf5.hpp"
 #include "job/job.hpp"
+#include "job/sample_job.hpp"
 #include "process/signals.hpp"
 
 namespace treedyn {
@@ -31,8 +31,7 @@ int check_command(const std::string& job_path, bool all_parameters) {
   return kExitOk;
 }
 
-int run_command(const std::string& job_path, const std::string& output_path, bool quiet,
-                const RunProvenance& run) {
+int run_command(const std::string& job_path, const std::string& output_path, bool quiet, const RunProvenance& run) {
   const Job job = ensemble::read_sample_job(JobDocument::read(job_path));
   return run_trajectory(job, job.model, job.initial, output_path, quiet, run);
 }
@@ -43,7 +42,7 @@ int run_command(const std::string& job_path, const std::string& output_path, boo
 int main(int argc, char** argv) {
   using namespace treedyn;
   process::start_signal_owner();  // before any other thread: a signal removes temporary files, then ends us
-  h5::quiet_errors();  // first of all HDF5 calls: no exit handler, no error stack on stderr
+  h5::quiet_errors();             // first of all HDF5 calls: no exit handler, no error stack on stderr
   CLI::App app{"treedyn: dynamics of trees of rigid bodies joined by spherical joints"};
   app.set_version_flag("--version", std::string("treedyn ") + TREEDYN_VERSION);
   app.require_subcommand(1);
@@ -55,11 +54,10 @@ int main(int argc, char** argv) {
   std::string job_path, output_path;
   bool quiet = false;
   bool all_parameters = false;
-  CLI::App* check = app.add_subcommand(
-      "check", "Validate a job file; print the model summary and its named parameters");
+  CLI::App* check =
+      app.add_subcommand("check", "Validate a job file; print the model summary and its named parameters");
   check->add_option("JOB", job_path, "job file (TOML)")->required();
-  check->add_flag("--parameters", all_parameters,
-                  "list every parameter (by default at most 40 are listed)");
+  check->add_flag("--parameters", all_parameters, "list every parameter (by default at most 40 are listed)");
   CLI::App* run = app.add_subcommand("run", "Integrate one trajectory and write it to HDF5");
   run->add_option("JOB", job_path, "job file (TOML)")->required();
   run->add_option("-o,--output", output_path, "output file (HDF5), written atomically")->required();

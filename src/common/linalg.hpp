@@ -20,9 +20,7 @@ inline Mat3 cross_matrix(const Vec3& v) {
 }
 
 // Dyadic block ((b . d) E - b d^T): the matrix of w -> d x (w x b).
-inline Mat3 cross_cross_matrix(const Vec3& d, const Vec3& b) {
-  return b.dot(d) * Mat3::Identity() - b * d.transpose();
-}
+inline Mat3 cross_cross_matrix(const Vec3& d, const Vec3& b) { return b.dot(d) * Mat3::Identity() - b * d.transpose(); }
 
 // The unit quaternion of rotation A: of q and -q, the one with q0 >= 0 (the
 // sign rule of every output).

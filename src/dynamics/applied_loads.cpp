@@ -19,11 +19,10 @@ void compute_body_loads(const Model& model, Data& data, int i) {
     return;
   }
   const int p = model.tree().parent[i];
-  const JointLoad load =
-      p == kBase ? joint_spring_load(model.spring[i], Mat3::Identity(), data.rotation[i], Vec3::Zero(),
-                                     data.angular_velocity[i])
-                 : joint_spring_load(model.spring[i], data.rotation[p], data.rotation[i],
-                                     data.angular_velocity[p], data.angular_velocity[i]);
+  const JointLoad load = p == kBase ? joint_spring_load(model.spring[i], Mat3::Identity(), data.rotation[i],
+                                                        Vec3::Zero(), data.angular_velocity[i])
+                                    : joint_spring_load(model.spring[i], data.rotation[p], data.rotation[i],
+                                                        data.angular_velocity[p], data.angular_velocity[i]);
   data.joint_moment[i] = load.moment;
   data.spring_energy[i] = load.energy;
 }

@@ -8,8 +8,8 @@ namespace treedyn {
 
 ArticulatedBodies::ArticulatedBodies(int bodies) {
   const auto n = static_cast<std::size_t>(bodies);
-  for (auto* v : {&centripetal_c, &gyroscopic, &coupling_arm, &joint_bias, &child_beta, &child_gamma,
-                  &scaled_beta, &articulated_bias, &joint_acceleration, &joint_reaction})
+  for (auto* v : {&centripetal_c, &gyroscopic, &coupling_arm, &joint_bias, &child_beta, &child_gamma, &scaled_beta,
+                  &articulated_bias, &joint_acceleration, &joint_reaction})
     v->assign(n, Vec3::Zero());
   for (auto* m : {&inertia_about_joint, &child_h, &child_b, &child_p, &scaled_b, &articulated_mass})
     m->assign(n, Mat3::Zero());
@@ -84,15 +84,15 @@ bool sweep_articulated_inertias(const Model& model, Data& data) {
     const Vec3& F = data.force[i];
     // Euler about the CoM with the kinematics substituted: H w' = B a + beta.
     const Mat3 H = ab.inertia_about_joint[i] + ab.child_h[i];  // J^0 - m [c]x^2 - sum G Phi G
-    Mat3 B = ab.child_b[i];                                       // m [c]x + sum G Phi
+    Mat3 B = ab.child_b[i];                                    // m [c]x + sum G Phi
     B(0, 1) -= m * c.z();
     B(0, 2) += m * c.y();
     B(1, 0) += m * c.z();
     B(1, 2) -= m * c.x();
     B(2, 0) -= m * c.y();
     B(2, 1) += m * c.x();
-    const Vec3 beta = -ab.gyroscopic[i] - c.cross(m * kappa + F) + data.moment[i] +
-                      data.joint_moment[i] + ab.child_beta[i];
+    const Vec3 beta =
+        -ab.gyroscopic[i] - c.cross(m * kappa + F) + data.moment[i] + data.joint_moment[i] + ab.child_beta[i];
     Cholesky3& L = ab.h_factor[i];
     if (!factor_cholesky3(H, L)) return false;
     ab.scaled_b[i] = solve_lower(L, B);
@@ -101,8 +101,7 @@ bool sweep_articulated_inertias(const Model& model, Data& data) {
     Mat3 P = ab.child_p[i];
     P.diagonal().array() += m;
     ab.articulated_mass[i] = minus_gram(P, ab.scaled_b[i]);
-    ab.articulated_bias[i] = -m * kappa - F + ab.child_gamma[i] -
-                             ab.scaled_b[i].transpose() * ab.scaled_beta[i];
+    ab.articulated_bias[i] = -m * kappa - F + ab.child_gamma[i] - ab.scaled_b[i].transpose() * ab.scaled_beta[i];
 
     const int p = tree.parent[i];
     if (p == kBase) continue;
@@ -136,8 +135,7 @@ void propagate_accelerations(const Model& model, Data& data) {
     }
     ab.joint_acceleration[i] = a;
     // w' = H^-1 (B a + beta) = L^-T (L^-1 B a + L^-1 beta).
-    data.angular_acceleration.segment<3>(3 * i) =
-        solve_upper(ab.h_factor[i], ab.scaled_b[i] * a + ab.scaled_beta[i]);
+    data.angular_acceleration.segment<3>(3 * i) = solve_upper(ab.h_factor[i], ab.scaled_b[i] * a + ab.scaled_beta[i]);
     ab.joint_reaction[i] = ab.articulated_mass[i] * a + ab.articulated_bias[i];
   }
 }

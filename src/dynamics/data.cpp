@@ -1,6 +1,5 @@
 #include "dynamics/data.hpp"
 
-
 namespace treedyn {
 
 Data::Data(const Model& model, AccelerationSolver requested) : solver(resolve_solver(requested)) {

@@ -9,10 +9,10 @@ void compute_generalised_forces(const Model& model, Data& data) {
   for (int i = 0; i < model.n; ++i) {
     const Vec3& w = data.angular_velocity[i];
     const Vec3& b_i0 = data.barycentre_to_inboard[i];
-    Vec3 q = -w.cross(data.augmented_inertia[i] * w);                  // gyroscopic
-    q -= M * b_i0.cross(data.ancestor_centripetal_d[i]);               // from ancestors j < i
-    q += M * b_i0.cross(data.base.acceleration);                       // base acceleration r0''
-    q -= data.com_to_inboard_joint[i].cross(data.force[i]);            // d_ii x F_i
+    Vec3 q = -w.cross(data.augmented_inertia[i] * w);        // gyroscopic
+    q -= M * b_i0.cross(data.ancestor_centripetal_d[i]);     // from ancestors j < i
+    q += M * b_i0.cross(data.base.acceleration);             // base acceleration r0''
+    q -= data.com_to_inboard_joint[i].cross(data.force[i]);  // d_ii x F_i
     for (int k : model.tree().children[i]) {
       q -= M * data.branch_d[k].cross(data.subtree_centripetal_b[k]);  // from descendants j > i
       q -= data.branch_d[k].cross(data.subtree_force[k]);              // d_ij x F_j, j in sub(k)

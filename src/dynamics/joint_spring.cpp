@@ -35,8 +35,7 @@ SpringMoment rotation_vector_law(const Mat3& K, Quat deviation) {
   const Vec3 theta = s > 0.0 ? Vec3(e * (angle / s)) : Vec3::Zero();
   const double a2 = angle * angle;
   // Series below 1e-3 rad, where the closed form loses digits to cancellation.
-  const double c = angle < 1e-3 ? 1.0 / 12.0 + a2 / 720.0 + a2 * a2 / 30240.0
-                                 : 1.0 / a2 - q0 / (2.0 * angle * s);
+  const double c = angle < 1e-3 ? 1.0 / 12.0 + a2 / 720.0 + a2 * a2 / 30240.0 : 1.0 / a2 - q0 / (2.0 * angle * s);
   const Vec3 Kt = K * theta;
   const Vec3 tau = -(Kt - 0.5 * theta.cross(Kt) + c * theta.cross(theta.cross(Kt)));
   return {tau, 0.5 * theta.dot(Kt)};
@@ -44,15 +43,14 @@ SpringMoment rotation_vector_law(const Mat3& K, Quat deviation) {
 
 }  // namespace
 
-JointLoad joint_spring_load(const JointSpring& spring, const Mat3& A_parent, const Mat3& A_child,
-                            const Vec3& w_parent, const Vec3& w_child) {
+JointLoad joint_spring_load(const JointSpring& spring, const Mat3& A_parent, const Mat3& A_child, const Vec3& w_parent,
+                            const Vec3& w_child) {
   // Deviation D = R_ref^T R_rel, R_rel = A_p^T A_c; D' = D [w_rel]x with
   // w_rel = A_c^T (w_c - w_p) in the child's frame.
   const Mat3 relative = A_parent.transpose() * A_child;
   const Quat deviation = spring.reference.conjugate() * Quat(relative);
-  SpringMoment s = spring.law == SpringLaw::quaternion
-                       ? quaternion_law(spring.stiffness, deviation)
-                       : rotation_vector_law(spring.stiffness, deviation);
+  SpringMoment s = spring.law == SpringLaw::quaternion ? quaternion_law(spring.stiffness, deviation)
+                                                       : rotation_vector_law(spring.stiffness, deviation);
   const Vec3 w_rel = A_child.transpose() * (w_child - w_parent);
   s.moment -= spring.damping * w_rel;
   return {A_child * s.moment, s.energy};

@@ -13,7 +13,7 @@ struct JointLoad {
 
 // A_parent = identity and w_parent = 0 for the joint on the base. `spring`
 // as in a Model: symmetric matrices, unit reference quaternion.
-JointLoad joint_spring_load(const JointSpring& spring, const Mat3& A_parent, const Mat3& A_child,
-                            const Vec3& w_parent, const Vec3& w_child);
+JointLoad joint_spring_load(const JointSpring& spring, const Mat3& A_parent, const Mat3& A_child, const Vec3& w_parent,
+                            const Vec3& w_child);
 
 }  // namespace treedyn

@@ -18,9 +18,10 @@ long long path_block_count(const Topology& tree) {
 void require_sparse_factor_fits(const Topology& tree) {
   const long long blocks = path_block_count(tree);
   if (blocks > kMaxPathBlocks)
-    throw ModelError("model: the tree is too deep for treedyn: " + std::to_string(blocks) +
-                     " (body, ancestor) pairs, at most " + std::to_string(kMaxPathBlocks) +
-                     " (a single chain of about 3100 bodies) for solver \"sparse_ldlt\"; use solver = \"recursive\" (the default)");
+    throw ModelError(
+        "model: the tree is too deep for treedyn: " + std::to_string(blocks) + " (body, ancestor) pairs, at most " +
+        std::to_string(kMaxPathBlocks) +
+        " (a single chain of about 3100 bodies) for solver \"sparse_ldlt\"; use solver = \"recursive\" (the default)");
 }
 
 SparseMassMatrix::SparseMassMatrix(const Topology& tree) {
@@ -43,8 +44,7 @@ namespace {
 // M ((d_ak . b_k0) E - d_ak b_k0^T) (section 4, j < i).
 Mat3 path_coupling(const Model& model, const Data& data, int k, int branch) {
   // The transpose of K_{a k} = M ((b . d) E - b d^T), the matrix of w' -> d x (w' x b).
-  return model.total_mass *
-         cross_cross_matrix(data.branch_d[branch], data.barycentre_to_inboard[k]).transpose();
+  return model.total_mass * cross_cross_matrix(data.branch_d[branch], data.barycentre_to_inboard[k]).transpose();
 }
 
 void assemble(const Model& model, Data& data) {
@@ -98,8 +98,7 @@ void solve_angular_accelerations(const Model& model, Data& data) {
     for (int a = tree.parent[k]; a != kBase; a = tree.parent[a])
       x.segment<3>(3 * a).noalias() -= K.path_block[slot++].transpose() * y;
   }
-  for (int k = 0; k < model.n; ++k)
-    x.segment<3>(3 * k) = K.diagonal_factor[k].solve(Vec3(x.segment<3>(3 * k)));
+  for (int k = 0; k < model.n; ++k) x.segment<3>(3 * k) = K.diagonal_factor[k].solve(Vec3(x.segment<3>(3 * k)));
   // L w' = z: ancestors (smaller indices) first.
   for (int k = 0; k < model.n; ++k) {
     Vec3 sum = Vec3::Zero();

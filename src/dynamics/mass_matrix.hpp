@@ -5,6 +5,7 @@
 #pragma once
 
 #include <Eigen/Cholesky>
+
 #include <vector>
 
 #include "common/linalg.hpp"
@@ -23,15 +24,15 @@ long long path_block_count(const Topology& tree);
 void require_sparse_factor_fits(const Topology& tree);
 
 struct SparseMassMatrix {
-  SparseMassMatrix() = default;                      // empty: not the solver in use
+  SparseMassMatrix() = default;                     // empty: not the solver in use
   explicit SparseMassMatrix(const Topology& tree);  // throws ModelError when too deep
 
-  std::vector<int> path_offset;               // start of body i's strict-ancestor blocks
-                                              // (sum of depth - 1 before i); n + 1 entries
-  std::vector<Mat3> diagonal_block;           // K_ii, then D_i
+  std::vector<int> path_offset;      // start of body i's strict-ancestor blocks
+                                     // (sum of depth - 1 before i); n + 1 entries
+  std::vector<Mat3> diagonal_block;  // K_ii, then D_i
   std::vector<Eigen::LLT<Mat3>> diagonal_factor;
-  std::vector<Mat3> path_block;               // K_{k,a} for a strict ancestor of k, then L_{k,a}
-  std::vector<Mat3> scratch_path;             // one path's L while it is formed
+  std::vector<Mat3> path_block;    // K_{k,a} for a strict ancestor of k, then L_{k,a}
+  std::vector<Mat3> scratch_path;  // one path's L while it is formed
 };
 
 }  // namespace treedyn

@@ -45,7 +45,8 @@ void recover_points(const Model& model, const Data& data, Recovered& out, bool a
   }
   if (!accelerations) return;
   for (int i = model.n - 1; i >= 1; --i)
-    out.joint_reaction[model.tree().user_index[model.tree().parent[i]]] += out.joint_reaction[model.tree().user_index[i]];
+    out.joint_reaction[model.tree().user_index[model.tree().parent[i]]] +=
+        out.joint_reaction[model.tree().user_index[i]];
 }
 
 // Joint angles and axes, energies and the angular momentum, as `parts` asks.
@@ -81,9 +82,8 @@ void recover_totals(const Model& model, const Data& data, Recovered& out, unsign
 void recover(const Model& model, const Data& data, Recovered& out, unsigned parts) {
   const auto size = static_cast<std::size_t>(model.n);
   out.rotation.resize(size);
-  for (auto* v : {&out.angular_velocity, &out.angular_acceleration, &out.com_position,
-                  &out.com_velocity, &out.com_acceleration, &out.joint_position,
-                  &out.joint_reaction, &out.joint_axis, &out.joint_moment})
+  for (auto* v : {&out.angular_velocity, &out.angular_acceleration, &out.com_position, &out.com_velocity,
+                  &out.com_acceleration, &out.joint_position, &out.joint_reaction, &out.joint_axis, &out.joint_moment})
     v->resize(size, Vec3::Zero());
   out.joint_angle.resize(size, 0.0);
   out.time = data.time;

@@ -12,26 +12,26 @@
 namespace treedyn {
 
 struct Energies {
-  double kinetic = 0.0;     // T
-  double potential = 0.0;   // V: gravity and the constant point forces
-  double spring = 0.0;      // joint springs, each by its law (model/model_spec.hpp)
+  double kinetic = 0.0;    // T
+  double potential = 0.0;  // V: gravity and the constant point forces
+  double spring = 0.0;     // joint springs, each by its law (model/model_spec.hpp)
   double total() const { return kinetic + potential + spring; }
 };
 
 struct Recovered {
   double time = 0.0;
   BaseKinematics base;
-  std::vector<Mat3> rotation;               // A_i
-  std::vector<Vec3> angular_velocity;       // w_i, inertial
-  std::vector<Vec3> angular_acceleration;   // w_i', inertial
-  std::vector<Vec3> com_position;           // r_i (20)
-  std::vector<Vec3> com_velocity;           // r_i'
-  std::vector<Vec3> com_acceleration;       // r_i''
-  std::vector<Vec3> joint_position;         // body i's inboard joint point
-  std::vector<Vec3> joint_reaction;         // X_a on body a (12), a = the joint's child
-  std::vector<double> joint_angle;          // relative rotation of the inboard joint, rad in [0, pi]
-  std::vector<Vec3> joint_axis;             // its axis, parent frame (zero when the angle is zero)
-  std::vector<Vec3> joint_moment;           // spring-damper moment Y_a on body a, inertial
+  std::vector<Mat3> rotation;              // A_i
+  std::vector<Vec3> angular_velocity;      // w_i, inertial
+  std::vector<Vec3> angular_acceleration;  // w_i', inertial
+  std::vector<Vec3> com_position;          // r_i (20)
+  std::vector<Vec3> com_velocity;          // r_i'
+  std::vector<Vec3> com_acceleration;      // r_i''
+  std::vector<Vec3> joint_position;        // body i's inboard joint point
+  std::vector<Vec3> joint_reaction;        // X_a on body a (12), a = the joint's child
+  std::vector<double> joint_angle;         // relative rotation of the inboard joint, rad in [0, pi]
+  std::vector<Vec3> joint_axis;            // its axis, parent frame (zero when the angle is zero)
+  std::vector<Vec3> joint_moment;          // spring-damper moment Y_a on body a, inertial
   Energies energy;
   Vec3 angular_momentum_about_base = Vec3::Zero();  // about the base point r0(t)
 };

@@ -11,8 +11,7 @@ void compute_velocity_terms(const Model& model, Data& data) {
   }
   // Sum of w_j x (w_j x b_j0) over sub(k): children have larger indices.
   for (int k = n - 1; k >= 0; --k) data.subtree_centripetal_b[k] = data.centripetal_b[k];
-  for (int k = n - 1; k >= 1; --k)
-    data.subtree_centripetal_b[model.tree().parent[k]] += data.subtree_centripetal_b[k];
+  for (int k = n - 1; k >= 1; --k) data.subtree_centripetal_b[model.tree().parent[k]] += data.subtree_centripetal_b[k];
   // Sum over strict ancestors j of i of w_j x (w_j x d_ji); d_ji is the branch
   // vector of the child of j on the path to i.
   for (int i = 0; i < n; ++i) {
@@ -21,8 +20,7 @@ void compute_velocity_terms(const Model& model, Data& data) {
       data.ancestor_centripetal_d[i].setZero();
     } else {
       const Vec3& w = data.angular_velocity[p];
-      data.ancestor_centripetal_d[i] =
-          data.ancestor_centripetal_d[p] + w.cross(w.cross(data.branch_d[i]));
+      data.ancestor_centripetal_d[i] = data.ancestor_centripetal_d[p] + w.cross(w.cross(data.branch_d[i]));
     }
   }
 }

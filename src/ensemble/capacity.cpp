@@ -2,8 +2,8 @@
 
 #include <time.h>
 
-#include <cmath>
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <limits>
 #include <vector>
@@ -69,8 +69,8 @@ void print_capacity(std::ostream& out, const Capacity& c, const char* timed) {
                 "rank 0's capacity: it takes in about %.0f records/s of this job's size (%zu bytes each, "
                 "measured on the development machine: BENCHMARKS.md); at %s%.3g ms per sample (%s) this job "
                 "scales to %sabout %.0f ranks before rank 0 limits it",
-                1.0 / c.record_seconds, c.record_bytes, c.sample_cut ? "more than " : "", c.sample_seconds * 1e3,
-                timed, c.sample_cut ? "more than " : "", std::floor(c.ranks()));
+                1.0 / c.record_seconds, c.record_bytes, c.sample_cut ? "more than " : "", c.sample_seconds * 1e3, timed,
+                c.sample_cut ? "more than " : "", std::floor(c.ranks()));
   out << line << "\n";
 }
 

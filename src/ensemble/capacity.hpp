@@ -32,10 +32,10 @@ double rank_zero_seconds_per_record(std::size_t bytes);
 std::size_t typical_record_bytes(const SampleRecord& record);
 
 struct Capacity {
-  std::size_t record_bytes = 0;   // one sample's encoded record
-  double record_seconds = 0.0;    // rank 0's CPU per record
-  double sample_seconds = 0.0;    // one sample's CPU (at least, when `sample_cut`)
-  bool sample_cut = false;        // the timed sample ran past the budget and was stopped
+  std::size_t record_bytes = 0;  // one sample's encoded record
+  double record_seconds = 0.0;   // rank 0's CPU per record
+  double sample_seconds = 0.0;   // one sample's CPU (at least, when `sample_cut`)
+  bool sample_cut = false;       // the timed sample ran past the budget and was stopped
   double ranks() const { return sample_seconds / record_seconds; }
 };
 

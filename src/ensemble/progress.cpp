@@ -30,8 +30,7 @@ void Progress::finish(std::uint64_t done, std::uint64_t failed) {
 void Progress::print(std::uint64_t done, std::uint64_t failed, bool final_line) {
   printed_ = true;
   last_printed_ = done;
-  const double elapsed =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   const double run_here = done > restored_ ? static_cast<double>(done - restored_) : 0.0;
   const double rate = elapsed > 0.0 ? run_here / elapsed : 0.0;
   const std::uint64_t towards = wave_end_ > 0 ? wave_end_ : total_;
@@ -43,10 +42,9 @@ void Progress::print(std::uint64_t done, std::uint64_t failed, bool final_line) 
   if (wave_end_ > 0)
     std::snprintf(wave, sizeof wave, " through %s (at most %llu)", wave_name_.c_str(),
                   static_cast<unsigned long long>(total_));
-  std::fprintf(stderr, "%ssamples %llu/%llu%s (%llu failed)  %.2f samples/s  elapsed %.1f s%s%s",
-               terminal_ ? "\r" : "", static_cast<unsigned long long>(done),
-               static_cast<unsigned long long>(towards), wave, static_cast<unsigned long long>(failed),
-               rate, elapsed, ending, terminal_ && !final_line ? "   " : "\n");
+  std::fprintf(stderr, "%ssamples %llu/%llu%s (%llu failed)  %.2f samples/s  elapsed %.1f s%s%s", terminal_ ? "\r" : "",
+               static_cast<unsigned long long>(done), static_cast<unsigned long long>(towards), wave,
+               static_cast<unsigned long long>(failed), rate, elapsed, ending, terminal_ && !final_line ? "   " : "\n");
   std::fflush(stderr);
 }
 

@@ -87,7 +87,7 @@ class RankResults {
   std::chrono::steady_clock::time_point last_save_ = std::chrono::steady_clock::now();
   bool stopped_ = false;
   bool finished_ = false;
-  std::thread final_save_;  // finish()'s flush and rename
+  std::thread final_save_;          // finish()'s flush and rename
   std::string final_save_warning_;  // its failure, printed by await_final_save()
 };
 

@@ -17,15 +17,13 @@ ResponseTable::ResponseTable(std::uint64_t samples, std::size_t inputs, std::siz
       responses_count_(responses) {}
 
 ResponseTable::ResponseTable(std::vector<std::int32_t> status, std::vector<double> inputs,
-                             std::vector<double> responses, std::size_t input_count,
-                             std::size_t response_count)
+                             std::vector<double> responses, std::size_t input_count, std::size_t response_count)
     : status_(std::move(status)),
       inputs_(std::move(inputs)),
       responses_(std::move(responses)),
       inputs_count_(input_count),
       responses_count_(response_count) {
-  if (inputs_.size() != status_.size() * inputs_count_ ||
-      responses_.size() != status_.size() * responses_count_)
+  if (inputs_.size() != status_.size() * inputs_count_ || responses_.size() != status_.size() * responses_count_)
     throw std::invalid_argument("ResponseTable: inputs or responses are not samples x columns");
 }
 

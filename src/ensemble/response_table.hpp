@@ -16,8 +16,8 @@ class ResponseTable {
   void add(const SampleRecord& record);
   // The same from stored arrays (e.g. read back from an ensemble file):
   // status per sample, inputs samples x D and responses samples x R, row-major.
-  ResponseTable(std::vector<std::int32_t> status, std::vector<double> inputs,
-                std::vector<double> responses, std::size_t input_count, std::size_t response_count);
+  ResponseTable(std::vector<std::int32_t> status, std::vector<double> inputs, std::vector<double> responses,
+                std::size_t input_count, std::size_t response_count);
 
   std::uint64_t samples() const { return status_.size(); }
   // Keeps samples 0 .. n-1 only (a run that a stopping rule ended).

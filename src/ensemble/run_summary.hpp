@@ -21,13 +21,14 @@ struct EnsembleSummary {
     for (long long s : samples_per_rank) n += static_cast<std::uint64_t>(s);
     return n;
   }
-  std::vector<double> busy_seconds;         // time each rank spent on samples: integrating, recording, updating its statistics, checkpointing, sending
-  std::vector<double> writing_seconds;      // time each rank spent writing records: rank 0 receives and writes them all
+  std::vector<double> busy_seconds;     // time each rank spent on samples: integrating, recording, updating its
+                                        // statistics, checkpointing, sending
+  std::vector<double> writing_seconds;  // time each rank spent writing records: rank 0 receives and writes them all
   // The same two as CPU time of the rank's main thread, which oversubscribed
   // ranks do not inflate (rank 0's capacity), and each rank's whole CPU time.
   std::vector<double> busy_cpu_seconds, writing_cpu_seconds, cpu_seconds;
-  std::uint64_t samples_used = 0;           // the runs the answers count ([ensemble.stop]: <= samples)
-  std::string stop_reason;                  // why the run ended where it did
+  std::uint64_t samples_used = 0;  // the runs the answers count ([ensemble.stop]: <= samples)
+  std::string stop_reason;         // why the run ended where it did
 };
 
 }  // namespace treedyn

@@ -4,8 +4,8 @@
 #include <limits>
 
 #include "common/error.hpp"
-#include "integrate/simulate.hpp"
 #include "common/format.hpp"
+#include "integrate/simulate.hpp"
 #include "model/definition.hpp"
 #include "output/final_state.hpp"
 
@@ -26,8 +26,7 @@ std::size_t SampleRunner::final_state_size() const {
   return kFinalStatePerBody * static_cast<std::size_t>(job_.model.n);
 }
 
-SampleRecord SampleRunner::failed_record(std::uint64_t k, SampleStatus status,
-                                         std::string reason) const {
+SampleRecord SampleRunner::failed_record(std::uint64_t k, SampleStatus status, std::string reason) const {
   SampleRecord record;
   record.index = k;
   record.status = status;
@@ -95,11 +94,10 @@ SampleRecord SampleRunner::run_inputs(std::uint64_t k, std::vector<double> input
   }
 
   recorder_.clear();
-  const IntegrationOutcome outcome =
-      simulate(model_, state_, request_, [&](const Model& m, const Data& data) {
-        recorder_.record(m, data);
-        if (between_outputs) between_outputs();
-      });
+  const IntegrationOutcome outcome = simulate(model_, state_, request_, [&](const Model& m, const Data& data) {
+    recorder_.record(m, data);
+    if (between_outputs) between_outputs();
+  });
   if (!outcome.ok()) {
     // Nothing of a run that did not finish is kept: NaN maxima and final state.
     SampleRecord failed = failed_record(k, SampleStatus::integration_failed, failure_reason(outcome));

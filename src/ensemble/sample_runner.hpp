@@ -9,14 +9,14 @@
 #include <string>
 #include <vector>
 
-#include "job/ensemble_spec.hpp"
 #include "integrate/settings.hpp"
+#include "job/ensemble_spec.hpp"
 #include "job/job.hpp"
 #include "model/initial_state.hpp"
 #include "model/model.hpp"
+#include "output/recorder.hpp"
 #include "output/response.hpp"
 #include "output/sample_record.hpp"
-#include "output/recorder.hpp"
 #include "persistence/checkpoint.hpp"
 
 namespace treedyn::ensemble {
@@ -82,7 +82,7 @@ class SampleRunner {
   Model model_;                     // derived from parameters_ (storage reused)
   Recorder recorder_;
   ReductionScratch reduction_scratch_;  // reused by every sample's reductions
-  SimulationRequest request_;  // the job's, with what recorder_ needs at output times
+  SimulationRequest request_;           // the job's, with what recorder_ needs at output times
 };
 
 // The shape every record and the statistics of this job have (what a

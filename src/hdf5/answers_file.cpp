@@ -39,19 +39,21 @@ void write_failure_region(hid_t parent, const ensemble::EnsembleSpec& spec, cons
                           const std::string& which_runs) {
   h5::Handle g = h5::create_group(parent, "failure_region");
   h5::write_attribute(g.id(), "description",
-                      "the inputs of " + which_runs + ", in independent standard normal space (u = Phi^-1(F(x)), "
-                      "through the normal copula's inverse for correlated inputs), per input");
+                      "the inputs of " + which_runs +
+                          ", in independent standard normal space (u = Phi^-1(F(x)), "
+                          "through the normal copula's inverse for correlated inputs), per input");
   h5::write_attribute(g.id(), "runs", static_cast<long long>(region.runs));
   if (region.runs == 0 || region.mean_u.empty()) return;  // nothing beyond the limit: no numbers to show
   const std::vector<std::string> inputs = spec.input_names();
   write_per_input(g.id(), "mean_u", region.mean_u, "1", "mean of u: the design point where the region is one-sided",
                   inputs);
-  write_per_input(g.id(), "mean_u2", region.mean_u2, "1",
-                  "mean of u^2: 1 for an input the failure does not select on", inputs);
+  write_per_input(g.id(), "mean_u2", region.mean_u2, "1", "mean of u^2: 1 for an input the failure does not select on",
+                  inputs);
   write_per_input(g.id(), "divergence", region.divergence, "1",
                   "relative entropy of the failing runs' u (as a normal of their mean m and variance s^2) against "
                   "N(0, 1), (s^2 + m^2 - 1 - ln s^2) / 2; attribute 'chance': what it averages to for an input the "
-                  "failure does not select on", inputs);
+                  "failure does not select on",
+                  inputs);
   h5::write_attribute(g.id(), "chance", region.chance);
   h5::write_attribute(g.id(), "effective_runs", region.effective_runs);
   write_per_input(g.id(), "importance", region.importance, "1",
@@ -70,7 +72,8 @@ void write_failure_region(hid_t parent, const ensemble::EnsembleSpec& spec, cons
   h5::write_attribute(g.id(), "unit_inputs", unit_inputs);
   write_per_input(g.id(), "near_bound", region.near_bound, "1",
                   "share of the failing runs within 1 % of the distribution's range of one of its bounds (NaN: "
-                  "unbounded, or a full turn of an angle)", inputs);
+                  "unbounded, or a full turn of an angle)",
+                  inputs);
   h5::Handle b = h5::write_vector(g.id(), "bound", region.bound);
   describe(b.id(), "SI (per column: /samples/inputs column_units)", "the bound most of those runs are near", inputs);
   h5::Handle x = h5::write_vector(g.id(), "design_point", region.design_point);
@@ -127,7 +130,8 @@ void write_response_answer(hid_t parent, const ensemble::EnsembleSpec& spec, con
   write_described_scalar(g.id(), "std", a.std, response.units, "sample standard deviation (n - 1)");
   write_described_scalar(g.id(), "sem", a.sem, response.units, "standard error of the mean, std / sqrt(used)");
   write_described_scalar(g.id(), "used", a.used, "1", "successful samples with a finite value");
-  write_described_scalar(g.id(), "not_finite", a.not_finite, "1", "successful samples with +-inf (a level never crossed)");
+  write_described_scalar(g.id(), "not_finite", a.not_finite, "1",
+                         "successful samples with +-inf (a level never crossed)");
   write_described_scalar(g.id(), "failed", a.failed, "1", "samples that failed (left out)");
   if (a.exceedance) write_exceedance(g.id(), spec, response, a);
   write_convergence(g.id(), response, a);
@@ -139,8 +143,10 @@ void write_ranking(hid_t sg, const char* name, const ensemble::Ranking& ranking,
                    const std::vector<std::string>& units, const char* samples_word) {
   h5::Handle g = h5::create_group(sg, name);
   h5::write_attribute(g.id(), "description",
-                      "the " + std::string(name == std::string("sobol_ranking") ? "units (inputs or groups)" : "inputs") +
-                          " by " + measure + ", largest first; neighbours in that order are told apart only where "
+                      "the " +
+                          std::string(name == std::string("sobol_ranking") ? "units (inputs or groups)" : "inputs") +
+                          " by " + measure +
+                          ", largest first; neighbours in that order are told apart only where "
                           "the 95 % bootstrap interval of their difference excludes 0");
   h5::write_attribute(g.id(), "measure", measure);
   h5::write_attribute(g.id(), "resamples", static_cast<long long>(ranking.resamples));
@@ -205,9 +211,10 @@ void write_group_indices(hid_t sg, const ensemble::EnsembleSpec& spec, const ens
   }
   write_per_input(sg, "group_first_order", s.first, "1", "first-order Sobol' index of each group (its inputs together)",
                   groups);
-  write_per_input(sg, "group_total_order", s.total, "1", "total Sobol' index of each group (its inputs together)", groups);
-  write_interval_matrix(sg, "group_first_order_ci", s.first_ci, "95 % bootstrap interval of the group first-order index",
-                        groups, "group");
+  write_per_input(sg, "group_total_order", s.total, "1", "total Sobol' index of each group (its inputs together)",
+                  groups);
+  write_interval_matrix(sg, "group_first_order_ci", s.first_ci,
+                        "95 % bootstrap interval of the group first-order index", groups, "group");
   write_interval_matrix(sg, "group_total_order_ci", s.total_ci, "95 % bootstrap interval of the group total index",
                         groups, "group");
   h5::write_attribute(sg, "groups", groups);
@@ -235,8 +242,7 @@ void write_sobol(hid_t sg, const ensemble::EnsembleSpec& spec, const ensemble::R
   auto spread = [&](const std::vector<double>& v, std::size_t width) {
     return spec.grouped ? per_input_values(spec, v, width) : v;
   };
-  const std::string grouped_note =
-      spec.grouped ? " (NaN for an input of a larger group: see group_first_order)" : "";
+  const std::string grouped_note = spec.grouped ? " (NaN for an input of a larger group: see group_first_order)" : "";
   write_per_input(sg, "first_order", spread(s.first, 1), "1",
                   "first-order Sobol' index (Saltelli 2010) of each input" + grouped_note, inputs);
   write_per_input(sg, "total_order", spread(s.total, 1), "1",
@@ -289,8 +295,8 @@ void write_sensitivity(hid_t parent, const ensemble::EnsembleSpec& spec, const e
                       std::string(spec.design == ensemble::Design::saltelli
                                       ? "rank measures over the A and B runs; Sobol' indices from all blocks"
                                       : "rank measures over the successful samples"));
-  write_per_input(sg.id(), "spearman", a.ranks.spearman, "1", "Spearman rank correlation of each input with the response",
-                  inputs);
+  write_per_input(sg.id(), "spearman", a.ranks.spearman, "1",
+                  "Spearman rank correlation of each input with the response", inputs);
   write_per_input(sg.id(), "srrc", a.ranks.srrc, "1",
                   "standardised rank regression coefficient of each input (see the r_squared attribute)", inputs);
   h5::write_attribute(sg.id(), "rank_r_squared", a.ranks.r_squared);
@@ -331,7 +337,8 @@ void write_levels(hid_t g, const rare_event::SubsetResult& result, double sign, 
 
 }  // namespace
 
-void write_answers(hid_t file, const ensemble::EnsembleSpec& spec, const std::vector<ensemble::ResponseAnswer>& answers) {
+void write_answers(hid_t file, const ensemble::EnsembleSpec& spec,
+                   const std::vector<ensemble::ResponseAnswer>& answers) {
   if (answers.empty()) return;
   h5::Handle responses = h5::create_group(file, "responses");
   h5::write_attribute(responses.id(), "description",
@@ -391,7 +398,8 @@ void write_tolerance_check(hid_t file, const ensemble::EnsembleSpec& spec, const
   h5::Handle g = h5::create_group(file, "integration_check");
   h5::write_attribute(g.id(), "description",
                       "is the integration accurate enough for the answers? The pilot's first samples (attribute "
-                      "'samples') run again with rtol and atol " + std::to_string(ensemble::kToleranceFactor).substr(0, 4) +
+                      "'samples') run again with rtol and atol " +
+                          std::to_string(ensemble::kToleranceFactor).substr(0, 4) +
                           " times the job's: per response, the largest change against its spread over the pilot");
   h5::write_attribute(g.id(), "rtol", check.rtol);
   h5::write_attribute(g.id(), "atol", check.atol);
@@ -410,14 +418,15 @@ void write_tolerance_check(hid_t file, const ensemble::EnsembleSpec& spec, const
     ratio.push_back(check.change[r] / check.spread[r]);
   }
   h5::Handle c = h5::write_vector(g.id(), "change", check.change);
-  describe(c.id(), "per column: the 'column_units' attribute", "the largest |y(tight) - y| over the samples rerun", names);
+  describe(c.id(), "per column: the 'column_units' attribute", "the largest |y(tight) - y| over the samples rerun",
+           names);
   h5::write_attribute(c.id(), "column_units", units);
   h5::Handle s = h5::write_vector(g.id(), "spread", check.spread);
   describe(s.id(), "per column: the 'column_units' attribute",
            "standard deviation (n - 1) of the response over the pilot's successful samples", names);
   h5::write_attribute(s.id(), "column_units", units);
-  write_per_input(g.id(), "ratio", ratio, "1", "change / spread: above 0.1 too loose, below 0.001 far tighter than needed",
-                  names);
+  write_per_input(g.id(), "ratio", ratio, "1",
+                  "change / spread: above 0.1 too loose, below 0.001 far tighter than needed", names);
   h5::write_attribute(g.id(), "verdicts", verdicts);
 }
 

@@ -18,8 +18,7 @@ inline void describe(hid_t set, const std::string& units, const std::string& des
 }
 
 template <class T>
-void write_described_scalar(hid_t group, const char* name, T value, const std::string& units,
-                            const std::string& what) {
+void write_described_scalar(hid_t group, const char* name, T value, const std::string& units, const std::string& what) {
   Handle set = write_scalar(group, name, value);
   describe(set.id(), units, what, {});
 }

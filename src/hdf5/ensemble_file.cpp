@@ -5,10 +5,10 @@
 #include <limits>
 #include <optional>
 
+#include "common/format.hpp"
 #include "hdf5/answers_file.hpp"
 #include "hdf5/described.hpp"
 #include "hdf5/trajectory_file.hpp"
-#include "common/format.hpp"
 #include "output/final_state.hpp"
 #include "output/motion.hpp"
 #include "output/quantities.hpp"
@@ -106,8 +106,7 @@ std::string reduction_about(ensemble::Reduction r) {
 
 }  // namespace
 
-EnsembleWriter::EnsembleWriter(const std::filesystem::path& path, const Job& job,
-                               const ensemble::EnsembleSpec& spec,
+EnsembleWriter::EnsembleWriter(const std::filesystem::path& path, const Job& job, const ensemble::EnsembleSpec& spec,
                                const ColumnLayout& layout, std::size_t final_state_size)
     : job_(job), spec_(spec), layout_(layout), final_size_(final_state_size), file_(path) {
   samples_ = h5::create_group(file_.id(), "samples");
@@ -164,9 +163,9 @@ void EnsembleWriter::create_reductions() {
     const std::string about = reduction_about(r);
     const bool time = r == ensemble::Reduction::argmin_time || r == ensemble::Reduction::argmax_time;
     reduction_groups_.push_back(h5::create_group(samples_.id(), std::string(ensemble::name(r))));
-    h5::write_attribute(reduction_groups_.back().id(), "description",
-                        "per sample, the " + about +
-                            " of every column of every recorded quantity; NaN when the sample failed");
+    h5::write_attribute(
+        reduction_groups_.back().id(), "description",
+        "per sample, the " + about + " of every column of every recorded quantity; NaN when the sample failed");
     reductions_.emplace_back();
     for (std::size_t q = 0; q < layout_.quantity.size(); ++q) {
       const hsize_t columns[1] = {layout_.names[q].size()};
@@ -187,8 +186,8 @@ void EnsembleWriter::create_trajectories() {
   const hsize_t times = job_.request.output_times.size();
   for (std::size_t q = 0; q < layout_.quantity.size(); ++q) {
     const hsize_t shape[2] = {times, layout_.names[q].size()};
-    trajectories_.emplace_back(trajectory_group_.id(), layout_.quantity[q], H5T_NATIVE_DOUBLE,
-                               spec_.store_trajectories, shape, 1);
+    trajectories_.emplace_back(trajectory_group_.id(), layout_.quantity[q], H5T_NATIVE_DOUBLE, spec_.store_trajectories,
+                               shape, 1);
     describe(trajectories_.back().id(), std::string(layout_.info[q]->units),
              std::string(layout_.info[q]->description) + "; sample x time (/stats/time) x column", layout_.names[q]);
     write_column_units(trajectories_.back().id(), layout_, q);
@@ -369,7 +368,8 @@ void EnsembleWriter::write_final_histograms(hid_t qg, std::size_t q, const ensem
   const std::string units(find_quantity(layout_.quantity[q])->units);
   const int bins = s.bins();
   h5::Handle hg = h5::create_group(qg, "histogram");
-  h5::write_attribute(hg.id(), "description", std::string("histogram of the values at the last output time, per column"));
+  h5::write_attribute(hg.id(), "description",
+                      std::string("histogram of the values at the last output time, per column"));
   std::vector<std::uint32_t> counts;
   std::vector<std::uint64_t> under, over;
   std::vector<double> edges;
@@ -427,15 +427,16 @@ void EnsembleWriter::write_run_places(const rare_event::SubsetSettings& settings
   h5::Handle c = h5::write_array(samples_.id(), "chain", H5T_NATIVE_INT64, chains.data(), n);
   describe(c.id(), "1", "the run's Markov chain in its level (level 0: the sample)", {});
   h5::Handle s = h5::write_array(samples_.id(), "state", H5T_NATIVE_INT64, states.data(), n);
-  describe(s.id(), "1", "the run's state in its chain, 1 .. 1/p0 - 1 (state 0, the seed, is a run of the level "
-                        "before; level 0: 0)", {});
+  describe(s.id(), "1",
+           "the run's state in its chain, 1 .. 1/p0 - 1 (state 0, the seed, is a run of the level "
+           "before; level 0: 0)",
+           {});
 }
 
-EnsembleSummary EnsembleWriter::complete(const std::vector<double>& nominal,
-                                         const ensemble::EnsembleStatistics& stats,
+EnsembleSummary EnsembleWriter::complete(const std::vector<double>& nominal, const ensemble::EnsembleStatistics& stats,
                                          const std::vector<ensemble::ResponseAnswer>& answers,
-                                         const ensemble::ToleranceCheck& tolerance, EnsembleSummary summary, const RunProvenance& run,
-                                         std::chrono::steady_clock::time_point started) {
+                                         const ensemble::ToleranceCheck& tolerance, EnsembleSummary summary,
+                                         const RunProvenance& run, std::chrono::steady_clock::time_point started) {
   using Clock = std::chrono::steady_clock;
   const Clock::time_point flushing = Clock::now();
   for (h5::RowDataset* d : row_datasets()) d->flush();
@@ -474,7 +475,8 @@ void EnsembleWriter::finish(const EnsembleSummary& summary, const RunProvenance&
   h5::write_attribute(root, "busy_seconds_per_rank", std::span<const double>(summary.busy_seconds));
   h5::write_attribute(root, "record_writing_seconds_per_rank", std::span<const double>(summary.writing_seconds));
   h5::write_attribute(root, "busy_cpu_seconds_per_rank", std::span<const double>(summary.busy_cpu_seconds));
-  h5::write_attribute(root, "record_writing_cpu_seconds_per_rank", std::span<const double>(summary.writing_cpu_seconds));
+  h5::write_attribute(root, "record_writing_cpu_seconds_per_rank",
+                      std::span<const double>(summary.writing_cpu_seconds));
   h5::write_attribute(root, "cpu_seconds_per_rank", std::span<const double>(summary.cpu_seconds));
   h5::write_attribute(root, "method", std::string(name(job_.request.settings.method)));
   h5::write_attribute(root, "parameterisation", std::string(name(job_.request.parameterisation)));

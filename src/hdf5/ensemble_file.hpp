@@ -9,22 +9,21 @@
 
 #include "analysis/answers.hpp"
 #include "ensemble/run_summary.hpp"
-#include "output/quantities.hpp"
-#include "job/ensemble_spec.hpp"
-#include "output/sample_record.hpp"
-#include "rare_event/subset_simulation.hpp"
-#include "statistics/ensemble_statistics.hpp"
 #include "hdf5/hdf5.hpp"
 #include "hdf5/provenance.hpp"
 #include "hdf5/row_dataset.hpp"
+#include "job/ensemble_spec.hpp"
+#include "output/quantities.hpp"
+#include "output/sample_record.hpp"
+#include "rare_event/subset_simulation.hpp"
+#include "statistics/ensemble_statistics.hpp"
 
 namespace treedyn {
 
 class EnsembleWriter {
  public:
-  EnsembleWriter(const std::filesystem::path& path, const Job& job,
-                 const ensemble::EnsembleSpec& spec, const ColumnLayout& layout,
-                 std::size_t final_state_size);
+  EnsembleWriter(const std::filesystem::path& path, const Job& job, const ensemble::EnsembleSpec& spec,
+                 const ColumnLayout& layout, std::size_t final_state_size);
 
   // Per-sample records, as they arrive (any order, any batches).
   void write_records(std::vector<ensemble::SampleRecord> records);
@@ -50,8 +49,8 @@ class EnsembleWriter {
   // to the first rank's record writing.
   EnsembleSummary complete(const std::vector<double>& nominal, const ensemble::EnsembleStatistics& stats,
                            const std::vector<ensemble::ResponseAnswer>& answers,
-                           const ensemble::ToleranceCheck& tolerance, EnsembleSummary summary,
-                           const RunProvenance& run, std::chrono::steady_clock::time_point started);
+                           const ensemble::ToleranceCheck& tolerance, EnsembleSummary summary, const RunProvenance& run,
+                           std::chrono::steady_clock::time_point started);
 
  private:
   void create_sample_columns();
@@ -77,7 +76,7 @@ class EnsembleWriter {
   std::vector<h5::Handle> reduction_groups_;             // /samples/<reduction>
   std::vector<std::vector<h5::RowDataset>> reductions_;  // [reduction][quantity]
   h5::Handle trajectory_group_;
-  std::vector<h5::RowDataset> trajectories_;             // [quantity], (M, T, columns)
+  std::vector<h5::RowDataset> trajectories_;  // [quantity], (M, T, columns)
 };
 
 }  // namespace treedyn

@@ -85,15 +85,15 @@ Handle chunked_deflate(std::span<const hsize_t> dims) {
   return plist;
 }
 
-Handle write_dataset(hid_t parent, const std::string& name, hid_t type, const void* data,
-                     std::span<const hsize_t> dims, bool compress) {
+Handle write_dataset(hid_t parent, const std::string& name, hid_t type, const void* data, std::span<const hsize_t> dims,
+                     bool compress) {
   Handle space = simple_space(dims);
   bool empty = false;
   for (hsize_t d : dims) empty = empty || d == 0;
-  Handle plist = compress && !empty ? chunked_deflate(dims)
-                                    : Handle(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, "properties");
-  Handle set(H5Dcreate2(parent, name.c_str(), type, space.id(), H5P_DEFAULT, plist.id(), H5P_DEFAULT),
-             H5Dclose, "creating dataset " + name);
+  Handle plist =
+      compress && !empty ? chunked_deflate(dims) : Handle(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, "properties");
+  Handle set(H5Dcreate2(parent, name.c_str(), type, space.id(), H5P_DEFAULT, plist.id(), H5P_DEFAULT), H5Dclose,
+             "creating dataset " + name);
   if (!empty) check(H5Dwrite(set.id(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), "writing dataset " + name);
   return set;
 }
@@ -103,7 +103,6 @@ void attribute(hid_t object, const std::string& name, hid_t type, hid_t space, c
               "creating attribute " + name);
   check(H5Awrite(attr.id(), type, data), "writing attribute " + name);
 }
-
 
 }  // namespace
 
@@ -139,8 +138,7 @@ herr_t Handle::close_now() {
   return status;
 }
 
-File::File(std::filesystem::path final_path)
-    : target_(std::move(final_path), process::AtomicFile::Create::by_caller) {
+File::File(std::filesystem::path final_path) : target_(std::move(final_path), process::AtomicFile::Create::by_caller) {
   silence_hdf5();
   // The 1.8 file format (object header v2) moves an attribute that does not
   // fit the 64 KiB object header into dense storage, so the per-column
@@ -181,22 +179,21 @@ Handle create_group(hid_t parent, const std::string& name) {
                 "creating group " + name);
 }
 
-Handle write_matrix(hid_t parent, const std::string& name, std::span<const double> data,
-                    std::size_t rows, std::size_t columns) {
+Handle write_matrix(hid_t parent, const std::string& name, std::span<const double> data, std::size_t rows,
+                    std::size_t columns) {
   const hsize_t dims[2] = {rows, columns};
   return write_dataset(parent, name, H5T_NATIVE_DOUBLE, data.data(), dims, true);
 }
 
-Handle write_array(hid_t parent, const std::string& name, hid_t type, const void* data,
-                   std::span<const hsize_t> dims) {
+Handle write_array(hid_t parent, const std::string& name, hid_t type, const void* data, std::span<const hsize_t> dims) {
   return write_dataset(parent, name, type, data, dims, true);
 }
 
 namespace {
 Handle scalar_dataset(hid_t parent, const std::string& name, hid_t type, const void* value) {
   Handle space(H5Screate(H5S_SCALAR), H5Sclose, "creating a scalar dataspace");
-  Handle set(H5Dcreate2(parent, name.c_str(), type, space.id(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-             H5Dclose, "creating dataset " + name);
+  Handle set(H5Dcreate2(parent, name.c_str(), type, space.id(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose,
+             "creating dataset " + name);
   check(H5Dwrite(set.id(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, value), "writing dataset " + name);
   return set;
 }
@@ -219,8 +216,8 @@ Handle create_rows(hid_t parent, const std::string& name, hid_t type, std::size_
     chunk.push_back(std::max<hsize_t>(extent, 1));
     row_bytes *= std::max<hsize_t>(extent, 1);
   }
-  chunk[0] = chunk_rows > 0 ? std::clamp<hsize_t>(chunk_rows, 1, std::max<hsize_t>(rows, 1))
-                            : rows_per_chunk(row_bytes, rows);
+  chunk[0] =
+      chunk_rows > 0 ? std::clamp<hsize_t>(chunk_rows, 1, std::max<hsize_t>(rows, 1)) : rows_per_chunk(row_bytes, rows);
   Handle space = simple_space(dims);
   Handle plist(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, "creating dataset properties");
   if (fill) check(H5Pset_fill_value(plist.id(), type, fill), "setting a fill value");
@@ -229,8 +226,8 @@ Handle create_rows(hid_t parent, const std::string& name, hid_t type, std::size_
     check(H5Pset_deflate(plist.id(), kRowsDeflateLevel), "setting deflate compression");
   }
   Handle access = rows_cache();
-  return Handle(H5Dcreate2(parent, name.c_str(), type, space.id(), H5P_DEFAULT, plist.id(), access.id()),
-                H5Dclose, "creating dataset " + name);
+  return Handle(H5Dcreate2(parent, name.c_str(), type, space.id(), H5P_DEFAULT, plist.id(), access.id()), H5Dclose,
+                "creating dataset " + name);
 }
 
 void keep_rows(hid_t dataset, std::size_t rows) {
@@ -244,8 +241,7 @@ void keep_rows(hid_t dataset, std::size_t rows) {
 }
 
 namespace {
-void write_rows(hid_t dataset, hid_t type, std::size_t first_row, std::size_t rows, const void* data,
-                hid_t transfer) {
+void write_rows(hid_t dataset, hid_t type, std::size_t first_row, std::size_t rows, const void* data, hid_t transfer) {
   if (rows == 0) return;
   Handle file_space(H5Dget_space(dataset), H5Sclose, "getting a dataspace");
   const hsize_t start[1] = {first_row}, count[1] = {rows};

@@ -5,10 +5,10 @@
 #include <hdf5.h>
 
 #include <filesystem>
+#include <memory>
 #include <span>
 #include <stdexcept>
 #include <string>
-#include <memory>
 #include <vector>
 
 #include "process/atomic_file.hpp"
@@ -72,8 +72,8 @@ void check(herr_t status, const std::string& what);
 Handle create_group(hid_t parent, const std::string& name);
 
 // A 2-D dataset rows x columns of doubles, chunked and deflate-compressed.
-Handle write_matrix(hid_t parent, const std::string& name, std::span<const double> data,
-                    std::size_t rows, std::size_t columns);
+Handle write_matrix(hid_t parent, const std::string& name, std::span<const double> data, std::size_t rows,
+                    std::size_t columns);
 // 1-D datasets.
 Handle write_vector(hid_t parent, const std::string& name, std::span<const double> data);
 
@@ -83,8 +83,7 @@ void keep_rows(hid_t dataset, std::size_t rows);
 
 // An N-dimensional dataset of `type` (e.g. H5T_NATIVE_DOUBLE), chunked and
 // compressed, written whole.
-Handle write_array(hid_t parent, const std::string& name, hid_t type, const void* data,
-                   std::span<const hsize_t> dims);
+Handle write_array(hid_t parent, const std::string& name, hid_t type, const void* data, std::span<const hsize_t> dims);
 // A scalar dataset (no chunks, no compression): one number a reader gets
 // with f[path][()].
 Handle write_scalar(hid_t parent, const std::string& name, double value);

@@ -1,21 +1,19 @@
 #include "hdf5/provenance.hpp"
 
-#include "common/host_time.hpp"
-
-#include "common/hash.hpp"
-
-#include <sundials/sundials_config.h>
+#include <Eigen/Core>
 #include <libdeflate.h>
+#include <sundials/sundials_config.h>
+#include <toml++/toml.h>
 #include <unistd.h>
 
-#include <Eigen/Core>
 #include <cstdint>
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
-#include <toml++/toml.h>
 
+#include "common/hash.hpp"
+#include "common/host_time.hpp"
 #include "hdf5/hdf5.hpp"
 
 #ifndef TREEDYN_GIT_COMMIT
@@ -33,9 +31,9 @@ namespace {
 
 // A word as a shell would need it to mean the same.
 std::string shell_word(const std::string& word) {
-  if (!word.empty() && word.find_first_not_of(
-                           "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789-_./=:,+@%") ==
-                           std::string::npos)
+  if (!word.empty() &&
+      word.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789-_./=:,+@%") ==
+          std::string::npos)
     return word;
   std::string out = "'";
   for (char c : word) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
@@ -73,8 +71,9 @@ void write_provenance(hid_t root, const RunProvenance& run) {
   h5::write_attribute(root, "hdf5_version",
                       std::to_string(major) + "." + std::to_string(minor) + "." + std::to_string(release));
   h5::write_attribute(root, "libdeflate_version", std::string(LIBDEFLATE_VERSION_STRING));
-  h5::write_attribute(root, "eigen_version", number(EIGEN_WORLD_VERSION) + "." + number(EIGEN_MAJOR_VERSION) +
-                                                 "." + number(EIGEN_MINOR_VERSION));
+  h5::write_attribute(
+      root, "eigen_version",
+      number(EIGEN_WORLD_VERSION) + "." + number(EIGEN_MAJOR_VERSION) + "." + number(EIGEN_MINOR_VERSION));
   h5::write_attribute(root, "tomlplusplus_version",
                       number(TOML_LIB_MAJOR) + "." + number(TOML_LIB_MINOR) + "." + number(TOML_LIB_PATCH));
   h5::write_attribute(root, "mpi_library", run.mpi_library.empty() ? std::string("none (serial)") : run.mpi_library);

@@ -11,7 +11,7 @@
 namespace treedyn {
 
 struct RunProvenance {
-  std::string start_utc;     // ISO 8601, e.g. 2026-12-01T12:00:00Z
+  std::string start_utc;  // ISO 8601, e.g. 2026-12-01T12:00:00Z
   std::string host;
   std::string command_line;  // argv joined by spaces, shell-quoted where needed
   std::string job_path;      // absolute
@@ -22,7 +22,6 @@ struct RunProvenance {
 
 // The run's start: now, this host, the command line.
 RunProvenance start_provenance(int argc, const char* const* argv, const std::string& job_path);
-
 
 // "treedyn VERSION, commit C, BUILD_TYPE, COMPILER": what a checkpoint must
 // match to be resumed.

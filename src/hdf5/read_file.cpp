@@ -36,8 +36,7 @@ bool ReadFile::has(const std::string& path) const {
 }
 
 bool ReadFile::has_attribute(const std::string& object, const std::string& name) const {
-  return (object == "/" || has(object)) &&
-         H5Aexists_by_name(file_.id(), object.c_str(), name.c_str(), H5P_DEFAULT) > 0;
+  return (object == "/" || has(object)) && H5Aexists_by_name(file_.id(), object.c_str(), name.c_str(), H5P_DEFAULT) > 0;
 }
 
 std::string ReadFile::string_attribute(const std::string& object, const std::string& name) const {
@@ -78,9 +77,9 @@ ensemble::ResponseTable response_table(const ReadFile& file, std::size_t inputs,
   std::vector<std::int32_t> status;
   for (long long s : file.integers("/samples/status")) status.push_back(static_cast<std::int32_t>(s));
   try {
-    return ensemble::ResponseTable(std::move(status), inputs > 0 ? file.doubles("/samples/inputs") : std::vector<double>{},
-                                   responses > 0 ? file.doubles("/samples/responses") : std::vector<double>{}, inputs,
-                                   responses);
+    return ensemble::ResponseTable(
+        std::move(status), inputs > 0 ? file.doubles("/samples/inputs") : std::vector<double>{},
+        responses > 0 ? file.doubles("/samples/responses") : std::vector<double>{}, inputs, responses);
   } catch (const std::invalid_argument&) {
     throw IoError("/samples does not have the shape its job gives (an older layout?)");
   }
@@ -91,7 +90,8 @@ ensemble::ToleranceCheck tolerance_check(const ReadFile& file) {
   if (!file.has("/integration_check")) return check;
   check.rtol = file.number_attribute("/integration_check", "rtol");
   check.atol = file.number_attribute("/integration_check", "atol");
-  for (const long long k : file.integers("/integration_check/samples")) check.samples.push_back(static_cast<std::uint64_t>(k));
+  for (const long long k : file.integers("/integration_check/samples"))
+    check.samples.push_back(static_cast<std::uint64_t>(k));
   check.change = file.doubles("/integration_check/change");
   check.spread = file.doubles("/integration_check/spread");
   return check;

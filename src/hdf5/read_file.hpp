@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "ensemble/response_table.hpp"
-#include "statistics/tolerance_check.hpp"
 #include "hdf5/hdf5.hpp"
+#include "statistics/tolerance_check.hpp"
 
 namespace treedyn::h5 {
 

@@ -179,7 +179,7 @@ bool RowDataset::all_fill(const std::vector<unsigned char>& bytes) const {
 // changes form at the same size is first written one byte shorter.
 void RowDataset::write_chunk(std::size_t c, std::span<const unsigned char> bytes, bool deflated) {
   const std::vector<hsize_t> offset = chunk_offset(c);
-  const std::uint32_t mask = deflated ? 0 : 1;  // bit 0: deflate (filter 0) skipped
+  const std::uint32_t mask = deflated ? 0 : 1;                              // bit 0: deflate (filter 0) skipped
   const StoredChunk before = stored_[c] ? stored_chunk(c) : StoredChunk{};  // a new chunk's record: mask 0
   if (before.deflated != deflated) stale_lookup_ = true;  // before the writes: one may fail after the other
   if (before.deflated != deflated && before.bytes == bytes.size())

@@ -28,8 +28,8 @@ class RowDataset {
   RowDataset() = default;
   // Creates (rows, row_shape...) of `type` (a native number type) in
   // `parent`, as create_rows (hdf5.hpp) does.
-  RowDataset(hid_t parent, const std::string& name, hid_t type, std::size_t rows,
-             std::span<const hsize_t> row_shape, std::size_t chunk_rows = 0, const void* fill = nullptr);
+  RowDataset(hid_t parent, const std::string& name, hid_t type, std::size_t rows, std::span<const hsize_t> row_shape,
+             std::size_t chunk_rows = 0, const void* fill = nullptr);
   hid_t id() const { return set_.id(); }
   bool exists() const { return set_.id() != H5I_INVALID_HID; }
 
@@ -90,10 +90,10 @@ class RowDataset {
   Handle set_;
   std::size_t rows_ = 0, row_bytes_ = 0, chunk_rows_ = 1, rank_ = 1;
   std::vector<unsigned char> fill_row_;
-  std::map<std::size_t, Chunk> held_;                      // by chunk index
+  std::map<std::size_t, Chunk> held_;                       // by chunk index
   std::map<std::size_t, std::vector<bool>> stored_partly_;  // stored with rows missing: which were written
-  std::vector<bool> stored_;                               // by chunk index
-  std::vector<unsigned char> stream_;                      // the compressed chunk, reused
+  std::vector<bool> stored_;                                // by chunk index
+  std::vector<unsigned char> stream_;                       // the compressed chunk, reused
   // A chunk of nothing but the fill, deflated once: the datasets of a
   // column that never moves (a fixed base's position, its extremes) are
   // such chunks throughout (BENCHMARKS.md, "A run's fixed costs").

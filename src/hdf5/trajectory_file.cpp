@@ -14,8 +14,8 @@ void write_column_units(hid_t dataset, const ColumnLayout& layout, std::size_t q
     h5::write_attribute(dataset, "column_units", units);
 }
 
-void write_quantity_datasets(hid_t group, const ColumnLayout& layout, std::size_t times,
-                             std::span<const double> values, const std::string& time_path) {
+void write_quantity_datasets(hid_t group, const ColumnLayout& layout, std::size_t times, std::span<const double> values,
+                             const std::string& time_path) {
   std::vector<double> block;
   for (std::size_t q = 0; q < layout.quantity.size(); ++q) {
     const std::size_t cols = layout.names[q].size();

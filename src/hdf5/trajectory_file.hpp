@@ -2,9 +2,9 @@
 // datasets it shares with the ensemble file's nominal run.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <span>
-#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -25,14 +25,14 @@ void write_column_units(hid_t dataset, const ColumnLayout& layout, std::size_t q
 // One (times x columns) dataset per recorded quantity under `group`, sliced
 // from a recorder's flat rows, with units, description and column labels.
 // `time_path` names the dataset of the rows' times, for the description.
-void write_quantity_datasets(hid_t group, const ColumnLayout& layout, std::size_t times,
-                             std::span<const double> values, const std::string& time_path);
+void write_quantity_datasets(hid_t group, const ColumnLayout& layout, std::size_t times, std::span<const double> values,
+                             const std::string& time_path);
 
 // Where a trajectory came from when it is one ensemble sample rerun alone.
 struct SampleOrigin {
   std::uint64_t index = 0;
-  int status = 0;           // as in /samples/status: 1 when the integration failed
-  std::string reason;       // why it failed
+  int status = 0;      // as in /samples/status: 1 when the integration failed
+  std::string reason;  // why it failed
   double time_reached = 0.0;
   std::vector<std::string> input_names, input_units;
   std::vector<double> inputs;  // SI

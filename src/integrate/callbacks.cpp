@@ -8,9 +8,7 @@
 namespace treedyn {
 namespace {
 
-std::span<double> view(N_Vector v) {
-  return {N_VGetArrayPointer(v), static_cast<std::size_t>(N_VGetLength(v))};
-}
+std::span<double> view(N_Vector v) { return {N_VGetArrayPointer(v), static_cast<std::size_t>(N_VGetLength(v))}; }
 
 }  // namespace
 

@@ -17,20 +17,19 @@ using sundials::check_created;
 
 constexpr std::pair<int, FailureKind> kFailures[] = {
     {CV_TOO_MUCH_WORK, FailureKind::too_much_work},       {CV_TOO_MUCH_ACC, FailureKind::too_much_accuracy},
-    {CV_ERR_FAILURE, FailureKind::error_test_failures},  {CV_CONV_FAILURE, FailureKind::convergence_failures},
-    {CV_LSETUP_FAIL, FailureKind::convergence_failures}, {CV_LSOLVE_FAIL, FailureKind::convergence_failures},
-    {CV_NLS_FAIL, FailureKind::convergence_failures},    {CV_RHSFUNC_FAIL, FailureKind::nonfinite_state},
+    {CV_ERR_FAILURE, FailureKind::error_test_failures},   {CV_CONV_FAILURE, FailureKind::convergence_failures},
+    {CV_LSETUP_FAIL, FailureKind::convergence_failures},  {CV_LSOLVE_FAIL, FailureKind::convergence_failures},
+    {CV_NLS_FAIL, FailureKind::convergence_failures},     {CV_RHSFUNC_FAIL, FailureKind::nonfinite_state},
     {CV_REPTD_RHSFUNC_ERR, FailureKind::nonfinite_state}, {CV_UNREC_RHSFUNC_ERR, FailureKind::nonfinite_state},
     {CV_FIRST_RHSFUNC_ERR, FailureKind::nonfinite_state}};
 
-const PackageCalls kCvode{CVodeSStolerances, CVodeSetUserData, CVodeSetMaxNumSteps, CVodeSetMaxStep,
-                          CVodeSetInitStep,  CVodeGetDky,      CVodeGetCurrentTime, kFailures,
-                          "CVODE"};
+const PackageCalls kCvode{CVodeSStolerances,   CVodeSetUserData, CVodeSetMaxNumSteps,
+                          CVodeSetMaxStep,     CVodeSetInitStep, CVodeGetDky,
+                          CVodeGetCurrentTime, kFailures,        "CVODE"};
 
 class CvodeStepper final : public Stepper {
  public:
-  CvodeStepper(TreeOde& ode, const IntegratorSettings& s, double t0, N_Vector y0, SUNContext ctx)
-      : ode_(ode) {
+  CvodeStepper(TreeOde& ode, const IntegratorSettings& s, double t0, N_Vector y0, SUNContext ctx) : ode_(ode) {
     const bool bdf = s.method == Method::cvode_bdf;
     mem_.reset(check_created(CVodeCreate(bdf ? CV_BDF : CV_ADAMS, ctx), "CVodeCreate"));
     void* m = mem_.get();
@@ -47,8 +46,7 @@ class CvodeStepper final : public Stepper {
       linear_.reset(check_created(SUNLinSol_Dense(y0, matrix_.get(), ctx), "SUNLinSol_Dense"));
       check(CVodeSetLinearSolver(m, linear_.get(), matrix_.get()), "CVodeSetLinearSolver");
     } else {
-      nonlinear_.reset(
-          check_created(SUNNonlinSol_FixedPoint(y0, 0, ctx), "SUNNonlinSol_FixedPoint"));
+      nonlinear_.reset(check_created(SUNNonlinSol_FixedPoint(y0, 0, ctx), "SUNNonlinSol_FixedPoint"));
       check(CVodeSetNonlinearSolver(m, nonlinear_.get()), "CVodeSetNonlinearSolver");
     }
   }
@@ -93,8 +91,8 @@ class CvodeStepper final : public Stepper {
 
 }  // namespace
 
-std::unique_ptr<Stepper> make_cvode_stepper(TreeOde& ode, const IntegratorSettings& s, double t0,
-                                            N_Vector y0, SUNContext ctx) {
+std::unique_ptr<Stepper> make_cvode_stepper(TreeOde& ode, const IntegratorSettings& s, double t0, N_Vector y0,
+                                            SUNContext ctx) {
   return std::make_unique<CvodeStepper>(ode, s, t0, y0, ctx);
 }
 

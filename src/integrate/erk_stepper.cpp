@@ -14,24 +14,24 @@ using sundials::check;
 using sundials::check_created;
 
 constexpr std::pair<int, FailureKind> kFailures[] = {
-    {ARK_TOO_MUCH_WORK, FailureKind::too_much_work},        {ARK_TOO_MUCH_ACC, FailureKind::too_much_accuracy},
-    {ARK_ERR_FAILURE, FailureKind::error_test_failures},    {ARK_RHSFUNC_FAIL, FailureKind::nonfinite_state},
-    {ARK_REPTD_RHSFUNC_ERR, FailureKind::nonfinite_state},  {ARK_UNREC_RHSFUNC_ERR, FailureKind::nonfinite_state},
+    {ARK_TOO_MUCH_WORK, FailureKind::too_much_work},       {ARK_TOO_MUCH_ACC, FailureKind::too_much_accuracy},
+    {ARK_ERR_FAILURE, FailureKind::error_test_failures},   {ARK_RHSFUNC_FAIL, FailureKind::nonfinite_state},
+    {ARK_REPTD_RHSFUNC_ERR, FailureKind::nonfinite_state}, {ARK_UNREC_RHSFUNC_ERR, FailureKind::nonfinite_state},
     {ARK_FIRST_RHSFUNC_ERR, FailureKind::nonfinite_state}};
 
 // SUNDIALS 7.1 calls these ARKODE's own, for every stepper; 6.4 names them
 // per stepper.
 #if SUNDIALS_VERSION_MAJOR >= 7
-const PackageCalls kErkStep{ARKodeSStolerances, ARKodeSetUserData, ARKodeSetMaxNumSteps, ARKodeSetMaxStep,
-                            ARKodeSetInitStep,  ARKodeGetDky,      ARKodeGetCurrentTime, kFailures,
-                            "ARKODE ERKStep"};
+const PackageCalls kErkStep{ARKodeSStolerances,   ARKodeSetUserData, ARKodeSetMaxNumSteps,
+                            ARKodeSetMaxStep,     ARKodeSetInitStep, ARKodeGetDky,
+                            ARKodeGetCurrentTime, kFailures,         "ARKODE ERKStep"};
 constexpr auto kEvolve = ARKodeEvolve;
 constexpr auto kNumSteps = ARKodeGetNumSteps;
 constexpr auto kNumErrTestFails = ARKodeGetNumErrTestFails;
 #else
-const PackageCalls kErkStep{ERKStepSStolerances, ERKStepSetUserData, ERKStepSetMaxNumSteps, ERKStepSetMaxStep,
-                            ERKStepSetInitStep,  ERKStepGetDky,      ERKStepGetCurrentTime, kFailures,
-                            "ARKODE ERKStep"};
+const PackageCalls kErkStep{ERKStepSStolerances,   ERKStepSetUserData, ERKStepSetMaxNumSteps,
+                            ERKStepSetMaxStep,     ERKStepSetInitStep, ERKStepGetDky,
+                            ERKStepGetCurrentTime, kFailures,          "ARKODE ERKStep"};
 constexpr auto kEvolve = ERKStepEvolve;
 constexpr auto kNumSteps = ERKStepGetNumSteps;
 constexpr auto kNumErrTestFails = ERKStepGetNumErrTestFails;
@@ -49,8 +49,7 @@ using Table = std::unique_ptr<std::remove_pointer_t<ARKodeButcherTable>, TableDe
 // wrong stage and drops to third order. With the appended stage the reuse is
 // right and a step still costs 8 new right-hand sides.
 Table fsal_verner_table() {
-  Table verner(check_created(ARKodeButcherTable_LoadERK(ARKODE_VERNER_8_5_6),
-                             "ARKodeButcherTable_LoadERK"));
+  Table verner(check_created(ARKodeButcherTable_LoadERK(ARKODE_VERNER_8_5_6), "ARKodeButcherTable_LoadERK"));
   const int s = verner->stages;  // 8
   const int t = s + 1;
   std::vector<double> c(t, 0.0), A(static_cast<std::size_t>(t * t), 0.0), b(t, 0.0), d(t, 0.0);
@@ -62,15 +61,13 @@ Table fsal_verner_table() {
     A[static_cast<std::size_t>(s * t + i)] = verner->b[i];
   }
   c[s] = 1.0;
-  return Table(check_created(ARKodeButcherTable_Create(t, verner->q, verner->p, c.data(), A.data(),
-                                                        b.data(), d.data()),
+  return Table(check_created(ARKodeButcherTable_Create(t, verner->q, verner->p, c.data(), A.data(), b.data(), d.data()),
                              "ARKodeButcherTable_Create"));
 }
 
 class ErkStepper final : public Stepper {
  public:
-  ErkStepper(TreeOde& ode, const IntegratorSettings& s, double t0, N_Vector y0, SUNContext ctx)
-      : ode_(ode) {
+  ErkStepper(TreeOde& ode, const IntegratorSettings& s, double t0, N_Vector y0, SUNContext ctx) : ode_(ode) {
     mem_.reset(check_created(ERKStepCreate(tree_rhs, t0, y0, ctx), "ERKStepCreate"));
     void* m = mem_.get();
 #if SUNDIALS_VERSION_MAJOR >= 7
@@ -94,9 +91,7 @@ class ErkStepper final : public Stepper {
 
   void interpolate(double t, N_Vector y) override { interpolate_with(kErkStep, mem_.get(), t, y); }
 
-  void restart(double t, N_Vector y) override {
-    check(ERKStepReInit(mem_.get(), tree_rhs, t, y), "ERKStepReInit");
-  }
+  void restart(double t, N_Vector y) override { check(ERKStepReInit(mem_.get(), tree_rhs, t, y), "ERKStepReInit"); }
 
   IntegratorStats counters() override {
     IntegratorStats s;
@@ -116,8 +111,8 @@ class ErkStepper final : public Stepper {
 
 }  // namespace
 
-std::unique_ptr<Stepper> make_erk_stepper(TreeOde& ode, const IntegratorSettings& s, double t0,
-                                          N_Vector y0, SUNContext ctx) {
+std::unique_ptr<Stepper> make_erk_stepper(TreeOde& ode, const IntegratorSettings& s, double t0, N_Vector y0,
+                                          SUNContext ctx) {
   return std::make_unique<ErkStepper>(ode, s, t0, y0, ctx);
 }
 

@@ -31,8 +31,7 @@ inline constexpr std::array<IntegratorStatField, 7> kIntegratorStatFields{{
     {"error_test_failures", &IntegratorStats::error_test_failures, "steps rejected by the error test"},
     {"nonlinear_convergence_failures", &IntegratorStats::nonlinear_convergence_failures,
      "nonlinear-solver convergence failures (CVODE)"},
-    {"chart_changes", &IntegratorStats::chart_changes,
-     "body orientations re-expressed in a fresh chart"},
+    {"chart_changes", &IntegratorStats::chart_changes, "body orientations re-expressed in a fresh chart"},
     {"restarts", &IntegratorStats::restarts, "integrator restarts after chart changes"},
     {"chart_checks", &IntegratorStats::chart_checks, "chart-margin evaluations (one per step)"},
 }};

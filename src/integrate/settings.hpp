@@ -28,9 +28,9 @@ struct IntegratorSettings {
   Method method = Method::cvode_adams;
   double relative_tolerance = 1e-8;
   double absolute_tolerance = 1e-10;
-  long max_steps = 100000;     // per output interval (SUNDIALS' mxstep)
-  double max_step = 0.0;       // 0: no limit
-  double initial_step = 0.0;   // 0: the integrator's estimate
+  long max_steps = 100000;    // per output interval (SUNDIALS' mxstep)
+  double max_step = 0.0;      // 0: no limit
+  double initial_step = 0.0;  // 0: the integrator's estimate
 };
 
 enum class FailureKind {
@@ -44,15 +44,14 @@ enum class FailureKind {
   other,
 };
 
-inline constexpr NameTable<FailureKind, 8> kFailureNames{{
-    {FailureKind::none, "none"},
-    {FailureKind::too_much_work, "too_much_work"},
-    {FailureKind::too_much_accuracy, "too_much_accuracy"},
-    {FailureKind::error_test_failures, "error_test_failures"},
-    {FailureKind::convergence_failures, "convergence_failures"},
-    {FailureKind::nonfinite_state, "nonfinite_state"},
-    {FailureKind::setup, "setup"},
-    {FailureKind::other, "other"}}};
+inline constexpr NameTable<FailureKind, 8> kFailureNames{{{FailureKind::none, "none"},
+                                                          {FailureKind::too_much_work, "too_much_work"},
+                                                          {FailureKind::too_much_accuracy, "too_much_accuracy"},
+                                                          {FailureKind::error_test_failures, "error_test_failures"},
+                                                          {FailureKind::convergence_failures, "convergence_failures"},
+                                                          {FailureKind::nonfinite_state, "nonfinite_state"},
+                                                          {FailureKind::setup, "setup"},
+                                                          {FailureKind::other, "other"}}};
 inline std::string_view name(FailureKind f) { return name_in(kFailureNames, f); }
 
 // A body's orientation re-expressed in a fresh chart, at the end of a step.

@@ -1,23 +1,20 @@
 #include "integrate/simulate.hpp"
 
-#include "common/format.hpp"
-
 #include <cmath>
 #include <stdexcept>
 
+#include "common/format.hpp"
 #include "dynamics/pipeline.hpp"
 #include "integrate/state_vector.hpp"
 #include "integrate/stepper.hpp"
 
 namespace treedyn {
 
-std::unique_ptr<Stepper> make_cvode_stepper(TreeOde&, const IntegratorSettings&, double, N_Vector,
-                                            SUNContext);
-std::unique_ptr<Stepper> make_erk_stepper(TreeOde&, const IntegratorSettings&, double, N_Vector,
-                                          SUNContext);
+std::unique_ptr<Stepper> make_cvode_stepper(TreeOde&, const IntegratorSettings&, double, N_Vector, SUNContext);
+std::unique_ptr<Stepper> make_erk_stepper(TreeOde&, const IntegratorSettings&, double, N_Vector, SUNContext);
 
-std::unique_ptr<Stepper> make_stepper(TreeOde& ode, const IntegratorSettings& settings, double t0,
-                                      N_Vector y0, SUNContext context) {
+std::unique_ptr<Stepper> make_stepper(TreeOde& ode, const IntegratorSettings& settings, double t0, N_Vector y0,
+                                      SUNContext context) {
   switch (settings.method) {
     case Method::cvode_adams:
     case Method::cvode_bdf:
@@ -176,8 +173,8 @@ class Integration {
 
 }  // namespace
 
-IntegrationOutcome simulate(const Model& model, const InitialState& initial,
-                            const SimulationRequest& request, const OutputObserver& observer) {
+IntegrationOutcome simulate(const Model& model, const InitialState& initial, const SimulationRequest& request,
+                            const OutputObserver& observer) {
   check_request(model, initial, request);
   return Integration(model, initial, request, observer).run();
 }

@@ -39,7 +39,7 @@ struct SimulationRequest {
 // The ensemble's /samples/reason and a rerun sample's /sample reason.
 std::string failure_reason(const IntegrationOutcome& outcome);
 
-IntegrationOutcome simulate(const Model& model, const InitialState& initial,
-                            const SimulationRequest& request, const OutputObserver& observer);
+IntegrationOutcome simulate(const Model& model, const InitialState& initial, const SimulationRequest& request,
+                            const OutputObserver& observer);
 
 }  // namespace treedyn

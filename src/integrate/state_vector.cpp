@@ -3,9 +3,9 @@
 #include <nvector/nvector_serial.h>
 
 #include <cfloat>
+#include <cmath>
 #include <cstdlib>
 #include <new>
-#include <cmath>
 #include <span>
 
 // Every operation below states the N_VSerial expression it reproduces.

@@ -4,12 +4,12 @@
 // let an exception into SUNDIALS.
 #pragma once
 
+#include <sundials/sundials_config.h>
+
 #include <memory>
 #include <span>
 #include <string>
 #include <utility>
-
-#include <sundials/sundials_config.h>
 
 #include "integrate/settings.hpp"
 #include "integrate/sundials_handles.hpp"
@@ -58,8 +58,8 @@ class Stepper {
 
  private:
 #if SUNDIALS_VERSION_MAJOR >= 7
-  static void record_error(int line, const char* function, const char* file, const char* message,
-                           SUNErrCode code, void* stepper, SUNContext context);
+  static void record_error(int line, const char* function, const char* file, const char* message, SUNErrCode code,
+                           void* stepper, SUNContext context);
 #else
   static void record_error(int code, const char* module, const char* function, char* message, void* stepper);
 #endif
@@ -79,7 +79,7 @@ struct PackageCalls {
   int (*get_dky)(void*, sunrealtype, int, N_Vector);
   int (*get_current_time)(void*, sunrealtype*);
   std::span<const std::pair<int, FailureKind>> failures;  // flag -> kind; others: FailureKind::other
-  const char* package;  // named in set-up errors
+  const char* package;                                    // named in set-up errors
 };
 
 // Tolerances, user data (the TreeOde), max_steps, max_step, initial_step.
@@ -88,7 +88,7 @@ void interpolate_with(const PackageCalls& calls, void* memory, double t, N_Vecto
 double current_time_of(const PackageCalls& calls, void* memory);
 FailureKind classify(const PackageCalls& calls, int flag);
 
-std::unique_ptr<Stepper> make_stepper(TreeOde& ode, const IntegratorSettings& settings,
-                                      double t0, N_Vector y0, SUNContext context);
+std::unique_ptr<Stepper> make_stepper(TreeOde& ode, const IntegratorSettings& settings, double t0, N_Vector y0,
+                                      SUNContext context);
 
 }  // namespace treedyn

@@ -27,8 +27,7 @@ class SetupError : public std::runtime_error {
 
 // Throws SetupError naming the call when a SUNDIALS set-up call fails.
 inline void check(int flag, const char* call) {
-  if (flag < 0) throw SetupError(std::string("SUNDIALS call ") + call + " failed with flag " +
-                                 std::to_string(flag));
+  if (flag < 0) throw SetupError(std::string("SUNDIALS call ") + call + " failed with flag " + std::to_string(flag));
 }
 // The same for a call named in two parts ("CVODE", " dense output"),
 // joined only when it failed: a check at every output time or in every
@@ -86,8 +85,7 @@ struct ErkDeleter {
 using Vector = std::unique_ptr<std::remove_pointer_t<N_Vector>, VectorDeleter>;
 using Matrix = std::unique_ptr<std::remove_pointer_t<SUNMatrix>, MatrixDeleter>;
 using LinearSolver = std::unique_ptr<std::remove_pointer_t<SUNLinearSolver>, LinearSolverDeleter>;
-using NonlinearSolver =
-    std::unique_ptr<std::remove_pointer_t<SUNNonlinearSolver>, NonlinearSolverDeleter>;
+using NonlinearSolver = std::unique_ptr<std::remove_pointer_t<SUNNonlinearSolver>, NonlinearSolverDeleter>;
 using CvodeMemory = std::unique_ptr<void, CvodeDeleter>;
 using ErkMemory = std::unique_ptr<void, ErkDeleter>;
 

@@ -45,8 +45,7 @@ bool TreeOde::rhs(double t, std::span<const double> y, std::span<double> y_dot) 
     const Vec3 w_body = data_.rotation[i].transpose() * data_.angular_velocity[i];
     coordinate_rates(parameterisation_, coordinates(y, i), w_body, y_dot.data() + i * count_);
   }
-  Eigen::Map<Eigen::VectorXd>(y_dot.data() + coordinate_offset_, 3 * model_.n) =
-      data_.angular_acceleration;
+  Eigen::Map<Eigen::VectorXd>(y_dot.data() + coordinate_offset_, 3 * model_.n) = data_.angular_acceleration;
   for (double v : y_dot)
     if (!std::isfinite(v)) return false;
   return true;

@@ -7,11 +7,11 @@
 #include <string>
 #include <vector>
 
+#include "job/job.hpp"
+#include "output/response.hpp"
 #include "sampling/design.hpp"
 #include "sampling/normal_copula.hpp"
 #include "sampling/perturbation.hpp"
-#include "output/response.hpp"
-#include "job/job.hpp"
 
 namespace treedyn::ensemble {
 
@@ -53,12 +53,12 @@ struct EnsembleSpec {
   std::uint64_t seed = 1;
   Design design = Design::monte_carlo;
   std::vector<double> quantiles{0.05, 0.5, 0.95};
-  int histogram_bins = 128;        // per output time and component (quantiles and histograms)
+  int histogram_bins = 128;          // per output time and component (quantiles and histograms)
   std::uint64_t pilot_samples = 32;  // samples 0..pilot-1 fix the histogram ranges
-  std::uint64_t block_size = 4;    // samples handed out per work-queue request
+  std::uint64_t block_size = 4;      // samples handed out per work-queue request
   std::vector<Perturbation> perturbations;
-  std::vector<Reduction> per_sample{Reduction::final, Reduction::min, Reduction::max,
-                                    Reduction::argmin_time, Reduction::argmax_time};
+  std::vector<Reduction> per_sample{Reduction::final, Reduction::min, Reduction::max, Reduction::argmin_time,
+                                    Reduction::argmax_time};
   std::vector<Response> responses;
   std::uint64_t store_trajectories = 0;  // full trajectories of samples 0 .. M-1
   int bootstrap_resamples = 1000;        // for the Sobol' index intervals

@@ -17,13 +17,13 @@ class JobError : public std::runtime_error {
         field_(std::move(field)) {}
 
   const std::string& file() const { return file_; }
-  int line() const { return line_; }      // 0 when the error has no place in the file
+  int line() const { return line_; }  // 0 when the error has no place in the file
   int column() const { return column_; }
   const std::string& field() const { return field_; }
 
  private:
-  static std::string format(const std::string& file, int line, int column,
-                            const std::string& field, const std::string& what) {
+  static std::string format(const std::string& file, int line, int column, const std::string& field,
+                            const std::string& what) {
     std::string s = file;
     if (line > 0) s += ":" + std::to_string(line) + ":" + std::to_string(column);
     s += ": ";

@@ -4,18 +4,17 @@
 #include <numbers>
 
 #include "job/ensemble_spec.hpp"
-#include "statistics/ensemble_statistics.hpp"
-#include "sampling/targets.hpp"
-#include "job/toml_document.hpp"
 #include "job/readers.hpp"
+#include "job/toml_document.hpp"
 #include "job/toml_view.hpp"
 #include "output/quantities.hpp"
+#include "sampling/targets.hpp"
+#include "statistics/ensemble_statistics.hpp"
 
 namespace treedyn::ensemble {
 namespace {
 
 constexpr std::uint64_t kMaxRuns = EnsembleStatistics::kMaxSamples;
-
 
 using Kind = Perturbation::Kind;
 using Mode = Perturbation::Mode;
@@ -43,14 +42,11 @@ double read_unit(const TomlView& t, const Perturbation& p) {
   return 1.0;
 }
 
-
-
 Distribution read_distribution(const TomlView& t) {
   Distribution d;
   const std::string kind = t.required_string("distribution");
   if (!parse_distribution(kind, d.kind))
-    t.fail("distribution", "\"" + kind +
-                               "\" is not allowed; use " + choices(kDistributionNames));
+    t.fail("distribution", "\"" + kind + "\" is not allowed; use " + choices(kDistributionNames));
   auto positive = [&](std::string_view key) {
     const double v = t.required_number(key);
     if (!(v > 0.0)) t.fail(key, "must be > 0");
@@ -111,9 +107,8 @@ Response read_response(const TomlView& t, const Job& job, const ColumnLayout& la
   t.check_keys({"name", "quantity", "column", "reduce", "time", "threshold", "limit", "fail_if"});
   Response r;
   r.name = t.required_string("name");
-  const bool control = std::any_of(r.name.begin(), r.name.end(), [](char c) {
-    return static_cast<unsigned char>(c) < 0x20 || c == 0x7f;
-  });
+  const bool control = std::any_of(r.name.begin(), r.name.end(),
+                                   [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; });
   if (r.name.empty() || control || r.name.find('/') != std::string::npos || r.name == "." || r.name == "..")
     t.fail("name", "must be a non-empty name without '/' or control characters (it names an HDF5 group)");
   r.quantity = t.required_string("quantity");
@@ -149,8 +144,8 @@ Response read_response(const TomlView& t, const Job& job, const ColumnLayout& la
   if (r.reduce == Reduce::at_time) {
     r.time = t.required_number("time");
     if (!(r.time >= times.front() && r.time <= times.back()))
-      t.fail("time", format_number(r.time) + " s is outside the output times [" +
-                         format_number(times.front()) + ", " + format_number(times.back()) + "] s");
+      t.fail("time", format_number(r.time) + " s is outside the output times [" + format_number(times.front()) + ", " +
+                         format_number(times.back()) + "] s");
   } else if (t.has("time")) {
     t.fail("time", "only used with reduce = \"at_time\"");
   }
@@ -194,14 +189,13 @@ double answers_bytes(const EnsembleSpec& spec) {
 
 double stored_trajectory_bytes(const Job& job, const EnsembleSpec& spec) {
   const std::size_t columns = column_layout(job.model, job.output).columns;
-  return 8.0 * static_cast<double>(spec.store_trajectories) *
-         static_cast<double>(job.request.output_times.size()) * static_cast<double>(columns);
+  return 8.0 * static_cast<double>(spec.store_trajectories) * static_cast<double>(job.request.output_times.size()) *
+         static_cast<double>(columns);
 }
 
 double statistics_bytes(const Job& job, const EnsembleSpec& spec) {
   const std::size_t columns = column_layout(job.model, job.output).columns;
-  const double entries =
-      static_cast<double>(job.request.output_times.size()) * static_cast<double>(columns);
+  const double entries = static_cast<double>(job.request.output_times.size()) * static_cast<double>(columns);
   // The accumulator, the nominal and pilot range (3 doubles), one sample's
   // trajectory and, at worst (one rank), every pilot trajectory.
   return EnsembleStatistics::memory_bytes(entries, spec.histogram_bins) +
@@ -237,7 +231,8 @@ std::vector<std::string> EnsembleSpec::input_units() const {
   std::vector<std::string> units;
   for (const Perturbation& p : perturbations)
     for (int k = 0; k < p.dimensions(); ++k)
-      units.push_back(p.mode == Mode::scale && p.kind != Kind::orientation && p.kind != Kind::rotation ? "1" : p.si_unit);
+      units.push_back(p.mode == Mode::scale && p.kind != Kind::orientation && p.kind != Kind::rotation ? "1"
+                                                                                                       : p.si_unit);
   return units;
 }
 
@@ -250,7 +245,8 @@ Perturbation read_target(const TomlView& t, const ModelDefinition& model) {
     t.fail("target", e.what());
   }
   const std::string mode = t.string("mode").value_or("set");
-  if (!parse_in(kModeNames, mode, p.mode)) t.fail("mode", "\"" + mode + "\" is not allowed; use " + choices(kModeNames));
+  if (!parse_in(kModeNames, mode, p.mode))
+    t.fail("mode", "\"" + mode + "\" is not allowed; use " + choices(kModeNames));
   return p;
 }
 
@@ -299,17 +295,19 @@ Perturbation read_perturbation(const TomlView& p, const Job& job) {
     // Random phases: each uniform on [0, 2 pi), the sea state's own randomness.
     for (const char* key : {"mean", "std", "lower", "upper", "mu", "sigma", "unit", "mode"})
       if (p.has(key))
-        p.fail(key, "without 'distribution' every entry is uniform on [0, 2 pi) rad, set; give a distribution "
-                    "(and its unit) to change that");
+        p.fail(key,
+               "without 'distribution' every entry is uniform on [0, 2 pi) rad, set; give a distribution "
+               "(and its unit) to change that");
     pert.distribution.kind = Distribution::Kind::uniform;
     pert.distribution.lower = 0.0;
     pert.distribution.upper = 2.0 * std::numbers::pi;
     return pert;
   }
   if (pert.kind == Kind::parameter_list && !p.has("mode"))
-    p.fail("distribution", "with a distribution, say what it does to each phase: mode = \"add\" (a spread about the "
-                           "nominal phases) or \"set\" (every phase drawn from it: a narrow one makes the components "
-                           "add up in phase, one freak wave)");
+    p.fail("distribution",
+           "with a distribution, say what it does to each phase: mode = \"add\" (a spread about the "
+           "nominal phases) or \"set\" (every phase drawn from it: a narrow one makes the components "
+           "add up in phase, one freak wave)");
   pert.unit = read_unit(p, pert);
   pert.distribution = read_distribution(p);
   return pert;
@@ -370,7 +368,8 @@ void read_stored_trajectories(const TomlView& t, const Job& job, EnsembleSpec& s
     t.fail("store_trajectories", "is more than the " + std::to_string(s.samples) + " samples");
   // Each stored trajectory travels to rank 0 with its record, a block of
   // them at a time: that block must fit in memory.
-  const double one = stored_trajectory_bytes(job, s) / static_cast<double>(std::max<std::uint64_t>(s.store_trajectories, 1));
+  const double one =
+      stored_trajectory_bytes(job, s) / static_cast<double>(std::max<std::uint64_t>(s.store_trajectories, 1));
   const double batch_gib = one * static_cast<double>(s.block_size) / (1024.0 * 1024.0 * 1024.0);
   if (s.store_trajectories > 0 && batch_gib > 1.0)
     t.fail("store_trajectories", "one trajectory is " + format_number(std::round(one / (1024.0 * 1024.0))) +
@@ -395,11 +394,12 @@ void read_stop(const TomlView& parent, EnsembleSpec& s) {
   const TomlView& t = *section;
   t.check_keys({"response", "exceedance_cov", "mean_sem", "mean_relative_sem", "every"});
   if (!nested_prefixes(s.design))
-    t.fail("response", "a stopping rule needs a design whose prefixes are designs (monte_carlo, sobol, "
-                       "saltelli); " +
-                           std::string(s.design == Design::latin_hypercube
-                                           ? "the first n samples of a latin_hypercube are not one"
-                                           : "subset_simulation sets its own runs (samples per level, levels)"));
+    t.fail("response",
+           "a stopping rule needs a design whose prefixes are designs (monte_carlo, sobol, "
+           "saltelli); " +
+               std::string(s.design == Design::latin_hypercube
+                               ? "the first n samples of a latin_hypercube are not one"
+                               : "subset_simulation sets its own runs (samples per level, levels)"));
   StopRule rule;
   const std::size_t index = named_response(t, s);
   const Response& response = s.responses[index];
@@ -427,8 +427,8 @@ void read_stop(const TomlView& parent, EnsembleSpec& s) {
                         (unit > 1 ? " blocks)" : ")"));
   rule.every = static_cast<std::uint64_t>(*every) * unit;
   if (rule.every > s.samples)
-    t.fail("every", "checks every " + std::to_string(rule.every) + " runs, more than the " +
-                        std::to_string(s.samples) + " the ensemble makes at most");
+    t.fail("every", "checks every " + std::to_string(rule.every) + " runs, more than the " + std::to_string(s.samples) +
+                        " the ensemble makes at most");
   s.stop = rule;
 }
 
@@ -442,8 +442,9 @@ void read_subset(const TomlView& parent, EnsembleSpec& s) {
     return;
   }
   if (!section)
-    parent.fail("design", "subset_simulation needs an [ensemble.subset] table with response = NAME (a response "
-                          "with a limit)");
+    parent.fail("design",
+                "subset_simulation needs an [ensemble.subset] table with response = NAME (a response "
+                "with a limit)");
   const TomlView& t = *section;
   t.check_keys({"response", "level_probability", "max_levels"});
   if (s.input_dimensions() == 0)
@@ -453,20 +454,22 @@ void read_subset(const TomlView& parent, EnsembleSpec& s) {
   const Response& response = s.responses[index];
   const std::string& name = response.name;
   if (!response.has_limit())
-    t.fail("response", "response \"" + name + "\" has no limit: give it limit and fail_if (the failure whose "
-                       "probability is estimated)");
+    t.fail("response", "response \"" + name +
+                           "\" has no limit: give it limit and fail_if (the failure whose "
+                           "probability is estimated)");
   subset.response = index;
   subset.level_probability = t.number("level_probability", 0.1);
   const double p0 = subset.level_probability;
-  if (!(p0 > 0.0 && p0 <= 0.5))
-    t.fail("level_probability", "must be in (0, 0.5]; 0.1 is the usual value");
+  if (!(p0 > 0.0 && p0 <= 0.5)) t.fail("level_probability", "must be in (0, 0.5]; 0.1 is the usual value");
   const double inverse = 1.0 / p0;
   if (std::abs(inverse - std::round(inverse)) > 1e-9 * inverse)
     t.fail("level_probability", "1 / level_probability must be a whole number (0.1, 0.2, 0.25, 0.5, ...)");
   const auto states = static_cast<std::uint64_t>(std::llround(inverse));
   if (s.base_samples % states != 0)
-    parent.fail("samples", "subset_simulation: samples (per level) x level_probability must be a whole number "
-                           "of chains: samples must be a multiple of " + std::to_string(states));
+    parent.fail("samples",
+                "subset_simulation: samples (per level) x level_probability must be a whole number "
+                "of chains: samples must be a multiple of " +
+                    std::to_string(states));
   const auto levels = t.integer("max_levels");
   if (levels && (*levels < 1 || *levels > 100)) t.fail("max_levels", "must be from 1 to 100");
   subset.max_levels = levels ? static_cast<int>(*levels) : 10;
@@ -503,8 +506,8 @@ EnsembleSpec read_ensemble(const Job& job) {
                    "missing [ensemble] section: give at least samples = N (and seed, perturbations)");
   const TomlView& t = *section;
   t.check_keys({"samples", "seed", "design", "quantiles", "histogram_bins", "pilot_samples", "block_size",
-                "perturbation", "per_sample", "response", "store_trajectories", "bootstrap_resamples", "stop",
-                "subset", "group", "correlation"});
+                "perturbation", "per_sample", "response", "store_trajectories", "bootstrap_resamples", "stop", "subset",
+                "group", "correlation"});
   EnsembleSpec s;
   read_settings(t, s);
   for (const TomlView& p : t.table_array("perturbation")) s.perturbations.push_back(read_perturbation(p, job));

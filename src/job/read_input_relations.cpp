@@ -19,7 +19,7 @@ namespace {
 
 // The strings of `key`, each with its node (for the error position).
 std::vector<std::pair<std::string, const toml::node*>> string_list(const TomlView& t, std::string_view key,
-                                                                    const std::string& what) {
+                                                                   const std::string& what) {
   const toml::node* node = t.table().get(key);
   const toml::array* list = node ? node->as_array() : nullptr;
   if (!list) t.fail(key, "missing or not an array: " + what);
@@ -50,14 +50,17 @@ std::size_t perturbation_named(const TomlView& t, const EnsembleSpec& s, const s
   const auto first = std::find(targets.begin(), targets.end(), target);
   if (first != targets.end()) {
     if (std::count(targets.begin(), targets.end(), target) > 1)
-      t.fail_at(node, "inputs", "\"" + target + "\" is the target of more than one [[ensemble.perturbation]]; "
-                                "a group cannot tell them apart");
+      t.fail_at(node, "inputs",
+                "\"" + target +
+                    "\" is the target of more than one [[ensemble.perturbation]]; "
+                    "a group cannot tell them apart");
     return static_cast<std::size_t>(first - targets.begin());
   }
   std::string listed;
   for (auto name : targets) listed += " " + std::string(name);
-  t.fail_at(node, "inputs", "\"" + target + "\" is not the target of an [[ensemble.perturbation]]; they are:" +
-                                listed + did_you_mean(target, targets));
+  t.fail_at(node, "inputs",
+            "\"" + target + "\" is not the target of an [[ensemble.perturbation]]; they are:" + listed +
+                did_you_mean(target, targets));
 }
 
 // One [[ensemble.group]]: its name and the dimensions of its targets;
@@ -72,7 +75,8 @@ SobolUnit read_group(const TomlView& g, const EnsembleSpec& s, std::vector<std::
   for (const auto& [target, node] : targets) {
     const std::size_t p = perturbation_named(g, s, target, node);
     if (!taken[p].empty())
-      g.fail_at(node, "inputs", "\"" + target + "\" is already in group \"" + taken[p] + "\"; an input belongs to one group");
+      g.fail_at(node, "inputs",
+                "\"" + target + "\" is already in group \"" + taken[p] + "\"; an input belongs to one group");
     taken[p] = unit.name;
     for (unsigned d : dimensions_of(s, p)) unit.inputs.push_back(d);
   }
@@ -110,8 +114,9 @@ void read_groups(const TomlView& t, EnsembleSpec& s) {
     return;
   }
   if (s.design != Design::saltelli)
-    entries.front().fail("name", "[[ensemble.group]] sets which inputs Saltelli's design moves together; it is "
-                                 "only for design = \"saltelli\" (the rank measures are always per input)");
+    entries.front().fail("name",
+                         "[[ensemble.group]] sets which inputs Saltelli's design moves together; it is "
+                         "only for design = \"saltelli\" (the rank measures are always per input)");
   std::vector<std::string> taken(s.perturbations.size());
   std::vector<SobolUnit> groups;
   for (const TomlView& g : entries) {
@@ -136,21 +141,24 @@ unsigned input_named(const TomlView& t, const std::vector<std::string>& names, c
   const auto at = std::find(names.begin(), names.end(), name);
   if (at != names.end()) {
     if (std::count(names.begin(), names.end(), name) > 1)
-      t.fail_at(node, "inputs", "\"" + name + "\" is an input of more than one [[ensemble.perturbation]] (the same "
-                                "target twice); a correlation cannot tell them apart");
+      t.fail_at(node, "inputs",
+                "\"" + name +
+                    "\" is an input of more than one [[ensemble.perturbation]] (the same "
+                    "target twice); a correlation cannot tell them apart");
     return static_cast<unsigned>(at - names.begin());
   }
   std::string listed;
   for (const auto& n : names) listed += " " + n;
   const std::vector<std::string_view> views(names.begin(), names.end());
-  t.fail_at(node, "inputs", "\"" + name + "\" is not a sampled input; the inputs are:" + listed +
-                                did_you_mean(name, views));
+  t.fail_at(node, "inputs",
+            "\"" + name + "\" is not a sampled input; the inputs are:" + listed + did_you_mean(name, views));
 }
 
 InputCorrelation read_correlation(const TomlView& c, const EnsembleSpec& s) {
   c.check_keys({"inputs", "spearman", "normal_copula"});
   const std::vector<std::string> names = s.input_names();
-  const auto inputs = string_list(c, "inputs", "two sampled inputs, e.g. [\"body.payload.mass\", \"body.cable.length\"]");
+  const auto inputs =
+      string_list(c, "inputs", "two sampled inputs, e.g. [\"body.payload.mass\", \"body.cable.length\"]");
   if (inputs.size() != 2) c.fail("inputs", "give exactly two inputs (one [[ensemble.correlation]] per pair)");
   InputCorrelation r;
   r.a = input_named(c, names, inputs[0].first, inputs[0].second);
@@ -194,9 +202,10 @@ void check_positive_definite(const TomlView& c, const EnsembleSpec& s) {
   if (smallest > 1e-10) return;
   std::string listed;
   for (const InputCorrelation& k : s.correlations) listed += "\n  " + describe(k, names);
-  c.fail("inputs", "with this one the correlations cannot hold together (their normal-copula matrix is not "
-                   "positive definite: smallest eigenvalue " + format_digits(smallest, 3) + "):" + listed +
-                       "\nweaken some of them");
+  c.fail("inputs",
+         "with this one the correlations cannot hold together (their normal-copula matrix is not "
+         "positive definite: smallest eigenvalue " +
+             format_digits(smallest, 3) + "):" + listed + "\nweaken some of them");
 }
 
 }  // namespace
@@ -205,10 +214,11 @@ void read_correlations(const TomlView& t, EnsembleSpec& s) {
   const std::vector<TomlView> entries = t.table_array("correlation");
   if (entries.empty()) return;
   if (s.design == Design::saltelli)
-    entries.front().fail("inputs", "Saltelli's Sobol' indices assume independent inputs: a correlated design "
-                                   "would give wrong indices. Use design = \"monte_carlo\", \"latin_hypercube\" "
-                                   "or \"sobol\": the rank measures (Spearman, SRRC) in /sensitivity allow "
-                                   "correlated inputs");
+    entries.front().fail("inputs",
+                         "Saltelli's Sobol' indices assume independent inputs: a correlated design "
+                         "would give wrong indices. Use design = \"monte_carlo\", \"latin_hypercube\" "
+                         "or \"sobol\": the rank measures (Spearman, SRRC) in /sensitivity allow "
+                         "correlated inputs");
   for (const TomlView& c : entries) {
     s.correlations.push_back(read_correlation(c, s));
     const InputCorrelation& last = s.correlations.back();

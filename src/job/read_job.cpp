@@ -7,12 +7,12 @@
 
 #include "common/error.hpp"
 #include "dynamics/acceleration_solver.hpp"
+#include "dynamics/data.hpp"
 #include "dynamics/mass_matrix.hpp"
+#include "dynamics/pipeline.hpp"
 #include "job/job.hpp"
 #include "job/readers.hpp"
 #include "job/toml_document.hpp"
-#include "dynamics/data.hpp"
-#include "dynamics/pipeline.hpp"
 #include "output/quantities.hpp"
 
 namespace treedyn {
@@ -21,16 +21,13 @@ namespace {
 constexpr double kSmallestRelativeTolerance = 1e-15;
 
 void read_integrator(const TomlView& t, SimulationRequest& r) {
-  t.check_keys({"method", "parameterisation", "solver", "rtol", "atol", "max_steps", "max_step",
-                "initial_step"});
+  t.check_keys({"method", "parameterisation", "solver", "rtol", "atol", "max_steps", "max_step", "initial_step"});
   if (auto m = t.string("method"); m && !parse_method(*m, r.settings.method))
     t.fail("method", "\"" + *m + "\" is not a method; allowed: " + choices(kMethodNames));
   if (auto p = t.string("parameterisation"); p && !parse_parameterisation(*p, r.parameterisation))
-    t.fail("parameterisation",
-           "\"" + *p + "\" is not a parameterisation; allowed: " + choices(kParameterisationNames));
+    t.fail("parameterisation", "\"" + *p + "\" is not a parameterisation; allowed: " + choices(kParameterisationNames));
   if (auto s = t.string("solver"); s && !parse_acceleration_solver(*s, r.solver))
-    t.fail("solver", "\"" + *s + "\" is not an acceleration solver; allowed: " +
-                         choices(kAccelerationSolverNames));
+    t.fail("solver", "\"" + *s + "\" is not an acceleration solver; allowed: " + choices(kAccelerationSolverNames));
   auto positive = [&](std::string_view key, double& value) {
     if (auto v = t.number(key)) {
       if (!(*v > 0.0)) t.fail(key, "must be positive");
@@ -60,20 +57,18 @@ std::vector<double> read_output_times(const TomlView& t) {
     std::vector<double> times = *t.numbers("times");
     if (times.empty()) t.fail("times", "must list at least one time (s)");
     for (std::size_t k = 0; k < times.size(); ++k)
-      if (times[k] < 0.0 || (k > 0 && times[k] < times[k - 1]))
-        t.fail("times", "must be >= 0 and non-decreasing (s)");
+      if (times[k] < 0.0 || (k > 0 && times[k] < times[k - 1])) t.fail("times", "must be >= 0 and non-decreasing (s)");
     return times;
   }
   const auto end = t.number("end_time");
   if (!end) t.fail("end_time", "missing required field: the end time in s (or give 'times')");
-  if (!(*end > 0.0))
-    t.fail("end_time", format_number(*end) + " is not allowed; the end time must be > 0 s");
+  if (!(*end > 0.0)) t.fail("end_time", format_number(*end) + " is not allowed; the end time must be > 0 s");
   const auto step = t.number("step");
   if (!step) t.fail("step", "missing required field: the output step in s");
   if (!(*step > 0.0)) t.fail("step", "must be > 0 s");
   if (*step > *end)
-    t.fail("step", "the output step " + format_number(*step) + " s is larger than the end time " +
-                       format_number(*end) + " s; it must be at most end_time");
+    t.fail("step", "the output step " + format_number(*step) + " s is larger than the end time " + format_number(*end) +
+                       " s; it must be at most end_time");
   const double ratio = std::floor(*end / *step * (1.0 + 1e-12));
   if (!(ratio <= 10'000'000.0))  // checked as a double: the cast below would overflow
     t.fail("step", "more than 10 million output times; use a larger step");
@@ -107,12 +102,11 @@ OutputSpec read_output(const TomlView& t, const ModelSpec& model, SimulationRequ
       const auto name = e.value<std::string>();
       std::string allowed;
       for (const QuantityInfo& info : quantity_catalogue()) allowed += " " + std::string(info.name);
-      if (!name || !find_quantity(*name))
-        t.fail_at(&e, "quantities", "unknown quantity; allowed:" + allowed);
+      if (!name || !find_quantity(*name)) t.fail_at(&e, "quantities", "unknown quantity; allowed:" + allowed);
       out.quantities.push_back(*name);
     }
-    const bool wants_points = std::find(out.quantities.begin(), out.quantities.end(),
-                                        "point_position") != out.quantities.end();
+    const bool wants_points =
+        std::find(out.quantities.begin(), out.quantities.end(), "point_position") != out.quantities.end();
     if (wants_points && out.points.empty())
       t.fail("quantities", "\"point_position\" needs at least one [[output.point]]");
   } else {
@@ -144,11 +138,11 @@ void require_finite_start(const Job& job, const Where& where, const std::string&
     if (data.angular_acceleration.segment<3>(3 * i).allFinite() && u + 1 < model.n) continue;
     const std::string name = model.tree().user_body_name(u);
     const auto it = where.find(name);
-    throw JobError(file, it != where.end() ? line_of(*it->second) : 0, it != where.end() ? column_of(*it->second) : 0,
-                   "", "body '" + name + "': the equations of motion are not finite at t = " +
-                           format_number(job.request.start_time) +
-                           " s with the initial state (values that overflow double precision together); "
-                           "give SI values of a physical size");
+    throw JobError(
+        file, it != where.end() ? line_of(*it->second) : 0, it != where.end() ? column_of(*it->second) : 0, "",
+        "body '" + name + "': the equations of motion are not finite at t = " + format_number(job.request.start_time) +
+            " s with the initial state (values that overflow double precision together); "
+            "give SI values of a physical size");
   }
 }
 
@@ -157,8 +151,8 @@ void require_finite_start(const Job& job, const Where& where, const std::string&
 Job read_job(const JobDocument& document) {
   const std::string& file = document.file();
   const TomlView root(root_table(document), "", file);
-  root.check_keys({"title", "environment", "base", "body", "chain", "force", "moment",
-                   "integrator", "output", "ensemble", "sample"});
+  root.check_keys({"title", "environment", "base", "body", "chain", "force", "moment", "integrator", "output",
+                   "ensemble", "sample"});
   // [ensemble] is read by treedyn-ensemble, [sample] by ensemble/sample_job.cpp.
 
   Job job;
@@ -188,8 +182,7 @@ Job read_job(const JobDocument& document) {
     derive_model(job.definition, job.definition.parameters.nominal(), job.model);
   } catch (const ModelError& e) {
     const auto it = bodies.where.find(e.subject());
-    if (it != bodies.where.end())
-      throw JobError(file, line_of(*it->second), column_of(*it->second), "", e.what());
+    if (it != bodies.where.end()) throw JobError(file, line_of(*it->second), column_of(*it->second), "", e.what());
     throw JobError(file, 0, 0, "", e.what());
   }
   job.initial = std::move(bodies.initial);
@@ -208,9 +201,7 @@ Job read_job(const JobDocument& document) {
   }
   require_finite_start(job, bodies.where, file);
   const auto output = root.subtable("output");
-  if (!output)
-    throw JobError(file, 0, 0, "output",
-                   "missing [output] section: give end_time and step (or times)");
+  if (!output) throw JobError(file, 0, 0, "output", "missing [output] section: give end_time and step (or times)");
   job.output = read_output(*output, spec, job.request);
   return job;
 }

@@ -10,8 +10,7 @@ namespace {
 
 double positive(const TomlView& t, std::string_view key, const char* unit) {
   const double v = t.required_number(key);
-  if (!(v > 0.0))
-    t.fail(key, format_number(v) + " is not allowed; must be positive (" + unit + ")");
+  if (!(v > 0.0)) t.fail(key, format_number(v) + " is not allowed; must be positive (" + unit + ")");
   return v;
 }
 
@@ -44,12 +43,12 @@ void read_mass_and_inertia(const TomlView& t, BodySpec& body) {
       if (body.solid == Solid::cylinder) body.length = positive(t, "length", "m");
     }
     for (std::string_view k : {"size", "radius", "length"}) {
-      const bool used = k == "size" ? body.solid == Solid::box
+      const bool used = k == "size"     ? body.solid == Solid::box
                         : k == "radius" ? body.solid != Solid::box
                                         : body.solid == Solid::cylinder;
       if (t.has(k) && !used)
-        t.fail(k, "not a dimension of a " + *shape +
-                      " (a box has size, a cylinder radius and length, a sphere radius)");
+        t.fail(k,
+               "not a dimension of a " + *shape + " (a box has size, a cylinder radius and length, a sphere radius)");
     }
     read_mass_or_density(t, body);
     return;
@@ -95,8 +94,8 @@ JointSpring read_spring(const TomlView& t) {
 Vec3 read_joint_point(const TomlView& t, std::string_view key, std::string_view end, bool& follows) {
   if (t.has(key) && t.table().get(key)->is_string()) {
     if (*t.string(key) != end)
-      t.fail(key, "\"" + *t.string(key) + "\" is not allowed; give [x, y, z] in m, or \"" +
-                      std::string(end) + "\" (the cylinder's end, moving with its length)");
+      t.fail(key, "\"" + *t.string(key) + "\" is not allowed; give [x, y, z] in m, or \"" + std::string(end) +
+                      "\" (the cylinder's end, moving with its length)");
     follows = true;
     return Vec3::Zero();
   }
@@ -114,9 +113,9 @@ void read_state(const TomlView& t, ReadBodies& out) {
 }
 
 void read_body(const TomlView& t, ReadBodies& out) {
-  t.check_keys({"name", "parent", "joint_on_parent", "joint_on_child", "mass", "density",
-                "inertia", "principal_moments", "principal_axes", "shape", "size", "radius",
-                "length", "orientation", "angular_velocity", "spring"});
+  t.check_keys({"name", "parent", "joint_on_parent", "joint_on_child", "mass", "density", "inertia",
+                "principal_moments", "principal_axes", "shape", "size", "radius", "length", "orientation",
+                "angular_velocity", "spring"});
   BodySpec body;
   body.name = t.required_string("name");
   if (body.name.empty()) t.fail("name", "must not be empty");
@@ -140,8 +139,8 @@ void read_body(const TomlView& t, ReadBodies& out) {
 // N identical cylindrical links along their body z axes, joined end to end:
 // link k hangs from the lower end of link k-1 (the first from `parent`).
 void read_chain(const TomlView& t, ReadBodies& out) {
-  t.check_keys({"name", "links", "parent", "joint_on_parent", "link_length", "radius", "mass",
-                "density", "orientation", "angular_velocity", "spring"});
+  t.check_keys({"name", "links", "parent", "joint_on_parent", "link_length", "radius", "mass", "density", "orientation",
+                "angular_velocity", "spring"});
   const std::string prefix = t.required_string("name");
   const auto links = t.integer("links");
   if (!links) t.fail("links", "missing required field: the number of links (integer >= 1)");
@@ -184,8 +183,7 @@ std::vector<Harmonic> read_harmonics(const TomlView& base, std::string_view axis
     term.frequency = h.required_number("frequency");
     if (h.has("phase")) {
       const auto unit = h.string("unit");
-      if (!unit || (*unit != "deg" && *unit != "rad"))
-        h.fail("unit", "the phase needs unit = \"deg\" or \"rad\"");
+      if (!unit || (*unit != "deg" && *unit != "rad")) h.fail("unit", "the phase needs unit = \"deg\" or \"rad\"");
       term.phase = h.required_number("phase") * (*unit == "deg" ? std::numbers::pi / 180.0 : 1.0);
     }
     terms.push_back(term);
@@ -236,8 +234,7 @@ ReadBodies read_bodies(const TomlView& root) {
   require_supported_size(entries);
   for (const Entry& e : entries) (e.chain ? read_chain : read_body)(*e.view, out);
   if (out.bodies.empty())
-    throw JobError(root.file(), 0, 0, "body",
-                   "the job defines no bodies; add at least one [[body]] or [[chain]]");
+    throw JobError(root.file(), 0, 0, "body", "the job defines no bodies; add at least one [[body]] or [[chain]]");
   return out;
 }
 

@@ -56,8 +56,9 @@ void read_spectrum(const TomlView& t, SeaStateAxis& a) {
     return;
   }
   if (spectrum != "jonswap" && spectrum != "pierson_moskowitz")
-    t.fail("spectrum", "\"" + spectrum + "\" is not a wave spectrum; allowed: \"jonswap\", \"pierson_moskowitz\", "
-                       "\"tabulated\"");
+    t.fail("spectrum", "\"" + spectrum +
+                           "\" is not a wave spectrum; allowed: \"jonswap\", \"pierson_moskowitz\", "
+                           "\"tabulated\"");
   for (const char* key : {"frequencies", "densities"})
     if (t.has(key)) t.fail(key, "only a tabulated spectrum has this field (spectrum = \"tabulated\")");
   a.spectrum = spectrum == "jonswap" ? WaveSpectrum::jonswap : WaveSpectrum::pierson_moskowitz;
@@ -67,8 +68,9 @@ void read_spectrum(const TomlView& t, SeaStateAxis& a) {
     t.fail("gamma", "Pierson-Moskowitz has no peak enhancement (it is JONSWAP with gamma = 1); remove it");
   a.gamma = a.spectrum == WaveSpectrum::jonswap ? t.number("gamma", 3.3) : 1.0;
   if (!(a.gamma >= 1.0 && a.gamma <= 20.0))
-    t.fail("gamma", "must be from 1 (Pierson-Moskowitz) to 20 (the peak enhancement of JONSWAP; 3.3 is the mean of "
-                    "the JONSWAP measurements)");
+    t.fail("gamma",
+           "must be from 1 (Pierson-Moskowitz) to 20 (the peak enhancement of JONSWAP; 3.3 is the mean of "
+           "the JONSWAP measurements)");
 }
 
 // Nominal phases phi_k, uniform on [0, 2 pi) from (phase_seed, axis, k): the
@@ -77,8 +79,9 @@ std::vector<double> nominal_phases(std::uint64_t seed, int axis, int components)
   std::vector<double> phases(static_cast<std::size_t>(components));
   for (int k = 0; k < components; ++k)
     phases[static_cast<std::size_t>(k)] =
-        2.0 * std::numbers::pi * ensemble::counter_uniform(seed, static_cast<std::uint64_t>(k),
-                                                           static_cast<std::uint64_t>(axis), 0x736561);  // "sea"
+        2.0 * std::numbers::pi *
+        ensemble::counter_uniform(seed, static_cast<std::uint64_t>(k), static_cast<std::uint64_t>(axis),
+                                  0x736561);  // "sea"
   return phases;
 }
 
@@ -89,10 +92,10 @@ std::string_view field_of(const std::string& what, const TomlView& t, const SeaS
     return a.spectrum == WaveSpectrum::tabulated ? "densities" : "significant_height";
   if (what.find("tabulated spectrum:") != std::string::npos)
     return what.find("value >= 0") != std::string::npos && what.find("strictly") == std::string::npos ? "densities"
-                                                                                                       : "frequencies";
+                                                                                                      : "frequencies";
   if (what.find("the band") != std::string::npos) {
-    const bool low_wrong = !(a.min_frequency >= 0.0) || (a.spectrum == WaveSpectrum::tabulated &&
-                                                         a.min_frequency < a.table_frequencies.front());
+    const bool low_wrong = !(a.min_frequency >= 0.0) ||
+                           (a.spectrum == WaveSpectrum::tabulated && a.min_frequency < a.table_frequencies.front());
     std::string_view key = low_wrong ? "min_frequency" : "max_frequency";
     return t.has(key) ? key : (t.has("min_frequency") ? "min_frequency" : "max_frequency");
   }
@@ -125,12 +128,15 @@ int read_follower(const TomlView& t, const SeaStateBase& sea) {
   t.check_keys({"wave", "rao"});
   const std::string wave = t.required_string("wave");
   const int source = wave == "x" ? 0 : wave == "y" ? 1 : wave == "z" ? 2 : -1;
-  if (source < 0 || !sea.axes[static_cast<std::size_t>(source)] || sea.axes[static_cast<std::size_t>(source)]->wave_of >= 0)
-    t.fail("wave", "\"" + wave + "\" is not an axis with waves of its own; name one of this [base]'s axes whose table "
-                   "gives a spectrum (\"x\", \"y\" or \"z\")");
+  if (source < 0 || !sea.axes[static_cast<std::size_t>(source)] ||
+      sea.axes[static_cast<std::size_t>(source)]->wave_of >= 0)
+    t.fail("wave", "\"" + wave +
+                       "\" is not an axis with waves of its own; name one of this [base]'s axes whose table "
+                       "gives a spectrum (\"x\", \"y\" or \"z\")");
   if (!t.subtable("rao"))
-    t.fail("wave", "an axis that follows the waves of another needs its own [base.AXIS.rao] (without one it would "
-                   "move exactly as that axis)");
+    t.fail("wave",
+           "an axis that follows the waves of another needs its own [base.AXIS.rao] (without one it would "
+           "move exactly as that axis)");
   return source;
 }
 

@@ -5,9 +5,9 @@
 #include <optional>
 #include <string>
 
-#include "model/initial_state.hpp"
 #include "job/toml_view.hpp"
 #include "model/definition.hpp"
+#include "model/initial_state.hpp"
 #include "model/model_spec.hpp"
 #include "sampling/perturbation.hpp"
 
@@ -41,7 +41,6 @@ ReadBodies read_bodies(const TomlView& root);
 BaseMotionSpec read_base(const TomlView& base);
 // [base] type = "sea_state" (read_sea_state.cpp).
 SeaStateBase read_sea_state(const TomlView& base);
-
 
 void read_loads(const TomlView& root, ModelSpec& spec);
 

@@ -1,25 +1,23 @@
 #include "job/sample_job.hpp"
 
 #include <cstdio>
-#include <string_view>
 #include <sstream>
 #include <stdexcept>
+#include <string_view>
 #include <vector>
 
 #include "common/error.hpp"
-#include "sampling/targets.hpp"
-#include "job/toml_document.hpp"
 #include "job/readers.hpp"
+#include "job/toml_document.hpp"
 #include "job/toml_view.hpp"
 #include "model/definition.hpp"
+#include "sampling/targets.hpp"
 
 namespace treedyn::ensemble {
 namespace {
 
 using Kind = Perturbation::Kind;
 using Mode = Perturbation::Mode;
-
-
 
 // A TOML float that reads back to the same double: the shortest round-trip
 // digits, with ".0" where they would otherwise read as an integer.
@@ -110,7 +108,8 @@ void apply_sample_section(Job& job) {
       if (!v) e.fail("value", "missing required field: a rotation vector [x, y, z] in rad");
       values.insert(values.end(), {v->x(), v->y(), v->z()});
     } else if (p.kind == Kind::parameter_list) {
-      if (p.mode == Mode::scale) e.fail("mode", "a list of phases is set or added to, not scaled; use \"set\" or \"add\"");
+      if (p.mode == Mode::scale)
+        e.fail("mode", "a list of phases is set or added to, not scaled; use \"set\" or \"add\"");
       const auto v = e.numbers("value");
       if (!v || static_cast<int>(v->size()) != p.entries)
         e.fail("value", "expected a list of " + std::to_string(p.entries) + " numbers in " + p.si_unit +
@@ -155,8 +154,7 @@ void require_not_a_sample_job(const Job& job) {
                    "write sample jobs from the original ensemble job");
 }
 
-std::string sample_job_text(const Job& job, const EnsembleSpec& spec, std::uint64_t k,
-                            std::span<const double> inputs) {
+std::string sample_job_text(const Job& job, const EnsembleSpec& spec, std::uint64_t k, std::span<const double> inputs) {
   require_not_a_sample_job(job);
   const std::string text = without_ensemble(job.text);
   try {
@@ -169,10 +167,9 @@ std::string sample_job_text(const Job& job, const EnsembleSpec& spec, std::uint6
   }
   std::ostringstream out;
   out << text << "\n"
-      << "# Sample " << k << " of the ensemble in the file 'source' below (design " << name(spec.design)
-      << ", seed " << spec.seed << "),\n"
-      << "# written by treedyn-ensemble --write-job " << k
-      << ". Its sampled inputs, SI, applied to the nominal\n"
+      << "# Sample " << k << " of the ensemble in the file 'source' below (design " << name(spec.design) << ", seed "
+      << spec.seed << "),\n"
+      << "# written by treedyn-ensemble --write-job " << k << ". Its sampled inputs, SI, applied to the nominal\n"
       << "# model above exactly as the ensemble applied them: `treedyn run` of this file\n"
       << "# reproduces the sample's trajectory bit for bit.\n"
       << "[sample]\n"

@@ -39,7 +39,6 @@ void require_not_a_sample_job(const Job& job);
 
 // The text of the standalone job of sample k (inputs: its sampled values,
 // SI). Throws JobError when the job already is a sample job.
-std::string sample_job_text(const Job& job, const EnsembleSpec& spec, std::uint64_t k,
-                            std::span<const double> inputs);
+std::string sample_job_text(const Job& job, const EnsembleSpec& spec, std::uint64_t k, std::span<const double> inputs);
 
 }  // namespace treedyn::ensemble

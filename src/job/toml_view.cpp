@@ -33,8 +33,7 @@ std::string did_you_mean(std::string_view word, std::span<const std::string_view
     const std::size_t d = edit_distance(word, a);
     if (d < best_distance) best_distance = d, best = a;
   }
-  if (best_distance <= std::max<std::size_t>(2, word.size() / 3))
-    return "; did you mean '" + std::string(best) + "'?";
+  if (best_distance <= std::max<std::size_t>(2, word.size() / 3)) return "; did you mean '" + std::string(best) + "'?";
   return "";
 }
 
@@ -68,9 +67,7 @@ std::string TomlView::field(std::string_view key) const {
   return path_.empty() ? std::string(key) : path_ + "." + std::string(key);
 }
 
-void TomlView::fail(std::string_view key, const std::string& what) const {
-  fail_at(node(key), key, what);
-}
+void TomlView::fail(std::string_view key, const std::string& what) const { fail_at(node(key), key, what); }
 
 void TomlView::fail_at(const toml::node* at, std::string_view key, const std::string& what) const {
   const toml::node& where = at ? *at : static_cast<const toml::node&>(table_);
@@ -98,9 +95,7 @@ std::optional<double> TomlView::number(std::string_view key) const {
   return v;
 }
 
-double TomlView::number(std::string_view key, double fallback) const {
-  return number(key).value_or(fallback);
-}
+double TomlView::number(std::string_view key, double fallback) const { return number(key).value_or(fallback); }
 
 double TomlView::required_number(std::string_view key) const {
   const auto v = number(key);
@@ -153,8 +148,7 @@ std::optional<std::vector<double>> TomlView::numbers(std::string_view key) const
 std::optional<Vec3> TomlView::vec3(std::string_view key) const {
   const auto v = numbers(key);
   if (!v) return std::nullopt;
-  if (v->size() != 3)
-    fail(key, "expected 3 numbers [x, y, z], got " + std::to_string(v->size()));
+  if (v->size() != 3) fail(key, "expected 3 numbers [x, y, z], got " + std::to_string(v->size()));
   return Vec3((*v)[0], (*v)[1], (*v)[2]);
 }
 

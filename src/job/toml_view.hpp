@@ -3,14 +3,14 @@
 // check_keys() rejects unknown keys with a "did you mean" suggestion.
 #pragma once
 
+#include <toml++/toml.h>
+
 #include <initializer_list>
 #include <optional>
 #include <span>
 #include <string>
 #include <string_view>
 #include <vector>
-
-#include <toml++/toml.h>
 
 #include "common/format.hpp"
 #include "common/linalg.hpp"
@@ -33,8 +33,7 @@ class TomlView {
   bool has(std::string_view key) const { return table_.contains(key); }
 
   [[noreturn]] void fail(std::string_view key, const std::string& what) const;
-  [[noreturn]] void fail_at(const toml::node* node, std::string_view key,
-                            const std::string& what) const;
+  [[noreturn]] void fail_at(const toml::node* node, std::string_view key, const std::string& what) const;
 
   std::optional<double> number(std::string_view key) const;
   double number(std::string_view key, double fallback) const;

@@ -107,8 +107,7 @@ double chart_margin(Parameterisation p, const double* q) {
     case Parameterisation::euler313:
       return std::abs(std::sin(q[1])) - kAngleChartLimit;
     case Parameterisation::quaternion:
-      return kDriftLimit -
-             std::abs(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3] - 1.0);
+      return kDriftLimit - std::abs(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3] - 1.0);
     case Parameterisation::direction_cosines:
       return kDriftLimit - orthonormality_drift(q);
   }

@@ -19,8 +19,8 @@ void validate(const FixedBase& b) {
 
 void validate(const ConstantAccelerationBase& b) {
   if (!finite(b.position) || !finite(b.velocity) || !finite(b.acceleration))
-    throw ModelError(
-        "base motion 'constant_acceleration': position, velocity and acceleration must be finite", kBaseName);
+    throw ModelError("base motion 'constant_acceleration': position, velocity and acceleration must be finite",
+                     kBaseName);
 }
 
 void validate(const HarmonicBase& b) {
@@ -29,8 +29,8 @@ void validate(const HarmonicBase& b) {
   for (int axis = 0; axis < 3; ++axis) {
     for (std::size_t k = 0; k < b.axes[axis].size(); ++k) {
       const Harmonic& h = b.axes[axis][k];
-      const std::string where = std::string("base motion 'harmonic', axis ") + axis_name[axis] +
-                                " term " + std::to_string(k + 1) + ": ";
+      const std::string where =
+          std::string("base motion 'harmonic', axis ") + axis_name[axis] + " term " + std::to_string(k + 1) + ": ";
       if (!std::isfinite(h.amplitude) || !std::isfinite(h.phase))
         throw ModelError(where + "amplitude and phase must be finite", kBaseName);
       if (!std::isfinite(h.frequency) || h.frequency < 0.0)
@@ -48,17 +48,17 @@ void validate(const SeaStateBase& b) {
 
 void validate(const TabulatedBase& b) {
   if (b.times.size() < 2 || b.times.size() != b.positions.size())
-    throw ModelError(
-        "base motion 'tabulated': need at least 2 samples and as many positions as times (got " +
-        std::to_string(b.times.size()) + " times, " + std::to_string(b.positions.size()) +
-        " positions)", kBaseName);
+    throw ModelError("base motion 'tabulated': need at least 2 samples and as many positions as times (got " +
+                         std::to_string(b.times.size()) + " times, " + std::to_string(b.positions.size()) +
+                         " positions)",
+                     kBaseName);
   for (std::size_t k = 0; k < b.times.size(); ++k) {
     if (!std::isfinite(b.times[k]) || !finite(b.positions[k]))
-      throw ModelError("base motion 'tabulated': sample " + std::to_string(k + 1) +
-                       " is not finite", kBaseName);
+      throw ModelError("base motion 'tabulated': sample " + std::to_string(k + 1) + " is not finite", kBaseName);
     if (k > 0 && !(b.times[k] > b.times[k - 1]))
-      throw ModelError("base motion 'tabulated': times must be strictly increasing (sample " +
-                       std::to_string(k + 1) + ")", kBaseName);
+      throw ModelError(
+          "base motion 'tabulated': times must be strictly increasing (sample " + std::to_string(k + 1) + ")",
+          kBaseName);
   }
 }
 
@@ -75,8 +75,7 @@ std::vector<Vec3> spline_moments(const TabulatedBase& b) {
     const double h1 = b.times[i + 1] - b.times[i];
     diag[i] = 2.0 * (h0 + h1);
     upper[i] = h1;
-    rhs[i] = 6.0 * ((b.positions[i + 1] - b.positions[i]) / h1 -
-                    (b.positions[i] - b.positions[i - 1]) / h0);
+    rhs[i] = 6.0 * ((b.positions[i + 1] - b.positions[i]) / h1 - (b.positions[i] - b.positions[i - 1]) / h0);
   }
   // Forward elimination on rows 1..n-2 (m_0 = m_{n-1} = 0).
   for (std::size_t i = 2; i + 1 < n; ++i) {
@@ -230,8 +229,7 @@ BaseKinematics BaseMotion::kinematics(const std::shared_ptr<const Spline>& share
   auto slope_at_end = [&](std::size_t i0, std::size_t i1, bool left_end) {
     const double h = ts[i1] - ts[i0];
     const Vec3 secant = (tab.positions[i1] - tab.positions[i0]) / h;
-    return left_end ? Vec3(secant - h * (2.0 * m[i0] + m[i1]) / 6.0)
-                    : Vec3(secant + h * (m[i0] + 2.0 * m[i1]) / 6.0);
+    return left_end ? Vec3(secant - h * (2.0 * m[i0] + m[i1]) / 6.0) : Vec3(secant + h * (m[i0] + 2.0 * m[i1]) / 6.0);
   };
   if (t <= ts.front()) {
     k.velocity = slope_at_end(0, 1, true);

@@ -49,14 +49,13 @@ struct HarmonicBase {
 // r0'' vanish at both ends, so outside the table the motion continues linearly
 // (constant velocity) and stays C2.
 struct TabulatedBase {
-  std::vector<double> times;     // strictly increasing, at least 2
-  std::vector<Vec3> positions;   // one per time
+  std::vector<double> times;    // strictly increasing, at least 2
+  std::vector<Vec3> positions;  // one per time
 };
 
 // A sea state (model/sea_state.hpp) is compiled into its components'
 // complex amplitudes (BaseMotion::SeaMotion).
-using BaseMotionSpec =
-    std::variant<FixedBase, ConstantAccelerationBase, HarmonicBase, TabulatedBase, SeaStateBase>;
+using BaseMotionSpec = std::variant<FixedBase, ConstantAccelerationBase, HarmonicBase, TabulatedBase, SeaStateBase>;
 
 // A validated base motion, cheap to evaluate (spline coefficients precomputed)
 // and cheap to copy (a table and its spline are shared between copies).
@@ -92,8 +91,8 @@ class BaseMotion {
   static BaseKinematics kinematics(const HarmonicBase& b, double t);
   static BaseKinematics kinematics(const SeaMotion& b, double t);
   static BaseKinematics kinematics(const std::shared_ptr<const Spline>& b, double t);
-  std::variant<FixedBase, ConstantAccelerationBase, HarmonicBase, SeaMotion, std::shared_ptr<const Spline>>
-      motion_ = FixedBase{};
+  std::variant<FixedBase, ConstantAccelerationBase, HarmonicBase, SeaMotion, std::shared_ptr<const Spline>> motion_ =
+      FixedBase{};
 };
 
 }  // namespace treedyn

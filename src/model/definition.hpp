@@ -34,11 +34,11 @@ struct BodyForm {
 
 // Joint i, between body i and its parent.
 struct JointForm {
-  int on_child = -1;   // body.NAME.joint_on_child (3); -1: (0, 0, +L/2) of the child's length
-  int on_parent = -1;  // body.NAME.joint_on_parent (3); -1: the base joint (no point), or
-                       // (0, 0, -L/2) of the parent's length (a chain link)
-  int stiffness = -1;  // joint.NAME.stiffness (9, as given)
-  int damping = -1;    // joint.NAME.damping (9, as given)
+  int on_child = -1;                  // body.NAME.joint_on_child (3); -1: (0, 0, +L/2) of the child's length
+  int on_parent = -1;                 // body.NAME.joint_on_parent (3); -1: the base joint (no point), or
+                                      // (0, 0, -L/2) of the parent's length (a chain link)
+  int stiffness = -1;                 // joint.NAME.stiffness (9, as given)
+  int damping = -1;                   // joint.NAME.damping (9, as given)
   Quat reference = Quat::Identity();  // unit
   SpringLaw law = SpringLaw::quaternion;
 };
@@ -57,15 +57,15 @@ struct BaseForm {
   BaseMotionSpec kind = FixedBase{};  // which motion and how many terms; its numbers are parameters
   int position = -1, velocity = -1, acceleration = -1, offset = -1;
   std::array<std::vector<HarmonicForm>, 3> terms;
-  std::array<SeaAxisForm, 3> sea;     // a sea state's spectra (its band and RAO are fixed)
-  BaseMotion tabulated;               // a tabulated base: its table is fixed, not parameters
+  std::array<SeaAxisForm, 3> sea;  // a sea state's spectra (its band and RAO are fixed)
+  BaseMotion tabulated;            // a tabulated base: its table is fixed, not parameters
 };
 
 // A constant force or moment on one body.
 struct LoadForm {
-  int body = -1;       // regular index
-  int point = -1;      // force[K].point (3), forces only
-  int vector = -1;     // force[K].force or moment[K].moment (3)
+  int body = -1;    // regular index
+  int point = -1;   // force[K].point (3), forces only
+  int vector = -1;  // force[K].force or moment[K].moment (3)
 };
 
 struct ModelDefinition {
@@ -87,8 +87,7 @@ ModelDefinition define_model(const ModelSpec& spec);
 // and dimensions, a positive definite inertia obeying the triangle
 // inequality, positive semi-definite springs, finite points, a valid base
 // motion). Throws ModelError naming the body or joint. Reuses `out`'s storage.
-void derive_model(const ModelDefinition& definition, std::span<const double> parameters,
-                  Model& out);
+void derive_model(const ModelDefinition& definition, std::span<const double> parameters, Model& out);
 
 // Volume of the solid body `body` (regular index) for these parameters, m^3;
 // 0 for a body whose inertia is given explicitly.

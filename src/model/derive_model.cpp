@@ -17,8 +17,8 @@ Vec3 vec3(std::span<const double> p, int offset) { return {p[offset], p[offset +
 
 Mat3 mat3(std::span<const double> p, int offset) {  // row-major
   Mat3 m;
-  m << p[offset], p[offset + 1], p[offset + 2], p[offset + 3], p[offset + 4], p[offset + 5],
-      p[offset + 6], p[offset + 7], p[offset + 8];
+  m << p[offset], p[offset + 1], p[offset + 2], p[offset + 3], p[offset + 4], p[offset + 5], p[offset + 6],
+      p[offset + 7], p[offset + 8];
   return m;
 }
 
@@ -105,39 +105,36 @@ void derive_bodies(const ModelDefinition& d, std::span<const double> p, Model& m
 }
 
 // A chain link's length: its joints sit at its ends, (0, 0, +-L/2).
-double link_length(const ModelDefinition& d, std::span<const double> p, int body) {
-  return p[d.body[body].length];
-}
+double link_length(const ModelDefinition& d, std::span<const double> p, int body) { return p[d.body[body].length]; }
 
 void derive_joints(const ModelDefinition& d, std::span<const double> p, Model& m) {
   const Topology& tree = *d.topology;
   for (int i = 0; i < tree.n; ++i) try {
-    const JointForm& f = d.joint[i];
-    const std::string who = "joint '" + tree.joint_name[i] + "'";
-    const int parent = tree.parent[i];
-    const Vec3 on_child = f.on_child >= 0 ? vec3(p, f.on_child)
-                                          : Vec3(0.0, 0.0, 0.5 * link_length(d, p, i));
-    require_finite(who, "on_child", on_child);
-    m.com_to_inboard_joint[i] = on_child;
-    m.parent_com_to_joint[i].setZero();
-    if (parent != kBase) {
-      const Vec3 on_parent = f.on_parent >= 0 ? vec3(p, f.on_parent)
-                                              : Vec3(0.0, 0.0, -0.5 * link_length(d, p, parent));
-      require_finite(who, "on_parent", on_parent);
-      m.parent_com_to_joint[i] = on_parent;
+      const JointForm& f = d.joint[i];
+      const std::string who = "joint '" + tree.joint_name[i] + "'";
+      const int parent = tree.parent[i];
+      const Vec3 on_child = f.on_child >= 0 ? vec3(p, f.on_child) : Vec3(0.0, 0.0, 0.5 * link_length(d, p, i));
+      require_finite(who, "on_child", on_child);
+      m.com_to_inboard_joint[i] = on_child;
+      m.parent_com_to_joint[i].setZero();
+      if (parent != kBase) {
+        const Vec3 on_parent =
+            f.on_parent >= 0 ? vec3(p, f.on_parent) : Vec3(0.0, 0.0, -0.5 * link_length(d, p, parent));
+        require_finite(who, "on_parent", on_parent);
+        m.parent_com_to_joint[i] = on_parent;
+      }
+      const Mat3 stiffness = mat3(p, f.stiffness), damping = mat3(p, f.damping);
+      require_psd(who, "stiffness", stiffness);
+      require_psd(who, "damping", damping);
+      JointSpring& s = m.spring[i];
+      s.stiffness = 0.5 * (stiffness + stiffness.transpose());
+      s.damping = 0.5 * (damping + damping.transpose());
+      s.reference = f.reference;
+      s.law = f.law;
+      m.has_spring[i] = !s.stiffness.isZero(0.0) || !s.damping.isZero(0.0);
+    } catch (const ModelError& e) {
+      throw ModelError(e.what(), tree.body_name[i]);
     }
-    const Mat3 stiffness = mat3(p, f.stiffness), damping = mat3(p, f.damping);
-    require_psd(who, "stiffness", stiffness);
-    require_psd(who, "damping", damping);
-    JointSpring& s = m.spring[i];
-    s.stiffness = 0.5 * (stiffness + stiffness.transpose());
-    s.damping = 0.5 * (damping + damping.transpose());
-    s.reference = f.reference;
-    s.law = f.law;
-    m.has_spring[i] = !s.stiffness.isZero(0.0) || !s.damping.isZero(0.0);
-  } catch (const ModelError& e) {
-    throw ModelError(e.what(), tree.body_name[i]);
-  }
 }
 
 BaseMotion derive_base(const BaseForm& f, std::span<const double> p) {
@@ -179,8 +176,7 @@ void derive_loads(const ModelDefinition& d, std::span<const double> p, Model& m)
   m.has_point_forces = !d.forces.empty();
   for (std::size_t k = 0; k < d.forces.size(); ++k) {
     const LoadForm& f = d.forces[k];
-    const std::string who =
-        "force " + std::to_string(k + 1) + " on body '" + tree.body_name[f.body] + "'";
+    const std::string who = "force " + std::to_string(k + 1) + " on body '" + tree.body_name[f.body] + "'";
     BodyPointForce load{vec3(p, f.point), vec3(p, f.vector)};
     require_finite(who, "point", load.point);
     require_finite(who, "force", load.force);
@@ -189,8 +185,7 @@ void derive_loads(const ModelDefinition& d, std::span<const double> p, Model& m)
   for (std::size_t k = 0; k < d.moments.size(); ++k) {
     const LoadForm& f = d.moments[k];
     const Vec3 moment = vec3(p, f.vector);
-    require_finite("moment " + std::to_string(k + 1) + " on body '" + tree.body_name[f.body] + "'",
-                   "moment", moment);
+    require_finite("moment " + std::to_string(k + 1) + " on body '" + tree.body_name[f.body] + "'", "moment", moment);
     m.applied_moment[f.body] += moment;
   }
 }
@@ -246,8 +241,8 @@ void compute_constants(Model& m) {
         !m.inertia_about_joint[i].allFinite() || !m.barycentre_to_inboard[i].allFinite())
       throw ModelError("body '" + tree.body_name[i] +
                            "': its mass, inertia or joint points overflow double precision in the mass matrix "
-                           "(mass of the subtree " + format_value(m.subtree_mass[i]) +
-                           " kg); give SI values of a physical size",
+                           "(mass of the subtree " +
+                           format_value(m.subtree_mass[i]) + " kg); give SI values of a physical size",
                        tree.body_name[i]);
 }
 
@@ -276,9 +271,7 @@ void derive_model(const ModelDefinition& d, std::span<const double> p, Model& m)
   compute_constants(m);
 }
 
-double solid_volume(const ModelDefinition& d, int body, std::span<const double> p) {
-  return volume(d.body[body], p);
-}
+double solid_volume(const ModelDefinition& d, int body, std::span<const double> p) { return volume(d.body[body], p); }
 
 Model build_model(const ModelSpec& spec) {
   const ModelDefinition definition = define_model(spec);

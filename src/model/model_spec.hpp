@@ -30,13 +30,13 @@ inline constexpr NameTable<Solid, 3> kSolidNames{
 
 struct BodySpec {
   std::string name;
-  double mass = 0.0;                  // kg; unused for a solid given by its density
-  Mat3 inertia = Mat3::Identity();    // central inertia, body frame, kg m^2 (Solid::none only)
+  double mass = 0.0;                // kg; unused for a solid given by its density
+  Mat3 inertia = Mat3::Identity();  // central inertia, body frame, kg m^2 (Solid::none only)
   Solid solid = Solid::none;
-  Vec3 size = Vec3::Zero();           // box edges, m
-  double radius = 0.0;                // cylinder, sphere, m
-  double length = 0.0;                // cylinder, m
-  std::optional<double> density;      // kg/m^3: a solid given by density instead of mass
+  Vec3 size = Vec3::Zero();       // box edges, m
+  double radius = 0.0;            // cylinder, sphere, m
+  double length = 0.0;            // cylinder, m
+  std::optional<double> density;  // kg/m^3: a solid given by density instead of mass
 };
 
 // A body with an explicit mass and central inertia.
@@ -75,19 +75,19 @@ inline std::string_view name(SpringLaw law) { return name_in(kSpringLawNames, la
 // damper moment is -C w_rel, w_rel the relative angular velocity in the
 // child's frame.
 struct JointSpring {
-  Mat3 stiffness = Mat3::Zero();        // N m / rad, symmetric positive semi-definite, child frame
-  Mat3 damping = Mat3::Zero();          // N m s / rad, symmetric positive semi-definite, child frame
-  Quat reference = Quat::Identity();    // unloaded orientation of child relative to parent
+  Mat3 stiffness = Mat3::Zero();      // N m / rad, symmetric positive semi-definite, child frame
+  Mat3 damping = Mat3::Zero();        // N m s / rad, symmetric positive semi-definite, child frame
+  Quat reference = Quat::Identity();  // unloaded orientation of child relative to parent
   SpringLaw law = SpringLaw::quaternion;
 };
 
 struct JointSpec {
-  std::string name;                   // optional; defaults to "<parent>-<child>"
-  std::string parent;                 // a body name, or kBaseName
-  std::string child;                  // a body name
-  Vec3 on_parent = Vec3::Zero();      // joint point from the parent's CoM, parent frame
-                                      // (for the base joint: r0 is the point itself; ignored)
-  Vec3 on_child = Vec3::Zero();       // joint point from the child's CoM, child frame
+  std::string name;               // optional; defaults to "<parent>-<child>"
+  std::string parent;             // a body name, or kBaseName
+  std::string child;              // a body name
+  Vec3 on_parent = Vec3::Zero();  // joint point from the parent's CoM, parent frame
+                                  // (for the base joint: r0 is the point itself; ignored)
+  Vec3 on_child = Vec3::Zero();   // joint point from the child's CoM, child frame
   // Chain links: the joint sits at the ends of cylinders and moves with their
   // lengths, on_child = (0, 0, +L_child / 2), on_parent = (0, 0, -L_parent / 2);
   // on_child / on_parent above are then unused.
@@ -112,8 +112,8 @@ struct BodyMoment {
 
 struct ModelSpec {
   std::vector<BodySpec> bodies;
-  std::vector<JointSpec> joints;          // one per body: joint a connects child a to its parent
-  Vec3 gravity{0.0, 0.0, -9.81};          // m/s^2
+  std::vector<JointSpec> joints;  // one per body: joint a connects child a to its parent
+  Vec3 gravity{0.0, 0.0, -9.81};  // m/s^2
   BaseMotionSpec base_motion = FixedBase{};
   std::vector<PointForce> forces;
   std::vector<BodyMoment> moments;

@@ -1,9 +1,8 @@
 #include "model/parameters.hpp"
 
-#include <sstream>
-
 #include <algorithm>
 #include <array>
+#include <sstream>
 #include <stdexcept>
 
 namespace treedyn {
@@ -24,8 +23,7 @@ int Parameter::size() const {
 
 std::string_view component_name(ParameterShape shape, int component) {
   static constexpr std::array<std::string_view, 3> kAxes{"x", "y", "z"};
-  static constexpr std::array<std::string_view, 9> kEntries{"xx", "xy", "xz", "yx", "yy",
-                                                            "yz", "zx", "zy", "zz"};
+  static constexpr std::array<std::string_view, 9> kEntries{"xx", "xy", "xz", "yx", "yy", "yz", "zx", "zy", "zz"};
   switch (shape) {
     case ParameterShape::scalar:
       return "";
@@ -46,10 +44,9 @@ std::string ValidRange::describe(const std::string& unit) const {
   return s.str();
 }
 
-int ParameterTable::add(std::string name, std::string unit, ParameterShape shape,
-                        std::string enters, std::span<const double> nominal, ValidRange valid) {
-  Parameter p{std::move(name), std::move(unit), std::move(enters), shape,
-              static_cast<int>(nominal_.size()), valid};
+int ParameterTable::add(std::string name, std::string unit, ParameterShape shape, std::string enters,
+                        std::span<const double> nominal, ValidRange valid) {
+  Parameter p{std::move(name), std::move(unit), std::move(enters), shape, static_cast<int>(nominal_.size()), valid};
   if (shape == ParameterShape::list) p.length = static_cast<int>(nominal.size());
   if (static_cast<int>(nominal.size()) != p.size())
     throw std::logic_error("parameter " + p.name + ": wrong number of nominal entries");

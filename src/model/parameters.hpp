@@ -36,13 +36,13 @@ struct ValidRange {
 };
 
 struct Parameter {
-  std::string name;     // e.g. "body.rod.mass"
-  std::string unit;     // SI: "kg", "m", "rad", "N m/rad", "1", ...
-  std::string enters;   // where it enters the model, for people
+  std::string name;    // e.g. "body.rod.mass"
+  std::string unit;    // SI: "kg", "m", "rad", "N m/rad", "1", ...
+  std::string enters;  // where it enters the model, for people
   ParameterShape shape = ParameterShape::scalar;
-  int offset = 0;       // first entry in the vector
-  ValidRange valid;     // of each entry (matrices: of each eigenvalue)
-  int length = 0;       // entries of a list
+  int offset = 0;    // first entry in the vector
+  ValidRange valid;  // of each entry (matrices: of each eigenvalue)
+  int length = 0;    // entries of a list
   int size() const;
 };
 
@@ -51,8 +51,8 @@ class ParameterTable {
   // Appends a parameter with its nominal entries (1, 3 or 9, as the shape
   // says; a list takes as many as it is given); returns its offset. Names
   // must be unique.
-  int add(std::string name, std::string unit, ParameterShape shape, std::string enters,
-          std::span<const double> nominal, ValidRange valid = ValidRange::any());
+  int add(std::string name, std::string unit, ParameterShape shape, std::string enters, std::span<const double> nominal,
+          ValidRange valid = ValidRange::any());
 
   const std::vector<Parameter>& parameters() const { return parameters_; }
   const Parameter* find(std::string_view name) const;

@@ -50,8 +50,8 @@ double interpolate(const std::vector<double>& xs, const std::vector<double>& ys,
 double table_integral(const SeaStateAxis& a) {
   double m0 = 0.0;
   for (std::size_t i = 1; i < a.table_frequencies.size(); ++i)
-    m0 += 0.5 * (a.table_densities[i] + a.table_densities[i - 1]) *
-          (a.table_frequencies[i] - a.table_frequencies[i - 1]);
+    m0 +=
+        0.5 * (a.table_densities[i] + a.table_densities[i - 1]) * (a.table_frequencies[i] - a.table_frequencies[i - 1]);
   return m0;
 }
 
@@ -80,9 +80,7 @@ double density(const SeaStateAxis& a, double f, double norm) {
   return m0 * a.peak_period * pm_shape(x) * peak_factor(effective_gamma(a), x) / norm;
 }
 
-double bin_width(const SeaStateAxis& a) {
-  return (a.max_frequency - a.min_frequency) / std::max(1, a.components());
-}
+double bin_width(const SeaStateAxis& a) { return (a.max_frequency - a.min_frequency) / std::max(1, a.components()); }
 
 [[noreturn]] void refuse(const std::string& axis_name, const std::string& what) {
   throw ModelError("base motion 'sea_state', axis " + axis_name + ": " + what, kBaseName);
@@ -128,7 +126,8 @@ void validate_parametric(const SeaStateAxis& a, const std::string& axis_name) {
   if (!(std::isfinite(a.peak_period) && a.peak_period > 0.0))
     refuse(axis_name, "peak_period = " + format_number(a.peak_period) + " s; it must be finite and > 0");
   if (!(std::isfinite(a.gamma) && a.gamma >= 1.0 && a.gamma <= 20.0))
-    refuse(axis_name, "gamma = " + format_number(a.gamma) + "; the peak enhancement must be from 1 (Pierson-Moskowitz) to 20");
+    refuse(axis_name,
+           "gamma = " + format_number(a.gamma) + "; the peak enhancement must be from 1 (Pierson-Moskowitz) to 20");
 }
 
 }  // namespace
@@ -176,9 +175,8 @@ SeaStateSummary summarize(const SeaStateAxis& a) {
   no_rao.rao = {};
   for (const SeaComponent& c : components(no_rao)) s.m0_components += 0.5 * c.amplitude * c.amplitude;
   for (const SeaComponent& c : components(a)) s.base_variance += 0.5 * c.amplitude * c.amplitude;
-  s.m0_spectrum = a.spectrum == WaveSpectrum::tabulated
-                      ? table_integral(a)
-                      : a.significant_height * a.significant_height / 16.0;
+  s.m0_spectrum =
+      a.spectrum == WaveSpectrum::tabulated ? table_integral(a) : a.significant_height * a.significant_height / 16.0;
   return s;
 }
 

@@ -32,12 +32,12 @@ struct ResponseAmplitudeOperator {
 
 struct SeaStateAxis {
   WaveSpectrum spectrum = WaveSpectrum::jonswap;
-  double significant_height = 0.0;  // Hs, m (jonswap, pierson_moskowitz)
-  double peak_period = 0.0;         // Tp, s (jonswap, pierson_moskowitz)
-  double gamma = 3.3;               // peak enhancement, 1 (jonswap; pierson_moskowitz is 1)
+  double significant_height = 0.0;                         // Hs, m (jonswap, pierson_moskowitz)
+  double peak_period = 0.0;                                // Tp, s (jonswap, pierson_moskowitz)
+  double gamma = 3.3;                                      // peak enhancement, 1 (jonswap; pierson_moskowitz is 1)
   std::vector<double> table_frequencies, table_densities;  // tabulated: Hz, m^2/Hz (one-sided)
   double min_frequency = 0.0, max_frequency = 0.0;         // Hz, the band of the components
-  std::vector<double> phases;                               // phi_k, rad; one per component
+  std::vector<double> phases;                              // phi_k, rad; one per component
   ResponseAmplitudeOperator rao;
   // -1: this axis has waves of its own. 0, 1, 2: it moves with the waves of
   // that axis (the same spectrum, Hs, Tp and phases, so the two motions are
@@ -51,7 +51,7 @@ struct SeaStateAxis {
 void share_waves(std::array<std::optional<SeaStateAxis>, 3>& axes);
 
 struct SeaStateBase {
-  Vec3 offset = Vec3::Zero();                     // m, mean position of the base point
+  Vec3 offset = Vec3::Zero();                       // m, mean position of the base point
   std::array<std::optional<SeaStateAxis>, 3> axes;  // x, y, z; an absent axis does not move
 };
 

@@ -12,8 +12,7 @@ std::string quoted(const std::string& s) { return "'" + s + "'"; }
 
 std::string joint_label(const JointSpec& j, std::size_t index) {
   if (!j.name.empty()) return "joint " + quoted(j.name);
-  return "joint " + std::to_string(index + 1) + " (" + quoted(j.parent) + " -> " +
-         quoted(j.child) + ")";
+  return "joint " + std::to_string(index + 1) + " (" + quoted(j.parent) + " -> " + quoted(j.child) + ")";
 }
 
 // Body names to their user index; names must be unique and not "base".

@@ -1,6 +1,7 @@
 #include "model/validate.hpp"
 
 #include <Eigen/Eigenvalues>
+
 #include <cmath>
 #include <sstream>
 
@@ -23,8 +24,7 @@ bool is_symmetric(const Mat3& m) {
 }  // namespace
 
 void require_finite(const std::string& who, const std::string& field, const Vec3& v) {
-  if (!v.allFinite())
-    throw ModelError(who + ": " + field + " " + format(v) + " must be finite (no NaN or infinity)");
+  if (!v.allFinite()) throw ModelError(who + ": " + field + " " + format(v) + " must be finite (no NaN or infinity)");
 }
 
 void require_positive_mass(const std::string& who, double mass) {
@@ -35,8 +35,7 @@ void require_positive_mass(const std::string& who, double mass) {
   }
 }
 
-void require_positive(const std::string& who, const std::string& field, const std::string& unit,
-                      double value) {
+void require_positive(const std::string& who, const std::string& field, const std::string& unit, double value) {
   if (!std::isfinite(value) || !(value > 0.0)) {
     std::ostringstream s;
     s << who << ": " << field << " " << value << (unit == "1" ? "" : " " + unit)
@@ -46,12 +45,9 @@ void require_positive(const std::string& who, const std::string& field, const st
 }
 
 void require_valid_inertia(const std::string& who, const Mat3& inertia) {
-  if (!inertia.allFinite())
-    throw ModelError(who + ": inertia has a NaN or infinite entry; all entries must be finite");
-  if (!is_symmetric(inertia))
-    throw ModelError(who + ": inertia tensor is not symmetric; it must equal its transpose");
-  const Vec3 moments = Eigen::SelfAdjointEigenSolver<Mat3>(inertia, Eigen::EigenvaluesOnly)
-                           .eigenvalues();  // ascending
+  if (!inertia.allFinite()) throw ModelError(who + ": inertia has a NaN or infinite entry; all entries must be finite");
+  if (!is_symmetric(inertia)) throw ModelError(who + ": inertia tensor is not symmetric; it must equal its transpose");
+  const Vec3 moments = Eigen::SelfAdjointEigenSolver<Mat3>(inertia, Eigen::EigenvaluesOnly).eigenvalues();  // ascending
   if (!(moments[0] > 0.0)) {
     std::ostringstream s;
     s << who << ": inertia tensor is not positive definite (principal moments " << format(moments)
@@ -67,15 +63,12 @@ void require_valid_inertia(const std::string& who, const Mat3& inertia) {
 }
 
 void require_psd(const std::string& who, const std::string& field, const Mat3& m) {
-  if (!m.allFinite())
-    throw ModelError(who + ": " + field + " has a NaN or infinite entry; all entries must be finite");
-  if (!is_symmetric(m))
-    throw ModelError(who + ": " + field + " is not symmetric; it must equal its transpose");
+  if (!m.allFinite()) throw ModelError(who + ": " + field + " has a NaN or infinite entry; all entries must be finite");
+  if (!is_symmetric(m)) throw ModelError(who + ": " + field + " is not symmetric; it must equal its transpose");
   const Vec3 ev = Eigen::SelfAdjointEigenSolver<Mat3>(m, Eigen::EigenvaluesOnly).eigenvalues();
   if (ev[0] < -1e-12 * std::max(1.0, ev[2])) {
     std::ostringstream s;
-    s << who << ": " << field << " has a negative eigenvalue " << ev[0]
-      << "; it must be positive semi-definite";
+    s << who << ": " << field << " has a negative eigenvalue " << ev[0] << "; it must be positive semi-definite";
     throw ModelError(s.str());
   }
 }

@@ -5,8 +5,7 @@ namespace treedyn {
 std::vector<std::string> final_state_columns(const Topology& tree) {
   std::vector<std::string> out;
   for (int u = 0; u < tree.n; ++u)
-    for (const char* s : {"q0", "q1", "q2", "q3", "wx", "wy", "wz"})
-      out.push_back(tree.user_body_name(u) + "." + s);
+    for (const char* s : {"q0", "q1", "q2", "q3", "wx", "wy", "wz"}) out.push_back(tree.user_body_name(u) + "." + s);
   return out;
 }
 

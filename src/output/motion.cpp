@@ -9,10 +9,14 @@ namespace {
 // Box edges, cylinder (r, r, length), sphere (r, r, r) from the nominal parameters.
 Vec3 nominal_dimensions(const BodyForm& form, std::span<const double> p) {
   switch (form.solid) {
-    case Solid::box: return {p[form.size], p[form.size + 1], p[form.size + 2]};
-    case Solid::cylinder: return {p[form.radius], p[form.radius], p[form.length]};
-    case Solid::sphere: return {p[form.radius], p[form.radius], p[form.radius]};
-    case Solid::none: break;
+    case Solid::box:
+      return {p[form.size], p[form.size + 1], p[form.size + 2]};
+    case Solid::cylinder:
+      return {p[form.radius], p[form.radius], p[form.length]};
+    case Solid::sphere:
+      return {p[form.radius], p[form.radius], p[form.radius]};
+    case Solid::none:
+      break;
   }
   return Vec3::Zero();
 }

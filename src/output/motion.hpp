@@ -18,10 +18,10 @@ namespace treedyn {
 // The bodies in the user's order.
 struct MotionScene {
   std::vector<std::string> body;
-  std::vector<long long> parent;                  // user index of the parent; -1: the base
-  std::vector<std::string> shape;                 // box, cylinder, sphere, none
-  std::vector<double> dimensions;                 // n x 3: box edges; cylinder (r, r, length); sphere (r, r, r)
-  std::vector<double> com_to_joint;               // n x 3: c_ii, CoM to inboard joint, body frame
+  std::vector<long long> parent;                   // user index of the parent; -1: the base
+  std::vector<std::string> shape;                  // box, cylinder, sphere, none
+  std::vector<double> dimensions;                  // n x 3: box edges; cylinder (r, r, length); sphere (r, r, r)
+  std::vector<double> com_to_joint;                // n x 3: c_ii, CoM to inboard joint, body frame
   std::vector<std::array<long long, 2>> segments;  // the stick figure, into the points (below)
 };
 

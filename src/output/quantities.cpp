@@ -40,7 +40,9 @@ constexpr std::array<QuantityInfo, 17> kCatalogue{{
     {"orientation", "1",
      "orientation of each body as a unit quaternion (q0 scalar first, q0 >= 0), rotating "
      "body-frame components into the inertial frame",
-     [](const Model& m, const OutputSpec&) { return per_body(m, {"q0", "q1", "q2", "q3"}); },
+     [](const Model& m, const OutputSpec&) {
+       return per_body(m, {"q0", "q1", "q2", "q3"});
+     },
      [](const Recovered& s, const OutputSpec&, double* out) {
        for (const Mat3& A : s.rotation) {
          const Quat q = canonical_quaternion(A);
@@ -49,22 +51,23 @@ constexpr std::array<QuantityInfo, 17> kCatalogue{{
        }
        return out;
      }},
-    {"angular_velocity", "rad/s", "absolute angular velocity of each body, inertial-frame components",
-     body_xyz, body_vectors<&Recovered::angular_velocity>},
-    {"angular_acceleration", "rad/s^2",
-     "absolute angular acceleration of each body, inertial-frame components", body_xyz,
-     body_vectors<&Recovered::angular_acceleration>, kRecoverAccelerations},
+    {"angular_velocity", "rad/s", "absolute angular velocity of each body, inertial-frame components", body_xyz,
+     body_vectors<&Recovered::angular_velocity>},
+    {"angular_acceleration", "rad/s^2", "absolute angular acceleration of each body, inertial-frame components",
+     body_xyz, body_vectors<&Recovered::angular_acceleration>, kRecoverAccelerations},
     {"com_position", "m", "position of each body's centre of mass, inertial frame", body_xyz,
      body_vectors<&Recovered::com_position>},
     {"com_velocity", "m/s", "velocity of each body's centre of mass, inertial frame", body_xyz,
      body_vectors<&Recovered::com_velocity>},
-    {"com_acceleration", "m/s^2", "acceleration of each body's centre of mass, inertial frame",
-     body_xyz, body_vectors<&Recovered::com_acceleration>, kRecoverAccelerations},
+    {"com_acceleration", "m/s^2", "acceleration of each body's centre of mass, inertial frame", body_xyz,
+     body_vectors<&Recovered::com_acceleration>, kRecoverAccelerations},
     {"com_offset", "m",
      "each body's centre of mass from the base point, r_i - r0, inertial frame, and its horizontal length "
      "sqrt(x^2 + y^2) (horizontal for gravity along z): how far a payload swings out from the point it "
      "hangs from",
-     [](const Model& m, const OutputSpec&) { return per_body(m, {"x", "y", "z", "horizontal"}); },
+     [](const Model& m, const OutputSpec&) {
+       return per_body(m, {"x", "y", "z", "horizontal"});
+     },
      [](const Recovered& s, const OutputSpec&, double* out) {
        for (const Vec3& r : s.com_position) {
          const Vec3 d = r - s.base.position;
@@ -100,10 +103,9 @@ constexpr std::array<QuantityInfo, 17> kCatalogue{{
      "unit axis of each joint's relative rotation (see joint_angle), parent-frame components; "
      "zero when the angle is zero",
      body_xyz, body_vectors<&Recovered::joint_axis>, kRecoverJointAngles},
-    {"joint_moment", "N m", "spring-damper moment of each joint on its child body, inertial frame",
-     body_xyz, body_vectors<&Recovered::joint_moment>},
-    {"energy", "J",
-     "kinetic, potential (gravity and constant point forces), joint-spring and total energy",
+    {"joint_moment", "N m", "spring-damper moment of each joint on its child body, inertial frame", body_xyz,
+     body_vectors<&Recovered::joint_moment>},
+    {"energy", "J", "kinetic, potential (gravity and constant point forces), joint-spring and total energy",
      [](const Model&, const OutputSpec&) {
        return std::vector<std::string>{"kinetic", "potential", "spring", "total"};
      },
@@ -115,22 +117,21 @@ constexpr std::array<QuantityInfo, 17> kCatalogue{{
        return out + 4;
      },
      kRecoverEnergy},
-    {"angular_momentum", "kg m^2/s",
-     "angular momentum of the whole tree about the base point, inertial frame",
-     [](const Model&, const OutputSpec&) { return std::vector<std::string>{"x", "y", "z"}; },
+    {"angular_momentum", "kg m^2/s", "angular momentum of the whole tree about the base point, inertial frame",
+     [](const Model&, const OutputSpec&) {
+       return std::vector<std::string>{"x", "y", "z"};
+     },
      [](const Recovered& s, const OutputSpec&, double* out) { return put(out, s.angular_momentum_about_base); },
      kRecoverAngularMomentum},
     {"base", "m, m/s, m/s^2", "base point position, velocity and acceleration r0, r0', r0''",
      [](const Model&, const OutputSpec&) {
-       return std::vector<std::string>{"position.x",     "position.y",     "position.z",
-                                       "velocity.x",     "velocity.y",     "velocity.z",
-                                       "acceleration.x", "acceleration.y", "acceleration.z"};
+       return std::vector<std::string>{"position.x", "position.y",     "position.z",     "velocity.x",    "velocity.y",
+                                       "velocity.z", "acceleration.x", "acceleration.y", "acceleration.z"};
      },
      [](const Recovered& s, const OutputSpec&, double* out) {
        return put(put(put(out, s.base.position), s.base.velocity), s.base.acceleration);
      }},
-    {"point_position", "m",
-     "position of each requested body point ([[output.point]]), inertial frame",
+    {"point_position", "m", "position of each requested body point ([[output.point]]), inertial frame",
      [](const Model&, const OutputSpec& output) {
        std::vector<std::string> out;
        for (const OutputPoint& p : output.points)

@@ -37,10 +37,10 @@ const QuantityInfo* find_quantity(std::string_view name);
 // The flat columns of the recorded quantities (output.quantities, in order):
 // one row per output time holds every column of every quantity.
 struct ColumnLayout {
-  std::vector<std::string> quantity;           // names, in order
-  std::vector<const QuantityInfo*> info;       // their catalogue entries
-  std::vector<std::size_t> offset;             // first column of each quantity
-  std::vector<std::vector<std::string>> names; // column labels of each quantity
+  std::vector<std::string> quantity;            // names, in order
+  std::vector<const QuantityInfo*> info;        // their catalogue entries
+  std::vector<std::size_t> offset;              // first column of each quantity
+  std::vector<std::vector<std::string>> names;  // column labels of each quantity
   std::size_t columns = 0;
   unsigned needs = 0;  // the quantities' RecoveredPart flags, together
 };

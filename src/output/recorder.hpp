@@ -55,7 +55,7 @@ class Recorder {
   [[noreturn, gnu::cold, gnu::noinline]] void wrong_model(const Model& model) const;
 
   ColumnLayout layout_;
-  int bodies_;  // of the model the columns were named for
+  int bodies_;      // of the model the columns were named for
   unsigned parts_;  // RecoveredPart flags recover() computes
   std::vector<double> times_, values_;
   Recovered state_;  // reused at every output time

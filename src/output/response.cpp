@@ -26,7 +26,7 @@ void keep_extremes(const double* row, std::size_t c, const T& at, ReductionScrat
   std::memcpy(&hi, s.value[1].data() + c, sizeof v);
   std::memcpy(&lo_at, s.row[0].data() + c, sizeof v);
   std::memcpy(&hi_at, s.row[1].data() + c, sizeof v);
-  const auto below = v < lo, above = v > hi;
+  const auto below = v<lo, above = v> hi;
   lo = below ? v : lo;
   lo_at = below ? at : lo_at;
   hi = above ? v : hi;
@@ -58,15 +58,14 @@ void first_extremes(std::span<const double> trajectory, std::size_t times, std::
 
 }  // namespace
 
-void reduce_columns(std::span<const double> trajectory, std::span<const double> times,
-                    std::size_t columns, std::span<const Reduction> which, std::vector<double>& out) {
+void reduce_columns(std::span<const double> trajectory, std::span<const double> times, std::size_t columns,
+                    std::span<const Reduction> which, std::vector<double>& out) {
   ReductionScratch scratch;
   reduce_columns(trajectory, times, columns, which, out, scratch);
 }
 
-void reduce_columns(std::span<const double> trajectory, std::span<const double> times,
-                    std::size_t columns, std::span<const Reduction> which, std::vector<double>& out,
-                    ReductionScratch& scratch) {
+void reduce_columns(std::span<const double> trajectory, std::span<const double> times, std::size_t columns,
+                    std::span<const Reduction> which, std::vector<double>& out, ReductionScratch& scratch) {
   const std::size_t T = times.size();
   bool searched = false;  // minima and maxima: one pass finds both
   for (Reduction r : which) {

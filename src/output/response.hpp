@@ -27,8 +27,8 @@ inline std::string_view name(Reduction r) { return name_in(kReductionNames, r); 
 // Appends, for each reduction in `which` (in that order), one value per
 // column of a times x columns trajectory (row-major). The time of a minimum
 // or maximum is the first output time it is reached.
-void reduce_columns(std::span<const double> trajectory, std::span<const double> times,
-                    std::size_t columns, std::span<const Reduction> which, std::vector<double>& out);
+void reduce_columns(std::span<const double> trajectory, std::span<const double> times, std::size_t columns,
+                    std::span<const Reduction> which, std::vector<double>& out);
 
 // What reduce_columns works in: kept by a caller that reduces every sample,
 // so that a sample allocates nothing once the first has sized it.
@@ -38,9 +38,8 @@ struct ReductionScratch {
   // selects values and rows with the same mask).
   std::vector<double> value[2], row[2];
 };
-void reduce_columns(std::span<const double> trajectory, std::span<const double> times,
-                    std::size_t columns, std::span<const Reduction> which, std::vector<double>& out,
-                    ReductionScratch& scratch);
+void reduce_columns(std::span<const double> trajectory, std::span<const double> times, std::size_t columns,
+                    std::span<const Reduction> which, std::vector<double>& out, ReductionScratch& scratch);
 
 struct Response {
   enum class Reduce { final, min, max, mean, rms, at_time, first_time_above, first_time_below };
@@ -51,8 +50,8 @@ struct Response {
   std::size_t column_index = 0;  // in the flat row of recorded columns
   std::string units;             // of the value: the column's, or "s" for the first_time_*
   Reduce reduce = Reduce::max;
-  double time = 0.0;             // at_time
-  double threshold = 0.0;        // first_time_above / first_time_below
+  double time = 0.0;       // at_time
+  double threshold = 0.0;  // first_time_above / first_time_below
   FailIf fail_if = FailIf::none;
   double limit = 0.0;
 
@@ -83,7 +82,7 @@ inline std::string_view name(Response::Reduce r) { return name_in(kResponseReduc
 //   first_time_above/below  the first time the column is above / below `threshold`:
 //                         linear interpolation inside the output step where it first
 //                         crosses, the first output time if it starts beyond, +inf if never.
-double evaluate(const Response& response, std::span<const double> trajectory,
-                std::span<const double> times, std::size_t columns);
+double evaluate(const Response& response, std::span<const double> trajectory, std::span<const double> times,
+                std::size_t columns);
 
 }  // namespace treedyn::ensemble

@@ -22,14 +22,14 @@ enum class SampleStatus : std::int32_t {
 struct SampleRecord {
   std::uint64_t index = 0;
   SampleStatus status = SampleStatus::ok;
-  std::string reason;                // empty when ok
+  std::string reason;  // empty when ok
   double time_reached = 0.0;
   IntegratorStats stats;
-  std::vector<double> inputs;        // the sampled input values, SI
-  std::vector<double> reductions;    // per spec.per_sample reduction, one per column (NaN when failed)
-  std::vector<double> responses;     // per spec.responses (NaN when failed)
-  std::vector<double> final_state;   // output/final_state.hpp; NaN when failed
-  std::vector<double> trajectory;    // times x columns, only for samples < store_trajectories
+  std::vector<double> inputs;       // the sampled input values, SI
+  std::vector<double> reductions;   // per spec.per_sample reduction, one per column (NaN when failed)
+  std::vector<double> responses;    // per spec.responses (NaN when failed)
+  std::vector<double> final_state;  // output/final_state.hpp; NaN when failed
+  std::vector<double> trajectory;   // times x columns, only for samples < store_trajectories
 };
 
 }  // namespace treedyn::ensemble

@@ -114,7 +114,8 @@ std::vector<SampleRecord> load_part(const fs::path& dir, const std::string& stem
 // (which the whole directory is, and its message says so).
 bool damage(const CheckpointError& e) {
   const std::string what = e.what();
-  return what.find(" belongs to another job file") == std::string::npos && what.find(" another build ") == std::string::npos;
+  return what.find(" belongs to another job file") == std::string::npos &&
+         what.find(" another build ") == std::string::npos;
 }
 
 // A damaged or half-missing part (its state or its records): refused with
@@ -124,10 +125,10 @@ std::vector<SampleRecord> load_part_or_advise(const fs::path& dir, const std::st
                                               const RecordShape& shape, EnsembleStatistics& total) {
   const fs::path state = state_path(dir, stem), records = records_path(dir, stem);
   const std::string advice =
-      fs::exists(records) ? "; remove `" + state.string() + "` and `" + records.string() +
-                                "` together: the samples they hold run again, the rest of the checkpoint is kept"
-                          : "; remove `" + state.string() +
-                                "`: the samples it counts run again, the rest of the checkpoint is kept";
+      fs::exists(records)
+          ? "; remove `" + state.string() + "` and `" + records.string() +
+                "` together: the samples they hold run again, the rest of the checkpoint is kept"
+          : "; remove `" + state.string() + "`: the samples it counts run again, the rest of the checkpoint is kept";
   try {
     return load_part(dir, stem, id, shape, total);
   } catch (const CheckpointError& e) {
@@ -164,7 +165,8 @@ std::pair<std::uint64_t, std::vector<std::string>> newest_generation(const fs::p
   const std::vector<std::string> all = state_stems(dir);
   for (const std::string& stem : all)
     generation = std::max<std::uint64_t>(
-        generation, static_cast<std::uint64_t>(std::max({0LL, generation_of(stem, "base-"), generation_of(stem, "part-")})));
+        generation,
+        static_cast<std::uint64_t>(std::max({0LL, generation_of(stem, "base-"), generation_of(stem, "part-")})));
   if (generation > 0 && !fs::exists(state_path(dir, base_stem(generation)))) {
     std::vector<std::string> stems;
     for (const std::string& stem : all)
@@ -185,7 +187,8 @@ void index_records(RestoredRun& run, const fs::path& dir) {
     const std::uint64_t i = run.records[k].index;
     if (k > 0 && run.records[k - 1].index == i)
       throw CheckpointError("checkpoint " + dir.string() + " is damaged (sample " + std::to_string(i) +
-                            " twice); remove the directory `" + dir.string() + "` to start afresh (nothing in it "
+                            " twice); remove the directory `" + dir.string() +
+                            "` to start afresh (nothing in it "
                             "says which copy to keep)");
     if (!run.finished.empty() && run.finished.back().second == i)
       ++run.finished.back().second;
@@ -235,7 +238,8 @@ void RankCheckpoint::refuse_while_prepared() const {
 }
 
 void RankCheckpoint::refuse_after_failure() const {
-  if (failed_) throw process::FileError(records_file().string() + ": an earlier write failed; this rank checkpoints no more");
+  if (failed_)
+    throw process::FileError(records_file().string() + ": an earlier write failed; this rank checkpoints no more");
 }
 
 // A failed append may leave part of the frame in the file, past every
@@ -288,7 +292,7 @@ void RankCheckpoint::commit(AtomicFile::Sync sync) {
   }
   const std::unique_ptr<StateFileWriter> state = std::move(prepared_);  // a failure removes its temporary
   if (flush && prepared_records_ > flushed_records_)
-    process::flush_file(records_file());  // the spills and unflushed saves, before the state names them
+    process::flush_file(records_file());            // the spills and unflushed saves, before the state names them
   if (flush) flushed_records_ = prepared_records_;  // fsync covers the whole file
   state->commit(sync);
   saved_records_ = prepared_records_;
@@ -347,7 +351,8 @@ std::optional<RestoredRun> load_checkpoint(const fs::path& dir, const RunIdentit
   const auto [generation, stems] = newest_generation(dir);
   run.generation = generation;
   for (const std::string& stem : stems)
-    for (auto& r : load_part_or_advise(dir, stem, id, record_shape, *run.statistics)) run.records.push_back(std::move(r));
+    for (auto& r : load_part_or_advise(dir, stem, id, record_shape, *run.statistics))
+      run.records.push_back(std::move(r));
   index_records(run, dir);
   return run;
 }

@@ -33,8 +33,8 @@
 
 #include "output/sample_record.hpp"
 #include "persistence/state_file.hpp"
-#include "statistics/tolerance_check.hpp"
 #include "statistics/ensemble_statistics.hpp"
+#include "statistics/tolerance_check.hpp"
 
 namespace treedyn::ensemble {
 
@@ -94,11 +94,11 @@ class RankCheckpoint {
   std::vector<char> pending_;  // one frame: the encoded records not yet in the records file
   std::uint64_t pending_records_ = 0;
   std::uint64_t appended_records_ = 0, appended_bytes_ = 0;  // in the records file
-  std::uint64_t saved_records_ = 0;  // of those, covered by the state file
-  std::uint64_t flushed_records_ = 0;  // of those, known to be on the disk (fsync)
+  std::uint64_t saved_records_ = 0;                          // of those, covered by the state file
+  std::uint64_t flushed_records_ = 0;                        // of those, known to be on the disk (fsync)
   bool saved_once_ = false;
-  bool saved_flushed_ = false;  // the last save reached the disk (Sync::yes)
-  bool failed_ = false;  // an append failed: no further write
+  bool saved_flushed_ = false;                 // the last save reached the disk (Sync::yes)
+  bool failed_ = false;                        // an append failed: no further write
   std::unique_ptr<StateFileWriter> prepared_;  // prepare_save()'s state, in its temporary
   std::uint64_t prepared_records_ = 0;         // the records it covers
 };
@@ -108,8 +108,8 @@ class RankCheckpoint {
 struct RecordShape {
   std::uint64_t first = 0, end = 0;  // the sample indices
   std::size_t inputs = 0, reductions = 0, responses = 0, final_state = 0;
-  std::size_t trajectory = 0;        // entries, for samples < stored
-  std::uint64_t stored = 0;          // store_trajectories
+  std::size_t trajectory = 0;  // entries, for samples < stored
+  std::uint64_t stored = 0;    // store_trajectories
   // Records from this index on are not in the statistics (a subset
   // simulation's levels after 0); by default every record is.
   std::uint64_t statistics_end = UINT64_MAX;

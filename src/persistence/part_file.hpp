@@ -9,17 +9,17 @@
 #include <string>
 #include <vector>
 
-#include "statistics/tolerance_check.hpp"
 #include "output/sample_record.hpp"
 #include "persistence/state_file.hpp"
 #include "statistics/ensemble_statistics.hpp"
+#include "statistics/tolerance_check.hpp"
 
 namespace treedyn::ensemble {
 
 struct PartFile {
   RunIdentity id;
   std::string job_text, job_path;
-  std::uint64_t first = 0, end = 0;   // the sample indices it covers, [first, end)
+  std::uint64_t first = 0, end = 0;  // the sample indices it covers, [first, end)
   std::vector<double> nominal;
   Calibration calibration;
   ToleranceCheck tolerance;           // the pilot's, the same in every part

@@ -63,8 +63,8 @@ ByteReader open_state_file(const std::vector<char>& bytes, StateKind kind, const
     if (found) *found = id;
     if (!expected) return in;
     if (id.job_hash != expected->job_hash)
-      throw CheckpointError(what + " belongs to another job file (job text hash " + id.job_hash +
-                            ", this job's is " + expected->job_hash +
+      throw CheckpointError(what + " belongs to another job file (job text hash " + id.job_hash + ", this job's is " +
+                            expected->job_hash +
                             "): resume with the job file it was started with, or remove the checkpoint");
     if (id.build != expected->build)
       throw CheckpointError(what + " was written by another build (" + id.build + "; this is " + expected->build +

@@ -1,7 +1,5 @@
 #include "process/atomic_file.hpp"
 
-#include "process/output_lock.hpp"
-
 #include <fcntl.h>
 #include <signal.h>
 #include <unistd.h>
@@ -12,6 +10,7 @@
 #include <cstring>
 #include <fstream>
 
+#include "process/output_lock.hpp"
 #include "process/signals.hpp"
 
 namespace treedyn::process {
@@ -166,7 +165,8 @@ std::vector<char> read_file_prefix(const fs::path& path, std::uint64_t bytes) {
   // The file's size bounds the buffer, whatever `bytes` a damaged state claims.
   std::vector<char> out(static_cast<std::size_t>(std::min<std::uintmax_t>(bytes, size)));
   in.read(out.data(), static_cast<std::streamsize>(out.size()));
-  if (in.bad() || static_cast<std::size_t>(in.gcount()) != out.size()) throw FileError(path.string() + ": reading failed");
+  if (in.bad() || static_cast<std::size_t>(in.gcount()) != out.size())
+    throw FileError(path.string() + ": reading failed");
   return out;
 }
 

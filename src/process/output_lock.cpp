@@ -111,7 +111,7 @@ OutputLock::OutputLock(const fs::path& output, const std::string& command, Mode 
 bool OutputLock::take_record_lock(const std::string& command) {
   const int fd = ::open(path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
   if (fd < 0) throw FileError(path_.string() + ": cannot make the lock file (" + std::strerror(errno) + ")");
-  struct flock lock{};
+  struct flock lock {};
   lock.l_type = F_WRLCK;
   lock.l_whence = SEEK_SET;
   if (::fcntl(fd, F_SETLK, &lock) != 0) {
@@ -121,7 +121,8 @@ bool OutputLock::take_record_lock(const std::string& command) {
     if (error == EACCES || error == EAGAIN) refuse(path_, read_holder(path_), true);
     throw FileError(path_.string() + ": cannot lock (" + std::strerror(error) + ")");
   }
-  struct stat held{}, named{};
+  struct stat held {
+  }, named{};
   if (::fstat(fd, &held) != 0 || ::stat(path_.c_str(), &named) != 0 || held.st_ino != named.st_ino ||
       held.st_dev != named.st_dev) {
     ::close(fd);
@@ -154,7 +155,8 @@ OutputLock::~OutputLock() {
   if (fd_ < 0) return;
   // Removed while still held, so no other run can have taken it in between;
   // a run that opened the old file before the removal finds it replaced.
-  struct stat held{}, named{};
+  struct stat held {
+  }, named{};
   if (::fstat(fd_, &held) == 0 && ::stat(path_.c_str(), &named) == 0 && held.st_ino == named.st_ino &&
       held.st_dev == named.st_dev)
     ::unlink(path_.c_str());

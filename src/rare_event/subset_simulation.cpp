@@ -80,7 +80,9 @@ Spread next_spread(const LevelStates& states, std::span<const std::uint64_t> see
 }  // namespace
 
 std::uint64_t SubsetSettings::chains() const { return samples / states(); }
-std::uint64_t SubsetSettings::states() const { return static_cast<std::uint64_t>(std::llround(1.0 / level_probability)); }
+std::uint64_t SubsetSettings::states() const {
+  return static_cast<std::uint64_t>(std::llround(1.0 / level_probability));
+}
 
 std::string check(const SubsetSettings& s) {
   if (!(s.level_probability > 0.0 && s.level_probability <= 0.5))
@@ -196,8 +198,7 @@ std::vector<std::uint64_t> seeds_of(const SubsetSettings& s, std::span<const dou
 
 }  // namespace
 
-LevelClose close_level(const SubsetSettings& s, int level, const LevelStates& states, const Spread& used,
-                       unsigned D) {
+LevelClose close_level(const SubsetSettings& s, int level, const LevelStates& states, const Spread& used, unsigned D) {
   const std::uint64_t N = s.samples, Nc = s.chains();
   const std::vector<std::uint64_t> order = descending(states.g);
   const bool piled = piled_up(s, level, states.g, order);
@@ -212,8 +213,8 @@ LevelClose close_level(const SubsetSettings& s, int level, const LevelStates& st
   close.no_threshold = std::isnan(next) || (piled && count_beyond(next) == 0);
   close.last = close.reached_limit || close.no_threshold || level >= s.max_levels;
   LevelSummary& summary = close.summary;
-  summary.failed_runs = level == 0 ? static_cast<std::uint64_t>(std::count_if(
-                                         states.g.begin(), states.g.end(), [](double g) { return std::isnan(g); }))
+  summary.failed_runs = level == 0 ? static_cast<std::uint64_t>(std::count_if(states.g.begin(), states.g.end(),
+                                                                              [](double g) { return std::isnan(g); }))
                                    : states.failed_runs;
   summary.threshold = close.last ? s.limit : next;
   // An intermediate level's probability is p0 by construction (its N p0
@@ -236,8 +237,7 @@ LevelClose close_level(const SubsetSettings& s, int level, const LevelStates& st
   return close;
 }
 
-SubsetResult combine(const SubsetSettings& s, std::vector<LevelSummary> levels, bool reached_limit,
-                     bool no_threshold) {
+SubsetResult combine(const SubsetSettings& s, std::vector<LevelSummary> levels, bool reached_limit, bool no_threshold) {
   SubsetResult r;
   r.reached_limit = reached_limit;
   r.no_threshold = no_threshold;

@@ -88,8 +88,8 @@ Chain run_chain(const SubsetSettings& settings, int level, std::uint64_t chain, 
 // All N states of a level, in index order (level 0: by sample; later: chain
 // by chain, state by state).
 struct LevelStates {
-  std::vector<double> u;  // N x D
-  std::vector<double> g;  // N
+  std::vector<double> u;               // N x D
+  std::vector<double> g;               // N
   std::vector<std::uint8_t> accepted;  // N; level 0: all 0
   std::uint64_t runs = 0;
   std::uint64_t failed_runs = 0;  // later levels: the chains' failed proposals
@@ -101,7 +101,7 @@ struct LevelSummary {
   double gamma = 0.0;                    // the chains' correlation factor (0 at level 0)
   double acceptance_rate = 0.0;          // accepted proposals / proposals (level 0: 1)
   std::uint64_t runs = 0;
-  std::uint64_t failed_runs = 0;         // runs that failed (NaN response): never beyond a threshold
+  std::uint64_t failed_runs = 0;  // runs that failed (NaN response): never beyond a threshold
 };
 
 // What a level's states give: its summary, whether it is the last, and the
@@ -118,8 +118,8 @@ struct Spread {
 struct LevelClose {
   LevelSummary summary;
   bool last = false;
-  bool reached_limit = false;  // the threshold reached b (else max_levels ran out)
-  bool no_threshold = false;  // more than N (1 - p0) runs failed, or the responses pile up: none exists
+  bool reached_limit = false;        // the threshold reached b (else max_levels ran out)
+  bool no_threshold = false;         // more than N (1 - p0) runs failed, or the responses pile up: none exists
   std::vector<std::uint64_t> seeds;  // positions in the level's states
   Spread spread;                     // for the next level's chains
 };
@@ -131,10 +131,10 @@ LevelClose close_level(const SubsetSettings& settings, int level, const LevelSta
                        unsigned dimensions);
 
 struct SubsetResult {
-  double probability = 0.0;  // p0^m N_F / N
-  double cov = 0.0;          // sqrt(sum_j delta_j^2): levels taken as uncorrelated
+  double probability = 0.0;                        // p0^m N_F / N
+  double cov = 0.0;                                // sqrt(sum_j delta_j^2): levels taken as uncorrelated
   double interval_low = 0.0, interval_high = 0.0;  // 95 %: lognormal with that cov
-  bool reached_limit = false;  // false: max_levels ran out before the threshold reached b
+  bool reached_limit = false;                      // false: max_levels ran out before the threshold reached b
   bool no_threshold = false;  // true: a level had no threshold (failed runs, or a pile-up of responses)
   std::uint64_t runs = 0;
   std::vector<LevelSummary> levels;

@@ -1,10 +1,10 @@
 #include "sampling/design.hpp"
 
 #include <Random123/philox.h>
+#include <boost/random/sobol.hpp>
 
 #include <algorithm>
 #include <cmath>
-#include <boost/random/sobol.hpp>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -15,9 +15,7 @@ namespace {
 
 // 52 random bits into (0, 1): (m + 0.5) / 2^52, exactly representable, so
 // never 0 or 1 (with 53 bits the top value would round up to 1).
-double to_open_unit(std::uint64_t bits) {
-  return (static_cast<double>(bits >> 12) + 0.5) * 0x1.0p-52;
-}
+double to_open_unit(std::uint64_t bits) { return (static_cast<double>(bits >> 12) + 0.5) * 0x1.0p-52; }
 
 std::uint64_t mix(std::uint64_t x) {  // SplitMix64 finaliser
   x += 0x9e3779b97f4a7c15ULL;
@@ -52,16 +50,14 @@ std::uint32_t owen_scramble(std::uint32_t x, std::uint32_t seed) {
 
 }  // namespace
 
-double counter_uniform(std::uint64_t seed, std::uint64_t sample, std::uint64_t dimension,
-                       std::uint64_t stream) {
+double counter_uniform(std::uint64_t seed, std::uint64_t sample, std::uint64_t dimension, std::uint64_t stream) {
   r123::Philox4x64 generator;
   const r123::Philox4x64::ctr_type counter = {{sample, dimension, stream, 0}};
   const r123::Philox4x64::key_type key = {{seed, 0x7472656564796eULL}};  // "treedyn"
   return to_open_unit(generator(counter, key)[0]);
 }
 
-std::uint64_t permute_index(std::uint64_t index, std::uint64_t n, std::uint64_t seed,
-                            std::uint64_t stream) {
+std::uint64_t permute_index(std::uint64_t index, std::uint64_t n, std::uint64_t seed, std::uint64_t stream) {
   if (index >= n) throw std::out_of_range("permute_index: index outside [0, n)");
   unsigned bits = 2;
   while ((std::uint64_t{1} << bits) < n) ++bits;
@@ -93,8 +89,8 @@ std::uint32_t sobol_bits(std::uint64_t k, unsigned dimension, unsigned dimension
   return value;
 }
 
-SampleDesign::SampleDesign(Design design, std::uint64_t seed, std::uint64_t samples,
-                           unsigned dimensions, std::vector<unsigned> unit_of_dimension)
+SampleDesign::SampleDesign(Design design, std::uint64_t seed, std::uint64_t samples, unsigned dimensions,
+                           std::vector<unsigned> unit_of_dimension)
     : design_(design),
       seed_(seed),
       samples_(samples),
@@ -117,8 +113,7 @@ SampleDesign::SampleDesign(Design design, std::uint64_t seed, std::uint64_t samp
     throw std::invalid_argument(std::string(name(design)) + " design: at most 2^32 - 1 Sobol points");
 }
 
-void SampleDesign::sobol_point(std::uint64_t index, unsigned total, unsigned first,
-                               std::span<double> u) const {
+void SampleDesign::sobol_point(std::uint64_t index, unsigned total, unsigned first, std::span<double> u) const {
   boost::random::sobol_engine<std::uint32_t, 32> engine(std::max(total, 1u));
   // Point 0 is all zeros; Boost's seed(j) yields point j + 1 (32-bit points).
   if (index > 0) engine.seed(static_cast<std::uint32_t>(index - 1));

@@ -14,10 +14,10 @@
 namespace treedyn::ensemble {
 
 enum class Design {
-  monte_carlo,      // independent uniforms from a counter-based generator (Philox4x64)
-  latin_hypercube,  // every dimension split into N strata, each hit exactly once
-  sobol,            // Sobol points (Joe-Kuo direction numbers), Owen-scrambled by hashing
-  saltelli,         // Saltelli's A, B, AB_i from one scrambled Sobol sequence over 2D dimensions
+  monte_carlo,        // independent uniforms from a counter-based generator (Philox4x64)
+  latin_hypercube,    // every dimension split into N strata, each hit exactly once
+  sobol,              // Sobol points (Joe-Kuo direction numbers), Owen-scrambled by hashing
+  saltelli,           // Saltelli's A, B, AB_i from one scrambled Sobol sequence over 2D dimensions
   subset_simulation,  // level 0 as monte_carlo, then Markov chains towards a limit (rare_event/)
 };
 
@@ -39,12 +39,15 @@ enum class SaltelliRole { a, b, ab };
 struct SaltelliPlace {
   std::uint64_t base = 0;  // j
   SaltelliRole role = SaltelliRole::a;
-  unsigned unit = 0;       // g, for ab
+  unsigned unit = 0;  // g, for ab
 };
 inline std::uint64_t saltelli_block(unsigned units) { return units + 2u; }
 inline SaltelliPlace saltelli_place(std::uint64_t sample, unsigned units) {
   const std::uint64_t block = saltelli_block(units), r = sample % block;
-  return {sample / block, r == 0 ? SaltelliRole::a : r == 1 ? SaltelliRole::b : SaltelliRole::ab,
+  return {sample / block,
+          r == 0   ? SaltelliRole::a
+          : r == 1 ? SaltelliRole::b
+                   : SaltelliRole::ab,
           r >= 2 ? static_cast<unsigned>(r - 2) : 0u};
 }
 // Whether the design's prefixes are nested (sample k does not depend on N):
@@ -83,13 +86,11 @@ class SampleDesign {
 
 // Independent uniform in (0, 1) from Philox4x64 keyed by seed, counter
 // (sample, dimension, stream).
-double counter_uniform(std::uint64_t seed, std::uint64_t sample, std::uint64_t dimension,
-                       std::uint64_t stream);
+double counter_uniform(std::uint64_t seed, std::uint64_t sample, std::uint64_t dimension, std::uint64_t stream);
 
 // A pseudorandom permutation of [0, n) keyed by (seed, stream): a Feistel
 // network on the next power of two with cycle walking. Evaluated pointwise.
-std::uint64_t permute_index(std::uint64_t index, std::uint64_t n, std::uint64_t seed,
-                            std::uint64_t stream);
+std::uint64_t permute_index(std::uint64_t index, std::uint64_t n, std::uint64_t seed, std::uint64_t stream);
 
 // The unscrambled Sobol sequence in Boost's (Joe-Kuo) tables, Gray-code order:
 // point k, dimension d, as a 32-bit fraction numerator (point = value / 2^32).

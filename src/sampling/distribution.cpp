@@ -2,6 +2,7 @@
 
 #include <boost/math/distributions/lognormal.hpp>
 #include <boost/math/distributions/normal.hpp>
+
 #include <sstream>
 
 namespace treedyn::ensemble {

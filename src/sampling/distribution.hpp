@@ -12,12 +12,12 @@ namespace treedyn::ensemble {
 
 struct Distribution {
   enum class Kind { normal, truncated_normal, uniform, lognormal } kind = Kind::normal;
-  double mean = 0.0;    // normal, truncated_normal: of the untruncated normal
-  double std = 1.0;     // normal, truncated_normal: > 0
-  double lower = 0.0;   // truncated_normal, uniform
-  double upper = 1.0;   // truncated_normal, uniform: lower < upper
-  double mu = 0.0;      // lognormal: mean of log(x)
-  double sigma = 1.0;   // lognormal: std of log(x), > 0
+  double mean = 0.0;   // normal, truncated_normal: of the untruncated normal
+  double std = 1.0;    // normal, truncated_normal: > 0
+  double lower = 0.0;  // truncated_normal, uniform
+  double upper = 1.0;  // truncated_normal, uniform: lower < upper
+  double mu = 0.0;     // lognormal: mean of log(x)
+  double sigma = 1.0;  // lognormal: std of log(x), > 0
 
   // x = F^-1(u), u in (0, 1).
   double quantile(double u) const;

@@ -1,6 +1,7 @@
 #include "sampling/invalid_mass.hpp"
 
 #include <Eigen/Eigenvalues>
+
 #include <cmath>
 
 namespace treedyn::ensemble {
@@ -63,10 +64,18 @@ std::optional<InvalidMass> invalid_mass(const Perturbation& p, const ModelDefini
     return m;
   }
   switch (b.kind) {
-    case Bound::Kind::always: m.probability = 0.0; break;
-    case Bound::Kind::never: m.probability = 1.0; break;
-    case Bound::Kind::above: m.probability = p.distribution.cdf(b.bound); break;
-    case Bound::Kind::below: m.probability = 1.0 - p.distribution.cdf(b.bound); break;
+    case Bound::Kind::always:
+      m.probability = 0.0;
+      break;
+    case Bound::Kind::never:
+      m.probability = 1.0;
+      break;
+    case Bound::Kind::above:
+      m.probability = p.distribution.cdf(b.bound);
+      break;
+    case Bound::Kind::below:
+      m.probability = 1.0 - p.distribution.cdf(b.bound);
+      break;
   }
   return m;
 }

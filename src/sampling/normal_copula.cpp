@@ -29,7 +29,8 @@ NormalCopula::NormalCopula(unsigned dimensions, std::span<const InputCorrelation
   };
   for (const InputCorrelation& c : correlations) r(at(c.a), at(c.b)) = r(at(c.b), at(c.a)) = c.normal_copula;
   const Eigen::LLT<Eigen::MatrixXd> llt(r);
-  if (llt.info() != Eigen::Success) throw std::invalid_argument("normal copula: the correlation matrix is not positive definite");
+  if (llt.info() != Eigen::Success)
+    throw std::invalid_argument("normal copula: the correlation matrix is not positive definite");
   lower_ = llt.matrixL();
 }
 
@@ -44,7 +45,8 @@ void NormalCopula::correlate(std::span<double> u) const {
     const double correlated = lower_.row(k).head(k + 1).dot(z.head(k + 1));
     // Phi rounds to 1 beyond z = 8.3: keep u' inside (0, 1), where every
     // quantile function is finite.
-    u[inputs_[static_cast<std::size_t>(k)]] = std::clamp(boost::math::cdf(standard, correlated), 0x1p-1000, 1.0 - 0x1p-53);
+    u[inputs_[static_cast<std::size_t>(k)]] =
+        std::clamp(boost::math::cdf(standard, correlated), 0x1p-1000, 1.0 - 0x1p-53);
   }
 }
 

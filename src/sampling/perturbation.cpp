@@ -31,22 +31,18 @@ void Perturbation::sample(std::span<const double> u, std::span<double> values) c
   for (std::size_t d = 0; d < u.size(); ++d) values[d] = distribution.quantile(u[d]) * unit;
 }
 
-void Perturbation::apply(std::span<const double> v, std::span<double> parameters,
-                         InitialState& state) const {
+void Perturbation::apply(std::span<const double> v, std::span<double> parameters, InitialState& state) const {
   const double x = v[0];
   switch (kind) {
     case Kind::parameter:
       if (entries == 1) {
-        parameters[first] = mode == Mode::scale ? parameters[first] * x
-                                                : combine(mode, parameters[first], x * factor);
+        parameters[first] = mode == Mode::scale ? parameters[first] * x : combine(mode, parameters[first], x * factor);
       } else {
         // A 3x3 matrix, row-major: set and add use x E, scale the whole matrix.
         for (int k = 0; k < entries; ++k) {
           double& entry = parameters[first + k];
           const double identity = k % 4 == 0 ? 1.0 : 0.0;
-          entry = mode == Mode::scale ? entry * x
-                  : mode == Mode::add ? entry + x * identity
-                                      : x * identity;
+          entry = mode == Mode::scale ? entry * x : mode == Mode::add ? entry + x * identity : x * identity;
         }
       }
       return;
@@ -63,8 +59,7 @@ void Perturbation::apply(std::span<const double> v, std::span<double> parameters
         parameters[first + k] = combine(mode, parameters[first + k], v[static_cast<std::size_t>(k)] * factor);
       return;
     case Kind::rotation:
-      state.rotation[first] =
-          Eigen::AngleAxisd(x, Vec3::Unit(axis)).toRotationMatrix() * state.rotation[first];
+      state.rotation[first] = Eigen::AngleAxisd(x, Vec3::Unit(axis)).toRotationMatrix() * state.rotation[first];
       return;
     case Kind::angular_velocity: {
       double& w = state.angular_velocity[first][axis];
@@ -75,8 +70,7 @@ void Perturbation::apply(std::span<const double> v, std::span<double> parameters
 }
 
 void apply_inputs(std::span<const Perturbation> perturbations, std::span<const double> inputs,
-                  const InitialState& nominal_state, std::span<double> parameters,
-                  InitialState& state) {
+                  const InitialState& nominal_state, std::span<double> parameters, InitialState& state) {
   auto apply = [&](bool angular_velocity) {
     std::size_t d = 0;
     for (const Perturbation& p : perturbations) {

@@ -1,8 +1,8 @@
 #include "sampling/targets.hpp"
 
 #include <optional>
-#include <tuple>
 #include <string_view>
+#include <tuple>
 
 namespace treedyn::ensemble {
 namespace {
@@ -40,8 +40,8 @@ BodyPart body_part(const Topology& tree, std::string_view target, std::string_vi
   const std::string_view after = target.substr(prefix.size());
   for (int u = 0; u < tree.n; ++u) {
     const std::string& name = tree.user_body_name(u);
-    if (after.size() > name.size() && after.substr(0, name.size()) == name &&
-        after[name.size()] == '.' && name.size() > best.name.size())
+    if (after.size() > name.size() && after.substr(0, name.size()) == name && after[name.size()] == '.' &&
+        name.size() > best.name.size())
       best = {u, name, std::string(after.substr(name.size() + 1))};
   }
   return best;
@@ -51,24 +51,23 @@ BodyPart body_part(const Topology& tree, std::string_view target, std::string_vi
 std::optional<Target> state_target(const Topology& tree, int u, std::string_view rest) {
   const std::string& name = tree.user_body_name(u);
   if (rest == "orientation")
-    return Target{.kind = Kind::orientation, .first = u, .unit = "rad", .enters =
-                  "a small rotation of the initial orientation of " + quoted(name) +
-                      " about inertial axes (rotation vector)"};
-  for (const auto& [field, kind, unit] :
-       {std::tuple{"rotation.", Kind::rotation, "rad"},
-        std::tuple{"angular_velocity.", Kind::angular_velocity, "rad/s"}}) {
+    return Target{.kind = Kind::orientation,
+                  .first = u,
+                  .unit = "rad",
+                  .enters = "a small rotation of the initial orientation of " + quoted(name) +
+                            " about inertial axes (rotation vector)"};
+  for (const auto& [field, kind, unit] : {std::tuple{"rotation.", Kind::rotation, "rad"},
+                                          std::tuple{"angular_velocity.", Kind::angular_velocity, "rad/s"}}) {
     const std::string_view f(field);
     if (rest.substr(0, f.size()) != f) continue;
     const auto axis = axis_of(rest.substr(f.size()));
-    if (!axis)
-      throw TargetError("axis " + quoted(rest.substr(f.size())) + " is not allowed; use x, y or z");
+    if (!axis) throw TargetError("axis " + quoted(rest.substr(f.size())) + " is not allowed; use x, y or z");
     const std::string axis_name(rest.substr(f.size()));
     const std::string what =
         kind == Kind::rotation
-            ? "an extra rotation of the initial orientation of " + quoted(name) +
-                  " about the inertial " + axis_name + " axis"
-            : "the inertial " + axis_name + " component of the initial angular velocity of " +
-                  quoted(name);
+            ? "an extra rotation of the initial orientation of " + quoted(name) + " about the inertial " + axis_name +
+                  " axis"
+            : "the inertial " + axis_name + " component of the initial angular velocity of " + quoted(name);
     return Target{.kind = kind, .first = u, .axis = *axis, .unit = unit, .enters = what};
   }
   return std::nullopt;
@@ -86,13 +85,17 @@ std::optional<Target> other_mass_target(const ModelDefinition& d, int u, std::st
   const std::string name = quoted(tree.user_body_name(u));
   const std::string solid(name_in(kSolidNames, body.solid));
   if (rest == "mass" && body.density >= 0)
-    return Target{.first = body.density, .factor = 1.0 / volume, .unit = "kg",
+    return Target{.first = body.density,
+                  .factor = 1.0 / volume,
+                  .unit = "kg",
                   .enters = "mass of the homogeneous " + solid + " " + name +
                             ", set through its density (the job gives the density): density = "
                             "mass / nominal volume, and its inertia follows; a perturbed dimension "
                             "keeps the density"};
   if (rest == "density" && body.mass >= 0)
-    return Target{.first = body.mass, .factor = volume, .unit = "kg/m^3",
+    return Target{.first = body.mass,
+                  .factor = volume,
+                  .unit = "kg/m^3",
                   .enters = "density of the homogeneous " + solid + " " + name +
                             ", set through its mass (the job gives the mass): mass = density x "
                             "nominal volume, and its inertia follows; a perturbed dimension keeps "
@@ -111,13 +114,13 @@ std::string why_absent(const ModelDefinition& d, int u, const std::string& field
   const std::string prefix = "body." + tree.user_body_name(u) + ".";
   const std::string solid(name_in(kSolidNames, body.solid));
   if (field == "density")
-    return "the inertia of " + name + " is given explicitly, so it has no density; perturb " +
-           prefix + "mass (mass only) or " + prefix + "inertia_scale";
+    return "the inertia of " + name + " is given explicitly, so it has no density; perturb " + prefix +
+           "mass (mass only) or " + prefix + "inertia_scale";
   if (field == "length" || field == "radius" || field.rfind("size", 0) == 0 || field == "size") {
     if (body.solid == Solid::none)
       return name + " has no shape (its inertia is given explicitly), so it has no " + field;
     return name + " is a " + solid + ": its dimensions are " +
-           (body.solid == Solid::box ? prefix + "size.x, .y, .z"
+           (body.solid == Solid::box      ? prefix + "size.x, .y, .z"
             : body.solid == Solid::sphere ? prefix + "radius"
                                           : prefix + "radius and " + prefix + "length");
   }
@@ -125,15 +128,19 @@ std::string why_absent(const ModelDefinition& d, int u, const std::string& field
     return name + " is a homogeneous " + solid + ": its inertia follows from its mass and " +
            "dimensions; perturb those, or " + prefix + "inertia_scale";
   if (field.rfind("joint_on_child", 0) == 0 && joint.on_child < 0)
-    return "the joint point of " + name + " is the upper end of the cylinder (0, 0, +L/2) and "
-           "follows its length; perturb " + prefix + "length";
+    return "the joint point of " + name +
+           " is the upper end of the cylinder (0, 0, +L/2) and "
+           "follows its length; perturb " +
+           prefix + "length";
   if (field.rfind("joint_on_parent", 0) == 0 && joint.on_parent < 0)
-    return tree.parent[i] == kBase
-               ? name + " hangs from the base: its joint point there is the base point r0; perturb "
-                        "the [base] motion instead (e.g. base.position.AXIS)"
-               : "the joint of " + name + " is the lower end of the cylinder " +
-                     quoted(tree.body_name[tree.parent[i]]) + " (0, 0, -L/2) and follows its "
-                     "length; perturb body." + tree.body_name[tree.parent[i]] + ".length";
+    return tree.parent[i] == kBase ? name +
+                                         " hangs from the base: its joint point there is the base point r0; perturb "
+                                         "the [base] motion instead (e.g. base.position.AXIS)"
+                                   : "the joint of " + name + " is the lower end of the cylinder " +
+                                         quoted(tree.body_name[tree.parent[i]]) +
+                                         " (0, 0, -L/2) and follows its "
+                                         "length; perturb body." +
+                                         tree.body_name[tree.parent[i]] + ".length";
   return "";
 }
 
@@ -146,8 +153,7 @@ std::string parameters_of_body(const ModelDefinition& d, int u) {
       out += (out.empty() ? "" : ", ") + p.name + (p.shape == ParameterShape::vector3 ? ".AXIS" : "");
   const BodyForm& body = d.body[d.topology->regular_index[u]];
   if (body.solid != Solid::none) out += ", " + prefix + (body.density >= 0 ? "mass" : "density");
-  return out + ", " + prefix + "orientation, " + prefix + "rotation.AXIS, " + prefix +
-         "angular_velocity.AXIS";
+  return out + ", " + prefix + "orientation, " + prefix + "rotation.AXIS, " + prefix + "angular_velocity.AXIS";
 }
 
 // This job's parameters whose names start with `prefix`, vectors as .AXIS.
@@ -171,7 +177,8 @@ std::string base_type(const ModelDefinition& d) {
 std::string why_not_base(const ModelDefinition& d, const std::string& target) {
   const std::string type = base_type(d);
   if (type == "tabulated")
-    return quoted(target) + " is not a target of this job: its [base] is tabulated, and a table is data, not "
+    return quoted(target) +
+           " is not a target of this job: its [base] is tabulated, and a table is data, not "
            "parameters; use type = \"harmonic\" or \"constant_acceleration\" to perturb the base motion";
   const std::string has = parameters_named(d, "base.");
   std::string hint;
@@ -184,14 +191,15 @@ std::string why_not_base(const ModelDefinition& d, const std::string& target) {
   else if (target.size() > 6 && target[6] == '[')
     hint = " (K counts from 1 up to the number of terms on that axis)";
   else if (type == "sea_state" && target.size() > 7 && target[6] == '.')
-    hint = " (a sea state's targets are those of the axes it has a table for; a tabulated spectrum has only "
-           "phases, and only JONSWAP has gamma)";
-  else if (type != "sea_state" && (target.find(".phases") != std::string::npos ||
-                                   target.find(".significant_height") != std::string::npos ||
-                                   target.find(".peak_period") != std::string::npos))
+    hint =
+        " (a sea state's targets are those of the axes it has a table for; a tabulated spectrum has only "
+        "phases, and only JONSWAP has gamma)";
+  else if (type != "sea_state" &&
+           (target.find(".phases") != std::string::npos || target.find(".significant_height") != std::string::npos ||
+            target.find(".peak_period") != std::string::npos))
     hint = " (phases, significant_height and peak_period belong to a [base] of type \"sea_state\")";
-  return quoted(target) + " is not a target of this job, whose [base] is " + type + hint + "; its base targets: " +
-         (has.empty() ? std::string("none") : has);
+  return quoted(target) + " is not a target of this job, whose [base] is " + type + hint +
+         "; its base targets: " + (has.empty() ? std::string("none") : has);
 }
 
 // force[K].* or moment[K].* beyond the job's [[force]] or [[moment]] tables.
@@ -200,8 +208,8 @@ std::string why_not_load(const ModelDefinition& d, const std::string& target, co
   if (count == 0)
     return quoted(target) + " is not a target of this job: it has no [[" + table + "]]; add one to perturb it";
   return quoted(target) + " is not a target of this job, which has " + std::to_string(count) + " [[" + table +
-         "]] table" + (count == 1 ? "" : "s") + " (K counts from 1); its " + table + " targets: " +
-         parameters_named(d, table + "[");
+         "]] table" + (count == 1 ? "" : "s") + " (K counts from 1); its " + table +
+         " targets: " + parameters_named(d, table + "[");
 }
 
 // A target of a kind other jobs have but this one does not: why, and what
@@ -221,20 +229,20 @@ Target resolve_target(const ModelDefinition& d, const std::string& target) {
   // A parameter by its name, or a component NAME.AXIS of a vector.
   if (const Parameter* p = table.find(target)) {
     if (p->shape == ParameterShape::vector3)
-      throw TargetError(quoted(target) + " is a vector: perturb one component, " + target + ".x, " +
-                        target + ".y or " + target + ".z");
+      throw TargetError(quoted(target) + " is a vector: perturb one component, " + target + ".x, " + target + ".y or " +
+                        target + ".z");
     if (p->shape == ParameterShape::list)
-      return Target{.kind = Kind::parameter_list, .first = p->offset, .entries = p->size(), .unit = p->unit,
-                    .enters = p->enters};
+      return Target{
+          .kind = Kind::parameter_list, .first = p->offset, .entries = p->size(), .unit = p->unit, .enters = p->enters};
     return Target{.first = p->offset, .entries = p->size(), .unit = p->unit, .enters = p->enters};
   }
   if (const auto dot = target.rfind('.'); dot != std::string::npos) {
     if (const Parameter* p = table.find(std::string_view(target).substr(0, dot));
         p && p->shape == ParameterShape::vector3) {
       const auto axis = axis_of(std::string_view(target).substr(dot + 1));
-      if (!axis)
-        throw TargetError("axis " + quoted(target.substr(dot + 1)) + " is not allowed; use x, y or z");
-      return Target{.first = p->offset + *axis, .unit = p->unit,
+      if (!axis) throw TargetError("axis " + quoted(target.substr(dot + 1)) + " is not allowed; use x, y or z");
+      return Target{.first = p->offset + *axis,
+                    .unit = p->unit,
                     .enters = p->enters + " (" + target.substr(dot + 1) + " component)"};
     }
   }
@@ -253,8 +261,8 @@ Target resolve_target(const ModelDefinition& d, const std::string& target) {
     }
     const std::string why = joint ? "" : why_absent(d, part.user, part.rest);
     if (!why.empty()) throw TargetError(quoted(target) + " is not a target of this job: " + why);
-    throw TargetError(quoted(target) + " is not a target; allowed targets for body " +
-                      quoted(part.name) + ": " + parameters_of_body(d, part.user));
+    throw TargetError(quoted(target) + " is not a target; allowed targets for body " + quoted(part.name) + ": " +
+                      parameters_of_body(d, part.user));
   }
   if (const std::string why = why_not_in_this_job(d, target); !why.empty()) throw TargetError(why);
   throw TargetError(quoted(target) + " is not a target; " + kPatterns);

@@ -6,8 +6,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "sampling/perturbation.hpp"
 #include "model/definition.hpp"
+#include "sampling/perturbation.hpp"
 
 namespace treedyn::ensemble {
 

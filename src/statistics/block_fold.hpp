@@ -20,9 +20,11 @@ namespace treedyn::ensemble {
 
 __extension__ typedef __int128 wide;  // GCC/Clang 128-bit integer
 
+// clang-format off
 #if defined(__FAST_MATH__)
 #error "the fold's rounded sums need IEEE arithmetic as written: -ffast-math would reassociate (x + 1.5 2^52) - 1.5 2^52 away"
 #endif
+// clang-format on
 
 // A block of pending samples and what they are folded with: sample b's
 // value of entry e at rows[b][e], and per entry the calibration (center c,

@@ -13,10 +13,10 @@
 namespace treedyn::ensemble {
 
 struct Calibration {
-  std::vector<double> center;   // c: nominal value
-  std::vector<double> scale;    // S > 0: fixed-point unit
-  std::vector<double> low;      // histogram range [low, low + bins * width)
-  std::vector<double> width;    // bin width > 0
+  std::vector<double> center;  // c: nominal value
+  std::vector<double> scale;   // S > 0: fixed-point unit
+  std::vector<double> low;     // histogram range [low, low + bins * width)
+  std::vector<double> width;   // bin width > 0
 
   std::size_t entries() const { return center.size(); }
   bool operator==(const Calibration&) const = default;
@@ -35,8 +35,8 @@ struct Calibration {
 // in the pilot samples (per entry min and max of x - c; +inf/-inf if none).
 // `column_scale` is each column's largest |nominal| over time (fallback unit).
 Calibration calibrate(std::span<const double> nominal, std::span<const double> pilot_min_deviation,
-                      std::span<const double> pilot_max_deviation,
-                      std::span<const double> column_scale, std::size_t columns, int bins);
+                      std::span<const double> pilot_max_deviation, std::span<const double> column_scale,
+                      std::size_t columns, int bins);
 
 // Per-column largest |nominal| over time: the fallback fixed-point unit.
 std::vector<double> column_scales(std::span<const double> nominal, std::size_t columns);

@@ -14,7 +14,8 @@ enum class CountsLayout : std::uint8_t { dense = 0, sparse = 1 };
 // The counts of one piece: dense, or (offset, count) pairs of the non-zero
 // ones when that is shorter (a histogram holds few samples in most bins).
 void write_counts(std::span<const std::uint32_t> counts, ByteWriter& out) {
-  const auto nonzero = static_cast<std::size_t>(std::count_if(counts.begin(), counts.end(), [](auto c) { return c != 0; }));
+  const auto nonzero =
+      static_cast<std::size_t>(std::count_if(counts.begin(), counts.end(), [](auto c) { return c != 0; }));
   if (2 * nonzero >= counts.size()) {
     out.put(CountsLayout::dense);
     out.put_vector(counts);
@@ -62,12 +63,11 @@ namespace {
 // Samples per block: kMaxBlock, fewer when the block would pass 16 MiB.
 std::size_t block_for(std::size_t entries) {
   return std::clamp<std::size_t>((std::size_t{1} << 21) / std::max<std::size_t>(entries, 1), 1,
-                                  EnsembleStatistics::kMaxBlock);
+                                 EnsembleStatistics::kMaxBlock);
 }
 }  // namespace
 
-EnsembleStatistics::EnsembleStatistics(std::size_t times, std::size_t columns, int bins,
-                                       Calibration calibration)
+EnsembleStatistics::EnsembleStatistics(std::size_t times, std::size_t columns, int bins, Calibration calibration)
     : times_(times), columns_(columns), bins_(bins), calibration_(std::move(calibration)) {
   const std::size_t n = entries();
   if (calibration_.center.size() != n) throw std::invalid_argument("calibration size mismatch");
@@ -109,7 +109,8 @@ void EnsembleStatistics::take_sample(std::vector<double>& trajectory) {
 }
 
 void EnsembleStatistics::use_fold_lanes(int lanes) {
-  if (!runs_fold_lanes(lanes)) throw std::invalid_argument("this CPU does not fold " + std::to_string(lanes) + " lanes");
+  if (!runs_fold_lanes(lanes))
+    throw std::invalid_argument("this CPU does not fold " + std::to_string(lanes) + " lanes");
   lanes_ = lanes;
 }
 
@@ -124,7 +125,8 @@ void EnsembleStatistics::fold_pending() const {
                         calibration_.low.data(),
                         calibration_.width.data(),
                         bins_};
-  const FoldTotals totals{sum_.data(), square_sum_.data(), min_.data(), max_.data(), counts_.data(), out_of_range_.data()};
+  const FoldTotals totals{sum_.data(), square_sum_.data(), min_.data(),
+                          max_.data(), counts_.data(),     out_of_range_.data()};
   fold_block(block, totals, lanes_);
   pending_samples_ = 0;
 }
@@ -182,8 +184,7 @@ void EnsembleStatistics::write_state_piece(std::size_t piece, ByteWriter& out) c
 void EnsembleStatistics::add_state_piece(std::size_t piece, ByteReader& in) {
   if (piece == 0) {
     if (in.get<std::uint64_t>() != kStateMagic) in.fail("not a statistics state");
-    if (in.get<std::uint64_t>() != entries() || in.get<std::int64_t>() != bins_)
-      in.fail("statistics of another shape");
+    if (in.get<std::uint64_t>() != entries() || in.get<std::int64_t>() != bins_) in.fail("statistics of another shape");
     if (in.get<std::uint64_t>() != calibration_.hash()) in.fail("statistics of another calibration");
     samples_ += in.get<std::uint64_t>();
     return;

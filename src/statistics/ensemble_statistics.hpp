@@ -124,7 +124,7 @@ class EnsembleStatistics {
   // entries x (bins + 2): tens of MB, touched at random by every fold
   mutable std::vector<std::uint32_t, HugePageAllocator<std::uint32_t>> counts_;
   mutable std::vector<std::uint64_t> out_of_range_;  // values left out of the sums
-  mutable std::vector<std::vector<double>> rows_;  // block_ rows of entries
+  mutable std::vector<std::vector<double>> rows_;    // block_ rows of entries
   mutable std::size_t pending_samples_ = 0;
 };
 

@@ -52,7 +52,9 @@ struct HugePageAllocator {
 #endif
   }
   template <class U>
-  bool operator==(const HugePageAllocator<U>&) const noexcept { return true; }
+  bool operator==(const HugePageAllocator<U>&) const noexcept {
+    return true;
+  }
 };
 
 }  // namespace treedyn::ensemble

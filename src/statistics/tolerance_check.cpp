@@ -78,7 +78,7 @@ ToleranceVerdict tolerance_verdict(const ToleranceCheck& check, std::size_t r) {
   ToleranceVerdict v;
   v.ratio = check.change[r] / check.spread[r];
   if (!std::isfinite(v.ratio) || !(check.spread[r] > 0.0)) return v;
-  v.kind = v.ratio > kTooLoose      ? ToleranceVerdict::Kind::too_loose
+  v.kind = v.ratio > kTooLoose     ? ToleranceVerdict::Kind::too_loose
            : v.ratio < kFarTighter ? ToleranceVerdict::Kind::far_tighter
                                    : ToleranceVerdict::Kind::enough;
   // A change of 0 (identical to the last digit) says nothing of how far the
@@ -90,8 +90,8 @@ ToleranceVerdict tolerance_verdict(const ToleranceCheck& check, std::size_t r) {
 
 std::string describe_verdict(const ToleranceCheck& check, std::size_t r) {
   const ToleranceVerdict v = tolerance_verdict(check, r);
-  const std::string tolerances = "rtol = " + number(check.rtol * v.factor, "%.0e") + ", atol = " +
-                                 number(check.atol * v.factor, "%.0e");
+  const std::string tolerances =
+      "rtol = " + number(check.rtol * v.factor, "%.0e") + ", atol = " + number(check.atol * v.factor, "%.0e");
   const std::string ratio = "its change at 100x tighter tolerances is " + number(v.ratio, "%.2g") + " of its spread";
   switch (v.kind) {
     case ToleranceVerdict::Kind::too_loose:

@@ -22,7 +22,7 @@ inline constexpr double kFarTighter = 1e-3;           // ... below this: far tig
 inline constexpr double kToleranceTarget = 0.01;      // what a suggested tolerance aims at
 
 struct ToleranceCheck {
-  double rtol = 0.0, atol = 0.0;  // the job's
+  double rtol = 0.0, atol = 0.0;       // the job's
   std::vector<std::uint64_t> samples;  // rerun, and successful at both tolerances
   // Per response: the largest |y(tight) - y| over those samples, and the
   // standard deviation (n - 1) of y over the pilot's successful samples with
@@ -42,9 +42,9 @@ ToleranceCheck check_tolerances(double rtol, double atol, std::size_t responses,
 
 struct ToleranceVerdict {
   enum class Kind { unknown, too_loose, enough, far_tighter } kind = Kind::unknown;
-  double ratio = 0.0;      // change / spread
-  double factor = 1.0;     // the tolerances times this would bring the ratio to kToleranceTarget
-                           // (the error taken as proportional to them), a power of ten in [1e-4, 100]
+  double ratio = 0.0;   // change / spread
+  double factor = 1.0;  // the tolerances times this would bring the ratio to kToleranceTarget
+                        // (the error taken as proportional to them), a power of ten in [1e-4, 100]
 };
 ToleranceVerdict tolerance_verdict(const ToleranceCheck& check, std::size_t response);
 

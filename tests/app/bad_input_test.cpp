@@ -61,8 +61,7 @@ class Case {
 
   // Exit code, one "error: PREFIX..." line on stderr containing every one of
   // `parts`, nothing on stdout, no output file or temporary in the directory.
-  void expect_refused(int exit_code, const std::string& prefix,
-                      std::initializer_list<std::string> parts) const {
+  void expect_refused(int exit_code, const std::string& prefix, std::initializer_list<std::string> parts) const {
     EXPECT_EQ(result_.exit_code, exit_code) << result_.err;
     EXPECT_EQ(result_.out, "") << "nothing should be printed on stdout";
     const std::string& e = result_.err;
@@ -132,15 +131,13 @@ TEST(BadInput, MalformedTomlGivesTheParserPosition) {
   const std::string text = with(kGoodJob, "mass = 1.0", "mass = 1.0 kg");
   Case c("malformed TOML", text);
   // line 8 "mass = 1.0 kg": the parser stops at the 'k'.
-  c.expect_refused(2, c.job() + ":" + position_of(text, "kg") + ": not valid TOML: ",
-                   {"saw 'k'"});
+  c.expect_refused(2, c.job() + ":" + position_of(text, "kg") + ": not valid TOML: ", {"saw 'k'"});
 }
 
 TEST(BadInput, WrongTypeNamesTheFieldAndTheExpectedType) {
   const std::string text = with(kGoodJob, "mass = 1.0", "mass = \"heavy\"");
   Case c("wrong type", text);
-  c.expect_refused(2,
-                   c.job() + ":" + value_position(text, "mass = \"heavy\"") + ": body[1].mass: ",
+  c.expect_refused(2, c.job() + ":" + value_position(text, "mass = \"heavy\"") + ": body[1].mass: ",
                    {"expected a number, got a string"});
 }
 
@@ -148,29 +145,27 @@ TEST(BadInput, UnknownKeySuggestsTheNearestAllowedKey) {
   const std::string text = with(kGoodJob, "mass = 1.0", "mas = 1.0");
   Case c("unknown key", text);
   c.expect_refused(2, c.job() + ":" + value_position(text, "mas = 1.0") + ": body[1].mas: ",
-                   {"unknown key 'mas'", "did you mean 'mass'?", "Allowed here:", " mass ",
-                    " parent "});
+                   {"unknown key 'mas'", "did you mean 'mass'?", "Allowed here:", " mass ", " parent "});
 }
 
 TEST(BadInput, MissingRequiredParentPointsAtTheBodyTable) {
   const std::string text = with(kGoodJob, "parent = \"base\"\n", "");
   Case c("missing parent", text);
   // The key is absent, so the error points at the [[body]] header (line 3).
-  c.expect_refused(2, c.job() + ":" + position_of(text, "[[body]]") + ": body[1].parent: ",
-                   {"missing required field", "\"base\""});
+  c.expect_refused(
+      2, c.job() + ":" + position_of(text, "[[body]]") + ": body[1].parent: ", {"missing required field", "\"base\""});
 }
 
 TEST(BadInput, NegativeMassIsRefusedWithTheAllowedRange) {
   const std::string text = with(kGoodJob, "mass = 1.0", "mass = -2.5");
   Case c("negative mass", text);
-  c.expect_refused(2, c.job() + ":" + value_position(text, "mass = -2.5") + ": body[1].mass: ",
-                   {"-2.5", "must be positive", "kg"});
+  c.expect_refused(
+      2, c.job() + ":" + value_position(text, "mass = -2.5") + ": body[1].mass: ", {"-2.5", "must be positive", "kg"});
 }
 
 TEST(BadInput, UnknownSpringLawListsTheLaws) {
-  const std::string text =
-      with(kGoodJob, "joint_on_child = [0.0, 0.0, 0.5]",
-           "joint_on_child = [0.0, 0.0, 0.5]\nspring = { stiffness = 2.0, law = \"linear\" }");
+  const std::string text = with(kGoodJob, "joint_on_child = [0.0, 0.0, 0.5]",
+                                "joint_on_child = [0.0, 0.0, 0.5]\nspring = { stiffness = 2.0, law = \"linear\" }");
   Case c("unknown spring law", text);
   c.expect_refused(2, c.job() + ":" + value_position(text, "law = \"linear\"") + ": body[1].spring.law: ",
                    {"\"linear\" is not a spring law", "\"quaternion\"", "\"rotation_vector\""});
@@ -180,8 +175,7 @@ TEST(BadInput, UnknownAccelerationSolverListsTheSolvers) {
   const std::string text = kGoodJob + "\n[integrator]\nsolver = \"featherstone\"\n";
   Case c("unknown solver", text);
   c.expect_refused(2, c.job() + ":" + value_position(text, "solver = \"featherstone\"") + ": integrator.solver: ",
-                   {"\"featherstone\" is not an acceleration solver", "\"auto\"", "\"recursive\"",
-                    "\"sparse_ldlt\""});
+                   {"\"featherstone\" is not an acceleration solver", "\"auto\"", "\"recursive\"", "\"sparse_ldlt\""});
 }
 
 // A chain of 3200 bodies needs more (body, ancestor) blocks than the L^T D L
@@ -189,7 +183,8 @@ TEST(BadInput, UnknownAccelerationSolverListsTheSolvers) {
 TEST(BadInput, TooDeepForTheSparseSolverPointsAtTheSolverField) {
   std::string bodies;
   for (int i = 0; i < 3200; ++i)
-    bodies += "[[body]]\nname = \"b" + std::to_string(i) + "\"\nmass = 1.0\nprincipal_moments = [0.1, 0.1, 0.1]\nparent = \"" +
+    bodies += "[[body]]\nname = \"b" + std::to_string(i) +
+              "\"\nmass = 1.0\nprincipal_moments = [0.1, 0.1, 0.1]\nparent = \"" +
               (i == 0 ? std::string("base") : "b" + std::to_string(i - 1)) +
               "\"\njoint_on_child = [0.0, 0.0, 0.01]\njoint_on_parent = [0.0, 0.0, -0.01]\n";
   const std::string text = bodies + "[integrator]\nsolver = \"sparse_ldlt\"\n[output]\nend_time = 1e-3\nstep = 1e-3\n";
@@ -237,19 +232,18 @@ TEST(BadInput, MassesThatOverflowTheMassMatrixAreRefusedBeforeAnyWork) {
 // The equations evaluated once at t = 0: an initial state whose terms
 // overflow (w x J w with |w| = 1e200) is refused before any work.
 TEST(BadInput, AnInitialStateWhoseEquationsOverflowIsRefusedBeforeAnyWork) {
-  const std::string text =
-      with(kGoodJob, "joint_on_child = [0.0, 0.0, 0.5]",
-           "joint_on_child = [0.0, 0.0, 0.5]\nangular_velocity = { value = [1e200, 1e200, 0.0], frame = \"inertial\" }");
+  const std::string text = with(
+      kGoodJob, "joint_on_child = [0.0, 0.0, 0.5]",
+      "joint_on_child = [0.0, 0.0, 0.5]\nangular_velocity = { value = [1e200, 1e200, 0.0], frame = \"inertial\" }");
   Case c("overflowing initial state", text);
-  c.expect_refused(2, c.job() + ":" + position_of(text, "[[body]]") + ": ",
-                   {"body 'rod'", "not finite at t = 0 s"});
+  c.expect_refused(2, c.job() + ":" + position_of(text, "[[body]]") + ": ", {"body 'rod'", "not finite at t = 0 s"});
 }
 
 TEST(BadInput, ARelativeToleranceBelowDoublePrecisionIsRefused) {
   const std::string text = kGoodJob + "\n[integrator]\nrtol = 1e-300\natol = 1e-300\n";
   Case c("rtol below double precision", text);
-  c.expect_refused(2, c.job() + ":" + value_position(text, "rtol = 1e-300") + ": integrator.rtol: ",
-                   {"1e-300", "at least 1e-15"});
+  c.expect_refused(
+      2, c.job() + ":" + value_position(text, "rtol = 1e-300") + ": integrator.rtol: ", {"1e-300", "at least 1e-15"});
 }
 
 // Debian's toml++ 3.3.0 reaches __builtin_unreachable on some non-ASCII
@@ -264,8 +258,8 @@ TEST(BadInput, NonAsciiOutsideStringsAndInvalidUtf8AreRefusedBeforeTheParser) {
   {
     const std::string text = with(kGoodJob, "title = \"bad input\"", "title = \"bad \xff input\"");
     Case c("invalid UTF-8", text);
-    c.expect_refused(2, c.job() + ":" + position_of(text, "\xff") + ": not valid TOML: ",
-                     {"the byte 0xff is not valid UTF-8"});
+    c.expect_refused(
+        2, c.job() + ":" + position_of(text, "\xff") + ": not valid TOML: ", {"the byte 0xff is not valid UTF-8"});
   }
   // Non-ASCII inside strings and comments stays allowed.
   Case ok("non-ASCII in a string and a comment",
@@ -278,30 +272,31 @@ TEST(BadInput, UpperEndNeedsACylinder) {
       "[[body]]\nname = \"ball\"\nshape = \"sphere\"\nradius = 0.1\nmass = 1.0\nparent = \"base\"\n"
       "joint_on_child = \"upper_end\"\n\n[output]\nend_time = 1.0\nstep = 0.1\n";
   Case c("upper_end on a sphere", text);
-  c.expect_refused(2, c.job() + ":" + position_of(text, "[[body]]") + ": body 'ball': ",
-                   {"\"upper_end\"", "must be a cylinder"});
+  c.expect_refused(
+      2, c.job() + ":" + position_of(text, "[[body]]") + ": body 'ball': ", {"\"upper_end\"", "must be a cylinder"});
 }
 
 TEST(BadInput, DimensionOfAnotherShapeIsRefused) {
   const std::string text = with(kGoodJob, "length = 1.0", "length = 1.0\nsize = [1.0, 1.0, 1.0]");
   Case c("box size on a cylinder", text);
-  c.expect_refused(2, c.job() + ":" + value_position(text, "size = [") + ": body[1].size: ",
-                   {"not a dimension of a cylinder"});
+  c.expect_refused(
+      2, c.job() + ":" + value_position(text, "size = [") + ": body[1].size: ", {"not a dimension of a cylinder"});
 }
 
 // Bodies given with mass and principal moments, so each [[body]] is five lines.
 std::string body(const std::string& name, const std::string& parent) {
-  return "[[body]]\nname = \"" + name + "\"\nmass = 1.0\nprincipal_moments = [0.1, 0.1, 0.01]\n" +
-         "parent = \"" + parent + "\"\n\n";
+  return "[[body]]\nname = \"" + name + "\"\nmass = 1.0\nprincipal_moments = [0.1, 0.1, 0.01]\n" + "parent = \"" +
+         parent + "\"\n\n";
 }
 const std::string kOutput = "[output]\nend_time = 1.0\nstep = 0.1\n";
 
 // Base-motion errors are found where the base motion is validated (one
 // place, BaseMotion) and reported at the [base] table.
 TEST(BadInput, TabulatedBaseTimesOutOfOrderPointAtTheBaseTable) {
-  const std::string text = "title = \"base\"\n\n[base]\ntype = \"tabulated\"\n"
-                           "times = [0.0, 1.0, 0.5]\npositions = [[0, 0, 0], [0, 0, 1], [0, 0, 2]]\n\n" +
-                           body("root", "base") + kOutput;
+  const std::string text =
+      "title = \"base\"\n\n[base]\ntype = \"tabulated\"\n"
+      "times = [0.0, 1.0, 0.5]\npositions = [[0, 0, 0], [0, 0, 1], [0, 0, 2]]\n\n" +
+      body("root", "base") + kOutput;
   Case c("tabulated base, times out of order", text);
   c.expect_refused(2, c.job() + ":" + position_of(text, "[base]") + ": ",
                    {"base motion 'tabulated'", "strictly increasing", "sample 3"});
@@ -318,6 +313,7 @@ TEST(BadInput, SeaStateFieldsAreRefusedAtTheirValues) {
     std::string axis, at, field;
     std::vector<std::string> says;
   };
+  // clang-format off
   const std::vector<Bad> cases = {
       {"spectrum = \"bretschneider\"\nsignificant_height = 2.0\npeak_period = 8.0\n", "spectrum = \"bretschneider\"",
        "base.z.spectrum", {"not a wave spectrum", "\"jonswap\", \"pierson_moskowitz\", \"tabulated\""}},
@@ -347,10 +343,11 @@ TEST(BadInput, SeaStateFieldsAreRefusedAtTheirValues) {
       {"significant_height = 2.0\npeak_period = 8.0\n[base.z.rao]\nfrequencies = [0.0, 1.0]\ngains = [1.0, 1.0]\n"
        "unit = \"deg\"\n", "unit = \"deg\"", "base.z.rao.unit", {"it has no phases"}},
   };
+  // clang-format on
   for (const Bad& b : cases) {
     const std::string text = sea_job(b.axis);
     Case c("sea state: " + b.field, text);
-    const std::string where = b.at.empty()      ? position_of(text, "[base.z]")
+    const std::string where = b.at.empty()     ? position_of(text, "[base.z]")
                               : b.at[0] == '[' ? position_of(text, b.at)
                                                : value_position(text, b.at);
     const std::string prefix = c.job() + ":" + where + ": " + b.field + ": ";
@@ -379,8 +376,7 @@ TEST(BadInput, AnAxisFollowingWavesNeedsAnAxisWithWavesAndAnRao) {
 
 TEST(BadInput, CycleBetweenTwoBodiesIsNotATree) {
   // root hangs from the base; a and b name each other as parent.
-  const std::string text =
-      "title = \"cycle\"\n\n" + body("root", "base") + body("a", "b") + body("b", "a") + kOutput;
+  const std::string text = "title = \"cycle\"\n\n" + body("root", "base") + body("a", "b") + body("b", "a") + kOutput;
   Case c("cycle between two bodies", text);
   // Points at the [[body]] table of 'a', the first body of the loop (line 9).
   c.expect_refused(2, c.job() + ":" + position_of(text, "[[body]]\nname = \"a\"") + ": body 'a': ",
@@ -407,14 +403,12 @@ TEST(BadInput, SelfParentIsNotATree) {
 // with the body's name by the reader; the message must not say it twice.
 TEST(BadInput, ModelErrorsNameTheBodyOnlyOnce) {
   {
-    const std::string text =
-        "title = \"cycle\"\n\n" + body("root", "base") + body("a", "b") + body("b", "a") + kOutput;
+    const std::string text = "title = \"cycle\"\n\n" + body("root", "base") + body("a", "b") + body("b", "a") + kOutput;
     Case c("cycle, repeated name check", text);
     EXPECT_EQ(c.err().find("body 'a': body 'a':"), std::string::npos) << c.err();
   }
   {
-    const std::string text =
-        with(body("rod", "base"), "[0.1, 0.1, 0.01]", "[1.0, 1.0, 5.0]") + kOutput;
+    const std::string text = with(body("rod", "base"), "[0.1, 0.1, 0.01]", "[1.0, 1.0, 5.0]") + kOutput;
     Case c("inertia violates the triangle inequality", text);
     EXPECT_EQ(c.result().exit_code, 2);
     EXPECT_NE(c.err().find("triangle inequality"), std::string::npos) << c.err();
@@ -429,25 +423,22 @@ TEST(BadInput, AngleUnitDegreesIsRefusedWithTheAllowedUnits) {
            "joint_on_child = [0.0, 0.0, 0.5]\n"
            "orientation = { type = \"axis_angle\", axis = [1, 0, 0], angle = 30, unit = \"degrees\" }\n");
   Case c("bad angle unit", text);
-  c.expect_refused(
-      2, c.job() + ":" + value_position(text, "unit = \"degrees\"") + ": body[1].orientation.unit: ",
-      {"\"degrees\" is not an angle unit", "allowed: \"deg\" or \"rad\""});
+  c.expect_refused(2, c.job() + ":" + value_position(text, "unit = \"degrees\"") + ": body[1].orientation.unit: ",
+                   {"\"degrees\" is not an angle unit", "allowed: \"deg\" or \"rad\""});
 }
 
 TEST(BadInput, EndTimeZeroIsRefused) {
   const std::string text = with(kGoodJob, "end_time = 1.0", "end_time = 0.0");
   Case c("end time zero", text);
   c.expect_refused(2,
-                   c.job() + ":" + value_position(text, "end_time = 0.0") + ": output.end_time: ",
-                   {"must be > 0 s"});
+                   c.job() + ":" + value_position(text, "end_time = 0.0") + ": output.end_time: ", {"must be > 0 s"});
 }
 
 TEST(BadInput, NegativeEndTimeIsRefused) {
   const std::string text = with(kGoodJob, "end_time = 1.0", "end_time = -2.0");
   Case c("negative end time", text);
-  c.expect_refused(2,
-                   c.job() + ":" + value_position(text, "end_time = -2.0") + ": output.end_time: ",
-                   {"-2", "must be > 0 s"});
+  c.expect_refused(
+      2, c.job() + ":" + value_position(text, "end_time = -2.0") + ": output.end_time: ", {"-2", "must be > 0 s"});
 }
 
 TEST(BadInput, OutputStepLargerThanEndTimeIsRefused) {
@@ -472,18 +463,17 @@ TEST(BadInput, TinyOutputStepIsRefusedNotACrash) {
 // is right (exit 2, right place); the message must show the values given.
 TEST(BadInput, SmallValuesAreQuotedWithTheirDigits) {
   {
-    const std::string text = with(with(kGoodJob, "end_time = 1.0", "end_time = 1e-7"),
-                                  "step = 0.1", "step = 2e-7");
+    const std::string text = with(with(kGoodJob, "end_time = 1.0", "end_time = 1e-7"), "step = 0.1", "step = 2e-7");
     Case c("tiny output step larger than a tiny end time", text);
-    c.expect_refused(2, c.job() + ":" + value_position(text, "step = 2e-7") + ": output.step: ",
-                     {"larger than the end time"});
+    c.expect_refused(
+        2, c.job() + ":" + value_position(text, "step = 2e-7") + ": output.step: ", {"larger than the end time"});
     EXPECT_EQ(c.err().find("0.000000"), std::string::npos) << c.err();
   }
   {
     const std::string text = with(kGoodJob, "mass = 1.0", "mass = -1e-9");
     Case c("tiny negative mass", text);
-    c.expect_refused(2, c.job() + ":" + value_position(text, "mass = -1e-9") + ": body[1].mass: ",
-                     {"must be positive"});
+    c.expect_refused(2,
+                     c.job() + ":" + value_position(text, "mass = -1e-9") + ": body[1].mass: ", {"must be positive"});
     EXPECT_EQ(c.err().find("0.000000"), std::string::npos) << c.err();
   }
 }
@@ -524,8 +514,10 @@ TEST(BadInput, ModelsOverTenThousandBodiesAreRefusedBeforeAnythingIsBuilt) {
     chains += "\n[[chain]]\nname = \"c" + std::to_string(k) + "\"\nlinks = 3000\nlink_length = 0.1\nmass = 0.1\n" +
               (k ? "parent = \"c" + std::to_string(k - 1) + "3000\"\n" : "");
   Case c("100 chains of 3000 links", chains);
-  c.expect_refused(2, c.job() + ":" + value_position(chains, "links = 3000\nlink_length = 0.1\nmass = 0.1\nparent = \"c23000") +
-                          ": chain[4].links: ",
+  c.expect_refused(2,
+                   c.job() + ":" +
+                       value_position(chains, "links = 3000\nlink_length = 0.1\nmass = 0.1\nparent = \"c23000") +
+                       ": chain[4].links: ",
                    {"with this table the model has 12000 bodies; treedyn supports at most 10000",
                     "one right-hand side takes about"});
   EXPECT_LT(c.result().seconds, 10.0) << "refused before building anything";
@@ -543,7 +535,8 @@ TEST(BadInput, ModelsOverTenThousandBodiesAreRefusedBeforeAnythingIsBuilt) {
   const std::string four = at_limit.substr(0, at_limit.find("\n[[chain]]\nname = \"c4\""));
   TempDir dir("bad_input_test");
   write_text(dir.path() / "four.toml", four);
-  const CommandResult r = run_command(TREEDYN_BINARY, {"check", (dir.path() / "four.toml").string()}, dir.path() / "capture");
+  const CommandResult r =
+      run_command(TREEDYN_BINARY, {"check", (dir.path() / "four.toml").string()}, dir.path() / "capture");
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("10000 bodies"), std::string::npos) << r.out.substr(0, 200);
 }
@@ -555,8 +548,7 @@ TEST(BadOutput, OutputDirectoryThatDoesNotExistIsAnIoError) {
   Case c("output directory does not exist", kGoodJob,
          [](const fs::path& dir) { return (dir / "missing" / "x.h5").string(); });
   const std::string missing = (c.dir() / "missing").string();
-  c.expect_refused(4, "output " + c.output() + ": ",
-                   {"directory " + missing + " does not exist", "create it first"});
+  c.expect_refused(4, "output " + c.output() + ": ", {"directory " + missing + " does not exist", "create it first"});
   EXPECT_FALSE(fs::exists(c.dir() / "missing")) << "treedyn should not create the directory";
 }
 
@@ -580,8 +572,7 @@ TEST(BadOutput, OutputFileThatCannotBeCreatedIsAnIoError) {
          [](const fs::path&) { return std::string("/proc/treedyn_test.h5"); });
   c.expect_refused(4, "output /proc/treedyn_test.h5: ", {});
   const std::string& e = c.err();
-  EXPECT_TRUE(e.find("cannot create the file") != std::string::npos ||
-              e.find("is not writable") != std::string::npos)
+  EXPECT_TRUE(e.find("cannot create the file") != std::string::npos || e.find("is not writable") != std::string::npos)
       << e;
   for (const auto& entry : fs::directory_iterator("/proc"))
     EXPECT_NE(entry.path().filename().string().rfind("treedyn_test.h5", 0), 0u) << entry.path();

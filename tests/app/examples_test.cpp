@@ -42,16 +42,17 @@ struct Example {
   std::string name;  // jobs/<name>.toml
   double end_time, step;
   std::string method, parameterisation;
-  std::vector<std::string> bodies;  // in file order ([[body]] first, then [[chain]])
-  std::vector<std::string> points;  // [[output.point]] names
+  std::vector<std::string> bodies;      // in file order ([[body]] first, then [[chain]])
+  std::vector<std::string> points;      // [[output.point]] names
   std::vector<std::string> quantities;  // as requested; empty = the whole catalogue
 };
 
-const std::vector<std::string> kCatalogue = {
-    "orientation",  "angular_velocity", "angular_acceleration", "com_position",
-    "com_velocity", "com_acceleration", "com_offset",           "joint_position",       "joint_reaction",
-    "joint_angle",  "joint_axis",       "joint_moment",         "energy",               "angular_momentum",
-    "base",         "point_position"};
+const std::vector<std::string> kCatalogue = {"orientation",   "angular_velocity", "angular_acceleration",
+                                             "com_position",  "com_velocity",     "com_acceleration",
+                                             "com_offset",    "joint_position",   "joint_reaction",
+                                             "joint_angle",   "joint_axis",       "joint_moment",
+                                             "energy",        "angular_momentum", "base",
+                                             "point_position"};
 
 const Example& example(const std::string& name) {
   static const std::vector<Example> all = {
@@ -81,8 +82,8 @@ const Example& example(const std::string& name) {
        // Bodies in the job file's order: the [[chain]] stands before the container.
        {"cable1", "cable2", "cable3", "cable4", "container"},
        {"container_corner"},
-       {"com_position", "com_offset", "orientation", "joint_reaction", "joint_reaction_magnitude", "joint_angle", "energy", "base",
-        "point_position"}},
+       {"com_position", "com_offset", "orientation", "joint_reaction", "joint_reaction_magnitude", "joint_angle",
+        "energy", "base", "point_position"}},
       {"kapitza",
        5.0,
        0.002,
@@ -121,7 +122,7 @@ std::vector<std::string> expected_columns(const Example& e, const std::string& q
   if (quantity == "energy") return {"kinetic", "potential", "spring", "total"};
   if (quantity == "angular_momentum") return {"x", "y", "z"};
   if (quantity == "base")
-    return {"position.x", "position.y", "position.z", "velocity.x", "velocity.y",
+    return {"position.x", "position.y",     "position.z",     "velocity.x",    "velocity.y",
             "velocity.z", "acceleration.x", "acceleration.y", "acceleration.z"};
   if (quantity == "point_position") {
     std::vector<std::string> out;
@@ -143,8 +144,7 @@ std::size_t column_index(hid_t file, const std::string& dataset, const std::stri
 double relative_energy_drift(const Matrix& energy) {
   const double scale = std::abs(energy(0, 0)) + std::abs(energy(0, 1)) + std::abs(energy(0, 2));
   double drift = 0.0;
-  for (std::size_t r = 0; r < energy.rows(); ++r)
-    drift = std::max(drift, std::abs(energy(r, 3) - energy(0, 3)));
+  for (std::size_t r = 0; r < energy.rows(); ++r) drift = std::max(drift, std::abs(energy(r, 3) - energy(0, 3)));
   return drift / scale;
 }
 
@@ -165,16 +165,14 @@ class ExampleRun {
     EXPECT_NE(result_.out.find("wrote " + output_.string()), std::string::npos) << result_.out;
     // Written atomically: the final file and nothing else (no x.h5.tmp-*).
     std::vector<std::string> left;
-    for (const auto& entry : fs::directory_iterator(dir_.path()))
-      left.push_back(entry.path().filename().string());
+    for (const auto& entry : fs::directory_iterator(dir_.path())) left.push_back(entry.path().filename().string());
     EXPECT_EQ(left, std::vector<std::string>{"x.h5"});
 
     file_.emplace(output_);  // reports a file it cannot open
     if (!file_->ok()) return false;
 
     // /time: 0, step, 2 step, ..., end_time.
-    const auto expected_times =
-        static_cast<std::size_t>(std::llround(example_.end_time / example_.step)) + 1;
+    const auto expected_times = static_cast<std::size_t>(std::llround(example_.end_time / example_.step)) + 1;
     time_ = read_double_array(file(), "time");
     EXPECT_EQ(time_.dims, std::vector<hsize_t>{expected_times});
     if (time_.data.size() == expected_times) {
@@ -217,8 +215,7 @@ class ExampleRun {
     }
 
     // Root attributes.
-    EXPECT_EQ(read_single_string_attribute(file(), "software"),
-              std::string("treedyn ") + TREEDYN_VERSION);
+    EXPECT_EQ(read_single_string_attribute(file(), "software"), std::string("treedyn ") + TREEDYN_VERSION);
     EXPECT_EQ(read_single_string_attribute(file(), "job_text"), read_text(job_path(example_)));
     EXPECT_EQ(read_single_string_attribute(file(), "method"), example_.method);
     EXPECT_EQ(read_single_string_attribute(file(), "parameterisation"), example_.parameterisation);
@@ -302,8 +299,7 @@ TEST(Examples, SphericalPendulumConservesEnergyAndVerticalAngularMomentum) {
   for (std::size_t r = 0; r < h.rows(); ++r) h_drift = std::max(h_drift, std::abs(h(r, z) - h0));
   // H_z(0) = I_zz w_z about the pivot with the rod tilted 30 degrees: clearly non-zero.
   EXPECT_GT(std::abs(h0), 0.1);
-  std::printf("spherical_pendulum: H_z(0) = %.6f kg m^2/s, relative H_z drift %.3e\n", h0,
-              h_drift / std::abs(h0));
+  std::printf("spherical_pendulum: H_z(0) = %.6f kg m^2/s, relative H_z drift %.3e\n", h0, h_drift / std::abs(h0));
   // Measured 1.8e-10 (relative to |H_z(0)|, which is small: the spin is slow
   // and the rod slender); bound ~10x that.
   EXPECT_LT(h_drift / std::abs(h0), 2e-9);
@@ -348,9 +344,10 @@ TEST(Examples, YTreeDampersOnlyDissipateEnergy) {
     worst_rise = std::max(worst_rise, e(r, 3) - e(r - 1, 3));
     worst_above_start = std::max(worst_above_start, e(r, 3) - e0);
   }
-  std::printf("y_tree: E0 = %.6f J, E(end) = %.6f J, largest rise between outputs %.3e J, "
-              "largest E - E0 %.3e J (tolerance %.1e J)\n",
-              e0, e(e.rows() - 1, 3), worst_rise, worst_above_start, tolerance);
+  std::printf(
+      "y_tree: E0 = %.6f J, E(end) = %.6f J, largest rise between outputs %.3e J, "
+      "largest E - E0 %.3e J (tolerance %.1e J)\n",
+      e0, e(e.rows() - 1, 3), worst_rise, worst_above_start, tolerance);
   EXPECT_LE(worst_rise, tolerance);
   EXPECT_LE(worst_above_start, tolerance);
   // The dampers do act: a visible part of the energy is gone by the end.
@@ -362,8 +359,7 @@ TEST(Examples, YTreeDampersOnlyDissipateEnergy) {
 }
 
 TEST(Examples, CranePayloadCableCarriesTheWeightAndTheBaseWorks) {
-  expect_job_says("crane_payload", {"end_time = 60.0", "step = 0.1", "mass = 20.0",
-                                    "mass = 2000.0", "links = 4"});
+  expect_job_says("crane_payload", {"end_time = 60.0", "step = 0.1", "mass = 20.0", "mass = 2000.0", "links = 4"});
   ExampleRun run("crane_payload");
   if (!run.check_structure()) return;
   const double weight = (2000.0 + 4 * 20.0) * 9.81;  // container + 4 cable segments, N
@@ -377,9 +373,10 @@ TEST(Examples, CranePayloadCableCarriesTheWeightAndTheBaseWorks) {
     largest = std::max(largest, reaction(r, z));
   }
   const double mean = sum / static_cast<double>(reaction.rows());
-  std::printf("crane_payload: cable1 vertical reaction mean %.1f N (weight %.1f N, ratio %.5f), "
-              "min %.1f N, max %.1f N\n",
-              mean, weight, mean / weight, smallest, largest);
+  std::printf(
+      "crane_payload: cable1 vertical reaction mean %.1f N (weight %.1f N, ratio %.5f), "
+      "min %.1f N, max %.1f N\n",
+      mean, weight, mean / weight, smallest, largest);
   EXPECT_GT(smallest, 0.0) << "the cable pushes down at some time";
   // The tension column is the norm of the three reaction components (to
   // rounding: both are computed from the same vector).
@@ -387,8 +384,7 @@ TEST(Examples, CranePayloadCableCarriesTheWeightAndTheBaseWorks) {
   const std::size_t x = run.column("joint_reaction", "cable1.x"), y = run.column("joint_reaction", "cable1.y");
   const std::size_t m = run.column("joint_reaction_magnitude", "cable1.magnitude");
   for (std::size_t r = 0; r < reaction.rows(); ++r)
-    EXPECT_NEAR(magnitude(r, m), std::hypot(reaction(r, x), reaction(r, y), reaction(r, z)),
-                1e-12 * weight);
+    EXPECT_NEAR(magnitude(r, m), std::hypot(reaction(r, x), reaction(r, y), reaction(r, z)), 1e-12 * weight);
   EXPECT_NEAR(mean / weight, 1.0, 0.03);
   // The base's motion (and the payload's swing) modulates the tension.
   EXPECT_GT(largest - smallest, 0.01 * weight);
@@ -446,8 +442,7 @@ TEST(ExamplesCheck, CheckPrintsTheTreeAndOkForEveryExample) {
     const auto r = run_treedyn({"check", job_path(e).string()}, dir.path());
     EXPECT_EQ(r.exit_code, 0) << r.err;
     EXPECT_EQ(r.err, "");
-    const std::string count = std::to_string(e.bodies.size()) +
-                              (e.bodies.size() == 1 ? " body" : " bodies");
+    const std::string count = std::to_string(e.bodies.size()) + (e.bodies.size() == 1 ? " body" : " bodies");
     EXPECT_NE(r.out.find("tree (" + count + "):\nbase\n"), std::string::npos) << r.out;
     for (const auto& b : e.bodies)
       EXPECT_NE(r.out.find("-- " + b + "  ("), std::string::npos) << "body " << b << "\n" << r.out;

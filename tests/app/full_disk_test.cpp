@@ -56,16 +56,17 @@ class FullDisk : public ::testing::Test {
 };
 
 TEST_F(FullDisk, ALongTrajectoryExitsFourAndLeavesNothing) {
-  const auto r = run_command(TREEDYN_BINARY, {"run", (fs::path(TREEDYN_JOBS_DIR) / "chain10.toml").string(), "-o",
-                                              (disk_ / "chain.h5").string()},
-                             dir_.path() / "capture");
+  const auto r =
+      run_command(TREEDYN_BINARY,
+                  {"run", (fs::path(TREEDYN_JOBS_DIR) / "chain10.toml").string(), "-o", (disk_ / "chain.h5").string()},
+                  dir_.path() / "capture");
   expect_clean_failure(r, "treedyn run");
 }
 
 TEST_F(FullDisk, AnEnsembleExitsFourAloneAndUnderMpirunAndLeavesNothing) {
   for (int ranks : {0, 2}) {
-    const auto r = run_ensemble(ranks, kapitza_job(), disk_ / "kapitza.h5",
-                                dir_.path() / "capture", {"--checkpoint-every", "0"});
+    const auto r =
+        run_ensemble(ranks, kapitza_job(), disk_ / "kapitza.h5", dir_.path() / "capture", {"--checkpoint-every", "0"});
     expect_clean_failure(r, describe(ranks));
   }
 }
@@ -81,8 +82,7 @@ class FullDiskOneMiB : public FullDisk {
 
 TEST_F(FullDiskOneMiB, AnEnsembleWithDefaultCheckpointsLeavesNothing) {
   for (int ranks : {0, 2}) {
-    const auto r = run_ensemble(ranks, kapitza_job(), disk_ / "kapitza.h5",
-                                dir_.path() / "capture");
+    const auto r = run_ensemble(ranks, kapitza_job(), disk_ / "kapitza.h5", dir_.path() / "capture");
     expect_clean_failure(r, describe(ranks) + ", default checkpoints");
   }
 }
@@ -91,8 +91,8 @@ TEST_F(FullDiskOneMiB, AnEnsembleWithDefaultCheckpointsLeavesNothing) {
 // checkpoints where it can, and the output's own failure is exit 4. What
 // stays is a checkpoint --resume can load (common.state), or nothing.
 TEST_F(FullDisk, CheckpointsOnAFullDiskWarnAndTheRunStillEndsCleanly) {
-  const auto r = run_ensemble(2, kapitza_job(), disk_ / "kapitza.h5", dir_.path() / "capture",
-                              {"--checkpoint-every", "0.1"});
+  const auto r =
+      run_ensemble(2, kapitza_job(), disk_ / "kapitza.h5", dir_.path() / "capture", {"--checkpoint-every", "0.1"});
   std::printf("[checkpoints] exit %d: %s", r.exit_code, r.err.c_str());
   EXPECT_EQ(r.exit_code, 4) << r.err;
   EXPECT_EQ(r.err.find("Segmentation"), std::string::npos) << r.err;

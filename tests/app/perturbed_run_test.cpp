@@ -96,20 +96,23 @@ std::string explicit_chain(double length2) {
   const char* parent[3] = {"base", "c1", "c2"};
   for (int k = 0; k < 3; ++k) {
     text += "[[body]]\nname = \"c" + std::to_string(k + 1) +
-            "\"\nshape = \"cylinder\"\nradius = 0.01\nmass = 0.3\nlength = " + number(L[k]) +
-            "\nparent = \"" + parent[k] + "\"\njoint_on_child = [0.0, 0.0, " + number(0.5 * L[k]) + "]\n";
+            "\"\nshape = \"cylinder\"\nradius = 0.01\nmass = 0.3\nlength = " + number(L[k]) + "\nparent = \"" +
+            parent[k] + "\"\njoint_on_child = [0.0, 0.0, " + number(0.5 * L[k]) + "]\n";
     if (k > 0) text += "joint_on_parent = [0.0, 0.0, " + number(-0.5 * L[k - 1]) + "]\n";
-    text += "orientation = { type = \"axis_angle\", axis = [1, 1, 0], angle = 50, unit = \"deg\" }\n"
-            "angular_velocity = { value = [0.0, 0.0, 2.0], frame = \"inertial\" }\n\n";
+    text +=
+        "orientation = { type = \"axis_angle\", axis = [1, 1, 0], angle = 50, unit = \"deg\" }\n"
+        "angular_velocity = { value = [0.0, 0.0, 2.0], frame = \"inertial\" }\n\n";
   }
   return text + kSettings;
 }
 
-std::string ensemble_section(const std::string& target, double lower, double upper,
-                             const std::string& extra = "") {
+std::string ensemble_section(const std::string& target, double lower, double upper, const std::string& extra = "") {
   return "\n[ensemble]\nsamples = 6\nseed = 4\ndesign = \"latin_hypercube\"\npilot_samples = 2\n\n"
-         "[[ensemble.perturbation]]\ntarget = \"" + target + "\"\ndistribution = \"uniform\"\n"
-         "lower = " + number(lower) + "\nupper = " + number(upper) + "\n" + extra;
+         "[[ensemble.perturbation]]\ntarget = \"" +
+         target +
+         "\"\ndistribution = \"uniform\"\n"
+         "lower = " +
+         number(lower) + "\nupper = " + number(upper) + "\n" + extra;
 }
 
 struct Case {
@@ -122,8 +125,7 @@ struct Case {
 };
 
 std::string pendulum(double length, double mass, double density) {
-  return with(with(with(kPendulum, "length", number(length)), "mass", number(mass)), "density",
-              number(density));
+  return with(with(with(kPendulum, "length", number(length)), "mass", number(mass)), "density", number(density));
 }
 
 void expect_samples_match_reruns(const Case& c) {
@@ -132,8 +134,8 @@ void expect_samples_match_reruns(const Case& c) {
   const fs::path job = dir.path() / "ensemble.toml", out = dir.path() / "ensemble.h5";
   write_text(job, c.ensemble_job + ensemble_section(c.target, c.lower, c.upper, c.extra));
   fs::create_directory(dir.path() / "capture");
-  const CommandResult e = run_command(TREEDYN_ENSEMBLE_BINARY, {job.string(), "-o", out.string(), "-q"},
-                                      dir.path() / "capture");
+  const CommandResult e =
+      run_command(TREEDYN_ENSEMBLE_BINARY, {job.string(), "-o", out.string(), "-q"}, dir.path() / "capture");
   ASSERT_EQ(e.exit_code, 0) << e.err;
   H5File f(out);
   const std::vector<double> inputs = read_doubles(f.id(), "/samples/inputs");
@@ -147,8 +149,8 @@ void expect_samples_match_reruns(const Case& c) {
     const fs::path rerun = dir.path() / ("rerun" + std::to_string(k) + ".toml");
     const fs::path rerun_out = dir.path() / ("rerun" + std::to_string(k) + ".h5");
     write_text(rerun, c.rerun(inputs[k]));
-    const CommandResult r = run_command(TREEDYN_BINARY, {"run", rerun.string(), "-o", rerun_out.string(), "-q"},
-                                        dir.path() / "capture");
+    const CommandResult r =
+        run_command(TREEDYN_BINARY, {"run", rerun.string(), "-o", rerun_out.string(), "-q"}, dir.path() / "capture");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     H5File g(rerun_out);
     const DoubleArray q = read_double_array(g.id(), "/orientation");
@@ -162,26 +164,22 @@ void expect_samples_match_reruns(const Case& c) {
         worst = std::max(worst, std::abs(finals[k * per_sample + 7 * b + 4 + i] - w.data[last_w + 3 * b + i]));
     }
   }
-  std::printf("%-20s largest difference of a final-state component over 6 samples: %.3g\n",
-              c.target.c_str(), worst);
+  std::printf("%-20s largest difference of a final-state component over 6 samples: %.3g\n", c.target.c_str(), worst);
   EXPECT_LE(worst, 1e-12);
 }
 
 TEST(PerturbedRun, ShapeMassEqualsTheMassWrittenIn) {
-  expect_samples_match_reruns({"body.rod.mass", 0.5, 2.0,
-                               [](double v) { return pendulum(1.0, v, 7800.0); },
-                               pendulum(1.0, 1.0, 7800.0)});
+  expect_samples_match_reruns(
+      {"body.rod.mass", 0.5, 2.0, [](double v) { return pendulum(1.0, v, 7800.0); }, pendulum(1.0, 1.0, 7800.0)});
 }
 
 TEST(PerturbedRun, ShapeLengthEqualsTheLengthWrittenIn) {
-  expect_samples_match_reruns({"body.rod.length", 0.6, 1.4,
-                               [](double v) { return pendulum(v, 1.0, 7800.0); },
-                               pendulum(1.0, 1.0, 7800.0)});
+  expect_samples_match_reruns(
+      {"body.rod.length", 0.6, 1.4, [](double v) { return pendulum(v, 1.0, 7800.0); }, pendulum(1.0, 1.0, 7800.0)});
 }
 
 TEST(PerturbedRun, ShapeDensityEqualsTheDensityWrittenIn) {
-  expect_samples_match_reruns({"body.ball.density", 2000.0, 9000.0,
-                               [](double v) { return pendulum(1.0, 1.0, v); },
+  expect_samples_match_reruns({"body.ball.density", 2000.0, 9000.0, [](double v) { return pendulum(1.0, 1.0, v); },
                                pendulum(1.0, 1.0, 7800.0)});
 }
 
@@ -190,13 +188,12 @@ TEST(PerturbedRun, ShapeDensityEqualsTheDensityWrittenIn) {
 // density (the ball's volume computed as model/solids.cpp does). Its mass is
 // then the sampled one to a rounding (parameters_test checks 1e-15).
 TEST(PerturbedRun, MassOfASolidGivenByDensityEqualsItsDensityWrittenIn) {
-  expect_samples_match_reruns(
-      {"body.ball.mass", 2.0, 6.0,
-       [](double v) {
-         const double volume = 4.0 / 3.0 * std::numbers::pi * 0.05 * 0.05 * 0.05;
-         return pendulum(1.0, 1.0, v * (1.0 / volume));
-       },
-       pendulum(1.0, 1.0, 7800.0)});
+  expect_samples_match_reruns({"body.ball.mass", 2.0, 6.0,
+                               [](double v) {
+                                 const double volume = 4.0 / 3.0 * std::numbers::pi * 0.05 * 0.05 * 0.05;
+                                 return pendulum(1.0, 1.0, v * (1.0 / volume));
+                               },
+                               pendulum(1.0, 1.0, 7800.0)});
 }
 
 // The pendulum with its rod's joints given as `upper` and `lower`.
@@ -211,12 +208,12 @@ std::string with_ends(double length, const std::string& upper, const std::string
 // "upper_end" and "lower_end" follow the rod's length: the same as the job
 // with both ends written out for that length.
 TEST(PerturbedRun, CylinderEndsFollowTheLength) {
-  expect_samples_match_reruns(
-      {"body.rod.length", 0.6, 1.4,
-       [](double v) {
-         return with_ends(v, "[0.0, 0.0, " + number(0.5 * v) + "]", "[0.0, 0.0, " + number(-0.5 * v) + "]");
-       },
-       with_ends(1.0, "\"upper_end\"", "\"lower_end\"")});
+  expect_samples_match_reruns({"body.rod.length", 0.6, 1.4,
+                               [](double v) {
+                                 return with_ends(v, "[0.0, 0.0, " + number(0.5 * v) + "]",
+                                                  "[0.0, 0.0, " + number(-0.5 * v) + "]");
+                               },
+                               with_ends(1.0, "\"upper_end\"", "\"lower_end\"")});
 }
 
 // The bodies listed child first (the file's order is not the tree's order):
@@ -237,15 +234,14 @@ TEST(PerturbedRun, ShuffledBodyOrder) {
          std::string t = shuffled(pendulum(1.0, 1.0, 7800.0));
          const std::string at = "joint_on_child = [0.0, 0.0, 0.05]\n";
          return t.replace(t.find(at), at.size(),
-                          at + "orientation = { type = \"axis_angle\", axis = [1, 0, 0], angle = " +
-                              number(v) + ", unit = \"rad\" }\n");
+                          at + "orientation = { type = \"axis_angle\", axis = [1, 0, 0], angle = " + number(v) +
+                              ", unit = \"rad\" }\n");
        },
        shuffled(pendulum(1.0, 1.0, 7800.0)), "unit = \"rad\"\n"});
 }
 
 TEST(PerturbedRun, ChainLinkLengthMovesItsJoints) {
-  expect_samples_match_reruns({"body.c2.length", 0.2, 0.7, [](double v) { return explicit_chain(v); },
-                               kChain});
+  expect_samples_match_reruns({"body.c2.length", 0.2, 0.7, [](double v) { return explicit_chain(v); }, kChain});
 }
 
 // A length perturbed below zero makes an invalid model: status 2 with the
@@ -255,8 +251,8 @@ TEST(PerturbedRun, UnphysicalSampleIsRecordedWithStatus2) {
   const fs::path job = dir.path() / "ensemble.toml", out = dir.path() / "ensemble.h5";
   write_text(job, pendulum(1.0, 1.0, 7800.0) + ensemble_section("body.rod.length", -0.5, 1.0));
   fs::create_directory(dir.path() / "capture");
-  const CommandResult e = run_command(TREEDYN_ENSEMBLE_BINARY, {job.string(), "-o", out.string(), "-q"},
-                                      dir.path() / "capture");
+  const CommandResult e =
+      run_command(TREEDYN_ENSEMBLE_BINARY, {job.string(), "-o", out.string(), "-q"}, dir.path() / "capture");
   ASSERT_EQ(e.exit_code, 0) << e.err;
   H5File f(out);
   const std::vector<double> inputs = read_doubles(f.id(), "/samples/inputs");

@@ -30,6 +30,7 @@ const std::string kChecks = std::string(TREEDYN_TEST_SUPPORT_DIR) + "/report_che
 // What the page's HTML makes of a text (page.py escapes with html.escape).
 std::string escaped(const std::string& text) {
   std::string out;
+  // clang-format off
   for (char c : text) {
     if (c == '&') out += "&amp;";
     else if (c == '<') out += "&lt;";
@@ -38,6 +39,7 @@ std::string escaped(const std::string& text) {
     else if (c == '"') out += "&quot;";
     else out += c;
   }
+  // clang-format on
   return out;
 }
 
@@ -118,8 +120,8 @@ TEST_F(ReportAnswers, CraneExampleFirstScreenMatchesTheFileAndTheSummary) {
     SCOPED_TRACE(name);
     const std::string s = "/sensitivity/" + name;
     // The green box states the summary's ranking, in its order, with its > and ~, before any figure.
-    const std::size_t box = r.page.find("<div class=\"good\">" + escaped(name + " is driven by " +
-                                                                         summary_ranking(r.summary, name) + " ("));
+    const std::size_t box = r.page.find("<div class=\"good\">" +
+                                        escaped(name + " is driven by " + summary_ranking(r.summary, name) + " ("));
     EXPECT_NE(box, std::string::npos) << summary_ranking(r.summary, name) << "\n" << r.summary;
     EXPECT_LT(box, first_figure);
     // The indices' verdict on N, from the attributes.
@@ -160,7 +162,8 @@ TEST_F(ReportAnswers, CraneExampleFirstScreenMatchesTheFileAndTheSummary) {
 // many base points the indices rest on; unreliable indices are no green box.
 TEST_F(ReportAnswers, FailuresOnTheFirstScreen) {
   if (const std::string why = skipped_when_sanitized("crane_payload", true); !why.empty()) GTEST_SKIP() << why;
-  const fs::path out = run("crane_failing", edited_job_text("crane_payload.toml", {{"rtol = 1e-8", "rtol = 1e-8\nmax_steps = 60"}}));
+  const fs::path out =
+      run("crane_failing", edited_job_text("crane_payload.toml", {{"rtol = 1e-8", "rtol = 1e-8\nmax_steps = 60"}}));
   const Report r = report(out);
   H5File f(out);
   const std::string e = "/responses/peak_tension/exceedance";
@@ -178,12 +181,14 @@ TEST_F(ReportAnswers, FailuresOnTheFirstScreen) {
   EXPECT_NE(r.page.find(p, banner), std::string::npos) << p;
   EXPECT_LT(r.page.find(p, banner), r.page.find("</div>", banner));
   const std::string s = "/sensitivity/peak_tension";
-  const long long base = group_integer(f.id(), s, "sobol_base_samples"), blocks = group_integer(f.id(), s, "sobol_blocks");
+  const long long base = group_integer(f.id(), s, "sobol_base_samples"),
+                  blocks = group_integer(f.id(), s, "sobol_blocks");
   ASSERT_LT(base, blocks);
   const bool reliable = group_integer(f.id(), s, "sobol_reliable") != 0;
   EXPECT_NE(r.page.find("The Sobol&#x27; indices rest on " + std::to_string(base) + " of " + std::to_string(blocks) +
                             " base points (a base point counts when all its 6 runs succeeded)" +
-                            (reliable ? "." : "; unreliable: fewer than 80 %."), banner),
+                            (reliable ? "." : "; unreliable: fewer than 80 %."),
+                        banner),
             std::string::npos);
   if (!reliable) {
     EXPECT_EQ(r.page.find("<div class=\"good\">peak_tension is driven by"), std::string::npos);
@@ -198,8 +203,9 @@ TEST_F(ReportAnswers, FailuresOnTheFirstScreen) {
 // E0 + 0.275 |w|^2 with the kick(s) random; `inputs` are the perturbation
 // tables, `design` goes into [ensemble].
 std::string ball_job(const std::string& design, const std::string& inputs, double limit, bool with_limit = true) {
-  return ball_job_text("seed = 5\n" + design, inputs + normal_input("base.position.x", 0.5) +
-                                              energy_response(with_limit ? std::optional<double>(limit) : std::nullopt));
+  return ball_job_text("seed = 5\n" + design,
+                       inputs + normal_input("base.position.x", 0.5) +
+                           energy_response(with_limit ? std::optional<double>(limit) : std::nullopt));
 }
 
 const std::string kTwoKicks = R"(
@@ -222,8 +228,9 @@ TEST_F(ReportAnswers, ARankingIsStatedOnlyOnceTheDataTellTheInputsApart) {
   const std::string x = "body.ball.angular_velocity.x", y = "body.ball.angular_velocity.y";
   for (const int n : {8, 256}) {
     SCOPED_TRACE(n);
-    const fs::path out = run("ball_" + std::to_string(n), ball_job("samples = " + std::to_string(n) +
-                                                                       "\ndesign = \"saltelli\"", kTwoKicks, 0.0, false));
+    const fs::path out =
+        run("ball_" + std::to_string(n),
+            ball_job("samples = " + std::to_string(n) + "\ndesign = \"saltelli\"", kTwoKicks, 0.0, false));
     const Report r = report(out);
     H5File f(out);
     const std::vector<long long> order = read_integers(f.id(), "/sensitivity/energy/sobol_ranking/order");
@@ -239,7 +246,8 @@ TEST_F(ReportAnswers, ARankingIsStatedOnlyOnceTheDataTellTheInputsApart) {
       EXPECT_NE(sentence.find(" ~ " + y), std::string::npos) << sentence;
       EXPECT_NE(sentence.find(x + " and " + y + " cannot yet be told apart (about " + formatted("%.0f", needed) +
                               " base points would tell them apart)."),
-                std::string::npos) << sentence;
+                std::string::npos)
+          << sentence;
       EXPECT_NE(r.summary.find(" ~ " + y), std::string::npos) << r.summary;
     } else {
       EXPECT_NE(sentence.find(" &gt; " + y), std::string::npos) << sentence;
@@ -259,11 +267,12 @@ TEST_F(ReportAnswers, ATruncationBoundThatSetsPIsWarnedAboutOnASubsetSimulationP
   if (const std::string why = skipped_when_sanitized_as_large("subset simulation's page"); !why.empty())
     GTEST_SKIP() << why;
   const double a = 3.0, upper = 1.02 * a;
-  const std::string kick = "\n[[ensemble.perturbation]]\ntarget = \"body.ball.angular_velocity.x\"\n"
-                           "distribution = \"truncated_normal\"\nmean = 0.0\nstd = 1.0\nlower = -1.0\nupper = " +
-                           formatted("%.6f", upper) + "\n";
-  const fs::path out = run("truncated", ball_job("samples = 500\n" + kBallSubset, kick,
-                                                 kBallE0 + kBallHalfInertia * a * a));
+  const std::string kick =
+      "\n[[ensemble.perturbation]]\ntarget = \"body.ball.angular_velocity.x\"\n"
+      "distribution = \"truncated_normal\"\nmean = 0.0\nstd = 1.0\nlower = -1.0\nupper = " +
+      formatted("%.6f", upper) + "\n";
+  const fs::path out =
+      run("truncated", ball_job("samples = 500\n" + kBallSubset, kick, kBallE0 + kBallHalfInertia * a * a));
   const Report r = report(out);
   H5File f(out);
   const std::string g = "/rare_event/energy/failure_region";
@@ -271,17 +280,20 @@ TEST_F(ReportAnswers, ATruncationBoundThatSetsPIsWarnedAboutOnASubsetSimulationP
   ASSERT_GT(runs, 0);
   const double near = read_doubles(f.id(), g + "/near_bound").at(0);
   ASSERT_GE(near, 0.5);
-  const std::string warning = formatted("%.0f", 100 * near) + " % of the failing runs have body.ball.angular_velocity.x "
-                              "within 1 % of its upper bound " + formatted("%.6g", read_doubles(f.id(), g + "/bound").at(0)) +
+  const std::string warning = formatted("%.0f", 100 * near) +
+                              " % of the failing runs have body.ball.angular_velocity.x "
+                              "within 1 % of its upper bound " +
+                              formatted("%.6g", read_doubles(f.id(), g + "/bound").at(0)) +
                               " rad/s: P depends on where that distribution is cut off";
   EXPECT_NE(r.page.find("<div class=\"warning\">" + warning), std::string::npos) << warning;
-  EXPECT_NE(r.page.find("energy: the " + std::to_string(runs) + " runs beyond the limit, any level of the subset "
+  EXPECT_NE(r.page.find("energy: the " + std::to_string(runs) +
+                        " runs beyond the limit, any level of the subset "
                         "simulation"),
             std::string::npos);
   EXPECT_NE(r.page.find("coloured by level"), std::string::npos);
   EXPECT_NE(r.page.find("the subset simulation&#x27;s, above (level 0 alone is not the answer)"), std::string::npos);
-  for (const char* monte_carlo_only : {"for a smaller P use subset simulation", "no exceedance in",
-                                       "no successful run exceeds the limit"})
+  for (const char* monte_carlo_only :
+       {"for a smaller P use subset simulation", "no exceedance in", "no successful run exceeds the limit"})
     EXPECT_EQ(r.page.find(monte_carlo_only), std::string::npos) << monte_carlo_only;
   EXPECT_LT(r.page.find("<h2>Answers</h2>"), r.page.find("Rare event (subset simulation)"));
 }
@@ -290,10 +302,11 @@ TEST_F(ReportAnswers, ATruncationBoundThatSetsPIsWarnedAboutOnASubsetSimulationP
 // invalid models): one line, no table of NaN; a response without a limit
 // gets nothing in the failure region's section.
 TEST_F(ReportAnswers, NoExceedingRunIsOneLineAndNoLimitIsNothing) {
-  const std::string inputs = "\n[[ensemble.perturbation]]\ntarget = \"body.ball.angular_velocity.x\"\n"
-                             "distribution = \"normal\"\nstd = 1.0\n"
-                             "\n[[ensemble.perturbation]]\ntarget = \"body.ball.mass\"\ndistribution = \"normal\"\n"
-                             "mean = 1.0\nstd = 0.5\n";
+  const std::string inputs =
+      "\n[[ensemble.perturbation]]\ntarget = \"body.ball.angular_velocity.x\"\n"
+      "distribution = \"normal\"\nstd = 1.0\n"
+      "\n[[ensemble.perturbation]]\ntarget = \"body.ball.mass\"\ndistribution = \"normal\"\n"
+      "mean = 1.0\nstd = 0.5\n";
   std::string text = ball_job("samples = 200\ndesign = \"monte_carlo\"", inputs, 1e6);
   text += "\n[[ensemble.response]]\nname = \"spin\"\nquantity = \"energy\"\ncolumn = \"kinetic\"\nreduce = \"max\"\n";
   const fs::path out = run("none", text);

@@ -23,8 +23,8 @@ namespace {
 using namespace treedyn::testing;
 namespace fs = std::filesystem;
 
-const std::vector<std::string> kExamples = {"spherical_pendulum", "double_pendulum", "chain10",
-                                            "y_tree",             "crane_payload",   "kapitza"};
+const std::vector<std::string> kExamples = {"spherical_pendulum", "double_pendulum", "chain10", "y_tree",
+                                            "crane_payload",      "kapitza"};
 const std::string kPython = "/usr/bin/python3";
 const std::string kChecks = std::string(TREEDYN_TEST_SUPPORT_DIR) + "/report_checks.py";
 
@@ -139,16 +139,16 @@ TEST_P(Report, TrajectoryOfTheExample) {
   EXPECT_EQ(s.exit_code, 0) << s.out << s.err;
   // /motion: each joint point is its CoM plus A c, segment lengths hold to 1e-8 m (a rigid tree), the
   // root's joint is on the base point; the page's 3-D view carries these poses (to its 6 decimals).
-  const CommandResult m =
-      run_command(kPython, {kChecks, "motion", out.string(), (dir.path() / "t_report").string()}, dir.path() / "capture");
+  const CommandResult m = run_command(kPython, {kChecks, "motion", out.string(), (dir.path() / "t_report").string()},
+                                      dir.path() / "capture");
   EXPECT_EQ(m.exit_code, 0) << m.out << m.err;
   EXPECT_EQ(m.out.rfind("ok motion", 0), 0u) << m.out;
   // FILE.xmf beside the file (its points in FILE.motion.h5), read back with meshio's TimeSeriesReader: times,
   // poly-lines and every step's points are the file's.
   EXPECT_NE(r.out.find("wrote " + (dir.path() / "t.xmf").string()), std::string::npos) << r.out;
   EXPECT_TRUE(fs::exists(dir.path() / "t.motion.h5"));
-  const CommandResult x = run_command(kPython, {kChecks, "xdmf", (dir.path() / "t.xmf").string(), out.string()},
-                                      dir.path() / "capture");
+  const CommandResult x =
+      run_command(kPython, {kChecks, "xdmf", (dir.path() / "t.xmf").string(), out.string()}, dir.path() / "capture");
   EXPECT_EQ(x.exit_code, 0) << x.out << x.err;
   EXPECT_EQ(x.out.rfind("ok xdmf", 0), 0u) << x.out;
 }
@@ -161,7 +161,9 @@ TEST(Report, AnXdmfFileThatCannotBeWrittenIsAWarning) {
   TempDir dir("report_xdmf");
   const fs::path out = dir.path() / "t.h5";
   ASSERT_EQ(treedyn({"run", std::string(TREEDYN_JOBS_DIR) + "/spherical_pendulum.toml", "-o", out.string(), "-q"},
-                    dir.path() / "c").exit_code, 0);
+                    dir.path() / "c")
+                .exit_code,
+            0);
   fs::create_directory(dir.path() / "t.xmf");
   const CommandResult r = treedyn({"report", out.string()}, dir.path() / "c");
   EXPECT_EQ(r.exit_code, 0) << r.err;
@@ -187,7 +189,9 @@ TEST(Report, ThreeDViewDrawsTheMotionInHeadlessChromium) {
     TempDir dir("report_view");
     const fs::path out = dir.path() / "t.h5";
     ASSERT_EQ(treedyn({"run", std::string(TREEDYN_JOBS_DIR) + "/" + example + ".toml", "-o", out.string(), "-q"},
-                      dir.path() / "c").exit_code, 0);
+                      dir.path() / "c")
+                  .exit_code,
+              0);
     ASSERT_EQ(treedyn({"report", out.string()}, dir.path() / "c").exit_code, 0);
     const CommandResult v =
         run_command(kPython, {kChecks, "view", (dir.path() / "t_report").string()}, dir.path() / "c");
@@ -205,7 +209,9 @@ TEST(Report, XdmfFileOpensInParaViewsThreeReaders) {
   TempDir dir("report_paraview");
   const fs::path out = dir.path() / "t.h5";
   ASSERT_EQ(treedyn({"run", std::string(TREEDYN_JOBS_DIR) + "/crane_payload.toml", "-o", out.string(), "-q"},
-                    dir.path() / "c").exit_code, 0);
+                    dir.path() / "c")
+                .exit_code,
+            0);
   ASSERT_EQ(treedyn({"report", out.string()}, dir.path() / "c").exit_code, 0);
   const CommandResult p =
       run_command(kPython, {kChecks, "paraview", (dir.path() / "t.xmf").string(), out.string()}, dir.path() / "c");
@@ -303,8 +309,10 @@ TEST(Report, FailedSamplesComeFirstAndTheirOwnPageSaysWhy) {
   expect_figures(dir.path() / "failing_report");
   // The failed sample alone: its page opens with the failure, why and its inputs.
   const fs::path sample = dir.path() / "sample.h5";
-  ASSERT_EQ(run_command(TREEDYN_ENSEMBLE_BINARY, {job.string(), "--sample", std::to_string(k), "-o", sample.string(),
-                                                  "-q"}, dir.path() / "c").exit_code, 0);
+  ASSERT_EQ(run_command(TREEDYN_ENSEMBLE_BINARY,
+                        {job.string(), "--sample", std::to_string(k), "-o", sample.string(), "-q"}, dir.path() / "c")
+                .exit_code,
+            0);
   ASSERT_EQ(treedyn({"report", sample.string()}, dir.path() / "c").exit_code, 0);
   const std::string own = read_text(dir.path() / "sample_report" / "index.html");
   EXPECT_NE(own.find("Sample " + std::to_string(k) + " FAILED: too_much_work"), std::string::npos) << own;
@@ -338,7 +346,8 @@ TEST(Report, IntoAPipeClosedAfterOneLine) {
                     dir.path() / "capture")
                 .exit_code,
             0);
-  const std::string line = quote(TREEDYN_BINARY) + " report " + quote(out.string()) + " | head -1; exit ${PIPESTATUS[0]}";
+  const std::string line =
+      quote(TREEDYN_BINARY) + " report " + quote(out.string()) + " | head -1; exit ${PIPESTATUS[0]}";
   const CommandResult r = run_command("bash", {"-c", line}, dir.path() / "capture");
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
@@ -354,8 +363,7 @@ TEST(Provenance, EveryAttributeIsThereAndNotEmpty) {
   const fs::path job = dir.path() / "job.toml", trajectory = dir.path() / "t.h5", ensemble = dir.path() / "e.h5";
   write_text(job, small_ensemble("spherical_pendulum"));
   ASSERT_EQ(treedyn({"run", job.string(), "-o", trajectory.string(), "-q"}, dir.path() / "capture").exit_code, 0);
-  ASSERT_EQ(run_command(TREEDYN_ENSEMBLE_BINARY, {job.string(), "-o", ensemble.string(), "-q"},
-                        dir.path() / "capture")
+  ASSERT_EQ(run_command(TREEDYN_ENSEMBLE_BINARY, {job.string(), "-o", ensemble.string(), "-q"}, dir.path() / "capture")
                 .exit_code,
             0);
   for (const fs::path& file : {trajectory, ensemble}) {

@@ -11,13 +11,14 @@
 //    the deviation; V = theta^T K theta / 2 from its angle and axis);
 //  * what each law does at 180 degrees, damping, and that only the relative
 //    rotation matters.
+#include "dynamics/joint_spring.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
 #include <random>
 
-#include "dynamics/joint_spring.hpp"
 #include "support/random_tree.hpp"
 
 namespace treedyn {
@@ -25,9 +26,7 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-Mat3 rotation(double angle, const Vec3& axis) {
-  return Eigen::AngleAxisd(angle, axis.normalized()).toRotationMatrix();
-}
+Mat3 rotation(double angle, const Vec3& axis) { return Eigen::AngleAxisd(angle, axis.normalized()).toRotationMatrix(); }
 
 // The energies from their definitions, for a deviation D (child -> reference).
 double quaternion_energy(const Mat3& K, const Mat3& D) {
@@ -64,12 +63,12 @@ TEST(JointSpring, IsotropicClosedForms) {
   const Vec3 n = Vec3(1.0, -2.0, 0.5).normalized();
   for (double phi : {1e-6, 0.01, 0.3, 1.0, 2.0, 3.0}) {
     const Mat3 A = rotation(phi, n);
-    const JointLoad q = joint_spring_load(spring(k * Mat3::Identity(), SpringLaw::quaternion),
-                                          Mat3::Identity(), A, Vec3::Zero(), Vec3::Zero());
+    const JointLoad q = joint_spring_load(spring(k * Mat3::Identity(), SpringLaw::quaternion), Mat3::Identity(), A,
+                                          Vec3::Zero(), Vec3::Zero());
     EXPECT_NEAR(q.energy, k * (1.0 - std::cos(phi)), 1e-13) << phi;
     EXPECT_LT((q.moment - (-k * std::sin(phi) * n)).norm(), 1e-13) << phi;
-    const JointLoad r = joint_spring_load(spring(k * Mat3::Identity(), SpringLaw::rotation_vector),
-                                          Mat3::Identity(), A, Vec3::Zero(), Vec3::Zero());
+    const JointLoad r = joint_spring_load(spring(k * Mat3::Identity(), SpringLaw::rotation_vector), Mat3::Identity(), A,
+                                          Vec3::Zero(), Vec3::Zero());
     EXPECT_NEAR(r.energy, 0.5 * k * phi * phi, 1e-13) << phi;
     EXPECT_LT((r.moment - (-k * phi * n)).norm(), 1e-13) << phi;
   }
@@ -98,8 +97,8 @@ TEST(JointSpring, MomentIsMinusTheEnergyGradient) {
       EXPECT_NEAR(load.energy, energy(K, D), 1e-12 * K.norm()) << name(law);
       const double h = 1e-5;
       for (int a = 0; a < 3; ++a) {
-        const double dV = (energy(K, D * rotation(h, Vec3::Unit(a))) -
-                           energy(K, D * rotation(-h, Vec3::Unit(a)))) / (2.0 * h);
+        const double dV =
+            (energy(K, D * rotation(h, Vec3::Unit(a))) - energy(K, D * rotation(-h, Vec3::Unit(a)))) / (2.0 * h);
         EXPECT_NEAR(moment_child[a], -dV, 1e-7 * K.norm()) << name(law) << " trial " << trial << " axis " << a;
       }
     }
@@ -123,8 +122,7 @@ TEST(JointSpring, RotationVectorSmallAngleSeriesMatchesTheClosedForm) {
     const long double a = angle;
     const long double c = 1.0L / (a * a) - 1.0L / (std::tan(a / 2.0L) * 2.0L * a);
     const Vec3 Kt = K * theta;
-    const Vec3 expected =
-        -(Kt - 0.5 * theta.cross(Kt) + static_cast<double>(c) * theta.cross(theta.cross(Kt)));
+    const Vec3 expected = -(Kt - 0.5 * theta.cross(Kt) + static_cast<double>(c) * theta.cross(theta.cross(Kt)));
     EXPECT_LT((A.transpose() * load.moment - expected).norm(), 1e-13 * Kt.norm()) << angle;
     // And the c term is large enough here to matter at this tolerance.
     EXPECT_GT((static_cast<double>(c) * theta.cross(theta.cross(Kt))).norm(), 1e-12 * Kt.norm()) << angle;
@@ -139,8 +137,8 @@ TEST(JointSpring, BehaviourAtHalfTurn) {
   const Vec3 n = Vec3::UnitZ();
   const double below = kPi - 1e-6, above = kPi + 1e-6;
   const auto load = [&](SpringLaw law, double phi) {
-    return joint_spring_load(spring(k * Mat3::Identity(), law), Mat3::Identity(), rotation(phi, n),
-                             Vec3::Zero(), Vec3::Zero());
+    return joint_spring_load(spring(k * Mat3::Identity(), law), Mat3::Identity(), rotation(phi, n), Vec3::Zero(),
+                             Vec3::Zero());
   };
   EXPECT_LT(load(SpringLaw::quaternion, below).moment.norm(), 1e-5);
   EXPECT_LT(load(SpringLaw::quaternion, above).moment.norm(), 1e-5);
@@ -148,8 +146,7 @@ TEST(JointSpring, BehaviourAtHalfTurn) {
   const Vec3 m_above = load(SpringLaw::rotation_vector, above).moment;
   EXPECT_NEAR(m_below.z(), -k * below, 1e-9);
   EXPECT_NEAR(m_above.z(), +k * (2.0 * kPi - above), 1e-9);  // the shorter way back
-  EXPECT_NEAR(load(SpringLaw::rotation_vector, below).energy,
-              load(SpringLaw::rotation_vector, above).energy, 1e-5);
+  EXPECT_NEAR(load(SpringLaw::rotation_vector, below).energy, load(SpringLaw::rotation_vector, above).energy, 1e-5);
 }
 
 // The damper: -C w_rel with w_rel = A_c^T (w_c - w_p) in the child's frame,

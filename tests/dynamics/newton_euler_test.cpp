@@ -6,11 +6,11 @@
 // mass matrix K is symmetric positive definite and equals the inverse of the
 // Newton-Euler compliance dw'/dM; a dense LDLT solve of K w' = Q gives the
 // tree-sparse factorisation's w'; and the hot path does not allocate.
-#include <gtest/gtest.h>
-
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <atomic>
 #include <cerrno>
@@ -34,13 +34,11 @@
 #include "dynamics/recovered.hpp"
 #include "integrate/tree_ode.hpp"
 #include "model/model.hpp"
-#include "support/random_tree.hpp"
-
 #include "support/allocation_counting.inc"
+#include "support/random_tree.hpp"
 
 namespace treedyn {
 namespace {
-
 
 // ---------------------------------------------------------------------------
 // The oracle.
@@ -60,12 +58,10 @@ namespace {
 // (for K = k E: -k sin(angle) axis; zero at 180 degrees, no flip). Y = A_c tau
 // on the child and -Y on the parent; by construction V depends only on the
 // relative rotation, so the pair does no work under a common rotation.
-Vec3 axial(const Mat3& m) {
-  return 0.5 * Vec3(m(2, 1) - m(1, 2), m(0, 2) - m(2, 0), m(1, 0) - m(0, 1));
-}
+Vec3 axial(const Mat3& m) { return 0.5 * Vec3(m(2, 1) - m(1, 2), m(0, 2) - m(2, 0), m(1, 0) - m(0, 1)); }
 
-Vec3 oracle_spring_moment(const JointSpring& s, const Mat3& A_parent, const Mat3& A_child,
-                          const Vec3& w_parent, const Vec3& w_child) {
+Vec3 oracle_spring_moment(const JointSpring& s, const Mat3& A_parent, const Mat3& A_child, const Vec3& w_parent,
+                          const Vec3& w_child) {
   const Mat3 K = 0.5 * (s.stiffness + s.stiffness.transpose());
   const Mat3 C = 0.5 * (s.damping + s.damping.transpose());
   const Mat3 R_ref = s.reference.normalized().toRotationMatrix();
@@ -94,8 +90,8 @@ Vec3 oracle_base_acceleration(const BaseMotionSpec& spec, double t) {
 
 // Tree shape of a spec in the user's order, from names only.
 struct SpecTree {
-  std::vector<int> parent;                // user index, -1 for the base
-  std::vector<int> joint;                 // index in spec.joints of body u's inboard joint
+  std::vector<int> parent;                 // user index, -1 for the base
+  std::vector<int> joint;                  // index in spec.joints of body u's inboard joint
   std::vector<std::vector<int>> children;  // user indices
 };
 
@@ -134,9 +130,8 @@ struct NewtonEulerSystem {
   Eigen::VectorXd rhs;
 };
 
-NewtonEulerSystem newton_euler_system(const ModelSpec& spec, const SpecTree& tree,
-                                      const std::vector<Mat3>& A, const std::vector<Vec3>& w,
-                                      double t) {
+NewtonEulerSystem newton_euler_system(const ModelSpec& spec, const SpecTree& tree, const std::vector<Mat3>& A,
+                                      const std::vector<Vec3>& w, double t) {
   const int n = static_cast<int>(spec.bodies.size());
   std::map<std::string, int> index;
   for (int u = 0; u < n; ++u) index[spec.bodies[u].name] = u;
@@ -213,8 +208,8 @@ struct NewtonEulerSolution {
   bool invertible = false;
 };
 
-NewtonEulerSolution newton_euler(const ModelSpec& spec, const std::vector<Mat3>& A,
-                                 const std::vector<Vec3>& w, double t) {
+NewtonEulerSolution newton_euler(const ModelSpec& spec, const std::vector<Mat3>& A, const std::vector<Vec3>& w,
+                                 double t) {
   const SpecTree tree = spec_tree(spec);
   const NewtonEulerSystem sys = newton_euler_system(spec, tree, A, w, t);
   const Eigen::FullPivLU<Eigen::MatrixXd> lu(sys.S);
@@ -235,8 +230,7 @@ NewtonEulerSolution newton_euler(const ModelSpec& spec, const std::vector<Mat3>&
 // moment M_i with coefficient +1 (59) and nothing else depends on it, so
 // dw'/dM = K^-1. Its columns are the Newton-Euler responses to unit moments
 // (the homogeneous system with one unit moment on the right).
-Eigen::MatrixXd oracle_mass_matrix(const ModelSpec& spec, const Model& model,
-                                   const std::vector<Mat3>& A_user) {
+Eigen::MatrixXd oracle_mass_matrix(const ModelSpec& spec, const Model& model, const std::vector<Mat3>& A_user) {
   const int n = static_cast<int>(spec.bodies.size());
   const SpecTree tree = spec_tree(spec);
   const std::vector<Vec3> w(n, Vec3::Zero());
@@ -304,8 +298,8 @@ ModelSpec random_scenario(std::mt19937_64& rng, const ScenarioOptions& o) {
     std::uniform_int_distribution<int> body(0, n - 1), count(1, 4);
     const int forces = count(rng), moments = count(rng);
     for (int k = 0; k < forces; ++k)
-      spec.forces.push_back({spec.bodies[body(rng)].name, testing::random_vector(rng, 0.5),
-                             testing::random_vector(rng, 20.0)});
+      spec.forces.push_back(
+          {spec.bodies[body(rng)].name, testing::random_vector(rng, 0.5), testing::random_vector(rng, 20.0)});
     for (int k = 0; k < moments; ++k)
       spec.moments.push_back({spec.bodies[body(rng)].name, testing::random_vector(rng, 5.0)});
   }
@@ -320,16 +314,14 @@ ModelSpec random_scenario(std::mt19937_64& rng, const ScenarioOptions& o) {
       for (int axis = 0; axis < 3; ++axis) {
         const int m = terms(rng);
         for (int k = 0; k < m; ++k)
-          h.axes[axis].push_back(
-              {0.01 + 0.2 * unit(rng), 0.2 + 3.0 * unit(rng), 2.0 * std::numbers::pi * unit(rng)});
+          h.axes[axis].push_back({0.01 + 0.2 * unit(rng), 0.2 + 3.0 * unit(rng), 2.0 * std::numbers::pi * unit(rng)});
       }
       spec.base_motion = h;
       break;
     }
     case BaseKind::constant_acceleration:
-      spec.base_motion =
-          ConstantAccelerationBase{testing::random_vector(rng, 1.0), testing::random_vector(rng, 2.0),
-                                   testing::random_vector(rng, 8.0)};
+      spec.base_motion = ConstantAccelerationBase{testing::random_vector(rng, 1.0), testing::random_vector(rng, 2.0),
+                                                  testing::random_vector(rng, 8.0)};
       break;
     case BaseKind::tabulated: {  // not used by the oracle comparisons
       TabulatedBase tab;
@@ -345,8 +337,7 @@ ModelSpec random_scenario(std::mt19937_64& rng, const ScenarioOptions& o) {
 }
 
 // Copies a user-order state into data in the regular order.
-constexpr AccelerationSolver kBothSolvers[] = {AccelerationSolver::recursive,
-                                               AccelerationSolver::sparse_ldlt};
+constexpr AccelerationSolver kBothSolvers[] = {AccelerationSolver::recursive, AccelerationSolver::sparse_ldlt};
 
 void set_state(const Model& model, const InitialState& s, double t, Data& data) {
   data.time = t;
@@ -406,53 +397,47 @@ TEST(NewtonEuler, AngularAccelerationsAndReactionsMatchOracle) {
           const NewtonEulerSolution ne = newton_euler(spec, state.rotation, state.angular_velocity, t);
           ASSERT_TRUE(ne.invertible);
           worst_residual = std::max(worst_residual, ne.residual);
-         for (const AccelerationSolver solver : kBothSolvers) {
-          Data data(model, solver);
-          set_state(model, state, t, data);
-          ASSERT_TRUE(forward_dynamics(model, data));
-          const Recovered rec = recover(model, data);
+          for (const AccelerationSolver solver : kBothSolvers) {
+            Data data(model, solver);
+            set_state(model, state, t, data);
+            ASSERT_TRUE(forward_dynamics(model, data));
+            const Recovered rec = recover(model, data);
 
-          // Solver's w' straight from data, mapped to the user order.
-          std::vector<Vec3> alpha(n);
-          for (int i = 0; i < n; ++i)
-            alpha[model.tree().user_index[i]] = data.angular_acceleration.segment<3>(3 * i);
-          for (int u = 0; u < n; ++u)  // recover() must report the same w' (a copy)
-            ASSERT_EQ((alpha[u] - rec.angular_acceleration[u]).norm(), 0.0);
+            // Solver's w' straight from data, mapped to the user order.
+            std::vector<Vec3> alpha(n);
+            for (int i = 0; i < n; ++i) alpha[model.tree().user_index[i]] = data.angular_acceleration.segment<3>(3 * i);
+            for (int u = 0; u < n; ++u)  // recover() must report the same w' (a copy)
+              ASSERT_EQ((alpha[u] - rec.angular_acceleration[u]).norm(), 0.0);
 
-          double scale = 0.0;
-          const double alpha_err =
-              stacked_difference(alpha, ne.angular_acceleration, scale) / scale;
-          const double reaction_err =
-              stacked_difference(rec.joint_reaction, ne.joint_reaction, scale) / scale;
-          const double com_err =
-              stacked_difference(rec.com_acceleration, ne.com_acceleration, scale) / scale;
+            double scale = 0.0;
+            const double alpha_err = stacked_difference(alpha, ne.angular_acceleration, scale) / scale;
+            const double reaction_err = stacked_difference(rec.joint_reaction, ne.joint_reaction, scale) / scale;
+            const double com_err = stacked_difference(rec.com_acceleration, ne.com_acceleration, scale) / scale;
 
-          const std::string label = std::string(name(solver)) + " n=" + std::to_string(n) +
-                                    (o.chain ? " chain" : " branched") +
-                                    " variant=" + std::to_string(variant) +
-                                    " rep=" + std::to_string(rep);
-          EXPECT_LT(alpha_err, 1e-10) << label;
-          EXPECT_LT(reaction_err, 1e-10) << label;
-          EXPECT_LT(com_err, 1e-10) << label;
-          if (alpha_err > worst_alpha) {
-            worst_alpha = alpha_err;
-            worst_alpha_case = label;
+            const std::string label = std::string(name(solver)) + " n=" + std::to_string(n) +
+                                      (o.chain ? " chain" : " branched") + " variant=" + std::to_string(variant) +
+                                      " rep=" + std::to_string(rep);
+            EXPECT_LT(alpha_err, 1e-10) << label;
+            EXPECT_LT(reaction_err, 1e-10) << label;
+            EXPECT_LT(com_err, 1e-10) << label;
+            if (alpha_err > worst_alpha) {
+              worst_alpha = alpha_err;
+              worst_alpha_case = label;
+            }
+            if (reaction_err > worst_reaction) {
+              worst_reaction = reaction_err;
+              worst_reaction_case = label;
+            }
+            worst_com = std::max(worst_com, com_err);
+            ++cases;
           }
-          if (reaction_err > worst_reaction) {
-            worst_reaction = reaction_err;
-            worst_reaction_case = label;
-          }
-          worst_com = std::max(worst_com, com_err);
-          ++cases;
-         }
         }
       }
     }
   }
   std::printf("Newton-Euler oracle, %d cases:\n", cases);
   std::printf("  worst relative error w'        %.2e  (%s)\n", worst_alpha, worst_alpha_case.c_str());
-  std::printf("  worst relative error X (joint) %.2e  (%s)\n", worst_reaction,
-              worst_reaction_case.c_str());
+  std::printf("  worst relative error X (joint) %.2e  (%s)\n", worst_reaction, worst_reaction_case.c_str());
   std::printf("  worst relative error r''       %.2e\n", worst_com);
   std::printf("  worst oracle LU residual       %.2e\n", worst_residual);
 }
@@ -480,10 +465,10 @@ TEST(NewtonEuler, JointSpringMomentMatchesIndependentLaw) {
       for (int u = 0; u < n; ++u) {
         const int p = tree.parent[u];
         const JointSpring& js = spec.joints[tree.joint[u]].spring;
-        const Vec3 Y = p < 0 ? oracle_spring_moment(js, Mat3::Identity(), s.rotation[u],
-                                                    Vec3::Zero(), s.angular_velocity[u])
-                             : oracle_spring_moment(js, s.rotation[p], s.rotation[u],
-                                                    s.angular_velocity[p], s.angular_velocity[u]);
+        const Vec3 Y =
+            p < 0
+                ? oracle_spring_moment(js, Mat3::Identity(), s.rotation[u], Vec3::Zero(), s.angular_velocity[u])
+                : oracle_spring_moment(js, s.rotation[p], s.rotation[u], s.angular_velocity[p], s.angular_velocity[u]);
         // Free joints: both exactly zero; otherwise |Y| is O(1) N m.
         const double err = (rec.joint_moment[u] - Y).norm() / std::max(Y.norm(), 1e-6);
         EXPECT_LT(err, 1e-12) << "n=" << n << " body " << u << " solver " << rec.joint_moment[u].transpose()
@@ -529,8 +514,8 @@ TEST(NewtonEuler, DenseMassMatrixSymmetricPositiveDefiniteAndSolvesAlike) {
         ASSERT_TRUE(forward_dynamics(model, data));
         const Eigen::MatrixXd K = dense_mass_matrix(model, data);
         ASSERT_EQ(K.rows(), 3 * n);
-        const std::string label = "n=" + std::to_string(n) + (o.chain ? " chain" : " branched") +
-                                  " rep=" + std::to_string(rep);
+        const std::string label =
+            "n=" + std::to_string(n) + (o.chain ? " chain" : " branched") + " rep=" + std::to_string(rep);
 
         const double asym = (K - K.transpose()).cwiseAbs().maxCoeff() / K.cwiseAbs().maxCoeff();
         EXPECT_LT(asym, 1e-14) << label;
@@ -544,8 +529,7 @@ TEST(NewtonEuler, DenseMassMatrixSymmetricPositiveDefiniteAndSolvesAlike) {
         worst_cond = std::max(worst_cond, cond);
 
         const Eigen::VectorXd w_dense = K.ldlt().solve(data.generalised_force);
-        const double solve_err =
-            (w_dense - data.angular_acceleration).norm() / w_dense.norm();
+        const double solve_err = (w_dense - data.angular_acceleration).norm() / w_dense.norm();
         EXPECT_LT(solve_err, 1e-12) << label << " cond(K) " << cond;
         worst_solve = std::max(worst_solve, solve_err);
 
@@ -601,8 +585,8 @@ TEST(NewtonEuler, RecursiveSolverMatchesLdltDenseAndOracleUpTo100Bodies) {
         set_state(model, state, t, ldlt);
         ASSERT_TRUE(forward_dynamics(model, recursive));
         ASSERT_TRUE(forward_dynamics(model, ldlt));
-        const std::string label = "n=" + std::to_string(n) + " " + shapes[shape] +
-                                  " variant=" + std::to_string(variant);
+        const std::string label =
+            "n=" + std::to_string(n) + " " + shapes[shape] + " variant=" + std::to_string(variant);
         SCOPED_TRACE(label);
 
         const Eigen::VectorXd& w_rec = recursive.angular_acceleration;
@@ -625,8 +609,7 @@ TEST(NewtonEuler, RecursiveSolverMatchesLdltDenseAndOracleUpTo100Bodies) {
         // The oracle has no tabulated base and only the quaternion spring law;
         // its 9n x 9n full-pivot LU costs ~(9n)^3, so above 30 bodies it runs
         // on one variant in four.
-        const bool oracle_models_it = o.base != BaseKind::tabulated &&
-                                      (!o.springs || o.law == SpringLaw::quaternion);
+        const bool oracle_models_it = o.base != BaseKind::tabulated && (!o.springs || o.law == SpringLaw::quaternion);
         if (oracle_models_it && (n <= 30 || variant % 4 == 0)) {
           const NewtonEulerSolution ne = newton_euler(spec, state.rotation, state.angular_velocity, t);
           ASSERT_TRUE(ne.invertible);
@@ -682,8 +665,7 @@ TEST(NewtonEuler, HotPathDoesNotAllocate) {
 
   std::mt19937_64 rng(99);
   const Parameterisation charts[] = {Parameterisation::euler313, Parameterisation::bryant123,
-                                     Parameterisation::quaternion,
-                                     Parameterisation::direction_cosines};
+                                     Parameterisation::quaternion, Parameterisation::direction_cosines};
   for (int n : {1, 2, 7, 12}) {
     for (int shape = 0; shape < 4; ++shape) {
       const AccelerationSolver solver = kBothSolvers[shape / 2];
@@ -731,10 +713,8 @@ TEST(NewtonEuler, HotPathDoesNotAllocate) {
           const bool ok = ode.rhs(0.2 + 0.3 * static_cast<double>(k + 1), next[k], y_dot);
           const AllocationCount after;
           ASSERT_TRUE(ok);
-          EXPECT_EQ(after.news - before.news, 0)
-              << "TreeOde::rhs, " << name(p) << ", n=" << n << " call " << k;
-          EXPECT_EQ(after.mallocs - before.mallocs, 0)
-              << "TreeOde::rhs, " << name(p) << ", n=" << n << " call " << k;
+          EXPECT_EQ(after.news - before.news, 0) << "TreeOde::rhs, " << name(p) << ", n=" << n << " call " << k;
+          EXPECT_EQ(after.mallocs - before.mallocs, 0) << "TreeOde::rhs, " << name(p) << ", n=" << n << " call " << k;
         }
       }
     }

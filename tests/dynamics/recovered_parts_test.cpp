@@ -86,8 +86,8 @@ TEST(RecoveredParts, EachPartAloneIsTheSameBitsAsEverything) {
       const std::vector<Recovered> part = observe(model, state, request, parts);
       ASSERT_EQ(part.size(), full.size());
       for (std::size_t k = 0; k < full.size(); ++k) {
-        SCOPED_TRACE(::testing::Message() << "solver " << static_cast<int>(solver) << ", parts " << parts
-                                          << ", output " << k);
+        SCOPED_TRACE(::testing::Message()
+                     << "solver " << static_cast<int>(solver) << ", parts " << parts << ", output " << k);
         expect_parts_equal(full[k], part[k], parts);
       }
     }

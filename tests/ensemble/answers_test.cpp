@@ -1,6 +1,8 @@
 // The serial answers: response reductions on hand-made trajectories, the
 // Wilson interval against its defining quadratic, exceedance and convergence
 // with failed samples, and the layout of Saltelli's design.
+#include "analysis/answers.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -12,9 +14,8 @@
 #include <utility>
 #include <vector>
 
-#include "analysis/answers.hpp"
-#include "sampling/design.hpp"
 #include "output/response.hpp"
+#include "sampling/design.hpp"
 
 namespace {
 
@@ -47,10 +48,10 @@ TEST(Response, EveryReductionOnAHandMadeTrajectory) {
   EXPECT_EQ(value(R::max), 4.0);
   EXPECT_EQ(value(R::mean), 2.0);
   EXPECT_DOUBLE_EQ(value(R::rms), std::sqrt(30.0 / 5.0));
-  EXPECT_EQ(value(R::at_time, 2.0), 1.0);   // at an output time: the value there
-  EXPECT_EQ(value(R::at_time, 2.5), 2.5);   // between: linear
+  EXPECT_EQ(value(R::at_time, 2.0), 1.0);  // at an output time: the value there
+  EXPECT_EQ(value(R::at_time, 2.5), 2.5);  // between: linear
   EXPECT_EQ(value(R::at_time, 4.0), 3.0);
-  EXPECT_EQ(value(R::first_time_above, 1.0), 0.5);   // crosses 1 between t = 0 and 1
+  EXPECT_EQ(value(R::first_time_above, 1.0), 0.5);  // crosses 1 between t = 0 and 1
   EXPECT_EQ(value(R::first_time_above, 3.0), 2.0 + 2.0 / 3.0);
   EXPECT_EQ(value(R::first_time_above, 5.0), kInf);  // never
   EXPECT_EQ(value(R::first_time_above, -1.0), 0.0);  // already above at the start
@@ -60,8 +61,8 @@ TEST(Response, EveryReductionOnAHandMadeTrajectory) {
 
 TEST(Response, ColumnReductionsKeepTheFirstTimeOfATie) {
   const std::vector<double> x{5, 1, 7, 1, 7};  // one column
-  const std::vector<Reduction> all{Reduction::final, Reduction::min, Reduction::max,
-                                   Reduction::argmin_time, Reduction::argmax_time};
+  const std::vector<Reduction> all{Reduction::final, Reduction::min, Reduction::max, Reduction::argmin_time,
+                                   Reduction::argmax_time};
   std::vector<double> out;
   reduce_columns(x, kTimes, 1, all, out);
   EXPECT_EQ(out, (std::vector<double>{7, 1, 7, 1.0, 2.0}));
@@ -71,9 +72,9 @@ TEST(Response, ColumnReductionsKeepTheFirstTimeOfATie) {
 // values are what that column alone gives (its own one-column reduction).
 TEST(Response, ColumnReductionsOfEveryColumnAreThoseOfTheColumnAlone) {
   const std::size_t columns = 3, T = kTimes.size();
-  const std::vector<double> x{5, -2, 0,  1, 4, 0,  7, -2, 3,  1, 9, 3,  7, 9, -1};  // times x columns
-  const std::vector<Reduction> which{Reduction::argmax_time, Reduction::min, Reduction::final,
-                                     Reduction::max, Reduction::argmin_time, Reduction::min};
+  const std::vector<double> x{5, -2, 0, 1, 4, 0, 7, -2, 3, 1, 9, 3, 7, 9, -1};  // times x columns
+  const std::vector<Reduction> which{Reduction::argmax_time, Reduction::min,         Reduction::final,
+                                     Reduction::max,         Reduction::argmin_time, Reduction::min};
   std::vector<double> out;
   reduce_columns(x, kTimes, columns, which, out);
   ASSERT_EQ(out.size(), which.size() * columns);
@@ -158,8 +159,8 @@ TEST(Response, LimitStatesAreStrict) {
 // checked through that quadratic (not the closed form the code uses), to
 // 1e-14, and against the familiar special cases.
 TEST(Wilson, EndsSolveTheScoreQuadratic) {
-  for (auto [k, n] : {std::pair{1ULL, 16ULL}, {0ULL, 10ULL}, {10ULL, 10ULL}, {50ULL, 100ULL},
-                      {3ULL, 1000ULL}, {999ULL, 1000ULL}}) {
+  for (auto [k, n] :
+       {std::pair{1ULL, 16ULL}, {0ULL, 10ULL}, {10ULL, 10ULL}, {50ULL, 100ULL}, {3ULL, 1000ULL}, {999ULL, 1000ULL}}) {
     SCOPED_TRACE(std::to_string(k) + " of " + std::to_string(n));
     const Interval w = wilson_interval(k, n);
     const double p = static_cast<double>(k) / static_cast<double>(n), z = kZ95;
@@ -216,7 +217,7 @@ TEST(Answers, ExceedanceCountsSuccessfulSamplesAndReportsTheFailedOnes) {
   EXPECT_EQ(counts, (std::vector<std::uint64_t>{1, 2, 4, 8, 10}));
   EXPECT_EQ(used, (std::vector<std::uint64_t>{1, 2, 3, 6, 8}));
   EXPECT_DOUBLE_EQ(a.convergence[3].probability, 1.0 / 6.0);  // of 0 1 3 4 5 6: just 6
-  EXPECT_TRUE(std::isnan(a.convergence[0].sem));               // one value: no spread
+  EXPECT_TRUE(std::isnan(a.convergence[0].sem));              // one value: no spread
 }
 
 TEST(Answers, InfiniteValuesAreCountedNotAveraged) {

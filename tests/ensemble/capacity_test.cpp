@@ -1,13 +1,14 @@
 // Rank 0's capacity (ensemble/capacity.*): the record size it models from
 // is the codec's own, the timing stops at its budget and says so, and the
 // line says what it rests on.
+#include "ensemble/capacity.hpp"
+
 #include <gtest/gtest.h>
 
 #include <sstream>
 #include <string>
 #include <vector>
 
-#include "ensemble/capacity.hpp"
 #include "ensemble/sample_runner.hpp"
 #include "job/sample_job.hpp"
 #include "persistence/record_codec.hpp"
@@ -17,7 +18,9 @@ namespace {
 using namespace treedyn;
 using namespace treedyn::ensemble;
 
-EnsembleJob spherical() { return read_ensemble_job(JobDocument::read(std::string(TREEDYN_JOBS_DIR) + "/spherical_pendulum.toml")); }
+EnsembleJob spherical() {
+  return read_ensemble_job(JobDocument::read(std::string(TREEDYN_JOBS_DIR) + "/spherical_pendulum.toml"));
+}
 
 TEST(Capacity, TheEncodedSizeIsTheCodecsBytes) {
   const auto [job, spec] = spherical();
@@ -43,7 +46,8 @@ TEST(Capacity, ASampleIsTimedAndItsRecordModelled) {
   SampleRunner runner(job, spec);
   std::vector<double> trajectory;
   EXPECT_EQ(c.record_bytes, encoded_size(runner.run(0, false, trajectory)));
-  EXPECT_DOUBLE_EQ(c.record_seconds, kRankZeroFixedSeconds + kRankZeroSecondsPerByte * static_cast<double>(c.record_bytes));
+  EXPECT_DOUBLE_EQ(c.record_seconds,
+                   kRankZeroFixedSeconds + kRankZeroSecondsPerByte * static_cast<double>(c.record_bytes));
   EXPECT_DOUBLE_EQ(c.ranks(), c.sample_seconds / c.record_seconds);
   std::ostringstream out;
   print_capacity(out, c, "sample 0, timed now");

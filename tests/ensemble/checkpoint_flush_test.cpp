@@ -112,13 +112,13 @@ TEST_F(CheckpointFlush, AFlushedSaveAfterAStopSignalsSaveFlushesWhatThatSaveWrot
   keep(checkpoint, stats, 1);
   checkpoint.save(stats, AtomicFile::Sync::no);  // the stop signal's
   EXPECT_EQ(flushed, std::vector<std::string>{}) << "Sync::no flushes nothing";
-  struct stat before{};
+  struct stat before {};
   ASSERT_EQ(::stat(state_.c_str(), &before), 0);
 
   checkpoint.save(stats, AtomicFile::Sync::yes);  // the run's end: nothing new
   // The records the unflushed save appended, the state it wrote, their names.
   EXPECT_EQ(flushed, (std::vector<std::string>{records_.string(), state_.string(), dir_.string()}));
-  struct stat after{};
+  struct stat after {};
   ASSERT_EQ(::stat(state_.c_str(), &after), 0);
   EXPECT_EQ(after.st_ino, before.st_ino) << "flushed in place, not written again";
 

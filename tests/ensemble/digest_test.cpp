@@ -1,12 +1,12 @@
 // The end-of-run digest's first line: the rate divides the samples this run
 // integrated itself by its time, so a resumed run (most samples restored)
 // and a merge (none run) do not claim the restored ones.
+#include "analysis/digest.hpp"
+
 #include <gtest/gtest.h>
 
 #include <sstream>
 #include <string>
-
-#include "analysis/digest.hpp"
 
 namespace {
 
@@ -24,7 +24,8 @@ std::string first_line(std::uint64_t ok, std::uint64_t failed, std::uint64_t run
 }
 
 TEST(Digest, RateCountsOnlyTheSamplesRunHere) {
-  EXPECT_EQ(first_line(90, 10, 100, 4.0), "ensemble: 100 samples (90 ok, 10 failed) on 2 ranks in 4.00 s (25.00 samples/s)");
+  EXPECT_EQ(first_line(90, 10, 100, 4.0),
+            "ensemble: 100 samples (90 ok, 10 failed) on 2 ranks in 4.00 s (25.00 samples/s)");
   // Resumed: 80 restored, 20 run in 4 s: 5 samples/s, not 25.
   EXPECT_EQ(first_line(100, 0, 20, 4.0),
             "ensemble: 100 samples (100 ok, 0 failed) on 2 ranks in 4.00 s (5.00 samples/s over the 20 run here; "

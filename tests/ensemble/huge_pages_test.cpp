@@ -2,6 +2,8 @@
 // from 2 MiB on a mapping of its own on a huge page's boundary (the default
 // allocator's below, and under AddressSanitizer), given back whole, and
 // std::bad_alloc for what cannot be mapped.
+#include "statistics/huge_pages.hpp"
+
 #include <gtest/gtest.h>
 #include <sys/mman.h>
 
@@ -11,8 +13,6 @@
 #include <limits>
 #include <new>
 #include <vector>
-
-#include "statistics/huge_pages.hpp"
 
 namespace treedyn::ensemble {
 namespace {
@@ -57,7 +57,7 @@ TEST(HugePages, ArraysOfEverySizeAreZeroedHoldWhatIsWrittenAndAreGivenBackWhole)
 TEST(HugePages, WhatCannotBeMappedIsBadAlloc) {
   constexpr std::size_t most = std::numeric_limits<std::size_t>::max();
   EXPECT_THROW(HugePageAllocator<std::uint32_t>().allocate(most / 2), std::bad_alloc);  // its bytes overflow
-  EXPECT_THROW(map_huge_pages(most - 3), std::bad_alloc);  // rounded up to huge pages, it would wrap
+  EXPECT_THROW(map_huge_pages(most - 3), std::bad_alloc);              // rounded up to huge pages, it would wrap
   EXPECT_THROW(map_huge_pages(std::size_t{1} << 62), std::bad_alloc);  // 4 EiB: no address space holds it
 #if !defined(__SANITIZE_ADDRESS__)  // there std::allocator's, which AddressSanitizer aborts for sizes like these
   EXPECT_THROW(HugePageAllocator<std::uint32_t>().allocate(most / 4), std::bad_alloc);

@@ -4,16 +4,17 @@
 // through a density, a frequency (>= 0) and a spring matrix (positive
 // semi-definite); and against counting: the share of samples that actually
 // fail as invalid models in a run of 4000 Monte-Carlo samples.
+#include "sampling/invalid_mass.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <string>
 
+#include "common/error.hpp"
 #include "ensemble/sample_runner.hpp"
 #include "job/ensemble_spec.hpp"
 #include "job/job.hpp"
-#include "common/error.hpp"
-#include "sampling/invalid_mass.hpp"
 
 namespace treedyn::ensemble {
 namespace {
@@ -77,8 +78,7 @@ TEST(InvalidMass, ClosedFormsForEveryMode) {
       // add to the nominal 2 kg: P(2 + x <= 0), x ~ N(0, 1).
       {"target = \"body.rod.mass\"\nmode = \"add\"\ndistribution = \"normal\"\nstd = 1.0\n", phi(-2.0)},
       // scale: P(2 x <= 0), x ~ N(1, 0.4^2).
-      {"target = \"body.rod.mass\"\nmode = \"scale\"\ndistribution = \"normal\"\nmean = 1.0\nstd = 0.4\n",
-       phi(-2.5)},
+      {"target = \"body.rod.mass\"\nmode = \"scale\"\ndistribution = \"normal\"\nmean = 1.0\nstd = 0.4\n", phi(-2.5)},
       // The mass of a solid given by its density: the sign is the same.
       {"target = \"body.bob.mass\"\ndistribution = \"normal\"\nmean = 4.0\nstd = 2.0\n", phi(-2.0)},
       // A frequency may be 0 (>= 0): P(f < 0), f ~ N(50, 20^2).
@@ -103,8 +103,9 @@ TEST(InvalidMass, TargetsWithoutARangeHaveNone) {
   for (const char* target : {"body.rod.orientation", "body.rod.angular_velocity.x", "gravity.z",
                              "body.rod.joint_on_child.z", "base.z[1].amplitude"}) {
     const std::string angle = std::string(target).find("orientation") != std::string::npos ? "unit = \"rad\"\n" : "";
-    const Job job = parse_job(std::string(kModel) + "target = \"" + target + "\"\ndistribution = \"normal\"\nstd = 0.1\n" + angle,
-                              "none.toml");
+    const Job job =
+        parse_job(std::string(kModel) + "target = \"" + target + "\"\ndistribution = \"normal\"\nstd = 0.1\n" + angle,
+                  "none.toml");
     EXPECT_FALSE(invalid_mass(read_ensemble(job).perturbations.at(0), job.definition)) << target;
   }
 }

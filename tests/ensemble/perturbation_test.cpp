@@ -23,8 +23,8 @@
 #include <vector>
 
 #include "common/error.hpp"
-#include "job/ensemble_spec.hpp"
 #include "ensemble/sample_runner.hpp"
+#include "job/ensemble_spec.hpp"
 #include "job/job.hpp"
 #include "job/job_error.hpp"
 #include "model/definition.hpp"
@@ -236,13 +236,14 @@ TEST(Perturbation, ChangesExactlyItsEntries) {
     K kind;
     std::string entry;  // the first entry's name (parameters) or "" (state)
     int entries;
-    int body;           // user index (state)
+    int body;  // user index (state)
     int axis;
     M mode;
     double unit;
     std::vector<double> values;
     std::function<void(std::vector<double>&, InitialState&)> expect;
   };
+  // clang-format off
   const std::vector<Case> cases = {
       {K::parameter, "body.lower.mass", 1, 0, 0, M::set, 1.0, {1.3},
        [&](std::vector<double>& p, InitialState&) { p[at("body.lower.mass")] = 1.3; }},
@@ -291,6 +292,7 @@ TEST(Perturbation, ChangesExactlyItsEntries) {
       {K::parameter, "gravity.x", 1, 0, 0, M::add, 1.0, {0.02},
        [&](std::vector<double>& p, InitialState&) { p[at("gravity", 0)] = 0.1 + 0.02; }},
   };
+  // clang-format on
   ASSERT_EQ(cases.size(), spec.perturbations.size());
   for (std::size_t i = 0; i < cases.size(); ++i) {
     const Perturbation& p = spec.perturbations[i];
@@ -314,8 +316,8 @@ TEST(Perturbation, ChangesExactlyItsEntries) {
     c.expect(expected_params, expected_s);
     for (std::size_t e = 0; e < params.size(); ++e)
       EXPECT_TRUE(std::memcmp(&params[e], &expected_params[e], sizeof(double)) == 0)
-          << what << ": entry " << table.entry_name(static_cast<int>(e)) << " is " << params[e]
-          << ", expected " << expected_params[e];
+          << what << ": entry " << table.entry_name(static_cast<int>(e)) << " is " << params[e] << ", expected "
+          << expected_params[e];
     expect_same_state(s, expected_s, what);
   }
 
@@ -447,9 +449,12 @@ target = "base.z.phases"
   apply_inputs(spec.perturbations, values, job.initial, params, s);
   for (std::size_t k = 0; k < params.size(); ++k) {
     const int i = static_cast<int>(k);
-    if (i == index_of(table, "base.z.significant_height")) EXPECT_EQ(params[k], 2.5);
-    else if (i >= phases.first && i < phases.first + 6) EXPECT_EQ(params[k], values[k - phases.first + 1]);
-    else EXPECT_EQ(params[k], nominal_params[k]) << table.entry_name(i);
+    if (i == index_of(table, "base.z.significant_height"))
+      EXPECT_EQ(params[k], 2.5);
+    else if (i >= phases.first && i < phases.first + 6)
+      EXPECT_EQ(params[k], values[k - phases.first + 1]);
+    else
+      EXPECT_EQ(params[k], nominal_params[k]) << table.entry_name(i);
   }
   Model model;
   derive_model(job.definition, params, model);
@@ -494,8 +499,8 @@ target = "base.z.phases"
 
 struct Refusal {
   std::string name;
-  std::string ensemble;  // the [ensemble] text
-  std::string field;     // JobError::field()
+  std::string ensemble;           // the [ensemble] text
+  std::string field;              // JobError::field()
   std::vector<std::string> says;  // substrings of what()
 };
 
@@ -505,6 +510,7 @@ struct Refusal {
 // number is the key's line.
 TEST(ReadEnsemble, RefusesBadInput) {
   const std::string p = "[ensemble]\nsamples = 8\n\n[[ensemble.perturbation]]\n";
+  // clang-format off
   const std::vector<Refusal> cases = {
       {"unknown target", p + "target = \"body.rod.colour\"\ndistribution = \"normal\"\nstd = 1.0\n",
        "ensemble.perturbation[1].target", {"'body.rod.colour' is not a target", "allowed targets"}},
@@ -563,6 +569,7 @@ TEST(ReadEnsemble, RefusesBadInput) {
        {"(0, 1)"}},
       {"missing [ensemble]", "", "ensemble", {"missing [ensemble] section"}},
   };
+  // clang-format on
   for (const Refusal& c : cases) {
     const std::string text = rod_job(c.ensemble);
     const Job job = parse_job(text, "bad.toml");
@@ -573,8 +580,7 @@ TEST(ReadEnsemble, RefusesBadInput) {
       std::printf("%-40s %s\n", c.name.c_str(), e.what());
       EXPECT_EQ(e.field(), c.field) << c.name << ": " << e.what();
       for (const std::string& s : c.says)
-        EXPECT_NE(std::string(e.what()).find(s), std::string::npos)
-            << c.name << ": '" << s << "' not in: " << e.what();
+        EXPECT_NE(std::string(e.what()).find(s), std::string::npos) << c.name << ": '" << s << "' not in: " << e.what();
       EXPECT_EQ(e.file(), "bad.toml");
       // The line of the offending key, where it is in the file.
       const std::string key = c.field.substr(c.field.rfind('.') + 1);
@@ -664,9 +670,9 @@ std = 0.01
   // given by its density (through the density, at the nominal volume).
   for (const std::string target : {"body.crate.mass", "body.crate.size.y", "body.link2.length",
                                    "body.link1.joint_on_parent.x", "base.z[1].phase", "base.offset.z"}) {
-    const Job job = parse_job(model + "target = \"" + target + "\"\n" +
-                                  (target == "base.z[1].phase" ? "unit = \"rad\"\n" : ""),
-                              "exists.toml");
+    const Job job =
+        parse_job(model + "target = \"" + target + "\"\n" + (target == "base.z[1].phase" ? "unit = \"rad\"\n" : ""),
+                  "exists.toml");
     EXPECT_NO_THROW(read_ensemble(job)) << target;
   }
   const Job job = parse_job(model + "target = \"body.crate.mass\"\nmode = \"set\"\n", "mass.toml");

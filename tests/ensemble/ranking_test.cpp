@@ -9,16 +9,17 @@
 //    is told apart.
 //  * RankMeasureRanking*: the row bootstrap of |SRRC| and |Spearman| on a
 //    linear response with known coefficients.
+#include "analysis/ranking.hpp"
+
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <algorithm>
 #include <limits>
 #include <numbers>
 #include <vector>
 
-#include "analysis/ranking.hpp"
 #include "analysis/sensitivity.hpp"
 #include "sampling/design.hpp"
 
@@ -55,12 +56,13 @@ TEST(RankUnits, OrdersAndSeparatesNeighbours) {
 TEST(RankUnits, NaNLastEqualValuesNeedInfinitelyMany) {
   const std::vector<double> point{kNaN, 0.3, 0.3};
   std::vector<double> replicates;
-  for (int r = 0; r < 10; ++r) replicates.insert(replicates.end(), {kNaN, 0.3 + 0.01 * (r - 4.5), 0.3 - 0.01 * (r - 4.5)});
+  for (int r = 0; r < 10; ++r)
+    replicates.insert(replicates.end(), {kNaN, 0.3 + 0.01 * (r - 4.5), 0.3 - 0.01 * (r - 4.5)});
   const Ranking ranking = rank_units(point, replicates, 50);
   EXPECT_EQ(ranking.order, (std::vector<std::size_t>{1, 2, 0}));
   EXPECT_FALSE(ranking.told_apart(0));
   EXPECT_TRUE(std::isinf(ranking.needed[0]));
-  EXPECT_FALSE(ranking.told_apart(1));   // NaN against 0.3: undefined
+  EXPECT_FALSE(ranking.told_apart(1));  // NaN against 0.3: undefined
   EXPECT_TRUE(std::isnan(ranking.needed[1]));
 
   const Ranking bare = rank_units(point, {}, 50);  // no replicates: the order alone
@@ -85,9 +87,12 @@ Runs ishigami(std::size_t base, std::uint64_t seed) {
     const double pi = std::numbers::pi, x1 = pi * (2 * u[0] - 1), x2 = pi * (2 * u[1] - 1), x3 = pi * (2 * u[2] - 1);
     const double y = std::sin(x1) + 7.0 * std::sin(x2) * std::sin(x2) + 0.1 * std::pow(x3, 4) * std::sin(x1);
     const SaltelliPlace at = saltelli_place(k, d);
-    if (at.role == SaltelliRole::a) r.a[at.base] = y;
-    else if (at.role == SaltelliRole::b) r.b[at.base] = y;
-    else r.ab[at.base * d + at.unit] = y;
+    if (at.role == SaltelliRole::a)
+      r.a[at.base] = y;
+    else if (at.role == SaltelliRole::b)
+      r.b[at.base] = y;
+    else
+      r.ab[at.base * d + at.unit] = y;
   }
   return r;
 }

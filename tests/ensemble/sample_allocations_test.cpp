@@ -17,7 +17,6 @@
 #include "ensemble/sample_runner.hpp"
 #include "job/job_document.hpp"
 #include "job/sample_job.hpp"
-
 #include "support/allocation_counting.inc"
 
 namespace treedyn::ensemble {
@@ -65,8 +64,9 @@ TEST(SampleAllocations, DoNotGrowWithTheOutputTimes) {
   const AllocationCount many = allocations_of_a_sample(1, many_times);
   ASSERT_EQ(few_times, 11u);
   ASSERT_EQ(many_times, 1001u);
-  std::printf("[          ] a sample's operator new / malloc calls: %ld / %ld with 11 output times, %ld / %ld with 1001\n",
-              few.news, few.mallocs, many.news, many.mallocs);
+  std::printf(
+      "[          ] a sample's operator new / malloc calls: %ld / %ld with 11 output times, %ld / %ld with 1001\n",
+      few.news, few.mallocs, many.news, many.mallocs);
   EXPECT_GT(few.news, 0) << "the counter counts (a record owns its numbers)";
   EXPECT_EQ(many.news, few.news) << "operator new per sample with 1001 output times against 11";
 #if defined(TREEDYN_COUNTS_MALLOC)

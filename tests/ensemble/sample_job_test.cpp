@@ -1,14 +1,15 @@
 // A sample written as a job (--write-job) reads back to the same model and
 // initial state, bit for bit, whatever the names hold; jobs it cannot strip
 // of their [ensemble] are refused, not written wrong.
+#include "job/sample_job.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cstring>
 #include <string>
 
-#include "job/ensemble_spec.hpp"
-#include "job/sample_job.hpp"
 #include "ensemble/sample_runner.hpp"
+#include "job/ensemble_spec.hpp"
 #include "job/job.hpp"
 #include "job/job_error.hpp"
 
@@ -90,8 +91,9 @@ TEST(SampleJob, ReadsBackToTheSampleBitForBit) {
 
 TEST(SampleJob, AnEnsembleWrittenWithoutHeadersIsRefused) {
   // A top-level inline table (it must come before the first table).
-  const std::string top = "ensemble = { samples = 2, perturbation = [{ target = \"body.r\\\"o\\\\d.mass\", "
-                          "distribution = \"uniform\", lower = 0.5, upper = 2.0 }] }\n";
+  const std::string top =
+      "ensemble = { samples = 2, perturbation = [{ target = \"body.r\\\"o\\\\d.mass\", "
+      "distribution = \"uniform\", lower = 0.5, upper = 2.0 }] }\n";
   const std::string job_text = top + kJob.substr(0, kJob.find("# The ensemble"));
   const Job job = parse_job(job_text, "inline.toml");
   const ensemble::EnsembleSpec spec = ensemble::read_ensemble(job);

@@ -1,11 +1,12 @@
 // SampleRunner: how perturbations of orientation and angular velocity combine
 // with an angular velocity the job gives in the body's own frame.
+#include "ensemble/sample_runner.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "job/ensemble_spec.hpp"
-#include "ensemble/sample_runner.hpp"
 #include "job/job.hpp"
 
 namespace treedyn::ensemble {
@@ -36,9 +37,7 @@ seed = 3
 )" + perturbations;
 }
 
-Vec3 final_spin(const SampleRecord& r) {
-  return {r.final_state[4], r.final_state[5], r.final_state[6]};
-}
+Vec3 final_spin(const SampleRecord& r) { return {r.final_state[4], r.final_state[5], r.final_state[6]}; }
 
 // Exactly: the job's rotation times its body-frame components, the same
 // expression the reader used.
@@ -89,8 +88,7 @@ upper = 8.0
     const SampleRecord r = runner.run(k, false, trajectory);
     ASSERT_EQ(r.status, SampleStatus::ok) << r.reason;
     const double angle = r.inputs[0], wz = r.inputs[1];
-    const Mat3 rotated = Eigen::AngleAxisd(angle, Vec3::UnitY()).toRotationMatrix() *
-                         job.initial.rotation[0];
+    const Mat3 rotated = Eigen::AngleAxisd(angle, Vec3::UnitY()).toRotationMatrix() * job.initial.rotation[0];
     const Vec3 expected_xy = rotated * Vec3(0.3, -1.2, 5.0);
     const Vec3 w = final_spin(r);
     EXPECT_NEAR(w.x(), expected_xy.x(), 1e-14) << k;

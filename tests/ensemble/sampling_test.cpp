@@ -13,8 +13,8 @@
 //
 // Every test prints the numbers it reached (KS statistics, errors) so that a
 // run's log can be quoted.
-#include <gtest/gtest.h>
 #include <boost/math/distributions/normal.hpp>
+#include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
@@ -27,8 +27,8 @@
 #include <string>
 #include <vector>
 
-#include "sampling/design.hpp"
 #include "analysis/sensitivity.hpp"
+#include "sampling/design.hpp"
 #include "sampling/distribution.hpp"
 #include "sampling/normal_copula.hpp"
 
@@ -83,8 +83,7 @@ Distribution lognormal(double mu, double sigma) {
 // The truncated normal is cut asymmetrically (about 31 % of the mass removed,
 // more on the left) so that a wrong renormalisation would show.
 std::vector<Distribution> test_distributions() {
-  return {normal(1.5, 0.3), truncated_normal(0.0, 1.0, -0.5, 2.0), uniform(-2.0, 3.0),
-          lognormal(0.2, 0.5)};
+  return {normal(1.5, 0.3), truncated_normal(0.0, 1.0, -0.5, 2.0), uniform(-2.0, 3.0), lognormal(0.2, 0.5)};
 }
 
 // Two-sided Kolmogorov-Smirnov statistic D = sup |F_N(x) - F(x)| of the
@@ -129,16 +128,14 @@ TEST(Sampling, KolmogorovSmirnov) {
     }
     for (std::size_t d = 0; d < dists.size(); ++d) {
       const double D = ks_statistic(x[d], dists[d]);
-      std::printf("KS %-16s %-60s D = %.6f (1%% critical %.4f, 1/N = %.6f)\n",
-                  design_name(design).c_str(), dists[d].describe().c_str(), D, critical,
-                  1.0 / static_cast<double>(kN));
+      std::printf("KS %-16s %-60s D = %.6f (1%% critical %.4f, 1/N = %.6f)\n", design_name(design).c_str(),
+                  dists[d].describe().c_str(), D, critical, 1.0 / static_cast<double>(kN));
       EXPECT_LT(D, critical) << design_name(design) << " " << dists[d].describe();
       if (design == Design::latin_hypercube) {
         EXPECT_LE(D, 1.0 / static_cast<double>(kN) + 1e-9) << dists[d].describe();
       }
       if (design == Design::sobol) {
-        EXPECT_LE(D, (std::log2(static_cast<double>(kN)) + 3.0) / static_cast<double>(kN))
-            << dists[d].describe();
+        EXPECT_LE(D, (std::log2(static_cast<double>(kN)) + 3.0) / static_cast<double>(kN)) << dists[d].describe();
       }
     }
   }
@@ -160,14 +157,14 @@ TEST(Sampling, KolmogorovSmirnov) {
 TEST(Sampling, DistributionRoundTrip) {
   std::vector<Distribution> dists = test_distributions();
   dists.push_back(normal(-3.0, 1e-3));
-  dists.push_back(truncated_normal(10.0, 2.0, 11.0, 30.0));  // only the right tail
-  dists.push_back(truncated_normal(0.0, 1.0, 3.0, 5.0));     // far tail, b - a = 1.3e-3
-  dists.push_back(truncated_normal(0.0, 1.0, 7.0, 100.0));   // far upper tail, mass 1.3e-12
-  dists.push_back(truncated_normal(0.0, 1.0, -100.0, -7.0)); // its mirror
+  dists.push_back(truncated_normal(10.0, 2.0, 11.0, 30.0));   // only the right tail
+  dists.push_back(truncated_normal(0.0, 1.0, 3.0, 5.0));      // far tail, b - a = 1.3e-3
+  dists.push_back(truncated_normal(0.0, 1.0, 7.0, 100.0));    // far upper tail, mass 1.3e-12
+  dists.push_back(truncated_normal(0.0, 1.0, -100.0, -7.0));  // its mirror
   dists.push_back(uniform(0.9, 1.1));
   dists.push_back(lognormal(-1.0, 0.05));
-  std::vector<double> us = {1e-9, 1e-6, 1e-3, 0.01, 0.05, 0.1, 0.25, 0.5, 0.75, 0.9, 0.95,
-                            0.99, 1 - 1e-3, 1 - 1e-6, 1 - 1e-9};
+  std::vector<double> us = {1e-9, 1e-6, 1e-3, 0.01, 0.05,     0.1,      0.25,    0.5,
+                            0.75, 0.9,  0.95, 0.99, 1 - 1e-3, 1 - 1e-6, 1 - 1e-9};
   double worst_u = 0.0, worst_x = 0.0;
   for (const Distribution& dist : dists) {
     for (double u : us) {
@@ -194,8 +191,7 @@ TEST(Sampling, DistributionRoundTrip) {
       // The reverse direction away from the tails.
       if (u >= 1e-6 && u <= 1 - 1e-6) {
         const double again = dist.quantile(dist.cdf(x));
-        EXPECT_NEAR(again, x, 1e-9 * std::max(1.0, std::abs(x)) * amplification)
-            << dist.describe() << " u = " << u;
+        EXPECT_NEAR(again, x, 1e-9 * std::max(1.0, std::abs(x)) * amplification) << dist.describe() << " u = " << u;
         worst_x = std::max(worst_x, std::abs(again - x) / std::max(1.0, std::abs(x)));
       }
     }
@@ -203,9 +199,10 @@ TEST(Sampling, DistributionRoundTrip) {
     for (std::size_t i = 1; i < us.size(); ++i)
       EXPECT_LE(dist.quantile(us[i - 1]), dist.quantile(us[i])) << dist.describe();
   }
-  std::printf("round trip: max |cdf(quantile(u)) - u| = %.3g, "
-              "max |quantile(cdf(x)) - x| / max(1, |x|) = %.3g\n",
-              worst_u, worst_x);
+  std::printf(
+      "round trip: max |cdf(quantile(u)) - u| = %.3g, "
+      "max |quantile(cdf(x)) - x| / max(1, |x|) = %.3g\n",
+      worst_u, worst_x);
 }
 
 // quantile(u) is finite, does not throw, and lies in [lower, upper] for
@@ -224,8 +221,8 @@ TEST(Sampling, TruncatedNormalStaysInside) {
       truncated_normal(0.0, 1.0, 7.0, 100.0),  truncated_normal(0.0, 1.0, -100.0, -7.0),
       truncated_normal(0.0, 1.0, 0.0, 100.0),  truncated_normal(0.0, 1.0, -100.0, 0.0),
       truncated_normal(5.0, 0.1, 4.999, 5.001)};
-  const std::vector<double> extremes = {0x1.0p-54,      0x1.0p-33, 1e-12, 0.5, 1.0 - 1e-12,
-                                        1.0 - 0x1.0p-33, 1.0 - 0x1.0p-52, std::nextafter(1.0, 0.0)};
+  const std::vector<double> extremes = {0x1.0p-54,   0x1.0p-33,       1e-12,           0.5,
+                                        1.0 - 1e-12, 1.0 - 0x1.0p-33, 1.0 - 0x1.0p-52, std::nextafter(1.0, 0.0)};
   auto checked = [](const Distribution& dist, double u, double& x) {
     try {
       x = dist.quantile(u);
@@ -306,8 +303,8 @@ TEST(Sampling, LatinHypercubeHitsEveryStratumOnce) {
 // (exact). For n >= 16 the permutation is not the identity, and different
 // streams give different permutations. index >= n throws.
 TEST(Sampling, PermuteIndexIsABijection) {
-  const std::uint64_t sizes[] = {1, 2, 3, 4, 5, 7, 8, 15, 16, 17, 100, 255, 256, 257, 1000,
-                                 1023, 1024, 1025, 4097, 12345, 65535, 65536, 70001};
+  const std::uint64_t sizes[] = {1,   2,   3,    4,    5,    7,    8,    15,    16,    17,    100,  255,
+                                 256, 257, 1000, 1023, 1024, 1025, 4097, 12345, 65535, 65536, 70001};
   const std::pair<std::uint64_t, std::uint64_t> keys[] = {{1, 0}, {1, 1}, {0xdeadbeefULL, 42}};
   for (std::uint64_t n : sizes) {
     std::vector<std::vector<std::uint64_t>> images;
@@ -388,9 +385,8 @@ TEST(Sampling, ScrambledSobolKeepsNetStructure) {
           ++count[static_cast<std::size_t>(std::floor(u[k][d] * static_cast<double>(n)))];
         int empty = 0, crowded = 0;
         for (int c : count) empty += c == 0, crowded += c > 1;
-        EXPECT_TRUE(empty == 0 && crowded == 0)
-            << "seed " << seed << ", first 2^" << m << " points, dimension " << d << ": " << empty
-            << " empty and " << crowded << " doubly hit intervals";
+        EXPECT_TRUE(empty == 0 && crowded == 0) << "seed " << seed << ", first 2^" << m << " points, dimension " << d
+                                                << ": " << empty << " empty and " << crowded << " doubly hit intervals";
       }
       for (int a = 0; a <= m; ++a) {
         const int b = m - a;
@@ -401,8 +397,8 @@ TEST(Sampling, ScrambledSobolKeepsNetStructure) {
           ++count[static_cast<std::size_t>((i << b) | j)];
         }
         const auto bad = std::count_if(count.begin(), count.end(), [](int c) { return c != 1; });
-        EXPECT_EQ(bad, 0) << "seed " << seed << ", first 2^" << m << " points, boxes 2^-" << a
-                          << " x 2^-" << b << " in dimensions 0, 1";
+        EXPECT_EQ(bad, 0) << "seed " << seed << ", first 2^" << m << " points, boxes 2^-" << a << " x 2^-" << b
+                          << " in dimensions 0, 1";
       }
     }
   }
@@ -460,8 +456,7 @@ TEST(Sampling, PointDependsOnlyOnSeedSampleDimension) {
       for (unsigned d = 0; d < kDims; ++d) same_coordinates += u[d] == reference[k][d];
     }
     std::printf("%-16s seeds 77 vs 78: %llu of %llu coordinates equal\n", design_name(design).c_str(),
-                static_cast<unsigned long long>(same_coordinates),
-                static_cast<unsigned long long>(kN * kDims));
+                static_cast<unsigned long long>(same_coordinates), static_cast<unsigned long long>(kN * kDims));
   }
   // counter_uniform itself: pure, open interval, streams independent.
   EXPECT_EQ(counter_uniform(5, 6, 7, 0), counter_uniform(5, 6, 7, 0));
@@ -550,7 +545,8 @@ TEST(Sampling, NormalCopulaParameterAndSpearmanConvert) {
   EXPECT_NEAR(treedyn::ensemble::spearman_of_normal_copula(1.0), 1.0, 1e-15);
   EXPECT_NEAR(treedyn::ensemble::spearman_of_normal_copula(0.5), 0.482584, 1e-6);
   for (double r : {-0.9, -0.3, 0.0, 0.2, 0.75})
-    EXPECT_NEAR(treedyn::ensemble::spearman_of_normal_copula(treedyn::ensemble::normal_copula_of_spearman(r)), r, 1e-14);
+    EXPECT_NEAR(treedyn::ensemble::spearman_of_normal_copula(treedyn::ensemble::normal_copula_of_spearman(r)), r,
+                1e-14);
 }
 
 // A set that cannot hold (x0 ~ x1 and x1 ~ x2 strongly, x0 ~ x2 strongly

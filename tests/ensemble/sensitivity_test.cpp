@@ -7,6 +7,8 @@
 //  * Ishigami*: Sobol' indices from the project's Saltelli design against
 //    the analytic values; the bootstrap's reproducibility and its
 //    percentile recipe; a constant response.
+#include "analysis/sensitivity.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -22,7 +24,6 @@
 #include <vector>
 
 #include "sampling/design.hpp"
-#include "analysis/sensitivity.hpp"
 
 namespace {
 
@@ -105,9 +106,8 @@ TEST(Srrc, LinearResponseOfIndependentInputs) {
     response[k] = 2.0 * inputs[k * d] - inputs[k * d + 1] + 0.0 * inputs[k * d + 2];
   }
   const RankSensitivity s = rank_sensitivity(inputs, d, response);
-  std::cout << "SRRC " << s.srrc[0] << " " << s.srrc[1] << " " << s.srrc[2]
-            << ", R^2 " << s.r_squared << ", Spearman " << s.spearman[0] << " "
-            << s.spearman[1] << " " << s.spearman[2] << "\n";
+  std::cout << "SRRC " << s.srrc[0] << " " << s.srrc[1] << " " << s.srrc[2] << ", R^2 " << s.r_squared << ", Spearman "
+            << s.spearman[0] << " " << s.spearman[1] << " " << s.spearman[2] << "\n";
   ASSERT_EQ(s.samples, n);
   EXPECT_GT(s.r_squared, 0.9);
   EXPECT_LE(s.r_squared, 1.0);
@@ -177,8 +177,7 @@ constexpr int kResamples = 200;
 constexpr std::uint64_t kDesignSeed = 20240611;
 
 double ishigami(const double* x) {
-  return std::sin(x[0]) + kA * std::sin(x[1]) * std::sin(x[1]) +
-         kB * std::pow(x[2], 4) * std::sin(x[0]);
+  return std::sin(x[0]) + kA * std::sin(x[1]) * std::sin(x[1]) + kB * std::pow(x[2], 4) * std::sin(x[0]);
 }
 
 // f(A), f(B), f(AB_g) on N base points of the project's Saltelli design,
@@ -203,11 +202,13 @@ SaltelliRuns ishigami_runs(std::size_t base, std::uint64_t seed, std::vector<uns
     for (unsigned i = 0; i < kInputs; ++i) x[i] = std::numbers::pi * (2.0 * u[i] - 1.0);
     const double f = ishigami(x);
     const SaltelliPlace at = saltelli_place(k, units);
+    // clang-format off
     switch (at.role) {
       case SaltelliRole::a: runs.f_a[at.base] = f; break;
       case SaltelliRole::b: runs.f_b[at.base] = f; break;
       case SaltelliRole::ab: runs.f_ab[at.base * units + at.unit] = f; break;
     }
+    // clang-format on
   }
   return runs;
 }
@@ -238,9 +239,8 @@ std::string describe(const SobolIndices& s) {
   std::ostringstream out;
   out << std::fixed << std::setprecision(4) << "V " << s.variance << ", N " << s.base_samples;
   for (std::size_t i = 0; i < s.first.size(); ++i)
-    out << "\n  x" << i + 1 << ": S " << s.first[i] << " [" << s.first_ci[2 * i] << ", "
-        << s.first_ci[2 * i + 1] << "]  ST " << s.total[i] << " [" << s.total_ci[2 * i] << ", "
-        << s.total_ci[2 * i + 1] << "]";
+    out << "\n  x" << i + 1 << ": S " << s.first[i] << " [" << s.first_ci[2 * i] << ", " << s.first_ci[2 * i + 1]
+        << "]  ST " << s.total[i] << " [" << s.total_ci[2 * i] << ", " << s.total_ci[2 * i + 1] << "]";
   return out.str();
 }
 
@@ -273,8 +273,7 @@ TEST(Ishigami, IndicesMatchTheAnalyticValues) {
   const SaltelliRuns& r = runs();
   const SobolIndices s = saltelli_indices(r.f_a, r.f_b, r.f_ab, kInputs, kResamples, 1);
   const Analytic exact = ishigami_indices();
-  std::cout << "Ishigami (a = 7, b = 0.1), analytic V " << exact.variance << "\n"
-            << describe(s) << "\n";
+  std::cout << "Ishigami (a = 7, b = 0.1), analytic V " << exact.variance << "\n" << describe(s) << "\n";
   RecordProperty("ishigami", describe(s));
 
   ASSERT_EQ(s.base_samples, kBase);

@@ -40,7 +40,7 @@ struct Case {
   std::string name;
   unsigned inputs;
   std::function<double(std::span<const double>)> f;  // of uniforms in (0, 1)
-  std::vector<double> first, total;                   // analytic
+  std::vector<double> first, total;                  // analytic
 };
 
 // Ishigami (a = 7, b = 0.1) on (-pi, pi)^3; analytic values as in
@@ -93,9 +93,12 @@ Runs saltelli_runs(const Case& c, std::size_t base, std::uint64_t seed) {
     design.point(k, u);
     const double y = c.f(u);
     const SaltelliPlace at = saltelli_place(k, c.inputs);
-    if (at.role == SaltelliRole::a) r.a[at.base] = y;
-    else if (at.role == SaltelliRole::b) r.b[at.base] = y;
-    else r.ab[at.base * c.inputs + at.unit] = y;
+    if (at.role == SaltelliRole::a)
+      r.a[at.base] = y;
+    else if (at.role == SaltelliRole::b)
+      r.b[at.base] = y;
+    else
+      r.ab[at.base * c.inputs + at.unit] = y;
   }
   return r;
 }
@@ -133,11 +136,13 @@ double janon(const std::vector<double>& y, const std::vector<double>& ab, unsign
   return (product / n - m * m) / (squares / n - m * m);
 }
 
+// clang-format off
 enum Estimator { kSaltelli2010, kJansenFirst, kJanonFirst, kMartinezFirst,
                  kJansenTotal, kSobol2007Total, kJanonTotal, kMartinezTotal, kEstimators };
 const std::array<const char*, kEstimators> kNames{
     "S Saltelli 2010", "S Jansen 1999", "S Janon 2014", "S Martinez 2011",
     "ST Jansen 1999", "ST Sobol' 2007", "ST Janon 2014", "ST Martinez 2011"};
+// clang-format on
 bool is_first(int e) { return e < kJansenTotal; }
 
 // Every estimator's value for input i of runs r.
@@ -158,8 +163,13 @@ std::array<double, kEstimators> estimates(const Runs& r, unsigned d, unsigned i)
     jansen_total += (r.a[j] - ab) * (r.a[j] - ab);
     sobol += (r.a[j] - ma) * (r.a[j] - ab);
   }
-  return {saltelli / nn / v, 1.0 - jansen_first / (2.0 * nn) / v, janon(r.b, r.ab, d, i), correlation(r.b, r.ab, d, i),
-          jansen_total / (2.0 * nn) / v, sobol / nn / v, 1.0 - janon(r.a, r.ab, d, i),
+  return {saltelli / nn / v,
+          1.0 - jansen_first / (2.0 * nn) / v,
+          janon(r.b, r.ab, d, i),
+          correlation(r.b, r.ab, d, i),
+          jansen_total / (2.0 * nn) / v,
+          sobol / nn / v,
+          1.0 - janon(r.a, r.ab, d, i),
           1.0 - correlation(r.a, r.ab, d, i)};
 }
 
@@ -205,8 +215,8 @@ TEST(SobolEstimators, TheChosenOnesHaveTheSmallestErrorAtSmallN) {
   for (const Case& c : {ishigami(), g_function()}) {
     for (const std::size_t base : {16u, 64u, 256u}) {
       const Study s = study(c, base);
-      std::printf("%s, N = %zu, %d seeds: root-mean-square error over the %u inputs\n", c.name.c_str(), base,
-                  kSeeds, c.inputs);
+      std::printf("%s, N = %zu, %d seeds: root-mean-square error over the %u inputs\n", c.name.c_str(), base, kSeeds,
+                  c.inputs);
       for (int k = 0; k < kEstimators; ++k) std::printf("  %-17s %.4f\n", kNames[k], s.rmse[k]);
       std::printf("  reported 95 %% intervals hold the exact index: first order %.1f %%, total %.1f %%\n",
                   100.0 * s.first_coverage, 100.0 * s.total_coverage);

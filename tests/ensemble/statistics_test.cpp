@@ -25,12 +25,12 @@
 #include <variant>
 #include <vector>
 
-#include "job/ensemble_spec.hpp"
-#include "ensemble/sample_runner.hpp"
 #include "common/bytes.hpp"
-#include "statistics/ensemble_statistics.hpp"
+#include "ensemble/sample_runner.hpp"
+#include "job/ensemble_spec.hpp"
 #include "job/job.hpp"
 #include "job/job_error.hpp"
+#include "statistics/ensemble_statistics.hpp"
 
 namespace {
 
@@ -152,8 +152,8 @@ const RealEnsemble& real_ensemble() {
         }
       r.trajectories.push_back(std::move(trajectory));
     }
-    r.calibration = calibrate(r.nominal, r.pilot_low, r.pilot_high, column_scales(r.nominal, r.columns),
-                              r.columns, r.spec.histogram_bins);
+    r.calibration = calibrate(r.nominal, r.pilot_low, r.pilot_high, column_scales(r.nominal, r.columns), r.columns,
+                              r.spec.histogram_bins);
     return r;
   }();
   return ensemble;
@@ -196,8 +196,8 @@ TEST(Statistics, RealEnsembleSetup) {
   for (const auto& t : r.trajectories) ASSERT_EQ(t.size(), r.times * r.columns);
   std::size_t spread = 0;
   for (std::size_t e = 0; e < r.nominal.size(); ++e) spread += r.pilot_high[e] > r.pilot_low[e];
-  std::printf("%zu times x %zu columns, %zu of %zu entries spread in the pilot\n", r.times, r.columns,
-              spread, r.nominal.size());
+  std::printf("%zu times x %zu columns, %zu of %zu entries spread in the pilot\n", r.times, r.columns, spread,
+              r.nominal.size());
   EXPECT_GT(spread, r.nominal.size() / 2);
 }
 
@@ -230,9 +230,8 @@ TEST(Statistics, RealEnsembleMatchesDirectComputation) {
   ASSERT_EQ(s.samples(), n);
   const int bins = r.spec.histogram_bins;
   const double qs[] = {0.05, 0.1, 0.25, 0.5, 0.75, 0.9, 0.95};
-  double worst_mean_rel = 0.0, worst_mean_scaled = 0.0, worst_std_rel = 0.0,
-         worst_std_scaled = 0.0, worst_var_scaled = 0.0, worst_quantile_bins = 0.0,
-         worst_std_ratio = 0.0;
+  double worst_mean_rel = 0.0, worst_mean_scaled = 0.0, worst_std_rel = 0.0, worst_std_scaled = 0.0,
+         worst_var_scaled = 0.0, worst_quantile_bins = 0.0, worst_std_ratio = 0.0;
   std::size_t quantiles_inside = 0, quantiles_outside = 0, out_of_range = 0;
   std::vector<long double> x(n);
   for (std::size_t e = 0; e < s.entries(); ++e) {
@@ -253,8 +252,8 @@ TEST(Statistics, RealEnsembleMatchesDirectComputation) {
     const long double var = ss / (n - 1);
     const long double sd = std::sqrt(var);
 
-    const double mean_tol = 1e-12 * std::abs(static_cast<double>(mean)) +
-                            1e-13 * std::max<double>(S, static_cast<double>(max_dev));
+    const double mean_tol =
+        1e-12 * std::abs(static_cast<double>(mean)) + 1e-13 * std::max<double>(S, static_cast<double>(max_dev));
     EXPECT_NEAR(s.mean(e), static_cast<double>(mean), mean_tol) << "entry " << e << " S " << S;
     const long double mean_err = std::abs(s.mean(e) - mean);
     if (mean != 0.0L) worst_mean_rel = std::max(worst_mean_rel, static_cast<double>(mean_err / std::abs(mean)));
@@ -262,11 +261,10 @@ TEST(Statistics, RealEnsembleMatchesDirectComputation) {
 
     const long double lib_sd = s.std_dev(e);
     const long double S2 = static_cast<long double>(S) * S;
-    const long double var_tol = 1e-12L * var + 1.1L * std::ldexp(1.0L, -40) * S2 * n / (n - 1) +
-                                1e-14L * mean_sq_scaled * S2;
+    const long double var_tol =
+        1e-12L * var + 1.1L * std::ldexp(1.0L, -40) * S2 * n / (n - 1) + 1e-14L * mean_sq_scaled * S2;
     EXPECT_LE(std::abs(lib_sd * lib_sd - var), var_tol)
-        << "entry " << e << ": std " << static_cast<double>(lib_sd) << " vs " << static_cast<double>(sd)
-        << ", S " << S;
+        << "entry " << e << ": std " << static_cast<double>(lib_sd) << " vs " << static_cast<double>(sd) << ", S " << S;
     if (sd > 0.0L && std::abs(lib_sd - sd) / sd > worst_std_rel) {
       worst_std_rel = static_cast<double>(std::abs(lib_sd - sd) / sd);
       worst_std_ratio = static_cast<double>(sd / S);
@@ -301,8 +299,7 @@ TEST(Statistics, RealEnsembleMatchesDirectComputation) {
       if (exact >= low && exact < high) {
         ++quantiles_inside;
         EXPECT_LE(std::abs(got - exact), width * (1.0 + 1e-9))
-            << "entry " << e << " q " << q << ": histogram " << got << ", exact " << exact
-            << ", bin width " << width;
+            << "entry " << e << " q " << q << ": histogram " << got << ", exact " << exact << ", bin width " << width;
         worst_quantile_bins = std::max(worst_quantile_bins, std::abs(got - exact) / width);
       } else {
         ++quantiles_outside;
@@ -316,11 +313,12 @@ TEST(Statistics, RealEnsembleMatchesDirectComputation) {
   }
   EXPECT_EQ(out_of_range, 0u);
   std::printf("mean: max relative error %.3g, max error / S %.3g\n", worst_mean_rel, worst_mean_scaled);
-  std::printf("std:  max relative error %.3g (at std / S = %.3g), max error / S %.3g, "
-              "max |variance error| / S^2 %.3g (2^-40 = %.3g)\n",
-              worst_std_rel, worst_std_ratio, worst_std_scaled, worst_var_scaled, std::ldexp(1.0, -40));
-  std::printf("quantiles: %zu inside the histogram range (max error %.3f bin widths), %zu outside\n",
-              quantiles_inside, worst_quantile_bins, quantiles_outside);
+  std::printf(
+      "std:  max relative error %.3g (at std / S = %.3g), max error / S %.3g, "
+      "max |variance error| / S^2 %.3g (2^-40 = %.3g)\n",
+      worst_std_rel, worst_std_ratio, worst_std_scaled, worst_var_scaled, std::ldexp(1.0, -40));
+  std::printf("quantiles: %zu inside the histogram range (max error %.3f bin widths), %zu outside\n", quantiles_inside,
+              worst_quantile_bins, quantiles_outside);
 }
 
 // Entries the pilot saw no spread in (e.g. the upper rod's angular velocity
@@ -415,9 +413,8 @@ TEST(Statistics, RealEnsembleStatesAddUpExactly) {
   std::shuffle(order.begin(), order.end(), rng);
   EnsembleStatistics total(r.times, r.columns, r.spec.histogram_bins, r.calibration);
   for (const auto& [first, end] : {std::pair<std::size_t, std::size_t>{40, 60}, {0, 13}, {13, 40}}) {
-    const EnsembleStatistics part =
-        accumulate(r, std::vector<std::size_t>(order.begin() + static_cast<long>(first),
-                                               order.begin() + static_cast<long>(end)));
+    const EnsembleStatistics part = accumulate(
+        r, std::vector<std::size_t>(order.begin() + static_cast<long>(first), order.begin() + static_cast<long>(end)));
     total.add_state(part.state(), "part");
   }
   expect_identical(reference, total, "added as bytes");
@@ -492,9 +489,9 @@ TEST(Statistics, EdgeUnperturbedColumnsHavePositiveScaleAndZeroStd) {
     EXPECT_LE(cal.low[e], nominal[e]) << "entry " << e;
     EXPECT_GE(cal.low[e] + bins * cal.width[e], nominal[e]) << "entry " << e;
   }
-  EXPECT_EQ(cal.scale[0], 0.2);                     // largest |pilot deviation|
-  EXPECT_EQ(cal.scale[1], std::ldexp(7.0, -10));    // fallback of column 1
-  EXPECT_EQ(cal.scale[6], std::ldexp(3.0, -10));    // nothing seen: fallback of column 0
+  EXPECT_EQ(cal.scale[0], 0.2);                   // largest |pilot deviation|
+  EXPECT_EQ(cal.scale[1], std::ldexp(7.0, -10));  // fallback of column 1
+  EXPECT_EQ(cal.scale[6], std::ldexp(3.0, -10));  // nothing seen: fallback of column 0
 
   EnsembleStatistics s(times, columns, bins, cal);
   for (int k = 0; k < 10; ++k) s.add_sample(nominal);
@@ -516,8 +513,8 @@ TEST(Statistics, EdgeUnperturbedColumnsHavePositiveScaleAndZeroStd) {
 // in the underflow (overflow) lies in [min, low] ([high, max]). Exact.
 TEST(Statistics, EdgeValuesOutsideThePilotRange) {
   const std::vector<double> nominal = {10.0};
-  const Calibration cal = calibrate(nominal, std::vector<double>{-1.0}, std::vector<double>{1.0},
-                                    std::vector<double>{10.0}, 1, 8);
+  const Calibration cal =
+      calibrate(nominal, std::vector<double>{-1.0}, std::vector<double>{1.0}, std::vector<double>{10.0}, 1, 8);
   EXPECT_EQ(cal.low[0], 8.5);
   EXPECT_EQ(cal.width[0], 0.375);
   EnsembleStatistics s(1, 1, 8, cal);
@@ -564,8 +561,8 @@ TEST(Statistics, EdgeValuesOutsideThePilotRange) {
 // and the histogram.
 TEST(Statistics, EdgeDeviationsBeyondTheFixedPointRange) {
   const std::vector<double> nominal = {0.0};
-  const Calibration cal = calibrate(nominal, std::vector<double>{-1.0}, std::vector<double>{1.0},
-                                    std::vector<double>{1.0}, 1, 8);
+  const Calibration cal =
+      calibrate(nominal, std::vector<double>{-1.0}, std::vector<double>{1.0}, std::vector<double>{1.0}, 1, 8);
   ASSERT_EQ(cal.scale[0], 1.0);
   const double limit = EnsembleStatistics::kMaxScaledDeviation;
   ASSERT_EQ(limit, 1048576.0);
@@ -584,7 +581,8 @@ TEST(Statistics, EdgeDeviationsBeyondTheFixedPointRange) {
   // The square of 2^20 is 2^40: exact in 40 fraction bits; all squares here
   // are dyadic with few bits, so the variance is exact up to long double
   // rounding (relative 1e-15).
-  EXPECT_NEAR(s.std_dev(0), std::sqrt(static_cast<double>(ss / 3.0L)), 1e-15 * std::sqrt(static_cast<double>(ss / 3.0L)));
+  EXPECT_NEAR(s.std_dev(0), std::sqrt(static_cast<double>(ss / 3.0L)),
+              1e-15 * std::sqrt(static_cast<double>(ss / 3.0L)));
   EXPECT_EQ(s.min(0), -3.0 * limit);
   EXPECT_EQ(s.max(0), limit * (1.0 + 0x1.0p-20));
   std::uint64_t total = 0;
@@ -642,8 +640,8 @@ TEST(Statistics, EdgeAPilotSpreadThatOverflowsStillGivesFiniteBins) {
 // samples arrive in (nor on which rank saw which). Exact (memcmp).
 TEST(Statistics, EdgeSignedZeroMinMaxOrderIndependent) {
   const std::vector<double> nominal = {0.0};
-  const Calibration cal = calibrate(nominal, std::vector<double>{0.0}, std::vector<double>{0.0},
-                                    std::vector<double>{1.0}, 1, 8);
+  const Calibration cal =
+      calibrate(nominal, std::vector<double>{0.0}, std::vector<double>{0.0}, std::vector<double>{1.0}, 1, 8);
   EnsembleStatistics a(1, 1, 8, cal), b(1, 1, 8, cal);
   a.add_sample(std::vector<double>{0.0});
   a.add_sample(std::vector<double>{-0.0});
@@ -755,8 +753,9 @@ TEST(Statistics, OddBlocksAndValuesThatAreNotFinite) {
 // widest fold the CPU runs is checked against a direct computation by
 // RealEnsembleMatchesDirectComputation.
 TEST(Statistics, EveryLaneWidthFoldsToTheSameBits) {
-  EXPECT_THROW(EnsembleStatistics(1, 1, 8, calibrate(std::vector<double>{0.0}, std::vector<double>{-1.0},
-                                                     std::vector<double>{1.0}, std::vector<double>{1.0}, 1, 8))
+  EXPECT_THROW(EnsembleStatistics(1, 1, 8,
+                                  calibrate(std::vector<double>{0.0}, std::vector<double>{-1.0},
+                                            std::vector<double>{1.0}, std::vector<double>{1.0}, 1, 8))
                    .use_fold_lanes(3),
                std::invalid_argument);
   const RealEnsemble& r = real_ensemble();
@@ -772,6 +771,7 @@ TEST(Statistics, EveryLaneWidthFoldsToTheSameBits) {
       const double low = r.calibration.low[e], width = r.calibration.width[e];
       const int edge = static_cast<int>(rng() % static_cast<unsigned>(r.spec.histogram_bins + 3)) - 1;
       const double at_edge = low + edge * width;
+      // clang-format off
       switch (rng() % 8) {
         case 0: s[e] = at_edge; break;
         case 1: s[e] = std::nextafter(at_edge, -inf); break;
@@ -781,6 +781,7 @@ TEST(Statistics, EveryLaneWidthFoldsToTheSameBits) {
         case 5: s[e] = (rng() % 64 == 0 ? (rng() % 2 ? nan : (rng() % 2 ? inf : -inf)) : unit(rng)); break;
         default: s[e] = low + (unit(rng) + 0.5) * r.spec.histogram_bins * width * 1.5; break;
       }
+      // clang-format on
     }
     samples.push_back(std::move(s));
   }
@@ -819,10 +820,12 @@ TEST(Statistics, EveryLaneWidthFoldsToTheSameBits) {
 // 2^100). Exact.
 TEST(Statistics, RoundedSumIsNearbyintThenConversionSummed) {
   const auto reference = [](double x) { return static_cast<wide>(std::nearbyint(x)); };
+  // clang-format off
   std::vector<double> values = {0.0, -0.0, 0.5, -0.5, 1.5, -1.5, 2.5, -2.5, 0x1p52 - 0.5, 0x1p52 - 1.5,
                                 -(0x1p52 - 0.5), 0x1p52, 0x1p52 + 1, 0x1p63, -0x1p63, 0x1p82, -0x1p82,
                                 0x1p100, -0x1p100, 0x1p49 + 0.5, 0x1p50 - 0.5, 0x1p50 + 0.5, -(0x1p51 + 0.5),
                                 0x1p-1000, -0x1p-1070, std::numeric_limits<double>::denorm_min(), 1e-300};
+  // clang-format on
   for (int k = -60; k <= 100; ++k)
     for (double f : {1.0, -1.0}) {
       const double p = f * std::ldexp(1.0, k);

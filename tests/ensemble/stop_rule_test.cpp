@@ -80,7 +80,8 @@ TEST(StopRule, WavesAreCheckIntervalsUpToTheMostSamples) {
   Wave w = plan.first_wave();
   waves.emplace_back(w.first, w.end);
   while (auto next = plan.next_wave(w, &table)) waves.emplace_back((w = *next).first, w.end);
-  EXPECT_EQ(waves, (std::vector<std::pair<std::uint64_t, std::uint64_t>>{{0, 300}, {300, 600}, {600, 900}, {900, 1000}}));
+  EXPECT_EQ(waves,
+            (std::vector<std::pair<std::uint64_t, std::uint64_t>>{{0, 300}, {300, 600}, {600, 900}, {900, 1000}}));
   EXPECT_FALSE(stop_reason(spec, table, 1000));
 }
 
@@ -141,9 +142,10 @@ TEST(StopRule, RealCoverageOfTheReportedIntervalsWhenTheRunStopsItself) {
                         Case{"exceedance_cov = 0.1, p = 0.025, every 100", 0.025, cov10},
                         Case{"mean_sem = 0.005, mean 1/2, every 100", 0.5, sem}}) {
     const Coverage r = coverage(c.p, c.rule, 400);
-    std::printf("[%s] over 400 seeds: %.1f samples on average; Wilson interval covers p in %.1f %%, "
-                "mean +- 1.96 sem covers 1/2 in %.1f %%\n",
-                c.what, r.samples, 100.0 * r.exceedance, 100.0 * r.mean);
+    std::printf(
+        "[%s] over 400 seeds: %.1f samples on average; Wilson interval covers p in %.1f %%, "
+        "mean +- 1.96 sem covers 1/2 in %.1f %%\n",
+        c.what, r.samples, 100.0 * r.exceedance, 100.0 * r.mean);
     const double covered = c.rule.exceedance_cov ? r.exceedance : r.mean;
     EXPECT_GE(covered, 0.90) << c.what;
     EXPECT_LE(covered, 0.99) << c.what;

@@ -1,6 +1,8 @@
 // The pilot's tolerance check (statistics/tolerance_check.*) on responses
 // built by hand, where every number is exact, and through the ensemble on a
 // pendulum integrated far too loosely and as the examples are.
+#include "statistics/tolerance_check.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -9,7 +11,6 @@
 #include <vector>
 
 #include "common/bytes.hpp"
-#include "statistics/tolerance_check.hpp"
 #include "support/command.hpp"
 #include "support/ensemble_run.hpp"
 
@@ -100,8 +101,9 @@ TEST(ToleranceCheckEnsemble, TooLooseIsWarnedAboutAndTightIsSaidToBe) {
       const std::size_t at = text.find("rtol = ");
       text.replace(at, text.find('\n', text.find("atol = ")) - at, "rtol = 1e-2\natol = 1e-2");
     }
-    text += "\n[[ensemble.response]]\nname = \"tip_height\"\nquantity = \"point_position\"\ncolumn = \"tip.z\"\n"
-            "reduce = \"final\"\n";
+    text +=
+        "\n[[ensemble.response]]\nname = \"tip_height\"\nquantity = \"point_position\"\ncolumn = \"tip.z\"\n"
+        "reduce = \"final\"\n";
     const fs::path job = dir.path() / (loose ? "loose.toml" : "tight.toml");
     write_text(job, text);
     const CommandResult r = run_command(TREEDYN_ENSEMBLE_BINARY, {job.string(), "-o", (dir.path() / "out.h5").string()},
@@ -112,13 +114,15 @@ TEST(ToleranceCheckEnsemble, TooLooseIsWarnedAboutAndTightIsSaidToBe) {
       EXPECT_NE(r.out.find("    integration: too loose for this answer: "), std::string::npos) << r.out;
       // The page says it too, in red, and the summary it writes again.
       const fs::path page = dir.path() / "page";
-      const CommandResult report = run_command(TREEDYN_BINARY, {"report", (dir.path() / "out.h5").string(), "-o",
-                                                                page.string()}, dir.path() / "capture_report");
+      const CommandResult report =
+          run_command(TREEDYN_BINARY, {"report", (dir.path() / "out.h5").string(), "-o", page.string()},
+                      dir.path() / "capture_report");
       ASSERT_EQ(report.exit_code, 0) << report.err;
       const std::string html = read_text(page / "index.html");
       EXPECT_NE(html.find("<div class=\"alarm\">tip_height: the integration is too loose for this answer: "),
                 std::string::npos);
-      EXPECT_NE(read_text(page / "summary.txt").find("    integration: too loose for this answer: "), std::string::npos);
+      EXPECT_NE(read_text(page / "summary.txt").find("    integration: too loose for this answer: "),
+                std::string::npos);
     } else {
       EXPECT_EQ(r.err.find("warning: the integration"), std::string::npos) << r.err;
       EXPECT_NE(r.out.find("    integration: far tighter than this answer needs: "), std::string::npos) << r.out;

@@ -15,9 +15,9 @@
 #include <string_view>
 
 #include "job/ensemble_spec.hpp"
-#include "job/sample_job.hpp"
 #include "job/job.hpp"
 #include "job/job_error.hpp"
+#include "job/sample_job.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);

@@ -5,6 +5,7 @@
 // `uncompress`: what h5py, MATLAB and h5dump do.
 #include "hdf5/row_dataset.hpp"
 
+#include <gtest/gtest.h>
 #include <sys/mount.h>
 #include <unistd.h>
 #include <zlib.h>
@@ -18,8 +19,6 @@
 #include <numeric>
 #include <random>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "hdf5/deflate.hpp"
 #include "support/command.hpp"
@@ -181,7 +180,8 @@ TEST_F(RowDatasetTest, EveryStoredChunkIsAZlibStreamOfItsRows) {
     EXPECT_LT(size, decoded_bytes);
     ASSERT_EQ(uncompress(reinterpret_cast<Bytef*>(decoded.data()), &decoded_bytes, stream.data(), size), Z_OK);
     ASSERT_EQ(decoded_bytes, decoded.size() * sizeof(double));
-    EXPECT_TRUE(std::equal(decoded.begin(), decoded.end(), padded.begin() + static_cast<long>(c * kChunkRows * kColumns)));
+    EXPECT_TRUE(
+        std::equal(decoded.begin(), decoded.end(), padded.begin() + static_cast<long>(c * kChunkRows * kColumns)));
   }
 }
 
@@ -193,9 +193,10 @@ TEST_F(RowDatasetTest, EveryStoredChunkIsAZlibStreamOfItsRows) {
 TEST_F(RowDatasetTest, ChunksOfNothingButTheFillStoreTheBytesDeflateGives) {
   const std::size_t rows = 6 * kChunkRows;
   std::vector<double> values(rows * kColumns, kFill);
-  values[2 * kChunkRows * kColumns] = 1.0;                   // chunk 2's first value
+  values[2 * kChunkRows * kColumns] = 1.0;                       // chunk 2's first value
   values[(4 * kChunkRows - 1) * kColumns + kColumns - 1] = 2.0;  // chunk 3's last value
-  std::fill(values.begin() + static_cast<long>(5 * kChunkRows * kColumns), values.end(), 0.5);  // chunk 5: rows alike, not the fill
+  std::fill(values.begin() + static_cast<long>(5 * kChunkRows * kColumns), values.end(),
+            0.5);  // chunk 5: rows alike, not the fill
   h5::RowDataset set = make(rows);
   set.write(0, rows, values.data());
   EXPECT_EQ(read_all(set.id(), rows), values);
@@ -212,7 +213,8 @@ TEST_F(RowDatasetTest, ChunksOfNothingButTheFillStoreTheBytesDeflateGives) {
     std::uint32_t ignored = 0;
     ASSERT_GE(H5Dread_chunk(set.id(), H5P_DEFAULT, offset, &ignored, stream.data()), 0);
     const std::span<const unsigned char> rows_bytes(
-        reinterpret_cast<const unsigned char*>(values.data() + c * kChunkRows * kColumns), kChunkRows * kColumns * sizeof(double));
+        reinterpret_cast<const unsigned char*>(values.data() + c * kChunkRows * kColumns),
+        kChunkRows * kColumns * sizeof(double));
     std::vector<unsigned char> expected;
     h5::deflate(rows_bytes, h5::kRowsDeflateLevel, expected);
     EXPECT_EQ(stream, expected);
@@ -272,8 +274,8 @@ TEST_F(RowDatasetTest, ACutThroughAChunkStoredAsItIs) {
     std::size_t written, kept;  // rows 0 .. written-1 come; the cut keeps kept
     bool flush;
   };
-  for (const Case& cut : {Case{"whole", 640, 600, false}, Case{"rows_missing", 630, 600, true},
-                          Case{"held", 630, 600, false}}) {
+  for (const Case& cut :
+       {Case{"whole", 640, 600, false}, Case{"rows_missing", 630, 600, true}, Case{"held", 630, 600, false}}) {
     SCOPED_TRACE(cut.name);
     {
       h5::RowDataset set = make(rows, cut.name);
@@ -328,10 +330,11 @@ std::pair<std::vector<unsigned char>, std::size_t> bytes_compressing_to_raw_size
 // deflated size is its raw size, it still reads back as raw.
 TEST_F(RowDatasetTest, AChunkThatChangesFormAtTheSameSizeReadsBack) {
   std::vector<unsigned char> stream;
-  const auto [values, k] = bytes_compressing_to_raw_size(6 * kByteRows, 0, [&](const std::vector<unsigned char>& chunk) {
-    h5::deflate(chunk, h5::kRowsDeflateLevel, stream);
-    return stream.size();
-  });
+  const auto [values, k] =
+      bytes_compressing_to_raw_size(6 * kByteRows, 0, [&](const std::vector<unsigned char>& chunk) {
+        h5::deflate(chunk, h5::kRowsDeflateLevel, stream);
+        return stream.size();
+      });
   ASSERT_NE(k, 0u) << "no first rows of chunk 0 deflate to its raw size";
   const unsigned char fill = 0;
   h5::RowDataset set(file_.id(), "bytes", H5T_NATIVE_UCHAR, values.size(), {}, kByteRows, &fill);
@@ -355,12 +358,13 @@ TEST_F(RowDatasetTest, AChunkThatChangesFormAtTheSameSizeReadsBack) {
 // Stored deflated before the cut, the chunk reads back right.
 TEST_F(RowDatasetTest, ACutWhoseRewriteIsTheChunksRawSizeReadsBack) {
   const std::size_t before = 5 * kByteRows;  // the trial's chunks and one stored raw
-  const auto [values, k] = bytes_compressing_to_raw_size(7 * kByteRows, before, [](const std::vector<unsigned char>& chunk) {
-    uLongf bytes = compressBound(chunk.size());
-    std::vector<unsigned char> stream(bytes);
-    EXPECT_EQ(compress2(stream.data(), &bytes, chunk.data(), chunk.size(), h5::kRowsDeflateLevel), Z_OK);
-    return static_cast<std::size_t>(bytes);
-  });
+  const auto [values, k] =
+      bytes_compressing_to_raw_size(7 * kByteRows, before, [](const std::vector<unsigned char>& chunk) {
+        uLongf bytes = compressBound(chunk.size());
+        std::vector<unsigned char> stream(bytes);
+        EXPECT_EQ(compress2(stream.data(), &bytes, chunk.data(), chunk.size(), h5::kRowsDeflateLevel), Z_OK);
+        return static_cast<std::size_t>(bytes);
+      });
   ASSERT_NE(k, 0u) << "no cut of chunk 5 rewrites it at its raw size";
   {
     const unsigned char fill = 0;
@@ -421,7 +425,8 @@ TEST_F(RowDatasetTest, IntegerRowsOfOneValueWithAFill) {
   std::vector<std::int32_t> expected(rows, not_run);
   for (std::size_t first = 4000; first < rows; first += 25) {
     std::vector<std::int32_t> block(10);
-    for (std::size_t k = 0; k < block.size(); ++k) block[k] = expected[first + k] = static_cast<std::int32_t>(first + k) % 3;
+    for (std::size_t k = 0; k < block.size(); ++k)
+      block[k] = expected[first + k] = static_cast<std::int32_t>(first + k) % 3;
     set.write(first, block.size(), block.data());
   }
   set.flush();

@@ -52,8 +52,8 @@ Final run(const Model& model, const InitialState& initial, Parameterisation p, M
   request.settings.absolute_tolerance = tol;
   request.settings.max_steps = 10'000'000;
   Final f;
-  f.outcome = simulate(model, initial, request,
-                       [&](const Model& mo, const Data& d) { f.rotation = recover(mo, d).rotation; });
+  f.outcome =
+      simulate(model, initial, request, [&](const Model& mo, const Data& d) { f.rotation = recover(mo, d).rotation; });
   return f;
 }
 

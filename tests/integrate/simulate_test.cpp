@@ -1,6 +1,8 @@
 // simulate(): every method reaches the same answer, outputs come from dense
 // output (not from forced steps), failures come back typed with the time
 // reached, and the statistics add up across chart-change restarts.
+#include "integrate/simulate.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,7 +10,6 @@
 #include <random>
 
 #include "dynamics/recovered.hpp"
-#include "integrate/simulate.hpp"
 #include "model/model.hpp"
 #include "support/random_tree.hpp"
 
@@ -66,8 +67,8 @@ TEST(Simulate, AllMethodsAgree) {
   double worst = 0.0;
   for (std::size_t r = 1; r < runs.size(); ++r)
     for (int b = 0; b < model.n; ++b)
-      worst = std::max(worst, testing::rotation_distance(runs[0].states.back().rotation[b],
-                                                         runs[r].states.back().rotation[b]));
+      worst = std::max(
+          worst, testing::rotation_distance(runs[0].states.back().rotation[b], runs[r].states.back().rotation[b]));
   std::printf("largest final orientation difference between methods: %.2e rad\n", worst);
   EXPECT_LT(worst, 1e-7);
 }
@@ -97,8 +98,7 @@ TEST(Simulate, OutputsUseDenseOutputNotForcedSteps) {
     to_mid.output_times = {1.0};
     const Recording c = record_run(model, to_mid);
     for (int i = 0; i < model.n; ++i)
-      EXPECT_LT(testing::rotation_distance(b.states[500].rotation[i], c.states[0].rotation[i]), 1e-8)
-          << name(m);
+      EXPECT_LT(testing::rotation_distance(b.states[500].rotation[i], c.states[0].rotation[i]), 1e-8) << name(m);
   }
 }
 
@@ -114,7 +114,8 @@ TEST(Simulate, TooMuchWorkIsATypedFailureWithTheTimeReached) {
     request.settings.method = m;
     request.settings.max_steps = 20;
     int outputs = 0;
-    const IntegrationOutcome o = simulate(model, request.initial, request, [&](const Model&, const Data&) { ++outputs; });
+    const IntegrationOutcome o =
+        simulate(model, request.initial, request, [&](const Model&, const Data&) { ++outputs; });
     EXPECT_FALSE(o.ok());
     EXPECT_EQ(o.failure, FailureKind::too_much_work) << name(m) << ": " << o.message;
     EXPECT_GT(o.time_reached, 0.0);

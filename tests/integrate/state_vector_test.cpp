@@ -155,8 +155,8 @@ TEST_F(StateVector, ReductionsMatchTheSerialVector) {
                    "WRMS norm");
   expect_same_bits(N_VWrmsNormMask(x.serial.get(), w.serial.get(), id.serial.get()),
                    N_VWrmsNormMask(x.compiled.get(), w.compiled.get(), id.compiled.get()), "masked WRMS norm");
-  expect_same_bits(N_VWSqrSumLocal(x.serial.get(), w.serial.get()),
-                   N_VWSqrSumLocal(x.compiled.get(), w.compiled.get()), "weighted square sum");
+  expect_same_bits(N_VWSqrSumLocal(x.serial.get(), w.serial.get()), N_VWSqrSumLocal(x.compiled.get(), w.compiled.get()),
+                   "weighted square sum");
   expect_same_bits(N_VMin(x.serial.get()), N_VMin(x.compiled.get()), "minimum");
   expect_same_bits(N_VWL2Norm(x.serial.get(), w.serial.get()), N_VWL2Norm(x.compiled.get(), w.compiled.get()),
                    "weighted L2 norm");

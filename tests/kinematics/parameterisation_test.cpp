@@ -2,6 +2,8 @@
 // and their charts: unit tests of kinematics/parameterisation.hpp, then whole
 // runs showing that every parameterisation (with its chart changes)
 // integrates the same motion.
+#include "kinematics/parameterisation.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -14,7 +16,6 @@
 
 #include "dynamics/recovered.hpp"
 #include "integrate/simulate.hpp"
-#include "kinematics/parameterisation.hpp"
 #include "model/model.hpp"
 #include "support/random_tree.hpp"
 
@@ -23,33 +24,30 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-constexpr std::array<Parameterisation, 4> kAll = {
-    Parameterisation::euler313, Parameterisation::bryant123, Parameterisation::quaternion,
-    Parameterisation::direction_cosines};
+constexpr std::array<Parameterisation, 4> kAll = {Parameterisation::euler313, Parameterisation::bryant123,
+                                                  Parameterisation::quaternion, Parameterisation::direction_cosines};
 
-bool is_angle_set(Parameterisation p) {
-  return p == Parameterisation::euler313 || p == Parameterisation::bryant123;
-}
+bool is_angle_set(Parameterisation p) { return p == Parameterisation::euler313 || p == Parameterisation::bryant123; }
 
 double max_abs(const Mat3& m) { return m.cwiseAbs().maxCoeff(); }
 
 // The matrices printed in section 5, typed in from the page.
 Mat3 theory_bryant(double a1, double a2, double a3) {
-  const double c1 = std::cos(a1), s1 = std::sin(a1), c2 = std::cos(a2), s2 = std::sin(a2),
-               c3 = std::cos(a3), s3 = std::sin(a3);
+  const double c1 = std::cos(a1), s1 = std::sin(a1), c2 = std::cos(a2), s2 = std::sin(a2), c3 = std::cos(a3),
+               s3 = std::sin(a3);
   Mat3 A;
-  A << c2 * c3, -c2 * s3, s2,                                 //
+  A << c2 * c3, -c2 * s3, s2,                                    //
       c1 * s3 + s1 * s2 * c3, c1 * c3 - s1 * s2 * s3, -s1 * c2,  //
       s1 * s3 - c1 * s2 * c3, s1 * c3 + c1 * s2 * s3, c1 * c2;
   return A;
 }
 
 Mat3 theory_euler(double psi, double th, double phi) {
-  const double cps = std::cos(psi), sps = std::sin(psi), cth = std::cos(th), sth = std::sin(th),
-               cph = std::cos(phi), sph = std::sin(phi);
+  const double cps = std::cos(psi), sps = std::sin(psi), cth = std::cos(th), sth = std::sin(th), cph = std::cos(phi),
+               sph = std::sin(phi);
   Mat3 A;
   A << cps * cph - sps * cth * sph, -cps * sph - sps * cth * cph, sps * sth,  //
-      sps * cph + cps * cth * sph, -sps * sph + cps * cth * cph, -cps * sth,   //
+      sps * cph + cps * cth * sph, -sps * sph + cps * cth * cph, -cps * sth,  //
       sth * sph, sth * cph, cth;
   return A;
 }
@@ -58,8 +56,7 @@ Mat3 theory_euler(double psi, double th, double phi) {
 // A = (q0^2 - e.e) E + 2 e e^T + 2 q0 [e]x for a unit quaternion.
 Mat3 theory_quaternion(const double* q) {
   const Vec3 e(q[1], q[2], q[3]);
-  return (q[0] * q[0] - e.dot(e)) * Mat3::Identity() + 2.0 * e * e.transpose() +
-         2.0 * q[0] * cross_matrix(e);
+  return (q[0] * q[0] - e.dot(e)) * Mat3::Identity() + 2.0 * e * e.transpose() + 2.0 * q[0] * cross_matrix(e);
 }
 
 // Coordinates of a generic, well-conditioned point of each chart.
@@ -99,10 +96,10 @@ TEST(Parameterisation, AngleSetsMatchTheoryMatrices) {
   double worst_b = 0.0, worst_e = 0.0;
   for (int k = 0; k < 1000; ++k) {
     const double q[3] = {angle(rng), angle(rng), angle(rng)};
-    worst_b = std::max(worst_b, max_abs(rotation_from_coordinates(Parameterisation::bryant123, q) -
-                                        theory_bryant(q[0], q[1], q[2])));
-    worst_e = std::max(worst_e, max_abs(rotation_from_coordinates(Parameterisation::euler313, q) -
-                                        theory_euler(q[0], q[1], q[2])));
+    worst_b = std::max(
+        worst_b, max_abs(rotation_from_coordinates(Parameterisation::bryant123, q) - theory_bryant(q[0], q[1], q[2])));
+    worst_e = std::max(
+        worst_e, max_abs(rotation_from_coordinates(Parameterisation::euler313, q) - theory_euler(q[0], q[1], q[2])));
   }
   std::printf("worst |R(q) - theory|: bryant %.2e  euler %.2e\n", worst_b, worst_e);
   EXPECT_LT(worst_b, 1e-14);
@@ -118,8 +115,7 @@ TEST(Parameterisation, QuaternionAndDirectionCosinesGiveRotations) {
   std::mt19937_64 rng(516);
   std::uniform_real_distribution<double> scale(0.5, 2.0);
   std::normal_distribution<double> normal;
-  double worst_q = 0.0, worst_q_scaled = 0.0, worst_dcm = 0.0, worst_dcm_drift = 0.0,
-         worst_dcm_moved = 0.0;
+  double worst_q = 0.0, worst_q_scaled = 0.0, worst_dcm = 0.0, worst_dcm_drift = 0.0, worst_dcm_moved = 0.0;
   for (int k = 0; k < 1000; ++k) {
     const Quat u(testing::random_rotation(rng));
     double q[4] = {u.w(), u.x(), u.y(), u.z()};
@@ -128,22 +124,22 @@ TEST(Parameterisation, QuaternionAndDirectionCosinesGiveRotations) {
     // Drifted off the sphere, and the opposite sign: the same rotation.
     const double s = (k % 2 ? -1.0 : 1.0) * scale(rng);
     for (double& c : q) c *= s;
-    worst_q_scaled = std::max(
-        worst_q_scaled, max_abs(rotation_from_coordinates(Parameterisation::quaternion, q) - exact));
+    worst_q_scaled =
+        std::max(worst_q_scaled, max_abs(rotation_from_coordinates(Parameterisation::quaternion, q) - exact));
 
     double a[9];
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 3; ++c) a[3 * r + c] = exact(r, c);
-    worst_dcm = std::max(worst_dcm,
-                         max_abs(rotation_from_coordinates(Parameterisation::direction_cosines, a) - exact));
+    worst_dcm = std::max(worst_dcm, max_abs(rotation_from_coordinates(Parameterisation::direction_cosines, a) - exact));
     for (double& c : a) c += 1e-7 * normal(rng);
     const Mat3 R = rotation_from_coordinates(Parameterisation::direction_cosines, a);
     worst_dcm_drift = std::max(worst_dcm_drift, max_abs(R.transpose() * R - Mat3::Identity()));
     worst_dcm_moved = std::max(worst_dcm_moved, max_abs(R - exact));
   }
-  std::printf("quaternion %.2e (off-sphere %.2e)  dcm %.2e  dcm after 1e-7 noise: orthonormality "
-              "%.2e, moved %.2e\n",
-              worst_q, worst_q_scaled, worst_dcm, worst_dcm_drift, worst_dcm_moved);
+  std::printf(
+      "quaternion %.2e (off-sphere %.2e)  dcm %.2e  dcm after 1e-7 noise: orthonormality "
+      "%.2e, moved %.2e\n",
+      worst_q, worst_q_scaled, worst_dcm, worst_dcm_drift, worst_dcm_moved);
   EXPECT_LT(worst_q, 1e-14);
   EXPECT_LT(worst_q_scaled, 1e-14);
   EXPECT_LT(worst_dcm, 1e-14);
@@ -185,9 +181,10 @@ TEST(Parameterisation, DirectionCosinesProjectionInsideChart) {
     if (d > largest_drift) largest_drift = d;
     if (d > 0.5 * largest_drift) worst_at_edge = std::max(worst_at_edge, o);
   }
-  std::printf("DCM inside chart (%d cases, drift up to %.2e): worst |R^T R - E| / drift^2 = %.3f; "
-              "worst |R^T R - E| near the largest drift %.2e\n",
-              inside, largest_drift, worst_ratio, worst_at_edge);
+  std::printf(
+      "DCM inside chart (%d cases, drift up to %.2e): worst |R^T R - E| / drift^2 = %.3f; "
+      "worst |R^T R - E| near the largest drift %.2e\n",
+      inside, largest_drift, worst_ratio, worst_at_edge);
   ASSERT_GT(inside, 1000);
   EXPECT_LE(worst_ratio, 2.25);
 }
@@ -213,8 +210,7 @@ TEST(Parameterisation, CoordinateRatesMatchFiniteDifference) {
         qm[static_cast<std::size_t>(c)] -= h * q_dot[static_cast<std::size_t>(c)];
       }
       const Mat3 R = rotation_from_coordinates(p, q.data());
-      const Mat3 fd = (rotation_from_coordinates(p, qp.data()) - rotation_from_coordinates(p, qm.data())) /
-                      (2.0 * h);
+      const Mat3 fd = (rotation_from_coordinates(p, qp.data()) - rotation_from_coordinates(p, qm.data())) / (2.0 * h);
       worst = std::max(worst, max_abs(fd - R * cross_matrix(w)) / std::max(1.0, w.norm()));
     }
     std::printf("%-18s worst |dR/dt - R [w]x| / |w| = %.2e\n", std::string(name(p)).c_str(), worst);
@@ -239,8 +235,7 @@ TEST(Parameterisation, AngleRatesNearSingularSet) {
       const double eps = close(rng);  // distance of the middle angle from the singular value
       const double sgn = k % 2 ? 1.0 : -1.0;
       double q[3] = {angle(rng), 0.0, angle(rng)};
-      q[1] = p == Parameterisation::bryant123 ? sgn * (0.5 * kPi - eps)
-                                              : (k % 4 < 2 ? eps : kPi - eps);
+      q[1] = p == Parameterisation::bryant123 ? sgn * (0.5 * kPi - eps) : (k % 4 < 2 ? eps : kPi - eps);
       const Vec3 w = testing::random_vector(rng, 3.0);
       double q_dot[3], qp[3], qm[3];
       coordinate_rates(p, q, w, q_dot);
@@ -271,8 +266,8 @@ TEST(Parameterisation, RecentreReproducesOrientation) {
     // Random orientations, plus the singular orientations of the angle sets.
     std::vector<Mat3> cases;
     for (int k = 0; k < 300; ++k) cases.push_back(testing::random_rotation(rng));
-    cases.push_back(Mat3::Identity());  // Euler theta = 0
-    cases.push_back(Eigen::AngleAxisd(kPi, Vec3::UnitX()).toRotationMatrix());  // Euler theta = pi
+    cases.push_back(Mat3::Identity());                                                // Euler theta = 0
+    cases.push_back(Eigen::AngleAxisd(kPi, Vec3::UnitX()).toRotationMatrix());        // Euler theta = pi
     cases.push_back(Eigen::AngleAxisd(0.5 * kPi, Vec3::UnitY()).toRotationMatrix());  // Bryant a2 = 90
     cases.push_back(Eigen::AngleAxisd(-0.5 * kPi, Vec3::UnitY()).toRotationMatrix() *
                     Eigen::AngleAxisd(1.0, Vec3::UnitZ()).toRotationMatrix());  // Bryant a2 = -90
@@ -281,8 +276,7 @@ TEST(Parameterisation, RecentreReproducesOrientation) {
       const Mat3 C = recentre(p, A, q.data());
       const Mat3 R = rotation_from_coordinates(p, q.data());
       worst = std::max(worst, max_abs(C * R - A));
-      worst_c = std::max(worst_c, max_abs(C.transpose() * C - Mat3::Identity()) +
-                                      std::abs(C.determinant() - 1.0));
+      worst_c = std::max(worst_c, max_abs(C.transpose() * C - Mat3::Identity()) + std::abs(C.determinant() - 1.0));
       least_margin = std::min(least_margin, chart_margin(p, q.data()));
       if (!is_angle_set(p)) {
         EXPECT_LT(max_abs(C - Mat3::Identity()), 1e-15) << name(p);
@@ -342,13 +336,13 @@ TEST(Parameterisation, QuaternionRecentreKeepsSign) {
 struct Trajectory {
   IntegrationOutcome outcome;
   std::vector<double> time;
-  std::vector<std::vector<Mat3>> rotation;        // [output][user body]
+  std::vector<std::vector<Mat3>> rotation;  // [output][user body]
   std::vector<std::vector<Vec3>> angular_velocity;
   std::vector<double> energy;
 };
 
-Trajectory run(const ModelSpec& spec, const InitialState& initial, Parameterisation p,
-        const std::vector<double>& times, double rtol, double atol) {
+Trajectory run(const ModelSpec& spec, const InitialState& initial, Parameterisation p, const std::vector<double>& times,
+               double rtol, double atol) {
   const Model model = build_model(spec);
   SimulationRequest request;
   request.parameterisation = p;
@@ -402,8 +396,7 @@ TEST(ParameterisationRuns, AllFourAgreeOnTumblingTree) {
           worst = d;
           if (at) *at = times[k];
         }
-        if (w_diff)
-          *w_diff = std::max(*w_diff, (a.angular_velocity[k][u] - b.angular_velocity[k][u]).norm());
+        if (w_diff) *w_diff = std::max(*w_diff, (a.angular_velocity[k][u] - b.angular_velocity[k][u]).norm());
       }
     }
     return worst;
@@ -427,10 +420,10 @@ TEST(ParameterisationRuns, AllFourAgreeOnTumblingTree) {
     double worst_time = 0.0, worst_w = 0.0;
     const double worst = worst_difference(reference, other, &worst_time, &worst_w);
     const auto& s = other.outcome.stats;
-    std::printf("%-18s vs quaternion: worst rotation difference %.2e rad (t = %.3f s), |w| difference "
-                "%.2e rad/s, steps %ld, chart changes %ld, restarts %ld\n",
-                std::string(name(p)).c_str(), worst, worst_time, worst_w, s.steps, s.chart_changes,
-                s.restarts);
+    std::printf(
+        "%-18s vs quaternion: worst rotation difference %.2e rad (t = %.3f s), |w| difference "
+        "%.2e rad/s, steps %ld, chart changes %ld, restarts %ld\n",
+        std::string(name(p)).c_str(), worst, worst_time, worst_w, s.steps, s.chart_changes, s.restarts);
     EXPECT_LT(worst, 1e-7) << name(p);
     // |w| differences: same scale (the rates of the orientations), times |w'|/|w| ~ 10.
     EXPECT_LT(worst_w, 1e-6) << name(p);
@@ -501,13 +494,12 @@ TEST(ParameterisationRuns, SingularPassagesMatchClosedForm) {
       ASSERT_EQ(r.rotation.size(), times.size());
       double worst = 0.0, worst_w = 0.0;
       for (std::size_t k = 0; k < times.size(); ++k) {
-        const Mat3 exact =
-            Eigen::AngleAxisd(c.w.norm() * times[k], c.w.normalized()).toRotationMatrix() * c.A0;
+        const Mat3 exact = Eigen::AngleAxisd(c.w.norm() * times[k], c.w.normalized()).toRotationMatrix() * c.A0;
         worst = std::max(worst, testing::rotation_distance(exact, r.rotation[k][0]));
         worst_w = std::max(worst_w, (r.angular_velocity[k][0] - c.w).norm());
       }
-      std::printf("%-38s %-18s rotation error %.2e rad  |w - w0| %.2e  chart changes %ld  restarts %ld\n",
-                  c.what, std::string(name(p)).c_str(), worst, worst_w, r.outcome.stats.chart_changes,
+      std::printf("%-38s %-18s rotation error %.2e rad  |w - w0| %.2e  chart changes %ld  restarts %ld\n", c.what,
+                  std::string(name(p)).c_str(), worst, worst_w, r.outcome.stats.chart_changes,
                   r.outcome.stats.restarts);
       EXPECT_LT(worst, 1e-8) << c.what << ", " << name(p);
       // w' = 0 exactly in the equations; only rounding in K w' = -w x K w.
@@ -554,10 +546,10 @@ TEST(ParameterisationRuns, LongRunKeepsRotationsOrthonormal) {
       worst_e = std::max(worst_e, std::abs(r.energy[k] - r.energy[0]));
     }
     const auto& s = r.outcome.stats;
-    std::printf("%-18s |A^T A - E| %.2e  |det - 1| %.2e  energy drift %.2e J (E0 %.3f J)  steps %ld  "
-                "chart changes %ld  restarts %ld\n",
-                std::string(name(p)).c_str(), worst, worst_det, worst_e, r.energy[0], s.steps,
-                s.chart_changes, s.restarts);
+    std::printf(
+        "%-18s |A^T A - E| %.2e  |det - 1| %.2e  energy drift %.2e J (E0 %.3f J)  steps %ld  "
+        "chart changes %ld  restarts %ld\n",
+        std::string(name(p)).c_str(), worst, worst_det, worst_e, r.energy[0], s.steps, s.chart_changes, s.restarts);
     EXPECT_LT(worst, 1e-12) << name(p);
     EXPECT_LT(worst_det, 1e-12) << name(p);
     EXPECT_LT(worst_e, 1e-4 * std::max(1.0, std::abs(r.energy[0]))) << name(p);

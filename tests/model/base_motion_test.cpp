@@ -1,9 +1,11 @@
 // BaseMotion::at for every kind of prescribed base motion, checked against
 // closed forms, finite differences and an independent natural-spline solve;
 // invalid descriptions throw ModelError.
-#include <gtest/gtest.h>
+#include "model/base_motion.hpp"
 
 #include <Eigen/Dense>
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -11,7 +13,6 @@
 #include <vector>
 
 #include "common/error.hpp"
-#include "model/base_motion.hpp"
 
 namespace treedyn {
 namespace {
@@ -96,9 +97,8 @@ TEST(BaseMotion, HarmonicClosedForm) {
   const double two_pi = 2.0 * std::numbers::pi;
   for (double t : {0.0, 0.123, 1.0, 2.71}) {
     const BaseKinematics k = motion.at(t);
-    const Vec3 expected(0.1 + 0.05 * std::sin(two_pi * 2.0 * t + 0.3) +
-                            0.01 * std::sin(two_pi * 7.5 * t - 1.0),
-                        -0.2, 1.0 + 0.2 * std::sin(two_pi * 0.5 * t) + 0.03 * std::sin(0.8));
+    const Vec3 expected(0.1 + 0.05 * std::sin(two_pi * 2.0 * t + 0.3) + 0.01 * std::sin(two_pi * 7.5 * t - 1.0), -0.2,
+                        1.0 + 0.2 * std::sin(two_pi * 0.5 * t) + 0.03 * std::sin(0.8));
     EXPECT_VEC_NEAR(k.position, expected, 1e-14);
     EXPECT_EQ(k.velocity.y(), 0.0);
     EXPECT_EQ(k.acceleration.y(), 0.0);
@@ -137,9 +137,8 @@ TEST(BaseMotion, HarmonicIsFixedOnlyWithoutMotion) {
 TabulatedBase sample_table() {
   TabulatedBase tab;
   tab.times = {-0.5, 0.0, 0.3, 1.1, 1.2, 2.0, 3.5};  // uneven spacing
-  tab.positions = {Vec3(0.0, 1.0, -1.0), Vec3(0.4, 0.8, -0.5), Vec3(0.1, 0.9, 0.0),
-                   Vec3(-0.3, 1.5, 0.2), Vec3(-0.2, 1.4, 0.3), Vec3(0.6, 0.7, 0.1),
-                   Vec3(0.2, 0.2, -0.4)};
+  tab.positions = {Vec3(0.0, 1.0, -1.0), Vec3(0.4, 0.8, -0.5), Vec3(0.1, 0.9, 0.0), Vec3(-0.3, 1.5, 0.2),
+                   Vec3(-0.2, 1.4, 0.3), Vec3(0.6, 0.7, 0.1),  Vec3(0.2, 0.2, -0.4)};
   return tab;
 }
 
@@ -156,9 +155,9 @@ std::vector<Vec3> reference_moments(const TabulatedBase& tab) {
     A(i - 1, i - 1) = 2.0 * (h0 + h1);
     if (i > 1) A(i - 1, i - 2) = h0;
     if (i < k) A(i - 1, i) = h1;
-    rhs.row(i - 1) = (6.0 * ((tab.positions[i + 1] - tab.positions[i]) / h1 -
-                             (tab.positions[i] - tab.positions[i - 1]) / h0))
-                         .transpose();
+    rhs.row(i - 1) =
+        (6.0 * ((tab.positions[i + 1] - tab.positions[i]) / h1 - (tab.positions[i] - tab.positions[i - 1]) / h0))
+            .transpose();
   }
   const Eigen::MatrixXd x = A.partialPivLu().solve(rhs);
   for (int i = 1; i <= k; ++i) m[i] = x.row(i - 1).transpose();
@@ -243,8 +242,7 @@ TEST(BaseMotion, TabulatedDerivativesMatchFiniteDifferences) {
     const Vec3 jerk_left = (m[i] - m[i - 1]) / (tab.times[i] - tab.times[i - 1]);
     const Vec3 jerk_right = (m[i + 1] - m[i]) / (tab.times[i + 1] - tab.times[i]);
     EXPECT_VEC_NEAR(k.velocity, d.velocity, 1e-7) << "knot " << i;
-    EXPECT_VEC_NEAR(Vec3(k.acceleration + h / 4.0 * (jerk_right - jerk_left)),
-                    d.acceleration_from_velocity, 1e-6)
+    EXPECT_VEC_NEAR(Vec3(k.acceleration + h / 4.0 * (jerk_right - jerk_left)), d.acceleration_from_velocity, 1e-6)
         << "knot " << i;
   }
 }
@@ -393,12 +391,10 @@ TEST(BaseMotionInvalid, HarmonicNaN) {
 
 TEST(BaseMotionInvalid, FixedAndConstantAccelerationNaN) {
   EXPECT_MESSAGE_HAS(motion_error(FixedBase{Vec3(kNaN, 0.0, 0.0)}), "fixed");
-  EXPECT_MESSAGE_HAS(
-      motion_error(ConstantAccelerationBase{Vec3::Zero(), Vec3(0.0, kInf, 0.0), Vec3::Zero()}),
-      "constant_acceleration");
-  EXPECT_MESSAGE_HAS(
-      motion_error(ConstantAccelerationBase{Vec3::Zero(), Vec3::Zero(), Vec3(0.0, 0.0, kNaN)}),
-      "constant_acceleration");
+  EXPECT_MESSAGE_HAS(motion_error(ConstantAccelerationBase{Vec3::Zero(), Vec3(0.0, kInf, 0.0), Vec3::Zero()}),
+                     "constant_acceleration");
+  EXPECT_MESSAGE_HAS(motion_error(ConstantAccelerationBase{Vec3::Zero(), Vec3::Zero(), Vec3(0.0, 0.0, kNaN)}),
+                     "constant_acceleration");
 }
 
 }  // namespace

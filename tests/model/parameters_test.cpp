@@ -60,8 +60,7 @@ ModelSpec mixed_spec() {
   s.joints = {joint(kBaseName, "box", Vec3::Zero(), Vec3(0, 0, 0.2)),
               joint("box", "cyl", Vec3(0, 0, -0.2), Vec3(0, 0, 0.3)),
               joint("cyl", "arm", Vec3(0.05, 0, -0.3), Vec3(0, 0.1, 0)),
-              joint("box", "l1", Vec3(0.1, 0, 0), Vec3::Zero()),
-              joint("l1", "l2", Vec3::Zero(), Vec3::Zero())};
+              joint("box", "l1", Vec3(0.1, 0, 0), Vec3::Zero()), joint("l1", "l2", Vec3::Zero(), Vec3::Zero())};
   s.joints[3].on_child_follows_length = true;
   s.joints[4].on_child_follows_length = true;
   s.joints[4].on_parent_follows_length = true;
@@ -86,6 +85,7 @@ TEST(Parameters, NamesUnitsAndLayoutFollowTheDescription) {
     units.push_back(p.unit);
     EXPECT_FALSE(p.enters.empty()) << p.name;
   }
+  // clang-format off
   const std::vector<std::string> expected = {
       "body.box.mass", "body.box.size", "body.box.inertia_scale", "body.box.joint_on_child",
       "joint.box.stiffness", "joint.box.damping",
@@ -99,6 +99,7 @@ TEST(Parameters, NamesUnitsAndLayoutFollowTheDescription) {
       "joint.l2.stiffness", "joint.l2.damping",
       "gravity", "base.offset", "base.z[1].amplitude", "base.z[1].frequency", "base.z[1].phase",
       "force[1].point", "force[1].force", "moment[1].moment"};
+  // clang-format on
   EXPECT_EQ(names, expected);
   EXPECT_EQ(d.parameters.find("body.cyl.density")->unit, "kg/m^3");
   EXPECT_EQ(d.parameters.find("joint.arm.stiffness")->unit, "N m/rad");

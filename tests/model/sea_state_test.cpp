@@ -102,8 +102,8 @@ TEST(SeaState, TimeVarianceIsM0) {
     }
     mean_variance += (sum2 / points - (sum / points) * (sum / points)) / samples;
   }
-  std::printf("time variance averaged over %d samples %.5f m^2; components' m0 %.5f, spectrum's %.5f m^2\n",
-              samples, mean_variance, summary.m0_components, summary.m0_spectrum);
+  std::printf("time variance averaged over %d samples %.5f m^2; components' m0 %.5f, spectrum's %.5f m^2\n", samples,
+              mean_variance, summary.m0_components, summary.m0_spectrum);
   EXPECT_NEAR(mean_variance / summary.m0_components, 1.0, 0.02);
   EXPECT_NEAR(mean_variance / summary.m0_spectrum, 1.0, 0.02);
   EXPECT_GT(summary.m0_components / summary.m0_spectrum, 0.98);

@@ -44,8 +44,7 @@ JointSpec joint(const std::string& parent, const std::string& child, const std::
 ModelSpec valid_chain() {
   ModelSpec s;
   s.bodies = {body("root"), body("arm"), body("hand")};
-  s.joints = {joint(kBaseName, "root", "shoulder"), joint("root", "arm", "elbow"),
-              joint("arm", "hand", "wrist")};
+  s.joints = {joint(kBaseName, "root", "shoulder"), joint("root", "arm", "elbow"), joint("arm", "hand", "wrist")};
   return s;
 }
 
@@ -79,8 +78,7 @@ TEST(Validation, CycleNamesABodyOfTheCycle) {
   s.bodies = {body("root"), body("ping"), body("pong")};
   s.joints = {joint(kBaseName, "root", "j0"), joint("pong", "ping", "j1"), joint("ping", "pong", "j2")};
   const std::string msg = model_error(s);
-  EXPECT_TRUE(msg.find("'ping'") != std::string::npos || msg.find("'pong'") != std::string::npos)
-      << msg;
+  EXPECT_TRUE(msg.find("'ping'") != std::string::npos || msg.find("'pong'") != std::string::npos) << msg;
   EXPECT_MESSAGE_HAS(msg, "cycle");
   EXPECT_EQ(msg.find("'root'"), std::string::npos) << "the valid root is not the culprit: " << msg;
 }
@@ -622,13 +620,11 @@ TEST(Constants, RandomTreesSatisfyPageIdentities) {
       EXPECT_LT(sum_b.norm(), 1e-13 * std::max(scale, 1.0)) << "sum_j m_j b_ij, i " << i;
       EXPECT_LT((sum_d - M * m.barycentre_to_inboard[i]).norm(), 1e-13 * std::max(scale, 1.0))
           << "sum_j m_j d_ij = M b_i0, i " << i;
-      EXPECT_LT((m.barycentre_to_inboard[i] - (m.com_to_inboard_joint[i] - m.barycentre[i])).norm(),
-                1e-15);
+      EXPECT_LT((m.barycentre_to_inboard[i] - (m.com_to_inboard_joint[i] - m.barycentre[i])).norm(), 1e-15);
       EXPECT_TRUE(m.augmented_inertia[i].isApprox(K, 1e-12)) << "K_" << i << "\n"
-                                                              << m.augmented_inertia[i] << "\nvs\n"
-                                                              << K;
-      for (int k : m.tree().children[i])
-        EXPECT_LT((m.branch_d[k] - d_vector(m, i, k)).norm(), 1e-15);
+                                                             << m.augmented_inertia[i] << "\nvs\n"
+                                                             << K;
+      for (int k : m.tree().children[i]) EXPECT_LT((m.branch_d[k] - d_vector(m, i, k)).norm(), 1e-15);
     }
   }
 }

@@ -170,8 +170,7 @@ TEST_F(Answers, RunsAndSaysHowManyRuns) {
       run_command(TREEDYN_ENSEMBLE_BINARY, {"--check", job_.string()}, dir_->path() / "capture");
   EXPECT_EQ(check.exit_code, 0) << check.err;
   EXPECT_NE(check.out.find("N (D + 2) = 8 x 7 = 56 runs"), std::string::npos) << check.out;
-  EXPECT_NE(check.out.find("response first_under: first_time_below of joint_angle trunk.angle"),
-            std::string::npos)
+  EXPECT_NE(check.out.find("response first_under: first_time_below of joint_angle trunk.angle"), std::string::npos)
       << check.out;
 }
 
@@ -186,9 +185,9 @@ TEST_F(Answers, SameBitsAloneAndOnOneTwoAndThreeRanks) {
     SCOPED_TRACE(describe(kRanks[i]));
     H5File f(output(i));
     ASSERT_TRUE(f.ok());
-    expect_identical_datasets(reference.id(), describe(kRanks[0]), f.id(), describe(kRanks[i]),
-                              {"/stats", "/samples", "/responses", "/sensitivity", "/trajectories",
-                               "/integration_check"});
+    expect_identical_datasets(
+        reference.id(), describe(kRanks[0]), f.id(), describe(kRanks[i]),
+        {"/stats", "/samples", "/responses", "/sensitivity", "/trajectories", "/integration_check"});
   }
 }
 
@@ -202,8 +201,8 @@ TEST_F(Answers, StoredAnswersEqualThoseRecomputedFromTheSamples) {
   const hid_t f = file.id();
   std::vector<std::int32_t> status;
   for (long long s : read_integers(f, "/samples/status")) status.push_back(static_cast<std::int32_t>(s));
-  const ens::ResponseTable table(status, read_doubles(f, "/samples/inputs"),
-                                 read_doubles(f, "/samples/responses"), kInputs, spec.responses.size());
+  const ens::ResponseTable table(status, read_doubles(f, "/samples/inputs"), read_doubles(f, "/samples/responses"),
+                                 kInputs, spec.responses.size());
   const std::vector<ens::ResponseAnswer> answers = ens::answer_responses(spec, table);
   ASSERT_EQ(answers.size(), 8u);
   auto expect_bits = [](const std::vector<double>& stored, const std::vector<double>& computed,
@@ -222,8 +221,8 @@ TEST_F(Answers, StoredAnswersEqualThoseRecomputedFromTheSamples) {
     EXPECT_EQ(read_integers(f, g + "/used"), std::vector<long long>{static_cast<long long>(a.used)});
     std::vector<double> convergence;
     for (const auto& p : a.convergence)
-      convergence.insert(convergence.end(), {static_cast<double>(p.samples), static_cast<double>(p.used), p.mean,
-                                             p.sem, p.probability, p.interval.low, p.interval.high});
+      convergence.insert(convergence.end(), {static_cast<double>(p.samples), static_cast<double>(p.used), p.mean, p.sem,
+                                             p.probability, p.interval.low, p.interval.high});
     expect_bits(read_doubles(f, g + "/convergence"), convergence, "convergence");
     if (a.exceedance) {
       expect_bits(read_doubles(f, g + "/exceedance/probability"), {a.exceedance->probability}, "probability");
@@ -252,8 +251,7 @@ TEST_F(Answers, StoredAnswersEqualThoseRecomputedFromTheSamples) {
 }
 
 // Independent reductions of one column x(t) at the output times t.
-double direct(const std::string& reduce, const std::vector<double>& x, const std::vector<double>& t,
-              double parameter) {
+double direct(const std::string& reduce, const std::vector<double>& x, const std::vector<double>& t, double parameter) {
   if (reduce == "final") return x.back();
   if (reduce == "min") return *std::min_element(x.begin(), x.end());
   if (reduce == "max") return *std::max_element(x.begin(), x.end());
@@ -265,8 +263,7 @@ double direct(const std::string& reduce, const std::vector<double>& x, const std
   }
   if (reduce == "at_time") {
     for (std::size_t k = 1; k < t.size(); ++k)
-      if (t[k] >= parameter)
-        return x[k - 1] + (x[k] - x[k - 1]) * (parameter - t[k - 1]) / (t[k] - t[k - 1]);
+      if (t[k] >= parameter) return x[k - 1] + (x[k] - x[k - 1]) * (parameter - t[k - 1]) / (t[k] - t[k - 1]);
   }
   const bool above = reduce == "first_time_above";
   for (std::size_t k = 0; k < t.size(); ++k) {
@@ -296,8 +293,7 @@ TEST_F(Answers, EveryResponseAndReductionMatchesTheStoredTrajectory) {
     const std::vector<double> stored = read_doubles(f, "/trajectories/" + name);
     ASSERT_EQ(shape(f, "/trajectories/" + name), (std::vector<hsize_t>{kStored, T, C}));
     const auto finals = read_doubles(f, "/samples/final/" + name), mins = read_doubles(f, "/samples/min/" + name),
-               maxs = read_doubles(f, "/samples/max/" + name),
-               argmin = read_doubles(f, "/samples/argmin_time/" + name),
+               maxs = read_doubles(f, "/samples/max/" + name), argmin = read_doubles(f, "/samples/argmin_time/" + name),
                argmax = read_doubles(f, "/samples/argmax_time/" + name);
     for (std::size_t k = 0; k < kStored; ++k)
       for (std::size_t c = 0; c < C; ++c) {
@@ -366,8 +362,8 @@ TEST_F(Answers, ConvergenceRowsAreTheAnswersOfThePrefixes) {
         ++draws;
         const double v = responses[k * R + r];
         if (std::isfinite(v)) used.push_back(v);
-        if (response.has_limit() && (response.fail_if == ens::Response::FailIf::above ? v > response.limit
-                                                                                      : v < response.limit))
+        if (response.has_limit() &&
+            (response.fail_if == ens::Response::FailIf::above ? v > response.limit : v < response.limit))
           ++exceeded;
       }
       EXPECT_EQ(rows[i * 7 + 0], static_cast<double>(m));
@@ -404,16 +400,15 @@ TEST_F(Answers, SampleRerunAloneIsBitwiseTheEnsembleSample) {
   for (std::size_t k : {std::size_t{3}, std::size_t{5}, kRuns - 1}) {
     SCOPED_TRACE("sample " + std::to_string(k));
     const fs::path out = dir_->path() / ("sample_" + std::to_string(k) + ".h5");
-    const CommandResult r = run_command(TREEDYN_ENSEMBLE_BINARY,
-                                        {job_.string(), "--sample", std::to_string(k), "-o", out.string(), "-q"},
-                                        dir_->path() / "capture");
+    const CommandResult r =
+        run_command(TREEDYN_ENSEMBLE_BINARY, {job_.string(), "--sample", std::to_string(k), "-o", out.string(), "-q"},
+                    dir_->path() / "capture");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     H5File sample(out);
     ASSERT_TRUE(sample.ok());
     const std::vector<double> final_state = read_doubles(sample.id(), "/final_state");
     ASSERT_EQ(final_state.size(), 7 * n);
-    for (std::size_t i = 0; i < 7 * n; ++i)
-      EXPECT_TRUE(same_bits(final_state[i], finals[k * 7 * n + i])) << i;
+    for (std::size_t i = 0; i < 7 * n; ++i) EXPECT_TRUE(same_bits(final_state[i], finals[k * 7 * n + i])) << i;
     const std::vector<double> mine = read_doubles(sample.id(), "/sample/inputs");
     ASSERT_EQ(mine.size(), kInputs);
     for (std::size_t i = 0; i < kInputs; ++i) EXPECT_TRUE(same_bits(mine[i], inputs[k * kInputs + i]));
@@ -433,8 +428,7 @@ TEST_F(Answers, SampleRerunAloneIsBitwiseTheEnsembleSample) {
       const std::vector<double> alone = read_doubles(sample.id(), layout.quantity[q]);
       const std::size_t C = layout.names[q].size();
       ASSERT_EQ(alone.size(), T * C);
-      EXPECT_EQ(0, std::memcmp(alone.data(), stored.data() + k * T * C, T * C * sizeof(double)))
-          << layout.quantity[q];
+      EXPECT_EQ(0, std::memcmp(alone.data(), stored.data() + k * T * C, T * C * sizeof(double))) << layout.quantity[q];
     }
   }
 }
@@ -448,9 +442,9 @@ TEST_F(Answers, WrittenJobOfSampleKReproducesItWithTreedynRun) {
   for (std::size_t k : {std::size_t{2}, std::size_t{4}, std::size_t{30}}) {  // B_0, AB_2,0, AB_ of block 4
     SCOPED_TRACE("sample " + std::to_string(k));
     const fs::path written = dir_->path() / ("sample_" + std::to_string(k) + ".toml");
-    const CommandResult w = run_command(TREEDYN_ENSEMBLE_BINARY,
-                                        {job_.string(), "--write-job", std::to_string(k), "-o", written.string()},
-                                        dir_->path() / "capture");
+    const CommandResult w =
+        run_command(TREEDYN_ENSEMBLE_BINARY, {job_.string(), "--write-job", std::to_string(k), "-o", written.string()},
+                    dir_->path() / "capture");
     ASSERT_EQ(w.exit_code, 0) << w.err;
     const std::string text = read_text(written);
     EXPECT_EQ(text.find("[ensemble]"), std::string::npos) << text;

@@ -13,19 +13,18 @@
 // a file, and the test kills or signals it then; the number of samples a
 // resume restores is known exactly.
 #include <gtest/gtest.h>
-
-#include <algorithm>
 #include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
-#include <cstdlib>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
-#include <functional>
 #include <fstream>
+#include <functional>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -83,7 +82,8 @@ class Background {
     err_ = capture / "stderr.txt";
     out_ = capture / "stdout.txt";
     std::string command;
-    if (launch.ranks > 0) command += quote(TREEDYN_MPIEXEC) + " --oversubscribe -np " + std::to_string(launch.ranks) + " ";
+    if (launch.ranks > 0)
+      command += quote(TREEDYN_MPIEXEC) + " --oversubscribe -np " + std::to_string(launch.ranks) + " ";
     command += quote(TREEDYN_ENSEMBLE_BINARY) + " " + quote(job.string()) + " -o " + quote(out.string()) + " -q";
     for (const auto& e : launch.extra) command += " " + quote(e);
     std::string line = "exec env " + launcher_environment(launch.ranks > 0);
@@ -119,7 +119,9 @@ class Background {
   }
   pid_t pid() const { return pid_; }
   // Keys typed at the terminal (Launch::pty).
-  void type(const std::string& keys) { ASSERT_EQ(::write(keys_, keys.data(), keys.size()), static_cast<ssize_t>(keys.size())); }
+  void type(const std::string& keys) {
+    ASSERT_EQ(::write(keys_, keys.data(), keys.size()), static_cast<ssize_t>(keys.size()));
+  }
   int wait() {
     int status = 0;
     waitpid(pid_, &status, 0);
@@ -258,8 +260,8 @@ class Checkpoint : public ::testing::Test {
     shared_ = new TempDir("checkpoint_reference");
     const fs::path job = shared_->path() / "kapitza.toml";
     write_text(job, kapitza_job());
-    const auto r = run_ensemble(2, job, shared_->path() / "ensemble.h5", shared_->path() / "capture",
-                                {"--checkpoint-every", "0"});
+    const auto r =
+        run_ensemble(2, job, shared_->path() / "ensemble.h5", shared_->path() / "capture", {"--checkpoint-every", "0"});
     ASSERT_EQ(r.exit_code, 0) << r.err;
   }
   static void TearDownTestSuite() {
@@ -360,7 +362,8 @@ long restored_count(const std::string& err) {
 // against a hang: the sanitized suite (ctest -j2) on a fresh Debian 13 took
 // more than 60 s to bring its second rank to 15 samples.
 void await_held(const fs::path& checkpoint, int ranks, const Background& run) {
-  ASSERT_TRUE(wait_for([&] { return static_cast<int>(held_ranks(checkpoint).size()) >= ranks; }, 300s))  // under ctest's 600 s
+  ASSERT_TRUE(
+      wait_for([&] { return static_cast<int>(held_ranks(checkpoint).size()) >= ranks; }, 300s))  // under ctest's 600 s
       << "the ranks never held: " << run.err();
 }
 
@@ -387,7 +390,8 @@ TEST_F(Checkpoint, KillNineOfMpirunOrOfOneRankThenResumeOnOtherRankCountsIsBitwi
     const fs::path ckpt = out.string() + ".checkpoint";
     long expected = held_total(c.ranks, c.hold);
     {
-      Background run(job_, out, held_run(c.ranks, c.unsaved ? kRarely : kEvery, c.hold, c.unsaved), dir_.path() / "capture_bg");
+      Background run(job_, out, held_run(c.ranks, c.unsaved ? kRarely : kEvery, c.hold, c.unsaved),
+                     dir_.path() / "capture_bg");
       await_held(ckpt, c.ranks, run);
       const std::vector<Held> held = held_ranks(ckpt);
       if (c.one_rank) {
@@ -404,7 +408,8 @@ TEST_F(Checkpoint, KillNineOfMpirunOrOfOneRankThenResumeOnOtherRankCountsIsBitwi
     ASSERT_TRUE(run_is_gone(out)) << "processes of the killed run live on";
     EXPECT_FALSE(fs::exists(out)) << "a killed run must not leave the output";
     const std::vector<fs::path> left = temporaries({out.parent_path(), ckpt});
-    const auto r = run_ensemble(c.resume_ranks, job_, out, dir_.path() / "capture", {"--resume", "--checkpoint-every", "0.2"});
+    const auto r =
+        run_ensemble(c.resume_ranks, job_, out, dir_.path() / "capture", {"--resume", "--checkpoint-every", "0.2"});
     std::printf("[%s] resume: exit %d, %s", c.what, r.exit_code, r.err.c_str());
     ASSERT_EQ(r.exit_code, 0) << r.err;
     if (c.one_rank && launcher_may_cut_the_save()) {  // the survivors' saves on SIGTERM may be cut
@@ -434,7 +439,8 @@ TEST_F(Checkpoint, ASecondRunOnOneOutputIsRefusedAtOnceAndTheFinishedOutputIsNot
     await_held(ckpt, 2, first);
     const pid_t holder = held_ranks(ckpt).front().pid;
     const std::vector<std::string> before = listing(ckpt);
-    for (const auto& [ranks, extra] : std::vector<std::pair<int, std::vector<std::string>>>{{0, {}}, {2, {"--resume"}}}) {
+    for (const auto& [ranks, extra] :
+         std::vector<std::pair<int, std::vector<std::string>>>{{0, {}}, {2, {"--resume"}}}) {
       const CommandResult second = run_ensemble(ranks, job_, out, dir_.path() / "capture_second", extra);
       std::printf("second run on %d ranks: exit %d in %.2f s\n", ranks, second.exit_code, second.seconds);
       EXPECT_EQ(second.exit_code, 2) << second.err;
@@ -456,7 +462,9 @@ TEST_F(Checkpoint, ASecondRunOnOneOutputIsRefusedAtOnceAndTheFinishedOutputIsNot
   const auto again = run_ensemble(2, job_, out, dir_.path() / "capture", {"--resume"});
   EXPECT_EQ(again.exit_code, 0) << again.err;
   EXPECT_NE(again.err.find("ensemble.h5 is this job's ensemble, complete, and there is no checkpoint to resume: "
-                           "nothing to do"), std::string::npos) << again.err;
+                           "nothing to do"),
+            std::string::npos)
+      << again.err;
   EXPECT_EQ(fs::last_write_time(out), modified) << "the finished output was written again";
   EXPECT_EQ(listing(out.parent_path()), std::vector<std::string>{"ensemble.h5"});
   // Another job's output is refused, not overwritten.
@@ -512,6 +520,7 @@ TEST_F(Checkpoint, EveryDamagedMessagesAdviceFollowedLeadsToAWorkingRun) {
     const char* what;
     std::function<void(const fs::path&)> damage;
   };
+  // clang-format off
   const Case cases[] = {
       {"a part's records cut short", [](const fs::path& d) { fs::resize_file(d / "part-1-rank1.records", fs::file_size(d / "part-1-rank1.records") - 9); }},
       {"a part's state with a byte changed", [](const fs::path& d) { flip_a_byte(d / "part-1-rank0.state", fs::file_size(d / "part-1-rank0.state") / 2); }},
@@ -519,6 +528,7 @@ TEST_F(Checkpoint, EveryDamagedMessagesAdviceFollowedLeadsToAWorkingRun) {
       {"the base's records with a byte changed", [](const fs::path& d) { flip_a_byte(d / "base-1.records", 40); }},
       {"common.state with a byte changed", [](const fs::path& d) { flip_a_byte(d / "common.state", 60); }},
   };
+  // clang-format on
   int index = 0;
   for (const Case& c : cases) {
     SCOPED_TRACE(c.what);
@@ -626,8 +636,8 @@ void Checkpoint::expect_clean_stop(const SignalCase& c, int index) {
   const auto r = run_ensemble(c.ranks == 0 ? 0 : 3, job_, out, dir_.path() / "capture", {"--resume"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   if (may_cut) {
-    std::printf("[%s] %zu temporaries left, %ld of %ld samples restored\n", c.what, left.size(),
-                restored_count(r.err), kept);
+    std::printf("[%s] %zu temporaries left, %ld of %ld samples restored\n", c.what, left.size(), restored_count(r.err),
+                kept);
     EXPECT_GE(restored_count(r.err), 0) << r.err;  // the resume says what it restored
     EXPECT_LE(restored_count(r.err), kept) << r.err;
     expect_only_dead_temporaries(left, r.err);
@@ -652,6 +662,7 @@ TEST_F(Checkpoint, SigtermAndSigintGiveExitFiveAMessageAndACheckpointAndNoTempor
 // Open MPI takes as "kill now": docs/cluster.md says to give it -s USR1 or
 // --foreground, the two tested here (SIGALRM is how its time comes up).
 TEST_F(Checkpoint, CtrlCInATerminalAndSigtermToMpirunOrTimeoutStopCleanly) {
+  // clang-format off
   const SignalCase cases[] = {
       {"Ctrl-C typed at mpirun's terminal", 2, SIGINT, SignalCase::To::terminal, -1, {}, true},
       {"SIGTERM to mpirun", 2, SIGTERM, SignalCase::To::launcher, -1, {}, true},
@@ -659,6 +670,7 @@ TEST_F(Checkpoint, CtrlCInATerminalAndSigtermToMpirunOrTimeoutStopCleanly) {
        {"timeout", "-s", "USR1", "600"}},
       {"the time of `timeout --foreground 600 mpirun` is up", 2, SIGALRM, SignalCase::To::timeout, 124,
        {"timeout", "--foreground", "600"}, true}};
+  // clang-format on
   int index = 10;
   for (const SignalCase& c : cases) expect_clean_stop(c, index++);
 }
@@ -736,7 +748,8 @@ TEST_F(Checkpoint, AFailedFinalWriteLeavesEverySampleForResume) {
     const auto failed = launch(ranks, out, failed_log, out);
     std::printf("[final write fails, %s] exit %d: %s", describe(ranks).c_str(), failed.exit_code, failed.err.c_str());
     EXPECT_EQ(failed.exit_code, 4) << failed.err;
-    EXPECT_NE(failed.err.find("error: output " + out.string() + ": cannot rename the finished file into place "
+    EXPECT_NE(failed.err.find("error: output " + out.string() +
+                              ": cannot rename the finished file into place "
                               "(Input/output error)"),
               std::string::npos)
         << failed.err;

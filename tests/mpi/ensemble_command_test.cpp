@@ -1,18 +1,16 @@
 // The treedyn-ensemble command line itself (one rank, no mpirun): --check,
 // --version, --help, and a missing --output.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdlib>
-
-#include <unistd.h>
-
 #include <filesystem>
 #include <utility>
 
 #include "support/command.hpp"
-#include "support/hdf5_reader.hpp"
 #include "support/ensemble_run.hpp"
+#include "support/hdf5_reader.hpp"
 
 namespace {
 
@@ -49,12 +47,9 @@ TEST(EnsembleCommand, CheckRefusesABadEnsembleWithTheFieldAndExit2) {
                            "distribution = \"uniform\"\nlower = 1.0\nupper = 0.5\n";
   write_text(job, text);
   fs::create_directory(dir.path() / "capture");
-  const CommandResult r = run_command(TREEDYN_ENSEMBLE_BINARY, {"--check", job.string()},
-                                      dir.path() / "capture");
+  const CommandResult r = run_command(TREEDYN_ENSEMBLE_BINARY, {"--check", job.string()}, dir.path() / "capture");
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.err.find("ensemble.perturbation[4].upper: must be greater than 'lower'"),
-            std::string::npos)
-      << r.err;
+  EXPECT_NE(r.err.find("ensemble.perturbation[4].upper: must be greater than 'lower'"), std::string::npos) << r.err;
 }
 
 // A distribution that draws values the model refuses (a normal on a mass):
@@ -64,8 +59,9 @@ TEST(EnsembleCommand, CheckWarnsOfSamplesTheModelWillRefuseAndTreedynCheckReadsT
   TempDir dir("ensemble_command_test");
   const fs::path job = dir.path() / "job.toml";
   const std::string base = read_text(std::string(TREEDYN_JOBS_DIR) + "/spherical_pendulum.toml");
-  write_text(job, base + "\n[[ensemble.perturbation]]\ntarget = \"body.rod.mass\"\ndistribution = \"normal\"\n"
-                         "mean = 0.5\nstd = 0.3\n");
+  write_text(job, base +
+                      "\n[[ensemble.perturbation]]\ntarget = \"body.rod.mass\"\ndistribution = \"normal\"\n"
+                      "mean = 0.5\nstd = 0.3\n");
   fs::create_directory(dir.path() / "capture");
   CommandResult r = run_command(TREEDYN_ENSEMBLE_BINARY, {"--check", job.string()}, dir.path() / "capture");
   EXPECT_EQ(r.exit_code, 0) << r.err;
@@ -90,8 +86,7 @@ TEST(EnsembleCommand, CheckWarnsOfSamplesTheModelWillRefuseAndTreedynCheckReadsT
 
 TEST(EnsembleCommand, RunWithoutOutputIsBadInput) {
   TempDir dir("ensemble_command_test");
-  const CommandResult r =
-      ensemble({std::string(TREEDYN_JOBS_DIR) + "/spherical_pendulum.toml"}, dir);
+  const CommandResult r = ensemble({std::string(TREEDYN_JOBS_DIR) + "/spherical_pendulum.toml"}, dir);
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_NE(r.err.find("--output is required"), std::string::npos) << r.err;
 }
@@ -128,9 +123,8 @@ TEST(EnsembleCommand, SampleOutputsThatCannotBeWrittenAreIoErrors) {
   const fs::path locked = dir.path() / "locked";
   fs::create_directory(locked);
   fs::permissions(locked, fs::perms::owner_read | fs::perms::owner_exec);
-  const CommandResult r = run_command(TREEDYN_ENSEMBLE_BINARY,
-                                      {job, "--write-job", "3", "-o", (locked / "s.toml").string()},
-                                      dir.path() / "capture");
+  const CommandResult r = run_command(
+      TREEDYN_ENSEMBLE_BINARY, {job, "--write-job", "3", "-o", (locked / "s.toml").string()}, dir.path() / "capture");
   if (::geteuid() != 0) {  // root writes anyway
     EXPECT_EQ(r.exit_code, 4) << r.err;
     EXPECT_TRUE(fs::is_empty(locked));
@@ -161,10 +155,9 @@ TEST(EnsembleCommand, SlurmTasksWithOneMpiRankAreRefused) {
   TempDir dir("ensemble_command_test");
   fs::create_directory(dir.path() / "capture");
   const fs::path out = dir.path() / "out.h5";
-  const CommandResult r =
-      run_command(TREEDYN_ENSEMBLE_BINARY,
-                  {std::string(TREEDYN_JOBS_DIR) + "/spherical_pendulum.toml", "-o", out.string(), "-q"},
-                  dir.path() / "capture", {"env", "SLURM_NTASKS=4"});
+  const CommandResult r = run_command(
+      TREEDYN_ENSEMBLE_BINARY, {std::string(TREEDYN_JOBS_DIR) + "/spherical_pendulum.toml", "-o", out.string(), "-q"},
+      dir.path() / "capture", {"env", "SLURM_NTASKS=4"});
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_NE(r.err.find("SLURM_NTASKS=4 but MPI sees 1 rank"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("srun --mpi=pmix"), std::string::npos) << r.err;
@@ -184,13 +177,13 @@ TEST(EnsembleCommand, SrunTasksWithoutPmiAreRefusedBeforeMpiStarts) {
   TempDir dir("ensemble_command_test");
   fs::create_directory(dir.path() / "capture");
   const fs::path out = dir.path() / "out.h5";
-  const std::vector<std::string> args = {std::string(TREEDYN_JOBS_DIR) + "/spherical_pendulum.toml", "-o",
-                                         out.string(), "-q"};
+  const std::vector<std::string> args = {std::string(TREEDYN_JOBS_DIR) + "/spherical_pendulum.toml", "-o", out.string(),
+                                         "-q"};
   const CommandResult first = run_command(TREEDYN_ENSEMBLE_BINARY, args, dir.path() / "capture",
                                           {"env", "SLURM_PROCID=0", "SLURM_STEP_NUM_TASKS=4", "SLURM_NTASKS=4"});
   EXPECT_EQ(first.exit_code, 2) << first.err;
-  EXPECT_NE(first.err.find("started by srun as one of 4 tasks without a process manager interface"),
-            std::string::npos) << first.err;
+  EXPECT_NE(first.err.find("started by srun as one of 4 tasks without a process manager interface"), std::string::npos)
+      << first.err;
   EXPECT_NE(first.err.find("srun --mpi=pmix"), std::string::npos) << first.err;
   const CommandResult other = run_command(TREEDYN_ENSEMBLE_BINARY, args, dir.path() / "capture",
                                           {"env", "SLURM_PROCID=3", "SLURM_STEP_NUM_TASKS=4", "SLURM_NTASKS=4"});
@@ -198,24 +191,24 @@ TEST(EnsembleCommand, SrunTasksWithoutPmiAreRefusedBeforeMpiStarts) {
   EXPECT_EQ(other.err, "");
   EXPECT_FALSE(fs::exists(out));
   // PMIx present (srun --mpi=pmix sets it; here a singleton in fact): not this refusal but the one after MPI_Init.
-  const CommandResult pmix = run_command(TREEDYN_ENSEMBLE_BINARY, args, dir.path() / "capture",
-                                         {"env", "SLURM_PROCID=0", "SLURM_STEP_NUM_TASKS=4", "SLURM_NTASKS=4",
-                                          "PMIX_RANK=0"});
+  const CommandResult pmix =
+      run_command(TREEDYN_ENSEMBLE_BINARY, args, dir.path() / "capture",
+                  {"env", "SLURM_PROCID=0", "SLURM_STEP_NUM_TASKS=4", "SLURM_NTASKS=4", "PMIX_RANK=0"});
   EXPECT_EQ(pmix.err.find("without a process manager interface"), std::string::npos) << pmix.err;
   // The batch script of a 4-task job (SLURM_PROCID=0, SLURM_NTASKS=4, no step): --check runs there (the
   // array script reads the sample count so), and a run is refused after MPI_Init, not by this guard.
   const std::vector<std::string> batch = {"env", "SLURM_PROCID=0", "SLURM_NTASKS=4"};
-  const CommandResult check = run_command(
-      TREEDYN_ENSEMBLE_BINARY, {std::string(TREEDYN_JOBS_DIR) + "/spherical_pendulum.toml", "--check"},
-      dir.path() / "capture", batch);
+  const CommandResult check =
+      run_command(TREEDYN_ENSEMBLE_BINARY, {std::string(TREEDYN_JOBS_DIR) + "/spherical_pendulum.toml", "--check"},
+                  dir.path() / "capture", batch);
   EXPECT_EQ(check.exit_code, 0) << check.err;
   const CommandResult run = run_command(TREEDYN_ENSEMBLE_BINARY, args, dir.path() / "capture", batch);
   EXPECT_EQ(run.exit_code, 2);
   EXPECT_NE(run.err.find("SLURM_NTASKS=4 but MPI sees 1 rank"), std::string::npos) << run.err;
   // --check inside a 4-task step without PMI: no ranks needed, let through.
-  const CommandResult step_check = run_command(
-      TREEDYN_ENSEMBLE_BINARY, {std::string(TREEDYN_JOBS_DIR) + "/spherical_pendulum.toml", "--check"},
-      dir.path() / "capture", {"env", "SLURM_PROCID=0", "SLURM_STEP_NUM_TASKS=4", "SLURM_NTASKS=4"});
+  const CommandResult step_check =
+      run_command(TREEDYN_ENSEMBLE_BINARY, {std::string(TREEDYN_JOBS_DIR) + "/spherical_pendulum.toml", "--check"},
+                  dir.path() / "capture", {"env", "SLURM_PROCID=0", "SLURM_STEP_NUM_TASKS=4", "SLURM_NTASKS=4"});
   EXPECT_EQ(step_check.exit_code, 0) << step_check.err;
 }
 
@@ -256,8 +249,7 @@ TEST(EnsembleBadAnswers, LimitWithoutFailIf) {
 }
 
 TEST(EnsembleBadAnswers, AtTimeOutsideTheOutputTimes) {
-  expect_refused(kResponse +
-                     "quantity = \"com_position\"\ncolumn = \"rod.z\"\nreduce = \"at_time\"\ntime = 99.0\n",
+  expect_refused(kResponse + "quantity = \"com_position\"\ncolumn = \"rod.z\"\nreduce = \"at_time\"\ntime = 99.0\n",
                  {"ensemble.response[3].time", "99 s is outside the output times [0, "});
 }
 
@@ -329,7 +321,8 @@ TEST(EnsembleBadAnswers, StatisticsLargerThanTheAvailableMemoryAreRefusedBeforeA
   fs::create_directories(out.parent_path());
   setenv("TREEDYN_MEMORY_AVAILABLE", "1000000", 1);  // 1 MB
   for (int ranks : {0, 2}) {
-    const CommandResult r = run_ensemble(ranks, fs::path(TREEDYN_JOBS_DIR) / "kapitza.toml", out, dir.path() / "capture");
+    const CommandResult r =
+        run_ensemble(ranks, fs::path(TREEDYN_JOBS_DIR) / "kapitza.toml", out, dir.path() / "capture");
     std::printf("[memory, %s] exit %d: %s", describe(ranks).c_str(), r.exit_code, r.err.c_str());
     EXPECT_EQ(r.exit_code, 6) << r.err;
     EXPECT_NE(r.err.find("error: not enough memory on "), std::string::npos) << r.err;
@@ -360,8 +353,8 @@ TEST(EnsembleBadAnswers, AnAllocationThatFailsExitsSixAndLeavesNothing) {
   for (int ranks : {0, 2}) {
     std::vector<std::string> prefix = {"sh", "-c", "ulimit -v 2500000 && exec \"$@\"", "sh", "timeout", "120"};
     if (ranks > 0) prefix.insert(prefix.end(), {TREEDYN_MPIEXEC, "--oversubscribe", "-np", std::to_string(ranks)});
-    const CommandResult r = run_command(TREEDYN_ENSEMBLE_BINARY, {job.string(), "-o", out.string(), "-q"},
-                                        dir.path() / "capture", prefix);
+    const CommandResult r =
+        run_command(TREEDYN_ENSEMBLE_BINARY, {job.string(), "-o", out.string(), "-q"}, dir.path() / "capture", prefix);
     std::printf("[allocation, %s] exit %d: %s", describe(ranks).c_str(), r.exit_code, r.err.c_str());
     EXPECT_EQ(r.exit_code, 6) << r.err;
     EXPECT_NE(r.err.find("error: out of memory"), std::string::npos) << r.err;
@@ -385,7 +378,8 @@ TEST(EnsembleLongJob, AJobFileOver64KiBIsStoredWholeByBothCommands) {
   const std::string text =
       "[[body]]\nname = \"rod\"\nmass = 1.0\nprincipal_moments = [0.1, 0.1, 0.01]\nparent = \"base\"\n"
       "joint_on_child = [0.0, 0.0, 0.5]\n\n[base]\ntype = \"tabulated\"\n" +
-      times + "]\n" + positions + "]\n\n[output]\nend_time = 0.5\nstep = 0.1\n\n[ensemble]\nsamples = 4\n"
+      times + "]\n" + positions +
+      "]\n\n[output]\nend_time = 0.5\nstep = 0.1\n\n[ensemble]\nsamples = 4\n"
       "[[ensemble.perturbation]]\ntarget = \"body.rod.mass\"\ndistribution = \"uniform\"\nlower = 0.9\nupper = 1.1\n";
   ASSERT_GT(text.size(), 65536u);
   const fs::path job = dir.path() / "long.toml";
@@ -393,8 +387,8 @@ TEST(EnsembleLongJob, AJobFileOver64KiBIsStoredWholeByBothCommands) {
   const fs::path ensemble = dir.path() / "ensemble.h5", trajectory = dir.path() / "run.h5";
   const CommandResult e = run_ensemble(2, job, ensemble, dir.path() / "capture");
   ASSERT_EQ(e.exit_code, 0) << e.err;
-  const CommandResult r = run_command(TREEDYN_BINARY, {"run", job.string(), "-o", trajectory.string()},
-                                      dir.path() / "capture");
+  const CommandResult r =
+      run_command(TREEDYN_BINARY, {"run", job.string(), "-o", trajectory.string()}, dir.path() / "capture");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   for (const fs::path& f : {ensemble, trajectory}) {
     H5File file(f);

@@ -42,8 +42,8 @@
 #include "job/ensemble_spec.hpp"
 #include "job/job.hpp"
 #include "output/quantities.hpp"
-#include "support/command.hpp"
 #include "support/branched_tree.hpp"
+#include "support/command.hpp"
 #include "support/ensemble_run.hpp"
 #include "support/hdf5_reader.hpp"
 
@@ -56,8 +56,7 @@ using namespace treedyn::testing;
 // The names in `dir` (files and directories), sorted.
 std::vector<std::string> listing(const fs::path& dir) {
   std::vector<std::string> names;
-  for (const auto& entry : fs::directory_iterator(dir))
-    names.push_back(entry.path().filename().string());
+  for (const auto& entry : fs::directory_iterator(dir)) names.push_back(entry.path().filename().string());
   std::sort(names.begin(), names.end());
   return names;
 }
@@ -88,7 +87,8 @@ std::string with(std::string text, const std::string& from, const std::string& t
 // A branched 3-body tree under gravity (a trunk hung from the base carrying an
 // arm and a bob) with three perturbations of mixed kinds: the trunk's start
 // orientation (3 inputs), the bob's mass, the arm's spin.
-const std::string kTreeJob = "title = \"ensemble mpi test: branched 3-body tree\"\n" + kBranchedTreeModel + R"([ensemble]
+const std::string kTreeJob =
+    "title = \"ensemble mpi test: branched 3-body tree\"\n" + kBranchedTreeModel + R"([ensemble]
 samples = 40
 seed = 42
 design = "latin_hypercube"
@@ -132,8 +132,7 @@ TEST(EnsembleMpi, SameNumbersAloneAndOnOneTwoAndThreeRanks) {
     fs::create_directory(out_dir);
     outputs.push_back(out_dir / "ensemble.h5");
     const auto r = run_ensemble(ranks, job, outputs.back(), dir.path() / "capture");
-    std::printf("[same numbers] %s: exit %d in %.2f s\n", describe(ranks).c_str(), r.exit_code,
-                r.seconds);
+    std::printf("[same numbers] %s: exit %d in %.2f s\n", describe(ranks).c_str(), r.exit_code, r.seconds);
     SCOPED_TRACE(describe(ranks));
     expect_success(r, outputs.back());
     EXPECT_EQ(listing(out_dir), std::vector<std::string>{"ensemble.h5"});
@@ -170,12 +169,10 @@ TEST(EnsembleMpi, SameNumbersAloneAndOnOneTwoAndThreeRanks) {
     // ranks rank r runs at least floor(8 / P) of them.
     const auto per_rank = read_double_attribute(f, "samples_per_rank");
     ASSERT_EQ(per_rank.size(), static_cast<std::size_t>(std::max(ranks, 1)));
-    EXPECT_EQ(std::accumulate(per_rank.begin(), per_rank.end(), 0.0),
-              static_cast<double>(kTreeSamples));
+    EXPECT_EQ(std::accumulate(per_rank.begin(), per_rank.end(), 0.0), static_cast<double>(kTreeSamples));
     for (double n : per_rank) EXPECT_GE(n, static_cast<double>(kTreePilot / std::max(ranks, 1)));
     if (i == 0) continue;
-    expect_identical_datasets(ref, describe(runs[0]), f, describe(ranks),
-                              {"/stats", "/samples", "/nominal"});
+    expect_identical_datasets(ref, describe(runs[0]), f, describe(ranks), {"/stats", "/samples", "/nominal"});
   }
 }
 
@@ -246,12 +243,14 @@ TEST(EnsembleMpi, RankZeroCountsItsRecordWritingApartFromItsSamples) {
   write_text(job, edited_job_text("spherical_pendulum.toml",
                                   {{"samples = 64", "samples = 50\nstore_trajectories = 50\nblock_size = 2"}}));
   const fs::path out = dir.path() / "out_slow.h5";
+  // clang-format off
   const std::vector<std::string> prefix = {
       "env", std::string("LD_PRELOAD=") + TREEDYN_IO_FAULTS_LIBRARY, "TREEDYN_TEST_SLOW_WRITE=out_slow.h5.tmp-",
       "ASAN_OPTIONS=detect_leaks=0:abort_on_error=1:verify_asan_link_order=0",
       "timeout", "-k", "10", std::to_string(kTimeoutSeconds), TREEDYN_MPIEXEC, "--oversubscribe", "-np", "2"};
-  const auto r = run_command(TREEDYN_ENSEMBLE_BINARY, {job.string(), "-o", out.string(), "-q"},
-                             dir.path() / "capture", prefix);
+  // clang-format on
+  const auto r =
+      run_command(TREEDYN_ENSEMBLE_BINARY, {job.string(), "-o", out.string(), "-q"}, dir.path() / "capture", prefix);
   expect_success(r, out);
   H5File file(out);
   ASSERT_TRUE(file.ok());
@@ -272,9 +271,8 @@ TEST(EnsembleMpi, RankZeroCountsItsRecordWritingApartFromItsSamples) {
     EXPECT_LE(busy[rank] + writing[rank], wall) << "the same time counted twice";
   }
   const double per_sample0 = busy[0] / samples[0], per_sample1 = busy[1] / samples[1];
-  EXPECT_LT(per_sample0, 10.0 * per_sample1)
-      << "rank 0's busy time per sample (" << per_sample0 << " s) holds its writing; rank 1's is " << per_sample1
-      << " s";
+  EXPECT_LT(per_sample0, 10.0 * per_sample1) << "rank 0's busy time per sample (" << per_sample0
+                                             << " s) holds its writing; rank 1's is " << per_sample1 << " s";
 }
 
 // The rows in a chunk of a chunked dataset, and the bytes a chunk of it
@@ -313,14 +311,14 @@ TEST(EnsembleMpi, ManyRowsWrittenInPiecesFillEveryChunk) {
   TempDir dir("ensemble_mpi_chunks");
   const fs::path job = dir.path() / "spherical.toml";
   constexpr std::size_t kSamples = 20000;
-  write_text(job, edited_job_text("spherical_pendulum.toml",
-                                  {{"samples = 64", "samples = 20000\nblock_size = 16"}, {"end_time = 10.0", "end_time = 0.02"}}));
+  write_text(job, edited_job_text("spherical_pendulum.toml", {{"samples = 64", "samples = 20000\nblock_size = 16"},
+                                                              {"end_time = 10.0", "end_time = 0.02"}}));
   const auto [alone_path, two_path] = run_alone_and_on_two_ranks(dir, job);
   H5File alone(alone_path), two(two_path);
   ASSERT_TRUE(alone.ok() && two.ok());
   expect_every_row_written(two.id(), kSamples, 0.02);
-  for (const std::string path : {"/samples/status", "/samples/time_reached", "/samples/inputs",
-                                 "/samples/final_state", "/samples/max/energy", "/samples/reason"}) {
+  for (const std::string path : {"/samples/status", "/samples/time_reached", "/samples/inputs", "/samples/final_state",
+                                 "/samples/max/energy", "/samples/reason"}) {
     const auto [rows, bytes] = chunk_rows_and_bytes(two.id(), path, dir.path() / "chunk_probe.h5");
     EXPECT_LE(bytes, 65536.0) << path << ": " << rows << " rows a chunk";
     EXPECT_GT(bytes, 32768.0) << path << ": " << rows << " rows a chunk";
@@ -415,8 +413,8 @@ class EnsembleFailures : public ::testing::Test {
       const fs::path output = out_dir / "ensemble.h5";
       results_[ranks] = run_ensemble(ranks, job, output, dir_->path() / "capture");
       outputs_[ranks] = output;
-      std::printf("[failures] %s: exit %d in %.2f s\n", describe(ranks).c_str(),
-                  results_[ranks].exit_code, results_[ranks].seconds);
+      std::printf("[failures] %s: exit %d in %.2f s\n", describe(ranks).c_str(), results_[ranks].exit_code,
+                  results_[ranks].seconds);
     }
   }
   static void TearDownTestSuite() { dir_.reset(); }
@@ -450,8 +448,8 @@ TEST_F(EnsembleFailures, TheJobCompletesAndEveryFailureIsRecorded) {
 
     std::size_t ok = 0, integration = 0, invalid = 0;
     for (std::size_t k = 0; k < kFailingSamples; ++k) {
-      SCOPED_TRACE("sample " + std::to_string(k) + ": status " + std::to_string(status[k]) +
-                   ", reason \"" + reason[k] + "\"");
+      SCOPED_TRACE("sample " + std::to_string(k) + ": status " + std::to_string(status[k]) + ", reason \"" + reason[k] +
+                   "\"");
       const double mass = inputs[2 * k];
       switch (status[k]) {
         case 0:
@@ -482,8 +480,8 @@ TEST_F(EnsembleFailures, TheJobCompletesAndEveryFailureIsRecorded) {
         EXPECT_EQ(status[k], 2);
       }
     }
-    std::printf("[failures] %s: %zu ok, %zu integration failed, %zu invalid model\n",
-                describe(ranks).c_str(), ok, integration, invalid);
+    std::printf("[failures] %s: %zu ok, %zu integration failed, %zu invalid model\n", describe(ranks).c_str(), ok,
+                integration, invalid);
     // The job exercises both kinds of failure, and some samples succeed.
     EXPECT_GT(ok, 0u);
     EXPECT_GT(integration, 0u);
@@ -494,8 +492,7 @@ TEST_F(EnsembleFailures, TheJobCompletesAndEveryFailureIsRecorded) {
 
     EXPECT_EQ(read_integer_attribute(f, "samples"), static_cast<long long>(kFailingSamples));
     EXPECT_EQ(read_integer_attribute(f, "samples_ok"), static_cast<long long>(ok));
-    EXPECT_EQ(read_integer_attribute(f, "samples_failed"),
-              static_cast<long long>(integration + invalid));
+    EXPECT_EQ(read_integer_attribute(f, "samples_failed"), static_cast<long long>(integration + invalid));
     EXPECT_EQ(read_integer_attribute(f, "ranks"), ranks);
 
     // The statistics count exactly the successful samples, every entry.
@@ -528,8 +525,7 @@ TEST_F(EnsembleFailures, OneAndTwoRanksGiveIdenticalStatisticsAndSamples) {
   ASSERT_TRUE(one.ok() && two.ok());
   for (const char* a : {"seed", "samples", "samples_ok", "samples_failed"})
     EXPECT_EQ(read_integer_attribute(one.id(), a), read_integer_attribute(two.id(), a)) << a;
-  expect_identical_datasets(one.id(), describe(1), two.id(), describe(2),
-                            {"/stats", "/samples", "/nominal"});
+  expect_identical_datasets(one.id(), describe(1), two.id(), describe(2), {"/stats", "/samples", "/nominal"});
 }
 
 // docs/hdf5.md and the dataset's description: /samples/final_state is "NaN when
@@ -556,9 +552,8 @@ TEST_F(EnsembleFailures, FailedSamplesHaveNaNFinalState) {
   }
   std::ostringstream list;
   for (std::size_t k : not_nan)
-    list << "\n  sample " << k << " (status " << status[k] << "): q0..q3 = " << state[k * dims[1]]
-         << ", " << state[k * dims[1] + 1] << ", " << state[k * dims[1] + 2] << ", "
-         << state[k * dims[1] + 3];
+    list << "\n  sample " << k << " (status " << status[k] << "): q0..q3 = " << state[k * dims[1]] << ", "
+         << state[k * dims[1] + 1] << ", " << state[k * dims[1] + 2] << ", " << state[k * dims[1] + 3];
   EXPECT_TRUE(not_nan.empty()) << not_nan.size()
                                << " failed samples have numbers, not NaN, in /samples/final_state "
                                   "(the state at the last output time they reached):"
@@ -577,13 +572,12 @@ TEST_F(EnsembleFailures, AFailedSampleRerunAloneFailsTheSameWay) {
   while (k < status.size() && status[k] != 1) ++k;
   ASSERT_LT(k, status.size()) << "no sample failed to integrate";
   const fs::path out = dir_->path() / "failed_sample.h5";
-  const CommandResult r = run_command(
-      TREEDYN_ENSEMBLE_BINARY,
-      {(dir_->path() / "failing.toml").string(), "--sample", std::to_string(k), "-o", out.string(), "-q"},
-      dir_->path() / "capture");
+  const CommandResult r =
+      run_command(TREEDYN_ENSEMBLE_BINARY,
+                  {(dir_->path() / "failing.toml").string(), "--sample", std::to_string(k), "-o", out.string(), "-q"},
+                  dir_->path() / "capture");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.out.find("sample " + std::to_string(k) + " fails as in the ensemble: " + reason[k]),
-            std::string::npos)
+  EXPECT_NE(r.out.find("sample " + std::to_string(k) + " fails as in the ensemble: " + reason[k]), std::string::npos)
       << r.out;
   H5File sample(out);
   ASSERT_TRUE(sample.ok());
@@ -603,8 +597,7 @@ TEST_F(EnsembleFailures, AFailedSampleRerunAloneFailsTheSameWay) {
 // Runs `job_text` on 3 ranks and checks: exit 2 within the timeout, ONE error
 // message "error: JOB:PREFIX..." holding every one of `parts`, nothing
 // written ("wrote" absent), no output or temporary file in the directory.
-void expect_refused_on_three_ranks(const std::string& label, const std::string& job_text,
-                                   const std::string& prefix,
+void expect_refused_on_three_ranks(const std::string& label, const std::string& job_text, const std::string& prefix,
                                    std::initializer_list<std::string> parts) {
   TempDir dir("ensemble_mpi_bad");
   const fs::path job = dir.path() / "bad.toml";
@@ -643,8 +636,7 @@ TEST(EnsembleMpiBadJob, UnknownKeyInEnsembleFailsOnEveryRank) {
 }
 
 TEST(EnsembleMpiBadJob, BadPerturbationTargetFailsOnEveryRank) {
-  const std::string text =
-      with(kTreeJob, "target = \"body.bob.mass\"", "target = \"body.bob.weight\"");
+  const std::string text = with(kTreeJob, "target = \"body.bob.mass\"", "target = \"body.bob.weight\"");
   expect_refused_on_three_ranks(
       "bad perturbation target", text,
       value_position(text, "target = \"body.bob.weight\"") + ": ensemble.perturbation[2].target: ",
@@ -652,20 +644,17 @@ TEST(EnsembleMpiBadJob, BadPerturbationTargetFailsOnEveryRank) {
 }
 
 TEST(EnsembleMpiBadJob, PerturbationOfAMissingBodyFailsOnEveryRank) {
-  const std::string text =
-      with(kTreeJob, "target = \"body.bob.mass\"", "target = \"body.nobody.mass\"");
+  const std::string text = with(kTreeJob, "target = \"body.bob.mass\"", "target = \"body.nobody.mass\"");
   expect_refused_on_three_ranks(
       "perturbation of a missing body", text,
-      value_position(text, "target = \"body.nobody.mass\"") +
-          ": ensemble.perturbation[2].target: ",
+      value_position(text, "target = \"body.nobody.mass\"") + ": ensemble.perturbation[2].target: ",
       {"'nobody' is not a body of the model"});
 }
 
 TEST(EnsembleMpiBadJob, MalformedTomlFailsOnEveryRank) {
   const std::string text = with(kTreeJob, "seed = 42\n", "seed = 42 x\n");
   // The parser stops at the 'x'.
-  expect_refused_on_three_ranks("malformed TOML", text,
-                                position_of(text, "42 x", 3) + ": not valid TOML: ", {"'x'"});
+  expect_refused_on_three_ranks("malformed TOML", text, position_of(text, "42 x", 3) + ": not valid TOML: ", {"'x'"});
 }
 
 TEST(EnsembleMpiBadJob, MissingJobFileFailsOnEveryRank) {
@@ -744,8 +733,7 @@ TEST_P(EnsembleMpiExample, RunsOnTwoRanksWithEverySampleOkAndTheDocumentedShapes
   EXPECT_EQ(read_string_attribute(f, "/samples/inputs", "columns").size(), D);
   for (long long s : read_integers(f, "/samples/status")) EXPECT_EQ(s, 0);
   for (const auto& s : read_strings(f, "/samples/reason")) EXPECT_EQ(s, "");
-  for (double t : read_doubles(f, "/samples/time_reached"))
-    EXPECT_EQ(t, job.request.output_times.back());
+  for (double t : read_doubles(f, "/samples/time_reached")) EXPECT_EQ(t, job.request.output_times.back());
   for (double v : read_doubles(f, "/samples/final_state")) {
     if (!std::isfinite(v)) {
       ADD_FAILURE() << "non-finite value in /samples/final_state";
@@ -773,8 +761,8 @@ TEST_P(EnsembleMpiExample, RunsOnTwoRanksWithEverySampleOkAndTheDocumentedShapes
     EXPECT_EQ(shape(f, s + "histogram/edges"), (Dims{C, B + 1}));
     EXPECT_EQ(shape(f, s + "histogram/underflow"), Dims{C});
     EXPECT_EQ(shape(f, s + "histogram/overflow"), Dims{C});
-    for (const char* m : {"quantiles", "histogram/counts", "histogram/edges",
-                          "histogram/underflow", "histogram/overflow"})
+    for (const char* m :
+         {"quantiles", "histogram/counts", "histogram/edges", "histogram/underflow", "histogram/overflow"})
       expected_stats.push_back(s + m);
     EXPECT_EQ(shape(f, "/nominal/" + q), (Dims{T, C}));
     expected_nominal.push_back("/nominal/" + q);
@@ -809,8 +797,7 @@ TEST_P(EnsembleMpiExample, RunsOnTwoRanksWithEverySampleOkAndTheDocumentedShapes
 
 std::string job_test_name(const ::testing::TestParamInfo<std::string>& job) { return job.param; }
 
-INSTANTIATE_TEST_SUITE_P(Jobs, EnsembleMpiExample, ::testing::ValuesIn(example_jobs()),
-                         job_test_name);
+INSTANTIATE_TEST_SUITE_P(Jobs, EnsembleMpiExample, ::testing::ValuesIn(example_jobs()), job_test_name);
 
 TEST(EnsembleMpiExamples, TheExamplesAreFound) {
   // A moved jobs directory must not turn the parameterised test into nothing.

@@ -16,9 +16,8 @@
 //  * A truncated kick whose bound sets P: the warning fires.
 //  * A response without a limit has no failure region; one whose exceeding
 //    runs all failed says so in one line.
-#include <gtest/gtest.h>
-
 #include <boost/math/distributions/normal.hpp>
+#include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
@@ -38,7 +37,8 @@ namespace fs = std::filesystem;
 // The ball with `kicks` (angular velocity axes, each N(0, 1) unless
 // `kick_law` says otherwise), two inputs that change nothing, and the final
 // energy as the response with the limit E0 + J_O a^2 / 2.
-std::string kicked_ball_job(double a, int samples, const std::string& design_lines, const std::vector<std::string>& kicks,
+std::string kicked_ball_job(double a, int samples, const std::string& design_lines,
+                            const std::vector<std::string>& kicks,
                             const std::string& kick_law = "distribution = \"normal\"\nstd = 1.0\n") {
   std::string tables;
   for (const std::string& axis : kicks)
@@ -89,8 +89,8 @@ class FailureRegion : public ::testing::Test {
   }
   std::string summary(const fs::path& out) {
     const fs::path page = dir_.path() / (out.stem().string() + "_report");
-    const CommandResult r = run_command(TREEDYN_BINARY, {"report", out.string(), "-o", page.string()},
-                                        dir_.path() / "capture_report");
+    const CommandResult r =
+        run_command(TREEDYN_BINARY, {"report", out.string(), "-o", page.string()}, dir_.path() / "capture_report");
     EXPECT_EQ(r.exit_code, 0) << r.err;
     return read_text(page / "summary.txt");
   }
@@ -124,9 +124,9 @@ TEST_F(FailureRegion, OneKickIsFoundBySubsetSimulation) {
   if (const std::string why = skipped_when_sanitized_as_large("subset simulation's failure region"); !why.empty())
     GTEST_SKIP() << why;
   const double a = 3.5;
-  const fs::path out =
-      run("subset", kicked_ball_job(a, 1000, "design = \"subset_simulation\"\n\n[ensemble.subset]\nresponse = \"energy\"",
-                                    {"x"}));
+  const fs::path out = run(
+      "subset",
+      kicked_ball_job(a, 1000, "design = \"subset_simulation\"\n\n[ensemble.subset]\nresponse = \"energy\"", {"x"}));
   expect_kick_found(region_of(out, "/rare_event/energy/failure_region"), a, "subset simulation");
 }
 
@@ -150,15 +150,17 @@ TEST_F(FailureRegion, TwoKicksShareARingRegion) {
 TEST_F(FailureRegion, ATruncationBoundThatSetsPIsWarnedAbout) {
   const double a = 1.5;
   char law[160];
-  std::snprintf(law, sizeof law, "distribution = \"truncated_normal\"\nmean = 0.0\nstd = 1.0\nlower = %.6f\nupper = %.6f\n",
-                -1.02 * a, 1.02 * a);
+  std::snprintf(law, sizeof law,
+                "distribution = \"truncated_normal\"\nmean = 0.0\nstd = 1.0\nlower = %.6f\nupper = %.6f\n", -1.02 * a,
+                1.02 * a);
   const fs::path out = run("truncated", kicked_ball_job(a, 2000, "design = \"monte_carlo\"", {"x"}, law));
   const Region r = region_of(out, "/responses/energy/exceedance/failure_region");
   ASSERT_GT(r.runs, 0);
   EXPECT_EQ(r.near_bound[0], 1.0);
   const std::string text = summary(out);
   EXPECT_NE(text.find("% of them have body.ball.angular_velocity.x within 1 % of its range of its bound"),
-            std::string::npos) << text;
+            std::string::npos)
+      << text;
   EXPECT_NE(text.find("P depends on where that distribution is cut off"), std::string::npos) << text;
 }
 
@@ -167,7 +169,8 @@ TEST_F(FailureRegion, ATruncationBoundThatSetsPIsWarnedAbout) {
 // summary gives P's bounds with the failed runs counted either way.
 TEST_F(FailureRegion, NoLimitNoRegionAndNoExceedingRunSaysSo) {
   std::string text = kicked_ball_job(1.0, 200, "design = \"monte_carlo\"", {"x"});
-  text += "\n[[ensemble.perturbation]]\ntarget = \"body.ball.mass\"\ndistribution = \"normal\"\nmean = 1.0\nstd = 0.5\n";
+  text +=
+      "\n[[ensemble.perturbation]]\ntarget = \"body.ball.mass\"\ndistribution = \"normal\"\nmean = 1.0\nstd = 0.5\n";
   text += "\n[[ensemble.response]]\nname = \"spin\"\nquantity = \"energy\"\ncolumn = \"kinetic\"\nreduce = \"max\"\n";
   const std::size_t limit_at = text.find("limit = ");
   text.replace(limit_at, text.find('\n', limit_at) - limit_at, "limit = 1e6");
@@ -184,7 +187,8 @@ TEST_F(FailureRegion, NoLimitNoRegionAndNoExceedingRunSaysSo) {
   const std::string summary_text = summary(out);
   EXPECT_NE(summary_text.find("failed samples are not in the count: counted as not exceeding or as exceeding, P "
                               "would be 0 to "),
-            std::string::npos) << summary_text;
+            std::string::npos)
+      << summary_text;
   EXPECT_EQ(summary_text.find("what makes it exceed"), std::string::npos) << summary_text;
 }
 

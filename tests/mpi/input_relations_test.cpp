@@ -23,10 +23,10 @@ using namespace treedyn::testing;
 // orientation's three components, the spin, the pivot), `ensemble` replacing
 // its design lines, `extra` appended.
 std::string spherical_job(const std::string& ensemble, const std::string& extra) {
-  return edited_job_text("spherical_pendulum.toml", {{"end_time = 10.0", "end_time = 0.2"},
-                                                     {"step = 0.01", "step = 0.05"},
-                                                     {"samples = 64\nseed = 2026\ndesign = \"latin_hypercube\"",
-                                                      ensemble}}) +
+  return edited_job_text("spherical_pendulum.toml",
+                         {{"end_time = 10.0", "end_time = 0.2"},
+                          {"step = 0.01", "step = 0.05"},
+                          {"samples = 64\nseed = 2026\ndesign = \"latin_hypercube\"", ensemble}}) +
          extra;
 }
 
@@ -65,7 +65,8 @@ std::vector<double> input_column(hid_t file, std::size_t c) {
 // `treedyn report` of `out`: its page's text.
 std::string report_page(const fs::path& out, const TempDir& dir) {
   const fs::path page = dir.path() / (out.stem().string() + "_report");
-  const CommandResult r = run_command(TREEDYN_BINARY, {"report", out.string(), "-o", page.string()}, dir.path() / "capture");
+  const CommandResult r =
+      run_command(TREEDYN_BINARY, {"report", out.string(), "-o", page.string()}, dir.path() / "capture");
   EXPECT_EQ(r.exit_code, 0) << r.err;
   return read_text(page / "index.html");
 }
@@ -85,8 +86,10 @@ TEST(InputRelations, CorrelatedInputsHaveTheAskedRankCorrelationsAndTheSameBitsO
   write_text(job, spherical_job("samples = 4096\nseed = 7\ndesign = \"sobol\"\nblock_size = 64", kCorrelations));
   const auto check = run_command(TREEDYN_ENSEMBLE_BINARY, {"--check", job.string()}, dir.path() / "capture");
   ASSERT_EQ(check.exit_code, 0) << check.err;
-  EXPECT_NE(check.out.find("body.rod.angular_velocity.z ~ body.rod.joint_on_child.z: normal copula rho = 0.7167, Spearman 0.7 (given)"),
-            std::string::npos)
+  EXPECT_NE(
+      check.out.find(
+          "body.rod.angular_velocity.z ~ body.rod.joint_on_child.z: normal copula rho = 0.7167, Spearman 0.7 (given)"),
+      std::string::npos)
       << check.out;
   EXPECT_NE(check.out.find("Spearman -0.4826"), std::string::npos) << check.out;
   std::vector<fs::path> outputs;
@@ -101,8 +104,8 @@ TEST(InputRelations, CorrelatedInputsHaveTheAskedRankCorrelationsAndTheSameBitsO
     H5File other(outputs[k]);
     expect_identical_datasets(first.id(), "alone", other.id(), outputs[k].filename().string(), {"/samples", "/stats"});
   }
-  const double asked[5][5] = {{1, 0, 0, -0.4826, 0}, {0, 1, 0, 0, 0}, {0, 0, 1, 0, 0},
-                              {-0.4826, 0, 0, 1, 0.7}, {0, 0, 0, 0.7, 1}};
+  const double asked[5][5] = {
+      {1, 0, 0, -0.4826, 0}, {0, 1, 0, 0, 0}, {0, 0, 1, 0, 0}, {-0.4826, 0, 0, 1, 0.7}, {0, 0, 0, 0.7, 1}};
   for (std::size_t a = 0; a < 5; ++a)
     for (std::size_t b = a + 1; b < 5; ++b) {
       const double r = spearman(input_column(first.id(), a), input_column(first.id(), b));
@@ -161,7 +164,8 @@ inputs = ["body.rod.angular_velocity.z", "body.rod.joint_on_child.z"]
   const auto alone = run_command(TREEDYN_ENSEMBLE_BINARY, {job.string(), "-o", (dir.path() / "alone.h5").string()},
                                  dir.path() / "capture");
   ASSERT_EQ(alone.exit_code, 0) << alone.err;
-  EXPECT_NE((alone.out + alone.err).find("drivers (groups, total Sobol' index [95 %], from 8 of 8 base points): "), std::string::npos)
+  EXPECT_NE((alone.out + alone.err).find("drivers (groups, total Sobol' index [95 %], from 8 of 8 base points): "),
+            std::string::npos)
       << alone.out << alone.err;
   if (!skipped_when_sanitized("grouped indices", true).empty()) return;  // the report's Python: the normal pass
   const std::string page = report_page(out, dir);
@@ -235,37 +239,50 @@ inputs = ["body.rod.orientation.x", "body.rod.orientation.z"]
 normal_copula = -0.6
 )";
   // The third makes the set impossible: the error points at its inputs.
-  const std::string where =
-      position_of(spherical_job(kSobol, impossible), "inputs = [\"body.rod.orientation.x\", \"body.rod.orientation.z\"]", 9);
+  const std::string where = position_of(spherical_job(kSobol, impossible),
+                                        "inputs = [\"body.rod.orientation.x\", \"body.rod.orientation.z\"]", 9);
   expect_refused(kSobol, impossible,
                  {":" + where + ": ensemble.correlation[3].inputs: with this one the correlations cannot hold together",
-                  "not positive definite: smallest eigenvalue -0.2", "body.rod.orientation.y ~ body.rod.orientation.z "
+                  "not positive definite: smallest eigenvalue -0.2",
+                  "body.rod.orientation.y ~ body.rod.orientation.z "
                   "(normal copula 0.6)\n  body.rod.orientation.x ~ body.rod.orientation.z (normal copula -0.6)"});
-  expect_refused(kSobol, "\n[[ensemble.correlation]]\ninputs = [\"body.rod.orientation.q\", \"body.rod.angular_velocity.z\"]\nspearman = 0.5\n",
+  expect_refused(kSobol,
+                 "\n[[ensemble.correlation]]\ninputs = [\"body.rod.orientation.q\", "
+                 "\"body.rod.angular_velocity.z\"]\nspearman = 0.5\n",
                  {"ensemble.correlation[1].inputs: \"body.rod.orientation.q\" is not a sampled input; the inputs are: "
                   "body.rod.orientation.x",
                   "did you mean 'body.rod.orientation.x'?"});
-  expect_refused(kSobol, "\n[[ensemble.correlation]]\ninputs = [\"body.rod.orientation.x\", \"body.rod.angular_velocity.z\"]\nspearman = 0.5\nnormal_copula = 0.5\n",
+  expect_refused(kSobol,
+                 "\n[[ensemble.correlation]]\ninputs = [\"body.rod.orientation.x\", "
+                 "\"body.rod.angular_velocity.z\"]\nspearman = 0.5\nnormal_copula = 0.5\n",
                  {"give one of spearman = r (rank correlation) or normal_copula = rho"});
-  expect_refused(kSobol, "\n[[ensemble.correlation]]\ninputs = [\"body.rod.orientation.x\", \"body.rod.angular_velocity.z\"]\nspearman = 1.0\n",
+  expect_refused(kSobol,
+                 "\n[[ensemble.correlation]]\ninputs = [\"body.rod.orientation.x\", "
+                 "\"body.rod.angular_velocity.z\"]\nspearman = 1.0\n",
                  {"ensemble.correlation[1].spearman: must be in (-1, 1)"});
-  expect_refused(kSaltelli, "\n[[ensemble.correlation]]\ninputs = [\"body.rod.orientation.x\", \"body.rod.angular_velocity.z\"]\nspearman = 0.5\n",
+  expect_refused(kSaltelli,
+                 "\n[[ensemble.correlation]]\ninputs = [\"body.rod.orientation.x\", "
+                 "\"body.rod.angular_velocity.z\"]\nspearman = 0.5\n",
                  {"Saltelli's Sobol' indices assume independent inputs", "the rank measures (Spearman, SRRC)"});
 }
 
 TEST(InputRelations, GroupsOutsideSaltelliOrOfUnknownOrRepeatedInputsAreRefused) {
-  const std::string group = "\n[[ensemble.group]]\nname = \"start\"\ninputs = [\"body.rod.orientation\", \"body.rod.angular_velocity.z\"]\n";
-  expect_refused(kSobol, group, {"ensemble.group[1].name: [[ensemble.group]] sets which inputs Saltelli's design "
-                                 "moves together; it is only for design = \"saltelli\""});
+  const std::string group =
+      "\n[[ensemble.group]]\nname = \"start\"\ninputs = [\"body.rod.orientation\", \"body.rod.angular_velocity.z\"]\n";
+  expect_refused(kSobol, group,
+                 {"ensemble.group[1].name: [[ensemble.group]] sets which inputs Saltelli's design "
+                  "moves together; it is only for design = \"saltelli\""});
   const std::string unknown = "\n[[ensemble.group]]\nname = \"start\"\ninputs = [\"body.rod.orientation.x\"]\n";
   expect_refused(kSaltelli, unknown,
                  {":" + position_of(spherical_job(kSaltelli, unknown), "\"body.rod.orientation.x\"]") +
-                      ": ensemble.group[1].inputs: \"body.rod.orientation.x\" is not the target of an "
+                  ": ensemble.group[1].inputs: \"body.rod.orientation.x\" is not the target of an "
                   "[[ensemble.perturbation]]; they are: body.rod.orientation body.rod.angular_velocity.z "
                   "body.rod.joint_on_child.z; did you mean 'body.rod.orientation'?"});
-  expect_refused(kSaltelli, group + "\n[[ensemble.group]]\nname = \"spin\"\ninputs = [\"body.rod.angular_velocity.z\"]\n",
+  expect_refused(kSaltelli,
+                 group + "\n[[ensemble.group]]\nname = \"spin\"\ninputs = [\"body.rod.angular_velocity.z\"]\n",
                  {"ensemble.group[2].inputs: \"body.rod.angular_velocity.z\" is already in group \"start\""});
-  expect_refused(kSaltelli, "\n[[ensemble.group]]\nname = \"body.rod.joint_on_child.z\"\ninputs = [\"body.rod.orientation\"]\n",
+  expect_refused(kSaltelli,
+                 "\n[[ensemble.group]]\nname = \"body.rod.joint_on_child.z\"\ninputs = [\"body.rod.orientation\"]\n",
                  {"is the name of an input; give the group a name of its own"});
 }
 

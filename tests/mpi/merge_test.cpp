@@ -21,9 +21,9 @@ using namespace treedyn::testing;
 // The shipped Kapitza job (Sobol design, two responses) cut to 48 samples
 // and 1 s of motion.
 std::string job_text(const std::string& seed = "seed = 5") {
-  return edited_job_text("kapitza.toml", {{"samples = 128", "samples = 48\npilot_samples = 8"},
-                                          {"seed = 5", seed},
-                                          {"end_time = 5.0", "end_time = 1.0"}});
+  return edited_job_text(
+      "kapitza.toml",
+      {{"samples = 128", "samples = 48\npilot_samples = 8"}, {"seed = 5", seed}, {"end_time = 5.0", "end_time = 1.0"}});
 }
 
 CommandResult merge(const std::vector<std::string>& parts, const fs::path& out, const fs::path& capture) {
@@ -120,7 +120,8 @@ TEST_F(Merge, OverlapsOtherJobsAndBadRangesAreRefusedAndGapsAreReported) {
     // The advice followed: the damaged part (a's range, 0:20) run again into
     // the path it names, and the merge works.
     EXPECT_NE(r.err.find("run that part again with its --samples range (into `" + flipped.string() + "`)"),
-              std::string::npos) << r.err;
+              std::string::npos)
+        << r.err;
     ASSERT_EQ(run_ensemble(0, job_, flipped, capture(), {"--samples", "0:20"}).exit_code, 0);
     r = merge({flipped.string(), c.string()}, dir_.path() / "x.h5", capture());
     EXPECT_EQ(r.exit_code, 0) << r.err;

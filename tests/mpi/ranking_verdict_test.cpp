@@ -24,10 +24,11 @@ using namespace treedyn::testing;
 namespace fs = std::filesystem;
 
 std::string two_kicks_job(int base_points) {
-  return ball_job_text("samples = " + std::to_string(base_points) + "\nseed = 3\ndesign = \"saltelli\"\npilot_samples = 8",
-                       normal_input("body.ball.angular_velocity.x", 1.0) +
-                           normal_input("body.ball.angular_velocity.y", 0.8) + energy_response(std::nullopt),
-                       0.1);
+  return ball_job_text(
+      "samples = " + std::to_string(base_points) + "\nseed = 3\ndesign = \"saltelli\"\npilot_samples = 8",
+      normal_input("body.ball.angular_velocity.x", 1.0) + normal_input("body.ball.angular_velocity.y", 0.8) +
+          energy_response(std::nullopt),
+      0.1);
 }
 
 struct Verdict {
@@ -58,12 +59,14 @@ Verdict run(const TempDir& dir, int base_points) {
 TEST(RankingVerdict, NotToldApartAtEightBasePointsToldApartAt4096) {
   TempDir dir("ranking_verdict");
   const Verdict few = run(dir, 8), many = run(dir, 4096);
-  std::printf("N = 8: total %.3f / %.3f, told apart %lld; N = 4096: %.3f / %.3f, told apart %lld (exact 0.709 / 0.291)\n",
-              few.total_x, few.total_y, few.told_apart, many.total_x, many.total_y, many.told_apart);
+  std::printf(
+      "N = 8: total %.3f / %.3f, told apart %lld; N = 4096: %.3f / %.3f, told apart %lld (exact 0.709 / 0.291)\n",
+      few.total_x, few.total_y, few.told_apart, many.total_x, many.total_y, many.told_apart);
   EXPECT_EQ(few.told_apart, 0);
   EXPECT_NE(few.summary.find(" ~ body.ball.angular_velocity."), std::string::npos) << few.summary;
   EXPECT_NE(few.summary.find("~: not told apart yet (95 % bootstrap interval of the difference holds 0); about "),
-            std::string::npos) << few.summary;
+            std::string::npos)
+      << few.summary;
   EXPECT_NE(few.summary.find("is N enough for the indices? no: "), std::string::npos) << few.summary;
 
   EXPECT_EQ(many.told_apart, 1);

@@ -135,9 +135,9 @@ TEST_F(SeaStateEnsemble, WrittenJobOfSampleKReproducesItsPhases) {
   const DoubleArray finals = read_double_array(ensemble.id(), "/samples/final_state");
   const std::size_t k = 7;
   const fs::path written = dir_.path() / "sample_7.toml";
-  const CommandResult w = run_command(TREEDYN_ENSEMBLE_BINARY,
-                                      {job_.string(), "--write-job", std::to_string(k), "-o", written.string()},
-                                      dir_.path() / "capture");
+  const CommandResult w =
+      run_command(TREEDYN_ENSEMBLE_BINARY, {job_.string(), "--write-job", std::to_string(k), "-o", written.string()},
+                  dir_.path() / "capture");
   ASSERT_EQ(w.exit_code, 0) << w.err;
   const std::string text = read_text(written);
   EXPECT_NE(text.find("target = \"base.z.phases\"\nmode = \"set\"\nvalue = ["), std::string::npos) << text;
@@ -156,7 +156,8 @@ TEST_F(SeaStateEnsemble, WrittenJobOfSampleKReproducesItsPhases) {
                 .exit_code,
             0);
   H5File n(nominal);
-  const DoubleArray base_sample = read_double_array(alone.id(), "/base"), base_nominal = read_double_array(n.id(), "/base");
+  const DoubleArray base_sample = read_double_array(alone.id(), "/base"),
+                    base_nominal = read_double_array(n.id(), "/base");
   const std::size_t last = base_sample.rows() - 1;
   EXPECT_NE(base_sample(last, 2), base_nominal(last, 2));
 }

@@ -112,10 +112,10 @@ TEST_F(Subset, ARunOfALaterLevelRerunsAloneBitForBit) {
   const long long rows = static_cast<long long>(final_state.rows());
   for (long long k : {7LL, 500LL + 3 * 9 + 4, rows - 1}) {
     const fs::path alone = dir_.path() / ("sample" + std::to_string(k) + ".h5");
-    const auto r = run_command(TREEDYN_ENSEMBLE_BINARY,
-                               {job.string(), "--sample", std::to_string(k), "--from", out.string(), "-o",
-                                alone.string(), "-q"},
-                               dir_.path() / "capture_sample");
+    const auto r =
+        run_command(TREEDYN_ENSEMBLE_BINARY,
+                    {job.string(), "--sample", std::to_string(k), "--from", out.string(), "-o", alone.string(), "-q"},
+                    dir_.path() / "capture_sample");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     H5File a(alone);
     const std::vector<double> mine = read_doubles(a.id(), "/final_state");
@@ -124,12 +124,12 @@ TEST_F(Subset, ARunOfALaterLevelRerunsAloneBitForBit) {
   // --write-job K --from the file: `treedyn run` of that job is run K too.
   const long long k = 500 + 7 * 9 + 2;
   const fs::path sample_job = dir_.path() / "sample.toml", sample_out = dir_.path() / "sample_job.h5";
-  ASSERT_EQ(run_command(TREEDYN_ENSEMBLE_BINARY,
-                        {job.string(), "--write-job", std::to_string(k), "--from", out.string(), "-o",
-                         sample_job.string()},
-                        dir_.path() / "capture_write")
-                .exit_code,
-            0);
+  ASSERT_EQ(
+      run_command(TREEDYN_ENSEMBLE_BINARY,
+                  {job.string(), "--write-job", std::to_string(k), "--from", out.string(), "-o", sample_job.string()},
+                  dir_.path() / "capture_write")
+          .exit_code,
+      0);
   ASSERT_EQ(run_command(TREEDYN_BINARY, {"run", sample_job.string(), "-o", sample_out.string(), "-q"},
                         dir_.path() / "capture_run")
                 .exit_code,
@@ -141,10 +141,10 @@ TEST_F(Subset, ARunOfALaterLevelRerunsAloneBitForBit) {
   const std::vector<std::string> stats_about = read_string_attribute(f.id(), "/stats", "description");
   ASSERT_EQ(stats_about.size(), 1u);
   EXPECT_NE(stats_about[0].find("subset_simulation: level 0 alone"), std::string::npos) << stats_about[0];
-  const auto refused = run_command(TREEDYN_ENSEMBLE_BINARY,
-                                   {job.string(), "--sample", std::to_string(rows - 1), "-o",
-                                    (dir_.path() / "no.h5").string(), "-q"},
-                                   dir_.path() / "capture_refused");
+  const auto refused =
+      run_command(TREEDYN_ENSEMBLE_BINARY,
+                  {job.string(), "--sample", std::to_string(rows - 1), "-o", (dir_.path() / "no.h5").string(), "-q"},
+                  dir_.path() / "capture_refused");
   EXPECT_EQ(refused.exit_code, 2);
   EXPECT_NE(refused.err.find("give the ensemble's output file with --from FILE.h5"), std::string::npos) << refused.err;
   EXPECT_FALSE(fs::exists(dir_.path() / "no.h5"));
@@ -161,7 +161,8 @@ TEST_F(Subset, CrudeMonteCarloWithThirtyTimesTheRunsAgrees) {
   ASSERT_EQ(run_ensemble(2, subset, dir_.path() / "subset.h5", dir_.path() / "capture_s").exit_code, 0);
   const RareEvent r = rare_event_of(dir_.path() / "subset.h5");
   const fs::path crude =
-      write_job("crude.toml", isotropic_ball_job(ball_limit_for(exact), static_cast<int>(30 * r.runs), "design = \"monte_carlo\""));
+      write_job("crude.toml",
+                isotropic_ball_job(ball_limit_for(exact), static_cast<int>(30 * r.runs), "design = \"monte_carlo\""));
   const auto c = run_ensemble(2, crude, dir_.path() / "crude.h5", dir_.path() / "capture_c");
   ASSERT_EQ(c.exit_code, 0) << c.err;
   H5File f(dir_.path() / "crude.h5");
@@ -181,7 +182,8 @@ TEST_F(Subset, OneInAMillionWithinFiftyThousandRuns) {
   if (const std::string why = skipped_when_sanitized_as_large("P = 1e-6 (38,500 runs)"); !why.empty())
     GTEST_SKIP() << why;
   const double exact = 1e-6;
-  const fs::path job = write_job("million.toml", isotropic_ball_job(ball_limit_for(exact), 7000, kSubset + "\nmax_levels = 8"));
+  const fs::path job =
+      write_job("million.toml", isotropic_ball_job(ball_limit_for(exact), 7000, kSubset + "\nmax_levels = 8"));
   const auto run = run_ensemble(2, job, dir_.path() / "million.h5", dir_.path() / "capture");
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const RareEvent r = rare_event_of(dir_.path() / "million.h5");
@@ -200,8 +202,10 @@ TEST_F(Subset, JobsItCannotServeAreRefused) {
       {"no table", isotropic_ball_job(b, 1000, "design = \"subset_simulation\""),
        "ensemble.design: subset_simulation needs an [ensemble.subset] table"},
       {"chains", isotropic_ball_job(b, 1005, kSubset), "samples must be a multiple of 10"},
-      {"p0", isotropic_ball_job(b, 1000, kSubset + "\nlevel_probability = 0.3"), "1 / level_probability must be a whole number"},
-      {"other design", isotropic_ball_job(b, 1000, "design = \"monte_carlo\"\n\n[ensemble.subset]\nresponse = \"energy\""),
+      {"p0", isotropic_ball_job(b, 1000, kSubset + "\nlevel_probability = 0.3"),
+       "1 / level_probability must be a whole number"},
+      {"other design",
+       isotropic_ball_job(b, 1000, "design = \"monte_carlo\"\n\n[ensemble.subset]\nresponse = \"energy\""),
        "[ensemble.subset] is only for design = \"subset_simulation\""},
       {"no limit",
        isotropic_ball_job(b, 1000, "design = \"subset_simulation\"\n\n[ensemble.subset]\nresponse = \"energy\"") +
@@ -238,8 +242,10 @@ TEST(SubsetExample, TheCraneJobRunsAsShippedAndShortened) {
   ASSERT_EQ(check.exit_code, 0) << check.err;
   EXPECT_NE(check.out.find("subset_simulation: 1000 runs per level"), std::string::npos) << check.out;
   std::string text = read_text(shipped);
-  for (const auto& [from, to] : std::vector<std::pair<std::string, std::string>>{
-           {"end_time = 60.0", "end_time = 10.0"}, {"samples = 1000 ", "samples = 100 "}, {"max_levels = 8", "max_levels = 2"}}) {
+  for (const auto& [from, to] :
+       std::vector<std::pair<std::string, std::string>>{{"end_time = 60.0", "end_time = 10.0"},
+                                                        {"samples = 1000 ", "samples = 100 "},
+                                                        {"max_levels = 8", "max_levels = 2"}}) {
     const std::size_t at = text.find(from);
     ASSERT_NE(at, std::string::npos) << "the example changed: " << from;
     text.replace(at, from.size(), to);
@@ -280,10 +286,14 @@ TEST(SubsetExample, ATruncationBoundThatSetsPIsFoundAndWarnedAbout) {
   EXPECT_EQ(bound.back(), 2500.0);
   const fs::path report = dir.path() / "report";
   ASSERT_EQ(run_command(TREEDYN_BINARY, {"report", (dir.path() / "crane.h5").string(), "-o", report.string()},
-                        dir.path() / "capture_report").exit_code, 0);
+                        dir.path() / "capture_report")
+                .exit_code,
+            0);
   const std::string summary = read_text(report / "summary.txt");
   EXPECT_NE(summary.find("of them have body.container.mass within 1 % of its range of its bound 2500 kg: P depends on "
-                         "where that distribution is cut off"), std::string::npos) << summary;
+                         "where that distribution is cut off"),
+            std::string::npos)
+      << summary;
 }
 
 }  // namespace
@@ -299,8 +309,9 @@ TEST(SubsetInputs, LevelZeroIsTheMonteCarloDesignAndLaterRunsStayInTheSupports) 
   TempDir dir("subset_inputs");
   std::string text = spin_exceedance_job(200, false, "subset_simulation");
   text += "\n[ensemble.subset]\nresponse = \"spin0\"\nmax_levels = 2\n";
-  const std::string lognormal = "\n[[ensemble.perturbation]]\ntarget = \"gravity.z\"\ndistribution = \"lognormal\"\n"
-                                "mu = 0.0\nsigma = 0.05\nmode = \"scale\"\n";
+  const std::string lognormal =
+      "\n[[ensemble.perturbation]]\ntarget = \"gravity.z\"\ndistribution = \"lognormal\"\n"
+      "mu = 0.0\nsigma = 0.05\nmode = \"scale\"\n";
   text += lognormal;
   const fs::path job = dir.path() / "subset.toml";
   write_text(job, text);
@@ -310,7 +321,8 @@ TEST(SubsetInputs, LevelZeroIsTheMonteCarloDesignAndLaterRunsStayInTheSupports) 
   write_text(mc_job, mc);
   ASSERT_EQ(run_ensemble(0, mc_job, dir.path() / "mc.h5", dir.path() / "capture_m").exit_code, 0);
   H5File s(dir.path() / "subset.h5"), m(dir.path() / "mc.h5");
-  const DoubleArray subset = read_double_array(s.id(), "/samples/inputs"), crude = read_double_array(m.id(), "/samples/inputs");
+  const DoubleArray subset = read_double_array(s.id(), "/samples/inputs"),
+                    crude = read_double_array(m.id(), "/samples/inputs");
   ASSERT_EQ(subset.cols(), 6u);  // orientation x, y, z; spin; pivot; gravity
   ASSERT_GT(subset.rows(), 200u) << "the case never left level 0";
   for (std::size_t k = 0; k < 200; ++k)

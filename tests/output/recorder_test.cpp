@@ -9,6 +9,8 @@
 //  * each extract alone, into a row of NaN sentinels, writes its count
 //    exactly and says where it ended; the recorder refuses a quantity that
 //    says otherwise, and a model of another number of bodies.
+#include "output/recorder.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -20,7 +22,6 @@
 #include "dynamics/recovered.hpp"
 #include "integrate/simulate.hpp"
 #include "model/model.hpp"
-#include "output/recorder.hpp"
 #include "support/random_tree.hpp"
 
 namespace treedyn {

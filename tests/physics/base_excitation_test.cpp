@@ -24,8 +24,8 @@ struct Trajectory {
   std::vector<Recovered> out;  // one per output time
 };
 
-Trajectory run(const ModelSpec& spec, const InitialState& initial, const std::vector<double>& times,
-        double rtol, double atol, Parameterisation p = Parameterisation::quaternion) {
+Trajectory run(const ModelSpec& spec, const InitialState& initial, const std::vector<double>& times, double rtol,
+               double atol, Parameterisation p = Parameterisation::quaternion) {
   const Model model = build_model(spec);
   SimulationRequest request;
   request.parameterisation = p;
@@ -35,8 +35,8 @@ Trajectory run(const ModelSpec& spec, const InitialState& initial, const std::ve
   request.output_times = times;
   Trajectory r;
   r.out.reserve(times.size());
-  r.outcome = simulate(model, initial, request,
-                       [&](const Model& m, const Data& data) { r.out.push_back(recover(m, data)); });
+  r.outcome =
+      simulate(model, initial, request, [&](const Model& m, const Data& data) { r.out.push_back(recover(m, data)); });
   return r;
 }
 
@@ -119,9 +119,10 @@ TEST(BaseExcitation, ConstantAccelerationIsExtraGravity) {
         joint = std::max(joint, (b.out[k].joint_position[u] - a.out[k].joint_position[u] - shift).norm());
       }
     }
-    std::printf("%-34s rotation %.2e rad  |w| %.2e rad/s  CoM position %.2e m  joint position %.2e m  "
-                "CoM velocity %.2e m/s\n",
-                c.what, rot, w, pos, joint, vel);
+    std::printf(
+        "%-34s rotation %.2e rad  |w| %.2e rad/s  CoM position %.2e m  joint position %.2e m  "
+        "CoM velocity %.2e m/s\n",
+        c.what, rot, w, pos, joint, vel);
     EXPECT_LT(rot, 1e-9) << c.what;
     EXPECT_LT(w, 1e-8) << c.what;
     EXPECT_LT(pos, 1e-9) << c.what;
@@ -170,7 +171,8 @@ Powers powers(const ModelSpec& spec, const Recovered& r) {
   for (const JointSpec& j : spec.joints) {
     const auto c = static_cast<std::size_t>(body_index(spec, j.child));
     const bool on_base = j.parent == kBaseName;
-    const Vec3 w_parent = on_base ? Vec3::Zero() : r.angular_velocity[static_cast<std::size_t>(body_index(spec, j.parent))];
+    const Vec3 w_parent =
+        on_base ? Vec3::Zero() : r.angular_velocity[static_cast<std::size_t>(body_index(spec, j.parent))];
     const Vec3 w_rel = r.rotation[c].transpose() * (r.angular_velocity[c] - w_parent);
     p.damper += w_rel.dot(j.spring.damping * w_rel);
     if (on_base) p.base += r.joint_reaction[c].dot(r.base.velocity);
@@ -217,11 +219,11 @@ void expect_work_balances_energy(const ModelSpec& spec, const InitialState& init
     max_work = std::max(max_work, std::abs(W_base));
     max_change = std::max(max_change, std::abs(change));
   }
-  std::printf("energy scale %.3f J; max |E - E0| %.3f J; max |base work| %.3f J; damper loss %.3f J "
-              "at the end;\nworst |E - E0 - (W_base - W_damper)| %.2e J = %.2e of scale (t = %.3f s); "
-              "steps %ld\n",
-              scale, max_change, max_work, W_damper, worst, worst / scale, worst_t,
-              r.outcome.stats.steps);
+  std::printf(
+      "energy scale %.3f J; max |E - E0| %.3f J; max |base work| %.3f J; damper loss %.3f J "
+      "at the end;\nworst |E - E0 - (W_base - W_damper)| %.2e J = %.2e of scale (t = %.3f s); "
+      "steps %ld\n",
+      scale, max_change, max_work, W_damper, worst, worst / scale, worst_t, r.outcome.stats.steps);
   // Not vacuous: the base does work and the dampers take some.
   EXPECT_GT(max_work, 0.05 * scale);
   EXPECT_GT(W_damper, 1e-3 * scale);
@@ -331,16 +333,17 @@ TEST(BaseExcitation, TabulatedBaseIsAccurateAndContinuous) {
   // Beyond the ends: straight lines with the end velocities.
   const BaseKinematics end = spline.at(tab.times.back()), start = spline.at(tab.times.front());
   const BaseKinematics after = spline.at(tab.times.back() + 1.0), before = spline.at(tab.times.front() - 1.0);
-  const double outside = std::max({(after.position - end.position - end.velocity).norm(),
-                                   (after.velocity - end.velocity).norm(), after.acceleration.norm(),
-                                   (before.position - start.position + start.velocity).norm(),
-                                   (before.velocity - start.velocity).norm(), before.acceleration.norm(),
-                                   end.acceleration.norm(), start.acceleration.norm()});
+  const double outside =
+      std::max({(after.position - end.position - end.velocity).norm(), (after.velocity - end.velocity).norm(),
+                after.acceleration.norm(), (before.position - start.position + start.velocity).norm(),
+                (before.velocity - start.velocity).norm(), before.acceleration.norm(), end.acceleration.norm(),
+                start.acceleration.norm()});
 
-  std::printf("knots %.2e m; off-knot errors: position %.2e m, velocity %.2e m/s, acceleration %.2e "
-              "m/s^2;\njumps at knots +-1e-10 s: %.2e m, %.2e m/s, %.2e m/s^2; at the table's ends %.2e m, "
-              "%.2e m/s, %.2e m/s^2; outside the table %.2e\n",
-              knot, ep, ev, ea, jp_in, jv_in, ja_in, jp, jv, ja, outside);
+  std::printf(
+      "knots %.2e m; off-knot errors: position %.2e m, velocity %.2e m/s, acceleration %.2e "
+      "m/s^2;\njumps at knots +-1e-10 s: %.2e m, %.2e m/s, %.2e m/s^2; at the table's ends %.2e m, "
+      "%.2e m/s, %.2e m/s^2; outside the table %.2e\n",
+      knot, ep, ev, ea, jp_in, jv_in, ja_in, jp, jv, ja, outside);
   EXPECT_LT(knot, 1e-15);
   EXPECT_LT(ep, 2.4e-10);
   EXPECT_LT(ev, 7.5e-7);
@@ -383,9 +386,10 @@ TEST(BaseExcitation, TabulatedBaseReproducesHarmonicRun) {
       vel = std::max(vel, (a.out[k].com_velocity[u] - b.out[k].com_velocity[u]).norm());
     }
   }
-  std::printf("tabulated vs harmonic: rotation %.2e rad  |w| %.2e rad/s  position %.2e m  velocity %.2e m/s  "
-              "(steps %ld vs %ld)\n",
-              rot, w, pos, vel, b.outcome.stats.steps, a.outcome.stats.steps);
+  std::printf(
+      "tabulated vs harmonic: rotation %.2e rad  |w| %.2e rad/s  position %.2e m  velocity %.2e m/s  "
+      "(steps %ld vs %ld)\n",
+      rot, w, pos, vel, b.outcome.stats.steps, a.outcome.stats.steps);
   EXPECT_LT(rot, 1e-4);
   EXPECT_LT(w, 1e-4);
   EXPECT_LT(pos, 1e-4);
@@ -430,8 +434,7 @@ TEST(BaseExcitation, SpringsConserveEnergyOnFixedBase) {
       max_spring = std::max(max_spring, x.energy.spring);
     }
     std::printf("n=%d %-11s energy drift %.2e of %.3f J  (max spring energy %.3f J)  steps %ld\n", n,
-                anisotropic ? "anisotropic" : "isotropic", drift, scale, max_spring,
-                r.outcome.stats.steps);
+                anisotropic ? "anisotropic" : "isotropic", drift, scale, max_spring, r.outcome.stats.steps);
     EXPECT_GT(max_spring, 1e-3 * scale) << "n = " << n << ": springs barely loaded";
     EXPECT_LT(drift, 1e-8) << "n = " << n;
   }

@@ -38,9 +38,8 @@ struct Trajectory {
   std::vector<Recovered> out;
 };
 
-Trajectory run(const ModelSpec& spec, const InitialState& initial, const std::vector<double>& times,
-        Method method, Parameterisation p = Parameterisation::quaternion, double rtol = 1e-12,
-        double atol = 1e-12) {
+Trajectory run(const ModelSpec& spec, const InitialState& initial, const std::vector<double>& times, Method method,
+               Parameterisation p = Parameterisation::quaternion, double rtol = 1e-12, double atol = 1e-12) {
   const Model model = build_model(spec);
   SimulationRequest request;
   request.parameterisation = p;
@@ -50,9 +49,8 @@ Trajectory run(const ModelSpec& spec, const InitialState& initial, const std::ve
   request.output_times = times;
   Trajectory r;
   r.out.reserve(times.size());
-  r.outcome = simulate(model, initial, request, [&](const Model& m, const Data& data) {
-    r.out.push_back(recover(m, data));
-  });
+  r.outcome =
+      simulate(model, initial, request, [&](const Model& m, const Data& data) { r.out.push_back(recover(m, data)); });
   return r;
 }
 
@@ -67,8 +65,7 @@ std::vector<double> uniform_times(double duration, int intervals) {
 // h^4 / 384 max|y''''|, far below every tolerance below for the output steps used.
 struct Hermite {
   double t0, h, c0, c1, c2, c3;
-  Hermite(double t0_, double t1, double y0, double dy0, double y1, double dy1)
-      : t0(t0_), h(t1 - t0_) {
+  Hermite(double t0_, double t1, double y0, double dy0, double y1, double dy1) : t0(t0_), h(t1 - t0_) {
     c0 = y0;
     c1 = h * dy0;
     c2 = -3.0 * y0 - 2.0 * h * dy0 + 3.0 * y1 - h * dy1;
@@ -111,8 +108,7 @@ struct Extrema {
   std::vector<double> minima, maxima;
 };
 
-Extrema local_extrema(const std::vector<double>& t, const std::vector<double>& y,
-                      const std::vector<double>& dy) {
+Extrema local_extrema(const std::vector<double>& t, const std::vector<double>& y, const std::vector<double>& dy) {
   Extrema e;
   for (std::size_t k = 0; k + 1 < t.size(); ++k) {
     const bool max = dy[k] > 0.0 && dy[k + 1] <= 0.0;
@@ -204,9 +200,10 @@ TEST(ClosedForm, CompoundPendulumSmallOscillationPeriod) {
     const PeriodResult p = results[axis] = pendulum_period(axis);
     const double vs_linear = std::abs(p.measured / p.linear - 1.0);
     const double vs_exact = std::abs(p.measured / p.exact - 1.0);
-    std::printf("compound pendulum axis %d: T measured %.12f  linear %.12f (rel %.2e)  "
-                "exact %.12f (rel %.2e)  out of plane %.1e\n",
-                axis + 1, p.measured, p.linear, vs_linear, p.exact, vs_exact, p.out_of_plane);
+    std::printf(
+        "compound pendulum axis %d: T measured %.12f  linear %.12f (rel %.2e)  "
+        "exact %.12f (rel %.2e)  out of plane %.1e\n",
+        axis + 1, p.measured, p.linear, vs_linear, p.exact, vs_exact, p.out_of_plane);
     // Against the small-oscillation formula: the finite amplitude theta0 = 0.01
     // lengthens the period by theta0^2 / 16 = 6.25e-6 (relative); allow 1e-5.
     EXPECT_LT(vs_linear, 1e-5);
@@ -252,8 +249,7 @@ struct ConicalResult {
 };
 
 // omega_override > 0 starts the body at that rate instead of the closed form's.
-ConicalResult conical(double m, double L, double A, double C, double theta,
-                      double omega_override = 0.0) {
+ConicalResult conical(double m, double L, double A, double C, double theta, double omega_override = 0.0) {
   ModelSpec spec;
   spec.bodies.push_back(rigid_body("bob", m, inertia_from_principal(Vec3(A, A, C))));
   JointSpec joint;
@@ -263,9 +259,7 @@ ConicalResult conical(double m, double L, double A, double C, double theta,
   spec.joints.push_back(joint);
 
   ConicalResult res;
-  res.omega = omega_override > 0.0
-                  ? omega_override
-                  : std::sqrt(m * kG * L / ((A + m * L * L - C) * std::cos(theta)));
+  res.omega = omega_override > 0.0 ? omega_override : std::sqrt(m * kG * L / ((A + m * L * L - C) * std::cos(theta)));
   // Body z axis (CoM -> pivot) at angle theta from the upward vertical, tilted
   // towards -x, so the CoM is at L (sin theta, 0, -cos theta).
   InitialState initial;
@@ -282,8 +276,7 @@ ConicalResult conical(double m, double L, double A, double C, double theta,
   for (const Recovered& o : r.out) {
     const Vec3 e = (o.com_position[0] - o.joint_position[0]) / L;  // pivot -> CoM, unit
     res.cone_error = std::max(res.cone_error, std::abs(std::acos(std::clamp(-e.z(), -1.0, 1.0)) - theta));
-    res.rate_error =
-        std::max(res.rate_error, (o.angular_velocity[0] - res.omega * Vec3::UnitZ()).norm() / res.omega);
+    res.rate_error = std::max(res.rate_error, (o.angular_velocity[0] - res.omega * Vec3::UnitZ()).norm() / res.omega);
     const Vec3 radial = Vec3(e.x(), e.y(), 0.0).normalized();  // axis -> CoM, horizontal
     const Vec3 expected = m * kG * Vec3::UnitZ() - horizontal * radial;
     const Vec3& X = o.joint_reaction[0];
@@ -303,9 +296,10 @@ TEST(ClosedForm, ConicalPendulumSteadyPrecession) {
                         Case{"small inertia", 1e-6, 1e-6}}) {
     SCOPED_TRACE(c.name);
     const ConicalResult r = conical(m, L, c.A, c.C, theta);
-    std::printf("conical (%s): Omega %.10f  cone angle err %.2e rad  rate err %.2e  "
-                "reaction vector err %.2e  |X| %.10f err %.2e (x m g)\n",
-                c.name, r.omega, r.cone_error, r.rate_error, r.reaction_error, r.magnitude, r.magnitude_error);
+    std::printf(
+        "conical (%s): Omega %.10f  cone angle err %.2e rad  rate err %.2e  "
+        "reaction vector err %.2e  |X| %.10f err %.2e (x m g)\n",
+        c.name, r.omega, r.cone_error, r.rate_error, r.reaction_error, r.magnitude, r.magnitude_error);
     // Steady precession is a neutrally stable solution (a double root of the
     // top's f(u)): integrator errors (rtol 1e-12) only excite a nutation of
     // comparable relative size, so 1e-8 leaves a wide margin.
@@ -324,8 +318,7 @@ TEST(ClosedForm, ConicalPendulumSteadyPrecession) {
   // Control: the rigid body started at the point-mass rate g / (L cos theta)
   // (about 3% too fast for it) must visibly nutate, so the checks above can fail.
   const ConicalResult wrong = conical(m, L, 0.1, 0.04, theta, std::sqrt(kG / (L * std::cos(theta))));
-  std::printf("conical control (rigid body at the point-mass rate): cone angle err %.2e rad\n",
-              wrong.cone_error);
+  std::printf("conical control (rigid body at the point-mass rate): cone angle err %.2e rad\n", wrong.cone_error);
   EXPECT_GT(wrong.cone_error, 1e-3);
 }
 
@@ -438,12 +431,12 @@ TEST(ClosedForm, HeavySymmetricTopNutationBounds) {
   double sim_min = 1.0, sim_max = -1.0;
   for (double v : u) sim_min = std::min(sim_min, v), sim_max = std::max(sim_max, v);
 
-  std::printf("symmetric top: roots %.12f %.12f (third %.4f); %zu minima, %zu maxima; "
-              "max |u_min err| %.2e  max |u_max err| %.2e; sampled range [%.9f, %.9f]\n",
-              u_min, u_max, roots[2], ex.minima.size(), ex.maxima.size(), min_error, max_error, sim_min,
-              sim_max);
-  std::printf("symmetric top: drift energy %.2e  H_z %.2e  w3 %.2e  steps %ld\n", energy_drift, hz_drift,
-              w3_drift, r.outcome.stats.steps);
+  std::printf(
+      "symmetric top: roots %.12f %.12f (third %.4f); %zu minima, %zu maxima; "
+      "max |u_min err| %.2e  max |u_max err| %.2e; sampled range [%.9f, %.9f]\n",
+      u_min, u_max, roots[2], ex.minima.size(), ex.maxima.size(), min_error, max_error, sim_min, sim_max);
+  std::printf("symmetric top: drift energy %.2e  H_z %.2e  w3 %.2e  steps %ld\n", energy_drift, hz_drift, w3_drift,
+              r.outcome.stats.steps);
 
   // Conservation at rtol = atol = 1e-12 over 20 s (~6e3 steps): local errors of
   // ~tol per step can pile up to ~6e-9 in the worst (systematic) case, so
@@ -572,14 +565,13 @@ TEST_P(PlanarDoublePendulum, StaysPlanarAndMatchesTwoAngleEquations) {
       const Vec3& w = o.angular_velocity[idx[i]];
       angle_error = std::max(angle_error, std::abs(wrap(std::atan2(A(0, 2), A(0, 0)) - reference[k][i])));
       rate_error = std::max(rate_error, std::abs(w.y() - reference[k][2 + i]));
-      out_of_plane = std::max({out_of_plane, std::abs(o.com_position[idx[i]].y()), std::abs(w.x()),
-                               std::abs(w.z())});
+      out_of_plane = std::max({out_of_plane, std::abs(o.com_position[idx[i]].y()), std::abs(w.x()), std::abs(w.z())});
     }
   }
-  std::printf("double pendulum (%s): max angle err %.2e rad  rate err %.2e rad/s  out of plane %.1e  "
-              "reference err est %.1e  steps %ld\n",
-              std::string(name(GetParam())).c_str(), angle_error, rate_error, out_of_plane, ref_error,
-              r.outcome.stats.steps);
+  std::printf(
+      "double pendulum (%s): max angle err %.2e rad  rate err %.2e rad/s  out of plane %.1e  "
+      "reference err est %.1e  steps %ld\n",
+      std::string(name(GetParam())).c_str(), angle_error, rate_error, out_of_plane, ref_error, r.outcome.stats.steps);
   // Exact symmetry keeps the motion in the x-z plane; only round-off can leave it.
   EXPECT_LT(out_of_plane, 1e-10);
   // Integrator at rtol = atol = 1e-12 over 5 s of a (mildly sensitive) double
@@ -596,11 +588,8 @@ TEST_P(PlanarDoublePendulum, StaysPlanarAndMatchesTwoAngleEquations) {
   EXPECT_LT(rate_error, 1e-6);
 }
 
-INSTANTIATE_TEST_SUITE_P(Methods, PlanarDoublePendulum,
-                         ::testing::Values(Method::cvode_adams, Method::erk_verner),
-                         [](const ::testing::TestParamInfo<Method>& param) {
-                           return std::string(name(param.param));
-                         });
+INSTANTIATE_TEST_SUITE_P(Methods, PlanarDoublePendulum, ::testing::Values(Method::cvode_adams, Method::erk_verner),
+                         [](const ::testing::TestParamInfo<Method>& param) { return std::string(name(param.param)); });
 
 }  // namespace
 }  // namespace treedyn

@@ -18,8 +18,8 @@ struct Drift {
   IntegrationOutcome outcome;
 };
 
-Drift measure_drift(const ModelSpec& spec, const InitialState& initial, Parameterisation p,
-                    Method method, double duration) {
+Drift measure_drift(const ModelSpec& spec, const InitialState& initial, Parameterisation p, Method method,
+                    double duration) {
   const Model model = build_model(spec);
   SimulationRequest request;
   request.parameterisation = p;

@@ -8,10 +8,10 @@
 //    theta = 2 asin(m sn(K(m) - w t, m)) with m = sin(theta0 / 2);
 //  * energy conservation (kinetic + gravity + spring) on random trees with
 //    anisotropic springs and random reference orientations, for each law.
-#include <gtest/gtest.h>
-
 #include <boost/math/special_functions/ellint_1.hpp>
 #include <boost/math/special_functions/jacobi_elliptic.hpp>
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -39,8 +39,8 @@ SpringRun simulate_all(const ModelSpec& spec, const InitialState& initial, const
   request.settings.absolute_tolerance = 1e-12;
   request.output_times = times;
   SpringRun r;
-  r.outcome = simulate(model, initial, request,
-                       [&](const Model& m, const Data& d) { r.states.push_back(recover(m, d)); });
+  r.outcome =
+      simulate(model, initial, request, [&](const Model& m, const Data& d) { r.states.push_back(recover(m, d)); });
   return r;
 }
 
@@ -87,8 +87,8 @@ TEST(SpringLaw, TorsionalPendulumFollowsItsClosedForm) {
       // The motion stays about z.
       EXPECT_LT(std::abs(A(2, 2) - 1.0), 1e-10);
     }
-    std::printf("%-16s max |theta - closed form| = %.2e rad over %zu outputs\n",
-                std::string(name(law)).c_str(), worst, times.size());
+    std::printf("%-16s max |theta - closed form| = %.2e rad over %zu outputs\n", std::string(name(law)).c_str(), worst,
+                times.size());
     EXPECT_LT(worst, 1e-8) << name(law);
   }
 }
@@ -117,8 +117,7 @@ double max_deviation(const ModelSpec& spec, const Recovered& s) {
 struct Conservation {
   double drift = 0.0, largest_deviation = 0.0;
 };
-std::vector<Conservation> conservation(SpringLaw law, double k_min, double offset, double spin,
-                                       std::uint64_t seed) {
+std::vector<Conservation> conservation(SpringLaw law, double k_min, double offset, double spin, std::uint64_t seed) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   std::vector<double> times;
@@ -154,8 +153,8 @@ std::vector<Conservation> conservation(SpringLaw law, double k_min, double offse
       c.drift = std::max(c.drift, std::abs(s.energy.total() - e0.total()) / scale);
       c.largest_deviation = std::max(c.largest_deviation, max_deviation(spec, s));
     }
-    std::printf("%-16s n=%d  relative energy drift %.2e, largest deviation %.0f deg\n",
-                std::string(name(law)).c_str(), n, c.drift, c.largest_deviation * 180.0 / kPi);
+    std::printf("%-16s n=%d  relative energy drift %.2e, largest deviation %.0f deg\n", std::string(name(law)).c_str(),
+                n, c.drift, c.largest_deviation * 180.0 / kPi);
     out.push_back(c);
   }
   return out;

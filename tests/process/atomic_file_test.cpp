@@ -4,6 +4,7 @@
 // the directories' and fails them on demand.
 #include "process/atomic_file.hpp"
 
+#include <gtest/gtest.h>
 #include <sys/stat.h>
 #include <sys/syscall.h>
 #include <unistd.h>
@@ -11,8 +12,6 @@
 #include <cerrno>
 #include <filesystem>
 #include <string>
-
-#include <gtest/gtest.h>
 
 #include "support/command.hpp"
 
@@ -23,7 +22,7 @@ int directory_sync_error = 0;  // errno a directory's fsync fails with; 0: it su
 
 // Every fsync of the treedyn code linked into this binary comes here.
 extern "C" int fsync(int fd) {
-  struct stat st{};
+  struct stat st {};
   if (::fstat(fd, &st) == 0 && S_ISDIR(st.st_mode)) {
     ++directory_syncs;
     if (directory_sync_error != 0) {

@@ -1,8 +1,9 @@
 // One output, one owner (process/output_lock.*). fcntl locks belong to a
 // process, so every contender here is a child process (fork); each child
 // reports through its exit code and a file, never through timing.
-#include <gtest/gtest.h>
+#include "process/output_lock.hpp"
 
+#include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -13,14 +14,13 @@
 #include <string>
 
 #include "process/atomic_file.hpp"
-#include "process/output_lock.hpp"
 #include "support/command.hpp"
 
 namespace {
 
 using namespace treedyn::process;
-using treedyn::testing::TempDir;
 using treedyn::testing::read_text;
+using treedyn::testing::TempDir;
 namespace fs = std::filesystem;
 
 constexpr int kTook = 10, kRefused = 11, kOther = 12;

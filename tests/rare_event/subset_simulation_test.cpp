@@ -13,9 +13,8 @@
 // one treats the levels as uncorrelated).
 #include "rare_event/subset_simulation.hpp"
 
-#include <gtest/gtest.h>
-
 #include <boost/math/distributions/normal.hpp>
+#include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
@@ -41,7 +40,8 @@ Spread over_seeds(SubsetSettings s, unsigned dimensions, double (*g)(std::span<c
   Spread out;
   for (int k = 0; k < seeds; ++k) {
     s.seed = 1000 + static_cast<std::uint64_t>(k);
-    const SubsetResult r = subset_simulation(s, dimensions, [g](std::uint64_t, std::span<const double> u) { return g(u); });
+    const SubsetResult r =
+        subset_simulation(s, dimensions, [g](std::uint64_t, std::span<const double> u) { return g(u); });
     EXPECT_TRUE(r.reached_limit);
     // Every proposal is a run: N (1 + (1 - p0) m) for levels 0 .. m.
     EXPECT_EQ(r.runs, s.samples + (r.levels.size() - 1) * (s.samples - s.chains()));

@@ -19,9 +19,8 @@ namespace fs = std::filesystem;
 TempDir::TempDir(const std::string& tag) {
   std::random_device rd;
   for (int attempt = 0; attempt < 100; ++attempt) {
-    const fs::path p = fs::temp_directory_path() /
-                       ("treedyn_" + tag + "_" + std::to_string(getpid()) + "_" +
-                        std::to_string(rd()));
+    const fs::path p =
+        fs::temp_directory_path() / ("treedyn_" + tag + "_" + std::to_string(getpid()) + "_" + std::to_string(rd()));
     std::error_code ec;
     if (fs::create_directory(p, ec)) {
       path_ = p;
@@ -79,8 +78,8 @@ std::string launcher_environment(bool mpirun) {
   return "TMPDIR=" + quote(temp.path.string());
 }
 
-CommandResult run_command(const std::string& binary, const std::vector<std::string>& args,
-                          const fs::path& capture, const std::vector<std::string>& prefix) {
+CommandResult run_command(const std::string& binary, const std::vector<std::string>& args, const fs::path& capture,
+                          const std::vector<std::string>& prefix) {
   fs::create_directories(capture);
   const fs::path out = capture / "stdout.txt", err = capture / "stderr.txt";
   const bool mpirun = std::find(prefix.begin(), prefix.end(), std::string(TREEDYN_MPIEXEC)) != prefix.end();

@@ -53,8 +53,7 @@ std::string launcher_environment(bool mpirun);
 // removed again after reading: a test can give a directory of its own, so
 // the directories it inspects hold only what the binary writes.
 CommandResult run_command(const std::string& binary, const std::vector<std::string>& args,
-                          const std::filesystem::path& capture,
-                          const std::vector<std::string>& prefix = {});
+                          const std::filesystem::path& capture, const std::vector<std::string>& prefix = {});
 
 // The lines of `text` that start with `prefix` (without their newline): a
 // command's own messages among a launcher's.

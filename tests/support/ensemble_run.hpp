@@ -25,14 +25,10 @@ inline constexpr int kTimeoutSeconds = 120;
 // `mpirun --oversubscribe -np RANKS`; always under `timeout`. stdout and stderr
 // are captured in files under `capture` (not the output's directory, so that
 // directory holds only what the ensemble writes).
-inline CommandResult run_ensemble(int ranks, const std::filesystem::path& job,
-                                  const std::filesystem::path& output,
-                                  const std::filesystem::path& capture,
-                                  const std::vector<std::string>& extra = {}) {
+inline CommandResult run_ensemble(int ranks, const std::filesystem::path& job, const std::filesystem::path& output,
+                                  const std::filesystem::path& capture, const std::vector<std::string>& extra = {}) {
   std::vector<std::string> prefix = {"timeout", "-k", "10", std::to_string(kTimeoutSeconds)};
-  if (ranks > 0)
-    prefix.insert(prefix.end(),
-                  {TREEDYN_MPIEXEC, "--oversubscribe", "-np", std::to_string(ranks)});
+  if (ranks > 0) prefix.insert(prefix.end(), {TREEDYN_MPIEXEC, "--oversubscribe", "-np", std::to_string(ranks)});
   std::vector<std::string> args = {job.string(), "-o", output.string(), "-q"};
   args.insert(args.end(), extra.begin(), extra.end());
   return run_command(TREEDYN_ENSEMBLE_BINARY, args, capture, prefix);
@@ -61,10 +57,10 @@ inline std::string edited_job_text(const std::string& name,
 // rule that stops once that probability has a coefficient of variation of
 // 0.2, checked every 100 samples.
 inline std::string spin_exceedance_job(int samples, bool with_stop, const std::string& design = "monte_carlo") {
-  std::string text = edited_job_text("spherical_pendulum.toml",
-                                     {{"end_time = 10.0", "end_time = 0.05"},
-                                      {"samples = 64", "samples = " + std::to_string(samples)},
-                                      {"design = \"latin_hypercube\"", "design = \"" + design + "\""}});
+  std::string text =
+      edited_job_text("spherical_pendulum.toml", {{"end_time = 10.0", "end_time = 0.05"},
+                                                  {"samples = 64", "samples = " + std::to_string(samples)},
+                                                  {"design = \"latin_hypercube\"", "design = \"" + design + "\""}});
   text += R"(
 [[ensemble.response]]
 name = "spin0"
@@ -117,25 +113,29 @@ rtol = 1e-10
 atol = 1e-12
 
 [output]
-end_time = )" + std::string(end) + R"(
+end_time = )" +
+         std::string(end) + R"(
 step = 0.1
 quantities = ["energy"]
 
 [ensemble]
-)" + ensemble + "\n" + tables;
+)" + ensemble +
+         "\n" + tables;
 }
 
 // A normal perturbation of `target` with standard deviation `std`, and the
 // final total energy as a response with an optional limit (exceeded above).
 inline std::string normal_input(const std::string& target, double std) {
   char text[200];
-  std::snprintf(text, sizeof text, "\n[[ensemble.perturbation]]\ntarget = \"%s\"\ndistribution = \"normal\"\nstd = %.17g\n",
+  std::snprintf(text, sizeof text,
+                "\n[[ensemble.perturbation]]\ntarget = \"%s\"\ndistribution = \"normal\"\nstd = %.17g\n",
                 target.c_str(), std);
   return text;
 }
 inline std::string energy_response(const std::optional<double>& limit) {
-  std::string text = "\n[[ensemble.response]]\nname = \"energy\"\nquantity = \"energy\"\ncolumn = \"total\"\n"
-                     "reduce = \"final\"\n";
+  std::string text =
+      "\n[[ensemble.response]]\nname = \"energy\"\nquantity = \"energy\"\ncolumn = \"total\"\n"
+      "reduce = \"final\"\n";
   if (limit) {
     char value[64];
     std::snprintf(value, sizeof value, "%.17g", *limit);

@@ -28,8 +28,7 @@ hid_t open_dataset(hid_t file, const std::string& path) {
 // Every element of the dataset at `path` converted to `memory_type`; its
 // shape in `dims` when given.
 template <class T>
-std::vector<T> read_values(hid_t file, const std::string& path, hid_t memory_type,
-                           std::vector<hsize_t>* dims) {
+std::vector<T> read_values(hid_t file, const std::string& path, hid_t memory_type, std::vector<hsize_t>* dims) {
   std::vector<T> v;
   Hid set(open_dataset(file, path), H5Dclose);
   if (!set.ok()) return v;
@@ -42,8 +41,7 @@ std::vector<T> read_values(hid_t file, const std::string& path, hid_t memory_typ
 }
 
 // `of` names the object in the messages (" of /samples/inputs"), or is empty.
-std::vector<std::string> string_attribute(hid_t object, const std::string& name,
-                                          const std::string& of) {
+std::vector<std::string> string_attribute(hid_t object, const std::string& name, const std::string& of) {
   std::vector<std::string> out;
   Hid attr(H5Aopen(object, name.c_str(), H5P_DEFAULT), H5Aclose);
   if (!attr.ok()) {
@@ -176,8 +174,7 @@ RawDataset read_raw(hid_t file, const std::string& path) {
   if (d.type_class == H5T_INTEGER) d.sign = H5Tget_sign(native.get());
   const auto points = static_cast<std::size_t>(H5Sget_simple_extent_npoints(space.get()));
   d.bytes.assign(points * d.type_size, 0);
-  if (points > 0 &&
-      H5Dread(set.get(), native.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, d.bytes.data()) < 0)
+  if (points > 0 && H5Dread(set.get(), native.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, d.bytes.data()) < 0)
     ADD_FAILURE() << "cannot read dataset " << path;
   return d;
 }
@@ -206,16 +203,13 @@ std::vector<std::string> datasets_under(hid_t file, const std::string& group) {
   return out;
 }
 
-bool has_attribute(hid_t object, const std::string& name) {
-  return H5Aexists(object, name.c_str()) > 0;
-}
+bool has_attribute(hid_t object, const std::string& name) { return H5Aexists(object, name.c_str()) > 0; }
 
 std::vector<std::string> read_string_attribute(hid_t object, const std::string& name) {
   return string_attribute(object, name, "");
 }
 
-std::vector<std::string> read_string_attribute(hid_t file, const std::string& path,
-                                               const std::string& name) {
+std::vector<std::string> read_string_attribute(hid_t file, const std::string& path, const std::string& name) {
   Hid object(H5Oopen(file, path.c_str(), H5P_DEFAULT), H5Oclose);
   if (!object.ok()) {
     ADD_FAILURE() << "no object " << path;
@@ -251,13 +245,12 @@ std::vector<double> read_double_attribute(hid_t object, const std::string& name)
   return v;
 }
 
-void expect_identical_datasets(hid_t a, const std::string& a_name, hid_t b,
-                               const std::string& b_name, const std::vector<std::string>& groups) {
+void expect_identical_datasets(hid_t a, const std::string& a_name, hid_t b, const std::string& b_name,
+                               const std::vector<std::string>& groups) {
   std::size_t compared = 0, bytes = 0;
   for (const std::string& group : groups) {
     const auto list_a = datasets_under(a, group), list_b = datasets_under(b, group);
-    EXPECT_EQ(list_a, list_b) << "datasets under " << group << " differ between " << a_name
-                              << " and " << b_name;
+    EXPECT_EQ(list_a, list_b) << "datasets under " << group << " differ between " << a_name << " and " << b_name;
     EXPECT_FALSE(list_a.empty()) << group << " holds no datasets";
     for (const std::string& path : list_a) {
       if (std::find(list_b.begin(), list_b.end(), path) == list_b.end()) continue;
@@ -284,13 +277,11 @@ void expect_identical_datasets(hid_t a, const std::string& a_name, hid_t b,
         detail.precision(17);
         detail << ": " << u << " vs " << v;
       }
-      ADD_FAILURE() << path << " differs between " << a_name << " and " << b_name
-                    << " (first at flat element " << element << detail.str() << ")";
+      ADD_FAILURE() << path << " differs between " << a_name << " and " << b_name << " (first at flat element "
+                    << element << detail.str() << ")";
     }
   }
-  std::printf("  compared %zu datasets (%zu bytes) of %s with %s\n", compared, bytes,
-              b_name.c_str(), a_name.c_str());
+  std::printf("  compared %zu datasets (%zu bytes) of %s with %s\n", compared, bytes, b_name.c_str(), a_name.c_str());
 }
-
 
 }  // namespace treedyn::testing

@@ -90,8 +90,7 @@ bool has_attribute(hid_t object, const std::string& name);
 // Fixed-length string attribute (scalar or 1-D) as a list of strings.
 std::vector<std::string> read_string_attribute(hid_t object, const std::string& name);
 // ... of the object at `path` in `file`.
-std::vector<std::string> read_string_attribute(hid_t file, const std::string& path,
-                                               const std::string& name);
+std::vector<std::string> read_string_attribute(hid_t file, const std::string& path, const std::string& name);
 // A string attribute that must hold exactly one string.
 std::string read_single_string_attribute(hid_t object, const std::string& name);
 
@@ -100,7 +99,7 @@ std::vector<double> read_double_attribute(hid_t object, const std::string& name)
 
 // Byte-for-byte equality of every dataset under `groups`, and of the dataset
 // lists themselves (GoogleTest failures name the first differing element).
-void expect_identical_datasets(hid_t a, const std::string& a_name, hid_t b,
-                               const std::string& b_name, const std::vector<std::string>& groups);
+void expect_identical_datasets(hid_t a, const std::string& a_name, hid_t b, const std::string& b_name,
+                               const std::vector<std::string>& groups);
 
 }  // namespace treedyn::testing

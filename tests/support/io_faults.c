@@ -54,8 +54,7 @@ _Static_assert(sizeof(off_t) == sizeof(off64_t), "pwrite and pwrite64 take offse
 
 // TREEDYN_TEST_SLOW_WRITE: 5 ms more for a write into a matching path,
 // then the C library's function `name` (cached in `cache`).
-static ssize_t slowed_pwrite(void** cache, const char* name, int fd, const void* buffer, size_t count,
-                             off64_t offset) {
+static ssize_t slowed_pwrite(void** cache, const char* name, int fd, const void* buffer, size_t count, off64_t offset) {
   const int saved = errno;
   const char* slow = getenv("TREEDYN_TEST_SLOW_WRITE");
   char path[4097];
@@ -106,7 +105,9 @@ int fsync(int fd) {
     const int out = log != NULL ? open(log, O_WRONLY | O_APPEND | O_CREAT | O_CLOEXEC, 0644) : -1;
     if (out >= 0) {
       path[n] = '\n';
-      if (write(out, path, n + 1) < 0) { /* a test's log: nothing to do */ }
+      if (write(out, path, n + 1) < 0) {
+        /* a test's log: nothing to do */
+      }
       close(out);
     }
   }

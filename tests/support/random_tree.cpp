@@ -18,15 +18,12 @@ Vec3 random_vector(std::mt19937_64& rng, double scale) {
 }
 
 ModelSpec random_tree(std::mt19937_64& rng, const RandomTreeOptions& options) {
-  std::uniform_real_distribution<double> mass(0.5, 2.0), moment(0.05, 0.4), len(0.1, 0.6),
-      unit(0.0, 1.0);
+  std::uniform_real_distribution<double> mass(0.5, 2.0), moment(0.05, 0.4), len(0.1, 0.6), unit(0.0, 1.0);
   const int n = options.bodies;
   ModelSpec spec;
   std::vector<int> parent(n, -1);
   for (int i = 1; i < n; ++i)
-    parent[i] = options.chain  ? i - 1
-                : options.star ? 0
-                               : std::uniform_int_distribution<int>(0, i - 1)(rng);
+    parent[i] = options.chain ? i - 1 : options.star ? 0 : std::uniform_int_distribution<int>(0, i - 1)(rng);
   std::vector<int> order(n);
   std::iota(order.begin(), order.end(), 0);
   if (options.shuffle_order) std::shuffle(order.begin(), order.end(), rng);
@@ -49,8 +46,7 @@ ModelSpec random_tree(std::mt19937_64& rng, const RandomTreeOptions& options) {
     j.on_parent = parent[k] < 0 ? Vec3::Zero() : Vec3(random_vector(rng, 1.0).normalized() * len(rng));
     if (options.spring_stiffness > 0.0)
       j.spring.stiffness = options.spring_stiffness * (0.5 + unit(rng)) * Mat3::Identity();
-    if (options.spring_damping > 0.0)
-      j.spring.damping = options.spring_damping * (0.5 + unit(rng)) * Mat3::Identity();
+    if (options.spring_damping > 0.0) j.spring.damping = options.spring_damping * (0.5 + unit(rng)) * Mat3::Identity();
     spec.joints.push_back(j);
   }
   return spec;
@@ -65,8 +61,6 @@ InitialState random_state(std::mt19937_64& rng, int bodies, double spin) {
   return s;
 }
 
-double rotation_distance(const Mat3& A, const Mat3& B) {
-  return Eigen::AngleAxisd(Mat3(A.transpose() * B)).angle();
-}
+double rotation_distance(const Mat3& A, const Mat3& B) { return Eigen::AngleAxisd(Mat3(A.transpose() * B)).angle(); }
 
 }  // namespace treedyn::testing
