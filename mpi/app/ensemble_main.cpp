@@ -6,10 +6,10 @@
 #include <iostream>
 
 #include "app/command_errors.hpp"
-#include "app/exit_codes.hpp"
 #include "app/merge_parts.hpp"
 #include "app/model_summary.hpp"
 #include "app/rerun_sample.hpp"
+#include "common/exit_codes.hpp"
 #include "ensemble/capacity.hpp"
 #include "hdf5/hdf5.hpp"
 #include "job/ensemble_spec.hpp"

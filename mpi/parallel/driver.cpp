@@ -6,7 +6,7 @@
 #include <new>
 #include <sstream>
 
-#include "app/exit_codes.hpp"
+#include "common/exit_codes.hpp"
 #include "job/job_error.hpp"
 #include "job/sample_job.hpp"
 #include "parallel/collectives.hpp"

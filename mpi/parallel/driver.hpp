@@ -1,6 +1,6 @@
 // The ensemble run. Every rank, rank 0 included, integrates samples; rank 0
 // also writes the file. run_ensemble() is one pipeline of phases, below in
-// the order they run; each returns an exit code (app/exit_codes.hpp) that is
+// the order they run; each returns an exit code (common/exit_codes.hpp) that is
 // the same on every rank, kExitOk to go on:
 //
 //   read_job         rank 0 reads the job file once and sends its text; every

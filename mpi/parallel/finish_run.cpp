@@ -11,7 +11,7 @@
 
 #include "analysis/digest.hpp"
 #include "analysis/subset_replay.hpp"
-#include "app/exit_codes.hpp"
+#include "common/exit_codes.hpp"
 #include "parallel/collectives.hpp"
 #include "parallel/driver.hpp"
 #include "parallel/statistics_reduce.hpp"

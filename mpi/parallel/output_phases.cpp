@@ -4,7 +4,7 @@
 #include <filesystem>
 #include <iostream>
 
-#include "app/exit_codes.hpp"
+#include "common/exit_codes.hpp"
 #include "hdf5/read_file.hpp"
 #include "parallel/collectives.hpp"
 #include "parallel/driver.hpp"

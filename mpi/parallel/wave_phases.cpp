@@ -10,7 +10,7 @@
 #include <thread>
 
 #include "analysis/subset_replay.hpp"
-#include "app/exit_codes.hpp"
+#include "common/exit_codes.hpp"
 #include "ensemble/capacity.hpp"
 #include "parallel/collectives.hpp"
 #include "parallel/driver.hpp"

@@ -3,7 +3,7 @@
 #include <iostream>
 #include <new>
 
-#include "app/exit_codes.hpp"
+#include "common/exit_codes.hpp"
 #include "job/job_error.hpp"
 #include "process/atomic_file.hpp"
 

@@ -9,7 +9,7 @@
 #include <numeric>
 #include <optional>
 
-#include "app/exit_codes.hpp"
+#include "common/exit_codes.hpp"
 #include "ensemble/index_ranges.hpp"
 #include "ensemble/sample_runner.hpp"
 #include "hdf5/ensemble_file.hpp"

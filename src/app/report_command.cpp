@@ -16,7 +16,7 @@
 #include "analysis/answers.hpp"
 #include "analysis/digest.hpp"
 #include "analysis/subset_replay.hpp"
-#include "app/exit_codes.hpp"
+#include "common/exit_codes.hpp"
 #include "hdf5/read_file.hpp"
 #include "job/ensemble_spec.hpp"
 #include "job/job_error.hpp"

@@ -6,9 +6,9 @@
 
 #include "analysis/subset_replay.hpp"
 #include "app/command_errors.hpp"
-#include "app/exit_codes.hpp"
 #include "app/run_trajectory.hpp"
 #include "common/error.hpp"
+#include "common/exit_codes.hpp"
 #include "ensemble/sample_runner.hpp"
 #include "hdf5/read_file.hpp"
 #include "job/ensemble_spec.hpp"

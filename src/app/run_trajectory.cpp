@@ -5,8 +5,8 @@
 #include <optional>
 #include <string>
 
-#include "app/exit_codes.hpp"
 #include "app/model_summary.hpp"
+#include "common/exit_codes.hpp"
 #include "common/format.hpp"
 #include "output/recorder.hpp"
 #include "process/atomic_file.hpp"

@@ -9,7 +9,7 @@
 
 namespace treedyn {
 
-// Returns the exit code (app/exit_codes.hpp). Throws h5::IoError.
+// Returns the exit code (common/exit_codes.hpp). Throws h5::IoError.
 int run_trajectory(const Job& job, const Model& model, const InitialState& initial, const std::string& output_path,
                    bool quiet, const RunProvenance& run, const SampleOrigin* sample = nullptr);
 

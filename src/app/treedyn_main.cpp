@@ -5,10 +5,10 @@
 #include <iostream>
 
 #include "app/command_errors.hpp"
-#include "app/exit_codes.hpp"
 #include "app/model_summary.hpp"
 #include "app/report_command.hpp"
 #include "app/run_trajectory.hpp"
+#include "common/exit_codes.hpp"
 #include "hdf5/hdf5.hpp"
 #include "job/job.hpp"
 #include "job/sample_job.hpp"
