@@ -116,7 +116,7 @@ std::string stop_reason_of(const EnsembleRun& run, const rare_event::SubsetResul
     const std::string levels = std::to_string(rare->levels.size() - 1);
     if (rare->no_threshold)
       return "subset simulation: level " + levels +
-             " has no threshold (more than N (1 - p0) of its runs failed, "
+             " has no threshold (N (1 - p0) or more of its runs failed, "
              "or its responses pile up at one value); the estimate counts that level's exceedances";
     return rare->reached_limit ? "subset simulation: the threshold reached the limit at level " + levels
                                : "subset simulation: max_levels (" + levels +

@@ -222,7 +222,7 @@ void print_rare_event(std::ostream& out, const EnsembleSpec& spec, const RareEve
         << number((1.0 - result.probability) / (result.probability * result.cov * result.cov), "%.3g")
         << " runs for the same cov\n";
   if (result.no_threshold)
-    out << "  warning: the last level has no threshold (more than N (1 - p0) of its runs failed, or its responses "
+    out << "  warning: the last level has no threshold (N (1 - p0) or more of its runs failed, or its responses "
            "pile up at one value): the estimate counts that level's exceedances and may be far off; see "
            "/samples/status and /samples/reason\n";
   else if (!result.reached_limit)

@@ -208,7 +208,7 @@ LevelClose close_level(const SubsetSettings& s, int level, const LevelStates& st
   };
   LevelClose close;
   close.reached_limit = next >= s.limit;
-  // No threshold: more than N (1 - p0) runs failed (NaN sorts last), or the
+  // No threshold: N (1 - p0) or more runs failed (NaN sorts last), or the
   // responses pile up at the level's largest value; the simulation ends here.
   close.no_threshold = std::isnan(next) || (piled && count_beyond(next) == 0);
   close.last = close.reached_limit || close.no_threshold || level >= s.max_levels;

@@ -107,7 +107,7 @@ struct LevelSummary {
 // What a level's states give: its summary, whether it is the last, and the
 // next level's seeds (positions in the level's states, in the order chains
 // take them) and spreads s_i.
-// The proposal's spreads s_i = lambda min(1, sigma_i): sigma_i the seeds'
+// The proposal's spreads s_i = lambda clamp(sigma_i, 0.1, 1): sigma_i the seeds'
 // standard deviation in component i, lambda in (0, 1] adapted from level to
 // level towards an acceptance rate of 0.44 (never inside a level).
 struct Spread {
@@ -119,7 +119,7 @@ struct LevelClose {
   LevelSummary summary;
   bool last = false;
   bool reached_limit = false;        // the threshold reached b (else max_levels ran out)
-  bool no_threshold = false;         // more than N (1 - p0) runs failed, or the responses pile up: none exists
+  bool no_threshold = false;         // N (1 - p0) or more runs failed, or the responses pile up: none exists
   std::vector<std::uint64_t> seeds;  // positions in the level's states
   Spread spread;                     // for the next level's chains
 };

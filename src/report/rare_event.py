@@ -15,7 +15,7 @@ def rare_event_answer(f, page):
     for name, g in f["rare_event"].items():
         answer_table(page, name, g)
         if int(g.attrs.get("no_threshold", 0)):
-            page.note("The last level has no threshold (more than N (1 - p0) of its runs failed, or its responses "
+            page.note("The last level has no threshold (N (1 - p0) or more of its runs failed, or its responses "
                       "pile up at one value): the estimate counts that level's exceedances and may be far off; see "
                       "'Failed samples'.", "alarm")
 

@@ -160,8 +160,8 @@ TEST(SubsetSimulation, SettingsThatCannotFormChainsAreRefused) {
 namespace treedyn::rare_event {
 namespace {
 
-// Failed runs (NaN responses) are never beyond a threshold; when more than
-// N (1 - p0) of a level's runs fail there is no threshold, and the
+// Failed runs (NaN responses) are never beyond a threshold; when N (1 - p0)
+// or more of a level's runs fail there is no threshold, and the
 // simulation ends there and says so instead of chaining on NaN.
 TEST(SubsetSimulation, FailedRunsNeverExceedAndTooManyEndTheSimulation) {
   SubsetSettings s = settings(3.0);
@@ -182,6 +182,21 @@ TEST(SubsetSimulation, FailedRunsNeverExceedAndTooManyEndTheSimulation) {
   EXPECT_FALSE(some.no_threshold);
   EXPECT_TRUE(some.reached_limit);
   EXPECT_GT(some.levels[0].failed_runs, 0u);
+}
+
+// The edge, as the messages state it: exactly N (1 - p0) failed runs of
+// level 0 leave N p0 states, and no run between them and the failed ones to
+// put a threshold midway: none exists. One fewer, and the levels go on.
+TEST(SubsetSimulation, ExactlyNTimesOneMinusP0FailedRunsLeaveNoThreshold) {
+  const SubsetSettings s = settings(3.0);
+  const std::uint64_t fail = s.samples - s.chains();  // N (1 - p0) = 900
+  for (const std::uint64_t failing : {fail, fail - 1}) {
+    const SubsetResult r = subset_simulation(s, 2, [&](std::uint64_t k, std::span<const double> u) {
+      return k < failing ? std::numeric_limits<double>::quiet_NaN() : linear(u);
+    });
+    ASSERT_EQ(r.levels[0].failed_runs, failing);
+    EXPECT_EQ(r.no_threshold, failing == fail) << failing << " failed runs";
+  }
 }
 
 }  // namespace
