@@ -365,43 +365,42 @@ run_script "$array" "${task_env[@]}" "${array_env[@]}" SLURM_ARRAY_TASK_ID=0 SLU
 expect_exit 0
 expect_call '^sbatch .*afterok:3100'
 
+# An earlier array 3000's merge, job 4100, kept in PARTS/P/merge.job and in
+# the queue as STATE (REASON).
+earlier_merge() {
+  mkdir -p "$case_dir/submit/job_parts/$1"
+  echo "4100 3000" > "$case_dir/submit/job_parts/$1/merge.job"
+  queue_job 4100 T="$2" r="$3"
+}
+# Array task 0 of a 4-task array: ENV... -- ARGS... (the fake binary added).
+run_task0() {
+  run_script "$array" "${task_env[@]}" "${array_env[@]}" SLURM_ARRAY_TASK_ID=0 "$@" TREEDYN="$fake_bin/treedyn-ensemble"
+}
+
 new_case "a resubmitted array cancels the cancelled array's merge (DependencyNeverSatisfied)"
-mkdir -p "$case_dir/submit/job_parts/4"
-echo "4100 3000" > "$case_dir/submit/job_parts/4/merge.job"
-queue_job 4100 T=PENDING r=DependencyNeverSatisfied
-run_script "$array" "${task_env[@]}" "${array_env[@]}" SLURM_ARRAY_TASK_ID=0 -- job.toml MERGE=1 \
-  TREEDYN="$fake_bin/treedyn-ensemble"
+earlier_merge 4 PENDING DependencyNeverSatisfied
+run_task0 -- job.toml MERGE=1
 expect_exit 0
 expect_call '^scancel 4100$'
 expect_stderr 'cancelled job 4100, the merge of the earlier array 3000 \(DependencyNeverSatisfied\)'
 expect_file "$case_dir/submit/job_parts/4/merge.job" "4242 3100"
 
 new_case "an earlier merge of another task count is found too; MERGE=0 leaves it alone"
-mkdir -p "$case_dir/submit/job_parts/8"
-echo "4100 3000" > "$case_dir/submit/job_parts/8/merge.job"
-queue_job 4100 T=PENDING r=DependencyNeverSatisfied
-run_script "$array" "${task_env[@]}" "${array_env[@]}" SLURM_ARRAY_TASK_ID=0 -- job.toml \
-  TREEDYN="$fake_bin/treedyn-ensemble"
+earlier_merge 8 PENDING DependencyNeverSatisfied
+run_task0 -- job.toml
 expect_no_call '^scancel'
-run_script "$array" "${task_env[@]}" "${array_env[@]}" SLURM_ARRAY_TASK_ID=0 -- job.toml MERGE=1 \
-  TREEDYN="$fake_bin/treedyn-ensemble"
+run_task0 -- job.toml MERGE=1
 expect_call '^scancel 4100$'
 
 new_case "an earlier merge that cannot be cancelled is named"
-mkdir -p "$case_dir/submit/job_parts/4"
-echo "4100 3000" > "$case_dir/submit/job_parts/4/merge.job"
-queue_job 4100 T=PENDING r=DependencyNeverSatisfied
-run_script "$array" "${task_env[@]}" "${array_env[@]}" SLURM_ARRAY_TASK_ID=0 FAKE_SCANCEL_EXIT=1 -- job.toml MERGE=1 \
-  TREEDYN="$fake_bin/treedyn-ensemble"
+earlier_merge 4 PENDING DependencyNeverSatisfied
+run_task0 FAKE_SCANCEL_EXIT=1 -- job.toml MERGE=1
 expect_exit 0
 expect_stderr 'job 4100, the merge of the earlier array 3000, waits forever \(DependencyNeverSatisfied\): cancel it with scancel 4100'
 
 new_case "an earlier merge still waiting on a live array is named, not cancelled"
-mkdir -p "$case_dir/submit/job_parts/4"
-echo "4100 3000" > "$case_dir/submit/job_parts/4/merge.job"
-queue_job 4100 T=PENDING r=Dependency
-run_script "$array" "${task_env[@]}" "${array_env[@]}" SLURM_ARRAY_TASK_ID=0 -- job.toml MERGE=1 \
-  TREEDYN="$fake_bin/treedyn-ensemble"
+earlier_merge 4 PENDING Dependency
+run_task0 -- job.toml MERGE=1
 expect_exit 0
 expect_no_call '^scancel'
 expect_stderr 'job 4100, the merge of the earlier array 3000, is still queued \(PENDING, Dependency\).*scancel 4100'
