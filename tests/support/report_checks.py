@@ -26,6 +26,15 @@ import h5py
 import numpy as np
 
 
+def verdict(bad, ok):
+    """Each problem on a line of its own, else the `ok` line; the exit code."""
+    for b in bad:
+        print(b)
+    if not bad:
+        print(ok)
+    return 1 if bad else 0
+
+
 def pngs(directory):
     import matplotlib
     matplotlib.use("Agg")
@@ -43,11 +52,7 @@ def pngs(directory):
             bad.append(f"{name}: blank")
     if not names:
         bad.append("index.html references no figure")
-    for b in bad:
-        print(b)
-    if not bad:
-        print(f"ok {len(names)} figures")
-    return 1 if bad else 0
+    return verdict(bad, f"ok {len(names)} figures")
 
 
 def strings(path):
@@ -67,11 +72,7 @@ def strings(path):
     with h5py.File(path, "r") as f:
         attributes("", f)
         f.visititems(attributes)
-    for b in bad:
-        print(b)
-    if not bad:
-        print("ok strings")
-    return 1 if bad else 0
+    return verdict(bad, "ok strings")
 
 
 def rotate(q, v):
@@ -118,11 +119,7 @@ def motion(path, directory):
             if not np.allclose(np.array(data["runs"][0]["pose"]), pose[rows], atol=1e-6):
                 bad.append("the view's poses are not the file's")
             bad += bounds_problems(data, m, q[rows], c)
-    for b in bad:
-        print(b)
-    if not bad:
-        print(f"ok motion of {n} bodies at {pose.shape[0]} times")
-    return 1 if bad else 0
+    return verdict(bad, f"ok motion of {n} bodies at {pose.shape[0]} times")
 
 
 def surface_points(shape, d):
@@ -226,12 +223,10 @@ def view(directory):
                 seen.append(found)
         if len(seen) == 2 and seen[0][3] == seen[1][3]:
             bad.append("the canvas is the same at two frames")
-    for b in bad:
-        print(b)
-    if not bad:
-        print("ok view: " + "; ".join(f"frame {s[0]:.0f} drew {s[1]:.0f} of {s[2]:.0f} pixels, a second at "
-                                      f"{s[5]:g}x reaches t = {s[6]:g} s" for s in seen))
-    return 1 if bad else 0
+    if bad:
+        return verdict(bad, "")
+    return verdict(bad, "ok view: " + "; ".join(f"frame {s[0]:.0f} drew {s[1]:.0f} of {s[2]:.0f} pixels, a second "
+                                                f"at {s[5]:g}x reaches t = {s[6]:g} s" for s in seen))
 
 
 def xdmf(xmf, path):
@@ -267,11 +262,7 @@ def xdmf(xmf, path):
         if not np.array_equal(geometry._read_data_item(grid.find("Geometry/DataItem")), points[k]):
             bad.append(f"step {k}: the geometry is not /motion/points[{k}]")
             break
-    for b in bad:
-        print(b)
-    if not bad:
-        print(f"ok xdmf: {t.size} steps of {points.shape[1]} points and {segments.shape[0]} poly-lines")
-    return 1 if bad else 0
+    return verdict(bad, f"ok xdmf: {t.size} steps of {points.shape[1]} points and {segments.shape[0]} poly-lines")
 
 
 def paraview_reader(xmf, path, name):
@@ -294,11 +285,7 @@ def paraview_reader(xmf, path, name):
             bad.append(f"{name}: t = {tk:g}: {d.GetNumberOfPoints()} points, {d.GetNumberOfCells()} lines, not "
                        "/motion's")
             break
-    for b in bad:
-        print(b)
-    if not bad:
-        print(f"ok {name}: {times.size} time steps of {points.shape[1]} points and {segments.shape[0]} lines")
-    return 1 if bad else 0
+    return verdict(bad, f"ok {name}: {times.size} time steps of {points.shape[1]} points and {segments.shape[0]} lines")
 
 
 def paraview(xmf, path):
