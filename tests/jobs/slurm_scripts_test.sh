@@ -444,6 +444,16 @@ if [ -n "$real_binary" ] && [ -x "$real_binary" ] && [ -n "$real_mpirun" ] && co
   export_root=(ASAN_OPTIONS=detect_leaks=0:abort_on_error=1)
   if [ "$(id -u)" = 0 ]; then export_root+=(OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1); fi
   mpirun_dir=$(dirname "$(command -v "$real_mpirun")")
+  # Open MPI 4.1's mpirun passes on what the ranks print after it ended the
+  # job (outside an allocation); Open MPI 5's does not (docs/cluster.md).
+  ompi_major=$("$real_mpirun" --version 2>/dev/null | sed -n 's/.*Open MPI) \([0-9]*\)\..*/\1/p' | head -n 1)
+  # FILE SIGNALS: rank 0's line of a clean stop (by one of SIGNALS, a regex)
+  # in OUT.checkpoint/stopped, and, where mpirun passes it on, on stderr.
+  expect_clean_stop() {
+    local line="^interrupted by SIG($2) after [0-9]+ of 20000 samples; resume with --resume"
+    if grep -Eq "$line" "$1" 2> /dev/null; then pass; else failed "no marker of the clean stop in $1"; fi
+    if [ "$ompi_major" = 4 ]; then expect_stderr "$line"; fi
+  }
   # A run of 20000 samples lasts long enough to be stopped after its pilot.
   real_case() {
     new_case "$1"
@@ -454,7 +464,7 @@ if [ -n "$real_binary" ] && [ -x "$real_binary" ] && [ -n "$real_mpirun" ] && co
   real_env=(SLURM_JOB_ID=3101 SLURM_JOBID=3101 SLURM_NTASKS=2 SLURM_NODELIST="$(hostname)" SLURM_TASKS_PER_NODE=2
     SLURM_JOB_NUM_NODES=1 "${export_root[@]}" PATH="$fake_slurm:$mpirun_dir:/usr/bin:/bin")
 
-  real_case "real mpirun, SIGTERM to mpirun alone: mpirun exits 1, rank 0's line appears"
+  real_case "real mpirun, SIGTERM to mpirun alone: mpirun exits 1, rank 0's line in the marker (and shown by Open MPI 4.1)"
   (cd "$case_dir/submit" && exec env "${export_root[@]}" "$real_mpirun" -np 2 "$real_binary" job.toml -o out.h5 -q \
     2> "$case_dir/stderr") &
   script_pid=$!
@@ -462,9 +472,11 @@ if [ -n "$real_binary" ] && [ -x "$real_binary" ] && [ -n "$real_mpirun" ] && co
   kill -TERM "$script_pid"
   finish_script
   expect_exit 1
-  expect_stderr '^interrupted by SIGTERM after [0-9]+ of 20000 samples; resume with --resume'
+  expect_clean_stop "$case_dir/submit/out.h5.checkpoint/stopped" TERM
 
-  # Outside an allocation mpirun passes on rank 0's line after it ended the job.
+  # Outside an allocation Open MPI 4.1's mpirun passes on rank 0's line
+  # after it ended the job; Open MPI 5's does not, and the script reads the
+  # marker.
   real_case "real mpirun under the script, Ctrl-C at its terminal (SIGINT to its process group), no Slurm: exit 5"
   start_script "$single" "${export_root[@]}" PATH="$fake_slurm:$mpirun_dir:/usr/bin:/bin" -- job.toml LAUNCH=mpirun \
     TREEDYN="$real_binary"
@@ -472,7 +484,7 @@ if [ -n "$real_binary" ] && [ -x "$real_binary" ] && [ -n "$real_mpirun" ] && co
   kill -INT -- "-$script_pid"
   finish_script
   expect_exit 5
-  expect_stderr '^interrupted by SIG(TERM|USR1|INT) after [0-9]+ of 20000 samples; resume with --resume'
+  expect_clean_stop "$case_dir/submit/job_ensemble.h5.checkpoint/stopped" 'TERM|USR1|INT'
   expect_stderr 'mpirun exited 1 after ending the job itself, but rank 0 reported a clean stop: exit 5'
 
   # In an allocation it does not (Open MPI 4.1: measured); then the script
@@ -484,7 +496,7 @@ if [ -n "$real_binary" ] && [ -x "$real_binary" ] && [ -n "$real_mpirun" ] && co
   finish_script
   expect_exit 5
   expect_stderr 'mpirun exited 1 after ending the job itself, but rank 0 reported a clean stop: exit 5'
-  if grep -q '^interrupted by SIG[A-Z0-9]* after [0-9]* of 20000 samples' \
+  if grep -Eq '^interrupted by SIG[A-Z0-9]+ after [0-9]+ of 20000 samples' \
       "$case_dir/submit/job_ensemble.h5.checkpoint/stopped"; then pass; else failed "no marker of the clean stop"; fi
   expect_no_call '^scontrol'
 
