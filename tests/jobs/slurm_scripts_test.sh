@@ -454,6 +454,25 @@ if [ -n "$real_binary" ] && [ -x "$real_binary" ] && [ -n "$real_mpirun" ] && co
     if grep -Eq "$line" "$1" 2> /dev/null; then pass; else failed "no marker of the clean stop in $1"; fi
     if [ "$ompi_major" = 4 ]; then expect_stderr "$line"; fi
   }
+  # MARKER CLEAN SIGNALS: a stop through mpirun ends with rank 0's marker
+  # and exit CLEAN (5 from the script, which says why; 1 from mpirun alone).
+  # Open MPI 5's mpirun SIGKILLs the ranks 0.25 s after its SIGTERM, a fixed
+  # delay (docs/cluster.md), which can cut a slow (sanitized, loaded) rank
+  # 0's save and the marker with it: then exit 1, and no clean stop claimed,
+  # is the right answer.
+  expect_stop() {
+    if [ "$ompi_major" != 4 ] && [ ! -f "$1" ]; then
+      expect_exit 1
+      if grep -q 'reported a clean stop' "$case_dir/stderr"; then failed "a clean stop claimed without the marker"; else pass; fi
+      echo "note: [$case_name] Open MPI $ompi_major's SIGKILL cut rank 0's save: no marker, exit 1"
+      return
+    fi
+    expect_exit "$2"
+    expect_clean_stop "$1" "$3"
+    if [ "$2" = 5 ]; then
+      expect_stderr 'mpirun exited 1 after ending the job itself, but rank 0 reported a clean stop: exit 5'
+    fi
+  }
   # A run of 20000 samples lasts long enough to be stopped after its pilot.
   real_case() {
     new_case "$1"
@@ -471,8 +490,7 @@ if [ -n "$real_binary" ] && [ -x "$real_binary" ] && [ -n "$real_mpirun" ] && co
   wait_for "$case_dir/submit/out.h5.checkpoint/common.state"
   kill -TERM "$script_pid"
   finish_script
-  expect_exit 1
-  expect_clean_stop "$case_dir/submit/out.h5.checkpoint/stopped" TERM
+  expect_stop "$case_dir/submit/out.h5.checkpoint/stopped" 1 TERM
 
   # Outside an allocation Open MPI 4.1's mpirun passes on rank 0's line
   # after it ended the job; Open MPI 5's does not, and the script reads the
@@ -483,9 +501,7 @@ if [ -n "$real_binary" ] && [ -x "$real_binary" ] && [ -n "$real_mpirun" ] && co
   wait_for "$case_dir/submit/job_ensemble.h5.checkpoint/common.state"
   kill -INT -- "-$script_pid"
   finish_script
-  expect_exit 5
-  expect_clean_stop "$case_dir/submit/job_ensemble.h5.checkpoint/stopped" 'TERM|USR1|INT'
-  expect_stderr 'mpirun exited 1 after ending the job itself, but rank 0 reported a clean stop: exit 5'
+  expect_stop "$case_dir/submit/job_ensemble.h5.checkpoint/stopped" 5 'TERM|USR1|INT'
 
   # In an allocation it does not (Open MPI 4.1: measured); then the script
   # needs rank 0's line in OUT.checkpoint/stopped.
@@ -494,10 +510,7 @@ if [ -n "$real_binary" ] && [ -x "$real_binary" ] && [ -n "$real_mpirun" ] && co
   wait_for "$case_dir/submit/job_ensemble.h5.checkpoint/common.state"
   signal_job TERM
   finish_script
-  expect_exit 5
-  expect_stderr 'mpirun exited 1 after ending the job itself, but rank 0 reported a clean stop: exit 5'
-  if grep -Eq '^interrupted by SIG[A-Z0-9]+ after [0-9]+ of 20000 samples' \
-      "$case_dir/submit/job_ensemble.h5.checkpoint/stopped"; then pass; else failed "no marker of the clean stop"; fi
+  expect_stop "$case_dir/submit/job_ensemble.h5.checkpoint/stopped" 5 'TERM|USR1|INT'
   expect_no_call '^scontrol'
 
   real_case "real mpirun under the script, time limit (SIGUSR1 to the script): exit 5, requeued"
