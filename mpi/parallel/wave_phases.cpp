@@ -433,7 +433,6 @@ int run_waves(EnsembleRun& run) {
 
 namespace {
 
-// Rank 0: the temporary output removed, and what a resume will find.
 // The clean stop's line, also as DIR/stopped: a launcher that ends the job
 // itself (mpirun on Ctrl-C, SIGTERM; Open MPI 5's in every case) exits 1
 // and may not pass the line on, so a batch script tells a clean stop by this
@@ -447,6 +446,7 @@ void write_stopped_marker(const EnsembleRun& run, const std::string& line) {
   }
 }
 
+// Rank 0: the temporary output removed, and what a resume will find.
 void report_interruption(EnsembleRun& run, bool resumable, bool all_saved, std::uint64_t kept, int signal_number) {
   run.records->finish_progress();
   run.writer.reset();  // removes the temporary output

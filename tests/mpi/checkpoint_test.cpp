@@ -425,6 +425,30 @@ TEST_F(Checkpoint, KillNineOfMpirunOrOfOneRankThenResumeOnOtherRankCountsIsBitwi
   }
 }
 
+// The clean stop's marker cannot be written (its rename fails with EIO,
+// tests/support/io_faults.c): the stop is still clean (exit 5, the line
+// printed), a warning names the marker, nothing of it is left in the
+// checkpoint, and --resume gives the uninterrupted run's bits.
+TEST_F(Checkpoint, AStopMarkerThatCannotBeWrittenIsAWarningAndTheStopStaysClean) {
+  const fs::path out = fresh_output("unmarked_stop");
+  const fs::path ckpt = out.string() + ".checkpoint";
+  {
+    Launch launch = held_run(2, kRarely, 2);
+    launch.environment = io_faults(dir_.path() / "fsyncs_unmarked", ckpt / "stopped");
+    Background run(job_, out, launch, dir_.path() / "capture_unmarked");
+    await_held(ckpt, 2, run);
+    ::kill(run.pid(), SIGUSR1);
+    EXPECT_EQ(run.wait(), 5) << run.err();
+    EXPECT_NE(run.err().find("interrupted by SIGUSR1 after "), std::string::npos) << run.err();
+    EXPECT_NE(run.err().find("(the marker of a clean stop)"), std::string::npos) << run.err();
+    EXPECT_NE(run.err().find("warning: "), std::string::npos) << run.err();
+  }
+  for (const std::string& name : listing(ckpt)) EXPECT_EQ(name.find("stopped"), std::string::npos) << name;
+  const auto resumed = run_ensemble(2, job_, out, dir_.path() / "capture", {"--resume"});
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  expect_like_reference(out, "resumed after a stop whose marker could not be written");
+}
+
 // One output, one owner: while a run holds its output (held 2 samples past
 // the pilot), a second run on it, alone and on 2 ranks, with and without
 // --resume, is refused at once (exit 2) naming the first's rank 0 and
