@@ -19,10 +19,13 @@ constexpr std::size_t kFailureShown = 3;  // inputs on a "what makes it exceed" 
 
 std::string clipped(double v) { return number(std::clamp(v, 0.0, 1.0), "%.2g"); }
 
-// "name 0.84 [0.61, 0.97]": an index with its interval, shown within [0, 1].
-std::string index_text(const std::string& name, double v, const double* ci) {
-  std::string t = name + " " + number(v, "%.2g");
-  if (ci && std::isfinite(ci[0])) t += " [" + clipped(ci[0]) + ", " + clipped(ci[1]) + "]";
+// "name 0.84 [0.61, 0.97]": an index with its interval, shown within [0, 1]
+// (`index`), or a measure with its interval as it is.
+std::string index_text(const std::string& name, double v, const double* ci, bool index) {
+  std::string t = name + " " + number(v, index ? "%.2g" : "%.3g");
+  if (ci && std::isfinite(ci[0]))
+    t += " [" + (index ? clipped(ci[0]) : number(ci[0], "%.3g")) + ", " +
+         (index ? clipped(ci[1]) : number(ci[1], "%.3g")) + "]";
   return t;
 }
 
@@ -34,7 +37,7 @@ std::string index_text(const std::string& name, double v, const double* ci) {
 // between them in the full order is told apart, "~" where none is yet.
 void print_ranking(std::ostream& out, const std::vector<std::string>& names, const Ranking& ranking,
                    const std::vector<double>& measure, const std::vector<double>* ci, const char* samples_word,
-                   const std::vector<bool>& hidden = {}) {
+                   const std::vector<bool>& hidden = {}, bool indices = true) {
   std::vector<std::size_t> places;  // places in ranking.order of the units shown
   for (std::size_t k = 0; k < ranking.order.size(); ++k)
     if (hidden.empty() || !hidden[ranking.order[k]]) places.push_back(k);
@@ -50,7 +53,7 @@ void print_ranking(std::ostream& out, const std::vector<std::string>& names, con
         pending = "about " + number(ranking.needed[places[s - 1]], "%.0f") + " " + samples_word + " would tell " +
                   names[ranking.order[places[s - 1]]] + " from " + names[u];
     }
-    out << index_text(names[u], measure[u], ci ? ci->data() + 2 * u : nullptr);
+    out << index_text(names[u], measure[u], ci ? ci->data() + 2 * u : nullptr, indices);
   }
   if (places.size() > shown) out << " (and " << places.size() - shown << " more)";
   if (places.size() < ranking.order.size())
@@ -60,7 +63,8 @@ void print_ranking(std::ostream& out, const std::vector<std::string>& names, con
     out << "      no bootstrap intervals: the order above is the point estimates' alone\n";
   else if (!pending.empty())
     out << "      ~: not told apart yet (95 % bootstrap interval of the difference holds 0); " << pending << "\n";
-  if (ci && std::any_of(places.begin(), places.begin() + static_cast<std::ptrdiff_t>(shown), [&](std::size_t k) {
+  if (ci && indices &&
+      std::any_of(places.begin(), places.begin() + static_cast<std::ptrdiff_t>(shown), [&](std::size_t k) {
         const double v = measure[ranking.order[k]];
         return v < 0.0 || v > 1.0;
       }))
@@ -82,9 +86,27 @@ std::vector<std::string> unit_names(const EnsembleSpec& spec) {
   return names;
 }
 
+// Morris' ranking by mu*, and which of the leading units act nonlinearly
+// or through interactions (sigma at least mu*: their effects change sign
+// or size across the grid).
+void print_morris(std::ostream& out, const EnsembleSpec& spec, const Response& response, const MorrisIndices& m) {
+  const std::vector<std::string> names = unit_names(spec);
+  out << "    drivers (" << (spec.grouped ? "groups, " : "") << "Morris mu* [95 %], " << response.units
+      << " per unit of u, from " << m.trajectories << " trajectories): ";
+  print_ranking(out, names, m.ranking, m.mu_star, &m.mu_star_ci, "trajectories", {}, false);
+  std::string nonlinear;
+  for (std::size_t k = 0; k < std::min(m.ranking.order.size(), kRankedShown); ++k) {
+    const std::size_t u = m.ranking.order[k];
+    if (m.sigma[u] >= m.mu_star[u] && m.mu_star[u] > 0.0)
+      nonlinear += (nonlinear.empty() ? "" : ", ") + names[u] + " (sigma " + number(m.sigma[u], "%.3g") + ")";
+  }
+  if (!nonlinear.empty()) out << "      sigma >= mu*, nonlinear or interacting: " << nonlinear << "\n";
+}
+
 // The Sobol' ranking (saltelli), with the blocks it rests on and the
-// verdict on N; else the ranking by |SRRC| or |Spearman|.
-void print_drivers(std::ostream& out, const EnsembleSpec& spec, const ResponseAnswer& a) {
+// verdict on N; Morris' (morris); else the ranking by |SRRC| or |Spearman|.
+void print_drivers(std::ostream& out, const EnsembleSpec& spec, const Response& response, const ResponseAnswer& a) {
+  if (a.morris) return print_morris(out, spec, response, *a.morris);
   if (a.sobol) {
     const SobolIndices& s = *a.sobol;
     if (s.total.empty()) return;
@@ -164,7 +186,8 @@ void print_response_summary(std::ostream& out, const EnsembleSpec& spec, const s
   out << "responses: mean +- standard error (successful samples with finite values"
       << (spec.design == Design::saltelli            ? "; saltelli: the A and B runs"
           : spec.design == Design::subset_simulation ? "; subset_simulation: level 0, the Monte-Carlo level"
-                                                     : "")
+          : spec.design == Design::morris ? "; morris: each trajectory's first run, on the inputs' level grid"
+                                          : "")
       << ")\n";
   for (std::size_t r = 0; r < answers.size(); ++r) {
     const Response& response = spec.responses[r];
@@ -183,7 +206,7 @@ void print_response_summary(std::ostream& out, const EnsembleSpec& spec, const s
     if (subset_answer && a.exceedance) {
       out << "    P: subset simulation's answer, below (level 0, its Monte-Carlo sample, has " << a.exceedance->exceeded
           << " of " << a.exceedance->successful << " beyond the limit)\n";
-      print_drivers(out, spec, a);
+      print_drivers(out, spec, response, a);
       continue;
     }
     if (const auto& e = a.exceedance) {
@@ -197,7 +220,7 @@ void print_response_summary(std::ostream& out, const EnsembleSpec& spec, const s
             << "exceeding, P would be " << number(e->with_failed.low, "%.4g") << " to "
             << number(e->with_failed.high, "%.4g") << "\n";
     }
-    print_drivers(out, spec, a);
+    print_drivers(out, spec, response, a);
     if (a.failure_region) print_failure_region(out, spec, *a.failure_region, "counted runs beyond the limit");
   }
 }

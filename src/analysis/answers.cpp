@@ -36,7 +36,15 @@ double ratio(std::uint64_t k, std::uint64_t n) {
 // the exceedance probability (and their intervals) and the rank measures
 // use the A and B runs only.
 bool independent_draw(const EnsembleSpec& spec, std::uint64_t k) {
+  if (spec.design == Design::morris) return k % (spec.unit_count() + 1u) == 0;  // a trajectory's first run
   return spec.design != Design::saltelli || saltelli_place(k, spec.unit_count()).role != SaltelliRole::ab;
+}
+
+// Runs per convergence step: whole Saltelli blocks, or Morris trajectories.
+std::uint64_t design_block(const EnsembleSpec& spec) {
+  return spec.design == Design::saltelli ? spec.saltelli_block()
+         : spec.design == Design::morris ? spec.unit_count() + 1u
+                                         : 1;
 }
 
 RankSensitivity ranks_of(const EnsembleSpec& spec, const ResponseTable& table, std::size_t r) {
@@ -109,8 +117,8 @@ ResponseAnswer answer_response(const EnsembleSpec& spec, const ResponseTable& ta
   ResponseAnswer a;
   Running running;
   // Convergence at 1, 2, 4, ... samples; for saltelli at 1, 2, 4, ...
-  // whole blocks (2 independent draws each).
-  const std::uint64_t unit = spec.design == Design::saltelli ? spec.saltelli_block() : 1;
+  // whole blocks (2 independent draws each), for morris trajectories (1).
+  const std::uint64_t unit = design_block(spec);
   std::uint64_t successful = 0, exceeded = 0, next_report = unit;
   for (std::uint64_t k = 0; k < n; ++k) {
     if (!independent_draw(spec, k)) {
@@ -156,6 +164,9 @@ ResponseAnswer answer_response(const EnsembleSpec& spec, const ResponseTable& ta
   if (!with_sensitivity) return a;
   if (table.input_count() > 0) a.ranks = ranks_of(spec, table, r);
   if (spec.design == Design::saltelli) answer_sobol(spec, table, r, a);
+  if (spec.design == Design::morris)
+    a.morris =
+        morris_indices(elementary_effects(spec, table, r), spec.unit_count(), spec.bootstrap_resamples, spec.seed);
   // Subset simulation's response has its failure region in its answer
   // (answer_rare_event): level 0 alone rarely reaches the limit.
   const bool subset_answer = spec.subset && spec.subset->response == r;

@@ -12,6 +12,7 @@
 
 #include "analysis/failure_region.hpp"
 #include "analysis/sensitivity.hpp"
+#include "designs/morris/morris_effects.hpp"
 #include "ensemble/response_table.hpp"
 #include "job/ensemble_spec.hpp"
 #include "rare_event/subset_simulation.hpp"
@@ -75,7 +76,9 @@ IndexVerdict index_verdict(const SobolIndices& s);
 
 // For design = "saltelli" the counts, mean, standard error and exceedance
 // use the A and B runs only (the AB_i rows are not independent draws); the
-// Sobol' indices use every run.
+// Sobol' indices use every run. For design = "morris" they use each
+// trajectory's first run (independent draws of the inputs' level grid);
+// the effects use every run.
 struct ResponseAnswer {
   std::uint64_t used = 0;        // successful samples with a finite value (in mean, std, sem)
   std::uint64_t not_finite = 0;  // successful samples with +-inf (e.g. a level never crossed)
@@ -88,6 +91,7 @@ struct ResponseAnswer {
   std::uint64_t sobol_blocks = 0;               // base points run; sobol->base_samples of them complete
   std::vector<SobolPrefix> sobol_convergence;   // on 1, 2, 4, ... base points, and all
   std::optional<FailureRegion> failure_region;  // with a limit and inputs: of the counted runs
+  std::optional<MorrisIndices> morris;          // design = "morris" only
 };
 
 // The answers for response r from samples 0 .. prefix-1 of `table`; the

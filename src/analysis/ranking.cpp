@@ -75,4 +75,16 @@ Ranking rank_units(std::span<const double> point, std::span<const double> replic
   return ranking;
 }
 
+// The 95 % percentile interval of each of the `units` columns of the
+// resample-major `replicates` into `out` (low, high per unit).
+void percentile_intervals(std::span<const double> replicates, std::size_t units, std::vector<double>& out) {
+  const std::size_t resamples = replicates.size() / units;
+  std::vector<double> column(resamples);
+  for (std::size_t i = 0; i < units; ++i) {
+    for (std::size_t r = 0; r < resamples; ++r) column[r] = replicates[r * units + i];
+    out[2 * i] = percentile(column, 0.025);
+    out[2 * i + 1] = percentile(column, 0.975);
+  }
+}
+
 }  // namespace treedyn::ensemble

@@ -43,4 +43,9 @@ Ranking rank_units(std::span<const double> point, std::span<const double> replic
 // a defined measure leaves the interval undefined, not silently narrower).
 double percentile(std::vector<double>& values, double p);
 
+// The 95 % percentile interval of each of the `units` columns of the
+// resample-major `replicates` into `out` (low, high per unit; out has 2
+// units values).
+void percentile_intervals(std::span<const double> replicates, std::size_t units, std::vector<double>& out);
+
 }  // namespace treedyn::ensemble

@@ -140,18 +140,6 @@ std::vector<double> rank_replicates(const Eigen::MatrixXd& ranks, bool srrc, int
   return out;
 }
 
-// The 95 % percentile interval of each of the `units` columns of the
-// resample-major `replicates` into `out` (low, high per unit).
-void percentile_intervals(std::span<const double> replicates, std::size_t units, std::vector<double>& out) {
-  const std::size_t resamples = replicates.size() / units;
-  std::vector<double> column(resamples);
-  for (std::size_t i = 0; i < units; ++i) {
-    for (std::size_t r = 0; r < resamples; ++r) column[r] = replicates[r * units + i];
-    out[2 * i] = percentile(column, 0.025);
-    out[2 * i + 1] = percentile(column, 0.975);
-  }
-}
-
 // Point estimates of Saltelli's design restricted to the blocks `blocks`
 // (block j of the resample is block blocks[j] of the data; repeats allowed).
 struct SaltelliEstimate {

@@ -105,12 +105,8 @@ void print_band_share(std::ostream& out, const Perturbation& p, const ModelDefin
   }
 }
 
-// A grouped Saltelli design: the run count and what each group holds.
+// What each group of a grouped design holds.
 void print_groups(std::ostream& out, const EnsembleSpec& s) {
-  out << "  saltelli with " << s.unit_count() << " groups: base size N = " << s.base_samples
-      << ", N (G + 2) = " << s.base_samples << " x " << s.saltelli_block() << " = " << s.samples
-      << " runs; sample j (G + 2) + r is A_j (r = 0), B_j (r = 1), AB_g,j (r = 2 + g: A_j with group g's "
-         "inputs from B_j)\n";
   // Each input's target: a list's entries (a sea state's phases) print as one, TARGET[1..n].
   std::vector<std::pair<const Perturbation*, int>> owner;
   for (const Perturbation& p : s.perturbations)
@@ -153,7 +149,19 @@ void print_ensemble_summary(std::ostream& out, const Job& job, const EnsembleSpe
     out << "  saltelli: base size N = " << s.base_samples << ", N (D + 2) = " << s.base_samples << " x "
         << s.saltelli_block() << " = " << s.samples
         << " runs; sample j (D + 2) + r is A_j (r = 0), B_j (r = 1), AB_i,j (r = 2 + i)\n";
-  if (s.design == Design::saltelli && s.grouped) print_groups(out, s);
+  if (s.design == Design::saltelli && s.grouped)
+    out << "  saltelli with " << s.unit_count() << " groups: base size N = " << s.base_samples
+        << ", N (G + 2) = " << s.base_samples << " x " << s.saltelli_block() << " = " << s.samples
+        << " runs; sample j (G + 2) + r is A_j (r = 0), B_j (r = 1), AB_g,j (r = 2 + g: A_j with group g's "
+           "inputs from B_j)\n";
+  if (s.design == Design::morris) {
+    const char* u = s.grouped ? "G" : "D";
+    out << "  morris: r = " << s.base_samples << " trajectories of (" << u << " + 1) = " << s.unit_count() + 1
+        << " runs = " << s.samples << " runs, " << s.morris->levels << " levels (u = (l + 1/2) / " << s.morris->levels
+        << "); run t (" << u << " + 1) + s of trajectory t moves one " << (s.grouped ? "group" : "input")
+        << " by Delta = 1/2 in u\n";
+  }
+  if (s.grouped && (s.design == Design::saltelli || s.design == Design::morris)) print_groups(out, s);
   print_correlations(out, s);
   print_subset(out, s);
   print_stop_rule(out, s);

@@ -27,7 +27,9 @@ void require_sample(const Job& job, const ensemble::EnsembleSpec& spec, std::uin
         "there is no sample " + std::to_string(k) + ": the ensemble has " + std::to_string(spec.samples) +
             " samples, 0 .. " + std::to_string(spec.samples - 1) +
             (spec.design == ensemble::Design::saltelli ? " (saltelli: samples x (D + 2) runs, or x (G + 2) with groups)"
-                                                       : ""));
+             : spec.design == ensemble::Design::morris
+                 ? " (morris: trajectories x (D + 1) runs, or x (G + 1) with groups)"
+                 : ""));
 }
 
 // Refused with what to do instead: a subset simulation's run k after level

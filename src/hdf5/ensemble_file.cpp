@@ -117,6 +117,11 @@ EnsembleWriter::EnsembleWriter(const std::filesystem::path& path, const Job& job
                                         "A_j with unit u's inputs from B_j; a unit is one input, or a group "
                                         "with [[ensemble.group]]); base_samples N and saltelli_block "
                                         "U + 2 are root attributes")
+                      : spec.design == ensemble::Design::morris
+                          ? std::string("one row per run, by sample index 0 .. samples-1; morris: row t (U + 1) + s "
+                                        "is run s of trajectory t, which differs from run s - 1 in one unit (an "
+                                        "input or a group), moved by 1/2 in u; morris_trajectories, morris_levels "
+                                        "and morris_block U + 1 are root attributes")
                           : std::string("one row per sample, by sample index 0 .. samples-1"));
   create_sample_columns();
   create_reductions();
@@ -464,6 +469,11 @@ void EnsembleWriter::finish(const EnsembleSummary& summary, const RunProvenance&
   h5::write_attribute(root, "base_samples", static_cast<long long>(spec_.base_samples));
   if (spec_.design == ensemble::Design::saltelli)
     h5::write_attribute(root, "saltelli_block", static_cast<long long>(spec_.saltelli_block()));
+  if (spec_.design == ensemble::Design::morris) {
+    h5::write_attribute(root, "morris_trajectories", static_cast<long long>(spec_.base_samples));
+    h5::write_attribute(root, "morris_levels", static_cast<long long>(spec_.morris->levels));
+    h5::write_attribute(root, "morris_block", static_cast<long long>(spec_.unit_count() + 1));
+  }
   h5::write_attribute(root, "samples_used", static_cast<long long>(summary.samples_used));
   h5::write_attribute(root, "stop_reason", summary.stop_reason);
   h5::write_attribute(root, "samples_ok", static_cast<long long>(summary.ok));

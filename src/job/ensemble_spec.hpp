@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "designs/morris/morris_spec.hpp"
 #include "job/job.hpp"
 #include "output/response.hpp"
 #include "sampling/design.hpp"
@@ -64,8 +65,9 @@ struct EnsembleSpec {
   int bootstrap_resamples = 1000;        // for the Sobol' index intervals
   std::optional<StopRule> stop;          // `samples` is then the most the run makes
   std::optional<SubsetSpec> subset;      // design = "subset_simulation": samples = the most runs
-  std::vector<SobolUnit> sobol_units;    // Saltelli's units (read_ensemble fills them for every design)
-  bool grouped = false;                  // [[ensemble.group]] given: sobol_units are not the inputs
+  std::optional<MorrisSpec> morris;      // design = "morris": samples = trajectories x (U + 1) runs
+  std::vector<SobolUnit> sobol_units;    // Saltelli's and Morris' units (read_ensemble fills them for every design)
+  bool grouped = false;                  // sobol_units are not the inputs ([[ensemble.group]], morris' lists)
   std::vector<InputCorrelation> correlations;
 
   unsigned input_dimensions() const;

@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <numbers>
 
+#include "designs/morris/read_morris.hpp"
 #include "job/ensemble_spec.hpp"
 #include "job/readers.hpp"
 #include "job/toml_document.hpp"
@@ -254,16 +255,18 @@ namespace {
 
 // samples, seed, design and the statistics' settings.
 void read_settings(const TomlView& t, EnsembleSpec& s) {
-  const auto samples = t.integer("samples");
-  if (!samples) t.fail("samples", "missing required field: the number of samples (integer >= 1)");
-  if (*samples < 1) t.fail("samples", "must be at least 1");
-  s.samples = static_cast<std::uint64_t>(*samples);
+  if (auto design = t.string("design"); design && !parse_design(*design, s.design))
+    t.fail("design", "\"" + *design + "\" is not allowed; use " + choices(kDesignNames));
+  if (s.design != Design::morris) {  // morris: [ensemble.morris] trajectories (read_morris)
+    const auto samples = t.integer("samples");
+    if (!samples) t.fail("samples", "missing required field: the number of samples (integer >= 1)");
+    if (*samples < 1) t.fail("samples", "must be at least 1");
+    s.samples = static_cast<std::uint64_t>(*samples);
+  }
   if (auto seed = t.integer("seed")) {
     if (*seed < 0) t.fail("seed", "must be a non-negative integer");
     s.seed = static_cast<std::uint64_t>(*seed);
   }
-  if (auto design = t.string("design"); design && !parse_design(*design, s.design))
-    t.fail("design", "\"" + *design + "\" is not allowed; use " + choices(kDesignNames));
   if (auto q = t.numbers("quantiles")) {
     if (q->empty()) t.fail("quantiles", "list at least one probability in (0, 1)");
     for (double v : *q)
@@ -319,6 +322,7 @@ void count_runs(const TomlView& t, EnsembleSpec& s) {
   if (s.design == Design::sobol && s.input_dimensions() > 1000)
     t.fail("perturbation", "sobol supports at most 1000 input dimensions");
   s.base_samples = s.samples;
+  if (s.design == Design::morris) read_morris(t, s, kMaxRuns);
   if (s.design == Design::saltelli) {
     const unsigned d = s.input_dimensions();
     if (d == 0) t.fail("design", "saltelli needs at least one [[ensemble.perturbation]] (the inputs to rank)");
@@ -393,6 +397,10 @@ void read_stop(const TomlView& parent, EnsembleSpec& s) {
   if (!section) return;
   const TomlView& t = *section;
   t.check_keys({"response", "exceedance_cov", "mean_sem", "mean_relative_sem", "every"});
+  if (s.design == Design::morris)
+    t.fail("response",
+           "morris screens with all its trajectories: a stopping rule on a response's mean or "
+           "exceedance does not apply (choose the trajectories; the page says whether the ranking is resolved)");
   if (!nested_prefixes(s.design))
     t.fail("response",
            "a stopping rule needs a design whose prefixes are designs (monte_carlo, sobol, "
@@ -507,7 +515,7 @@ EnsembleSpec read_ensemble(const Job& job) {
   const TomlView& t = *section;
   t.check_keys({"samples", "seed", "design", "quantiles", "histogram_bins", "pilot_samples", "block_size",
                 "perturbation", "per_sample", "response", "store_trajectories", "bootstrap_resamples", "stop", "subset",
-                "group", "correlation"});
+                "group", "correlation", "morris"});
   EnsembleSpec s;
   read_settings(t, s);
   for (const TomlView& p : t.table_array("perturbation")) s.perturbations.push_back(read_perturbation(p, job));
@@ -517,6 +525,7 @@ EnsembleSpec read_ensemble(const Job& job) {
   read_answers(t, job, s);
   read_stop(t, s);
   read_subset(t, s);
+  if (s.design != Design::morris) read_morris(t, s, kMaxRuns);  // refuses a stray [ensemble.morris]
   read_stored_trajectories(t, job, s);
   check_memory(t, job, s);
   return s;

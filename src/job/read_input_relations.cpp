@@ -109,15 +109,20 @@ std::vector<SobolUnit> grouped_units(const EnsembleSpec& s, std::vector<SobolUni
 void read_groups(const TomlView& t, EnsembleSpec& s) {
   const std::vector<TomlView> entries = t.table_array("group");
   const std::vector<std::string> names = s.input_names();
+  std::vector<std::string> taken(s.perturbations.size());
+  if (entries.empty() && s.design == Design::morris) {  // a list input (a sea's phases) is one factor
+    s.sobol_units = grouped_units(s, {}, taken);
+    s.grouped = s.sobol_units.size() != names.size();
+    return;
+  }
   if (entries.empty()) {
     for (unsigned d = 0; d < names.size(); ++d) s.sobol_units.push_back({names[d], {d}});
     return;
   }
-  if (s.design != Design::saltelli)
+  if (s.design != Design::saltelli && s.design != Design::morris)
     entries.front().fail("name",
-                         "[[ensemble.group]] sets which inputs Saltelli's design moves together; it is "
-                         "only for design = \"saltelli\" (the rank measures are always per input)");
-  std::vector<std::string> taken(s.perturbations.size());
+                         "[[ensemble.group]] sets which inputs Saltelli's or Morris' design moves together; it "
+                         "is only for design = \"saltelli\" or \"morris\" (the rank measures are always per input)");
   std::vector<SobolUnit> groups;
   for (const TomlView& g : entries) {
     groups.push_back(read_group(g, s, taken));
@@ -213,6 +218,12 @@ void check_positive_definite(const TomlView& c, const EnsembleSpec& s) {
 void read_correlations(const TomlView& t, EnsembleSpec& s) {
   const std::vector<TomlView> entries = t.table_array("correlation");
   if (entries.empty()) return;
+  if (s.design == Design::morris)
+    entries.front().fail("inputs",
+                         "Morris' elementary effects move one input (or group) at a time: with correlated "
+                         "inputs a step in one moves the others, and the effects mix. Use design = "
+                         "\"monte_carlo\", \"latin_hypercube\" or \"sobol\": the rank measures (Spearman, "
+                         "SRRC) in /sensitivity allow correlated inputs");
   if (s.design == Design::saltelli)
     entries.front().fail("inputs",
                          "Saltelli's Sobol' indices assume independent inputs: a correlated design "

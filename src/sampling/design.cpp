@@ -90,7 +90,7 @@ std::uint32_t sobol_bits(std::uint64_t k, unsigned dimension, unsigned dimension
 }
 
 SampleDesign::SampleDesign(Design design, std::uint64_t seed, std::uint64_t samples, unsigned dimensions,
-                           std::vector<unsigned> unit_of_dimension)
+                           std::vector<unsigned> unit_of_dimension, unsigned levels)
     : design_(design),
       seed_(seed),
       samples_(samples),
@@ -102,6 +102,7 @@ SampleDesign::SampleDesign(Design design, std::uint64_t seed, std::uint64_t samp
   if (unit_of_dimension_.size() != dimensions)
     throw std::invalid_argument("sample design: one Saltelli unit per input dimension");
   units_ = dimensions == 0 ? 0 : *std::max_element(unit_of_dimension_.begin(), unit_of_dimension_.end()) + 1;
+  if (design == Design::morris) morris_.emplace(seed, levels, unit_of_dimension_, units_);
   const unsigned sobol_dimensions = design == Design::saltelli ? 2 * dimensions : dimensions;
   const bool uses_sobol = design == Design::sobol || design == Design::saltelli;
   if (uses_sobol && sobol_dimensions > boost::random::detail::qrng_tables::sobol::max_dimension)
@@ -127,6 +128,7 @@ void SampleDesign::sobol_point(std::uint64_t index, unsigned total, unsigned fir
 
 void SampleDesign::point(std::uint64_t sample, std::span<double> u) const {
   if (design_ == Design::sobol) return sobol_point(sample, dimensions_, 0, u);
+  if (design_ == Design::morris) return morris_->point(sample, u);
   if (design_ == Design::saltelli) {
     const SaltelliPlace at = saltelli_place(sample, units_);
     const unsigned d = dimensions_;
@@ -159,7 +161,8 @@ double SampleDesign::uniform(std::uint64_t sample, unsigned dimension) const {
       const double top = (static_cast<double>(stratum) + 1.0) / n;
       return u < top ? u : std::nextafter(top, 0.0);
     }
-    case Design::saltelli: {
+    case Design::saltelli:
+    case Design::morris: {
       std::vector<double> all(dimensions_);
       point(sample, all);
       return all[dimension];

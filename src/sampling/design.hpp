@@ -5,11 +5,13 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string_view>
 #include <vector>
 
 #include "common/enum_names.hpp"
+#include "designs/morris/morris_points.hpp"
 
 namespace treedyn::ensemble {
 
@@ -19,13 +21,15 @@ enum class Design {
   sobol,              // Sobol points (Joe-Kuo direction numbers), Owen-scrambled by hashing
   saltelli,           // Saltelli's A, B, AB_i from one scrambled Sobol sequence over 2D dimensions
   subset_simulation,  // level 0 as monte_carlo, then Markov chains towards a limit (rare_event/)
+  morris,             // Morris' trajectories of elementary effects (designs/morris/)
 };
 
-inline constexpr NameTable<Design, 5> kDesignNames{{{Design::monte_carlo, "monte_carlo"},
+inline constexpr NameTable<Design, 6> kDesignNames{{{Design::monte_carlo, "monte_carlo"},
                                                     {Design::latin_hypercube, "latin_hypercube"},
                                                     {Design::sobol, "sobol"},
                                                     {Design::saltelli, "saltelli"},
-                                                    {Design::subset_simulation, "subset_simulation"}}};
+                                                    {Design::subset_simulation, "subset_simulation"},
+                                                    {Design::morris, "morris"}}};
 
 // Saltelli's design over D inputs in U units (an input alone, or a group of
 // inputs whose indices are taken together; U = D without groups) and base
@@ -58,10 +62,11 @@ inline bool parse_design(std::string_view text, Design& out) { return parse_in(k
 
 class SampleDesign {
  public:
-  // `unit_of_dimension` (saltelli only): the unit of each input dimension,
-  // 0 .. U-1; empty: every dimension is a unit of its own (U = D).
+  // `unit_of_dimension` (saltelli, morris): the unit of each input
+  // dimension, 0 .. U-1; empty: every dimension is a unit of its own
+  // (U = D). `levels`: morris' p.
   SampleDesign(Design design, std::uint64_t seed, std::uint64_t samples, unsigned dimensions,
-               std::vector<unsigned> unit_of_dimension = {});
+               std::vector<unsigned> unit_of_dimension = {}, unsigned levels = 4);
 
   // u in the open interval (0, 1).
   double uniform(std::uint64_t sample, unsigned dimension) const;
@@ -82,6 +87,7 @@ class SampleDesign {
   unsigned dimensions_;
   std::vector<unsigned> unit_of_dimension_;  // size D
   unsigned units_;                           // U
+  std::optional<MorrisPoints> morris_;
 };
 
 // Independent uniform in (0, 1) from Philox4x64 keyed by seed, counter

@@ -1,0 +1,105 @@
+#include "designs/morris/morris_effects.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "designs/morris/morris_points.hpp"
+#include "sampling/design.hpp"
+
+namespace treedyn::ensemble {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+// Stream of counter_uniform for the trajectories' bootstrap.
+constexpr std::uint64_t kTrajectoryBootstrapStream = 11;
+
+struct Measures {
+  std::vector<double> mu, mu_star, sigma;
+  std::vector<std::uint64_t> count;
+};
+
+// mu, mu* and sigma per unit over the trajectories `rows` (repeats allowed).
+Measures measures(std::span<const double> effects, std::size_t units, std::span<const std::size_t> rows) {
+  Measures m{std::vector<double>(units, 0.0), std::vector<double>(units, 0.0), std::vector<double>(units, 0.0),
+             std::vector<std::uint64_t>(units, 0)};
+  for (std::size_t t : rows)
+    for (std::size_t g = 0; g < units; ++g) {
+      const double e = effects[t * units + g];
+      if (std::isnan(e)) continue;
+      ++m.count[g];
+      m.mu[g] += e;
+      m.mu_star[g] += std::abs(e);
+    }
+  for (std::size_t g = 0; g < units; ++g) {
+    const auto n = static_cast<double>(m.count[g]);
+    m.mu[g] = m.count[g] > 0 ? m.mu[g] / n : kNaN;
+    m.mu_star[g] = m.count[g] > 0 ? m.mu_star[g] / n : kNaN;
+  }
+  for (std::size_t t : rows)  // two passes: no cancellation in the spread
+    for (std::size_t g = 0; g < units; ++g)
+      if (const double e = effects[t * units + g]; !std::isnan(e)) m.sigma[g] += (e - m.mu[g]) * (e - m.mu[g]);
+  for (std::size_t g = 0; g < units; ++g)
+    m.sigma[g] = m.count[g] > 1 ? std::sqrt(m.sigma[g] / static_cast<double>(m.count[g] - 1)) : kNaN;
+  return m;
+}
+
+}  // namespace
+
+MorrisIndices morris_indices(std::span<const double> effects, std::size_t units, int resamples, std::uint64_t seed) {
+  if (units == 0 || effects.size() % units != 0)
+    throw std::invalid_argument("morris_indices: effects are not trajectories x units");
+  const std::size_t n = effects.size() / units;
+  std::vector<std::size_t> rows(n);
+  for (std::size_t t = 0; t < n; ++t) rows[t] = t;
+  Measures point = measures(effects, units, rows);
+  MorrisIndices out;
+  out.mu = point.mu, out.mu_star = point.mu_star, out.sigma = point.sigma;
+  out.effects = point.count;
+  out.trajectories = n;
+  for (auto* ci : {&out.mu_ci, &out.mu_star_ci, &out.sigma_ci}) ci->assign(2 * units, kNaN);
+  if (resamples <= 0 || n < 2) {
+    out.ranking = rank_units(out.mu_star, {}, n);
+    return out;
+  }
+  // Resample r draws trajectory j as floor(u T), u from (seed, r, j).
+  const auto count = static_cast<std::size_t>(resamples);
+  std::vector<double> mu(count * units), mu_star(count * units), sigma(count * units);  // resample-major
+  for (std::size_t r = 0; r < count; ++r) {
+    for (std::size_t j = 0; j < n; ++j) {
+      const double u = counter_uniform(seed, r, j, kTrajectoryBootstrapStream);
+      rows[j] = std::min(static_cast<std::size_t>(u * static_cast<double>(n)), n - 1);
+    }
+    const Measures m = measures(effects, units, rows);
+    const auto at = static_cast<std::ptrdiff_t>(r * units);
+    std::copy(m.mu.begin(), m.mu.end(), mu.begin() + at);
+    std::copy(m.mu_star.begin(), m.mu_star.end(), mu_star.begin() + at);
+    std::copy(m.sigma.begin(), m.sigma.end(), sigma.begin() + at);
+  }
+  percentile_intervals(mu, units, out.mu_ci);
+  percentile_intervals(mu_star, units, out.mu_star_ci);
+  percentile_intervals(sigma, units, out.sigma_ci);
+  out.ranking = rank_units(out.mu_star, mu_star, n);
+  return out;
+}
+
+std::vector<double> elementary_effects(const EnsembleSpec& spec, const ResponseTable& table, std::size_t r) {
+  const unsigned units = spec.unit_count();
+  const MorrisPoints points(spec.seed, spec.morris->levels, spec.unit_of_input(), units);
+  const std::uint64_t per = points.runs_per_trajectory(), trajectories = table.samples() / per;
+  std::vector<double> effects(trajectories * units, kNaN);
+  auto value = [&](std::uint64_t k) { return table.ok(k) ? table.response(k, r) : kNaN; };
+  for (std::uint64_t t = 0; t < trajectories; ++t) {
+    const std::vector<MorrisStep> steps = points.steps(t);
+    for (std::uint64_t s = 1; s < per; ++s) {
+      const double before = value(t * per + s - 1), after = value(t * per + s);
+      if (!std::isfinite(before) || !std::isfinite(after)) continue;
+      const MorrisStep& step = steps[s - 1];
+      effects[t * units + step.unit] = step.direction * (after - before) / kMorrisDelta;
+    }
+  }
+  return effects;
+}
+
+}  // namespace treedyn::ensemble

@@ -1,0 +1,47 @@
+#include "designs/morris/morris_file.hpp"
+
+#include <string>
+#include <vector>
+
+#include "hdf5/answer_datasets.hpp"
+#include "hdf5/described.hpp"
+
+namespace treedyn::answers_file {
+
+void write_morris(hid_t sg, const ensemble::EnsembleSpec& spec, const ensemble::MorrisIndices& m,
+                  const std::string& response_units) {
+  const std::vector<std::string> units = unit_names(spec), inputs = spec.input_names();
+  const std::string per =
+      " of each unit (an input, or a group moved together: see morris_unit_inputs); "
+      "elementary effect EE = change of the response / Delta, Delta = 1/2 in the "
+      "inputs' probability u";
+  write_per_input(sg, "morris_mu_star", m.mu_star, response_units, "mean |EE| (Morris mu*, ranks the units)" + per,
+                  units);
+  write_per_input(sg, "morris_mu", m.mu, response_units, "mean EE (its sign: the response's direction)" + per, units);
+  write_per_input(sg, "morris_sigma", m.sigma, response_units,
+                  "standard deviation of EE (large: nonlinear or interacting)" + per, units);
+  write_interval_matrix(sg, "morris_mu_star_ci", m.mu_star_ci, "95 % bootstrap interval of mu* (over trajectories)",
+                        units, "factor");
+  write_interval_matrix(sg, "morris_mu_ci", m.mu_ci, "95 % bootstrap interval of mu (over trajectories)", units,
+                        "factor");
+  write_interval_matrix(sg, "morris_sigma_ci", m.sigma_ci, "95 % bootstrap interval of sigma (over trajectories)",
+                        units, "factor");
+  std::vector<double> counts(m.effects.begin(), m.effects.end());
+  write_per_input(sg, "morris_effects", counts, "1",
+                  "elementary effects per unit (one per trajectory whose two runs "
+                  "of that step succeeded with finite values)",
+                  units);
+  std::vector<std::string> members;
+  for (const ensemble::SobolUnit& unit : spec.sobol_units) {
+    std::string listed;
+    for (unsigned d : unit.inputs) listed += (listed.empty() ? "" : ", ") + inputs[d];
+    members.push_back(listed);
+  }
+  h5::write_attribute(sg, "morris_units", units);
+  h5::write_attribute(sg, "morris_unit_inputs", members);
+  h5::write_attribute(sg, "morris_trajectories", static_cast<long long>(m.trajectories));
+  h5::write_attribute(sg, "morris_levels", static_cast<long long>(spec.morris->levels));
+  write_ranking(sg, "morris_ranking", m.ranking, "Morris mu*", units, "trajectories");
+}
+
+}  // namespace treedyn::answers_file

@@ -1,0 +1,16 @@
+// The job reader's part of design = "morris".
+#pragma once
+
+#include <cstdint>
+
+#include "job/ensemble_spec.hpp"
+#include "job/toml_view.hpp"
+
+namespace treedyn::ensemble {
+
+// Reads [ensemble.morris] into s.morris and sets s.samples (runs) and
+// s.base_samples (trajectories); refuses the table for other designs.
+// Needs the units (read_groups) first. Throws JobError.
+void read_morris(const TomlView& ensemble, EnsembleSpec& s, std::uint64_t max_runs);
+
+}  // namespace treedyn::ensemble

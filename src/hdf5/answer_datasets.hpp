@@ -1,0 +1,38 @@
+// The datasets every design's answers are written with: per-input (or
+// per-unit) values, intervals, and a ranking with what tells its
+// neighbours apart. answers_file.cpp and each design's writer (designs/)
+// share them.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "analysis/ranking.hpp"
+#include "hdf5/hdf5.hpp"
+#include "job/ensemble_spec.hpp"
+
+namespace treedyn::answers_file {
+
+// One value per input (or unit), labelled by `inputs`.
+void write_per_input(hid_t g, const char* name, const std::vector<double>& values, const std::string& units,
+                     const std::string& what, const std::vector<std::string>& inputs);
+
+// <sg>/<name>: the units in ranked order and what tells neighbours apart
+// (analysis/ranking.hpp); `samples_word` names what `needed` counts.
+void write_ranking(hid_t sg, const char* name, const ensemble::Ranking& ranking, const std::string& measure,
+                   const std::vector<std::string>& units, const char* samples_word);
+
+// Per-unit values spread to the inputs: an input alone in its unit gets the
+// unit's value (`width` per unit: 1, or 2 for an interval), an input of a
+// larger group NaN (its own index is not estimated).
+std::vector<double> per_input_values(const ensemble::EnsembleSpec& spec, const std::vector<double>& unit_values,
+                                     std::size_t width);
+
+// The units' names: the inputs', or the groups' where units are not inputs.
+std::vector<std::string> unit_names(const ensemble::EnsembleSpec& spec);
+
+// Rows x (low, high), the rows named in the attribute '<row_word>s'.
+void write_interval_matrix(hid_t g, const char* name, const std::vector<double>& v, const std::string& what,
+                           const std::vector<std::string>& rows, const char* row_word);
+
+}  // namespace treedyn::answers_file
