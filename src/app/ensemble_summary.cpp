@@ -138,13 +138,8 @@ void print_correlations(std::ostream& out, const EnsembleSpec& s) {
   }
 }
 
-}  // namespace
-
-void print_ensemble_summary(std::ostream& out, const Job& job, const EnsembleSpec& s) {
-  out << "ensemble: " << (s.subset ? "at most " : "") << s.samples
-      << (s.subset ? " runs (below: how many for which P)" : " samples") << ", seed " << s.seed << ", design "
-      << name(s.design) << ", " << s.perturbations.size() << " perturbation" << (s.perturbations.size() == 1 ? "" : "s")
-      << " (" << s.input_dimensions() << " sampled inputs)\n";
+// How the design makes its runs (saltelli, morris), and its groups.
+void print_design(std::ostream& out, const EnsembleSpec& s) {
   if (s.design == Design::saltelli && !s.grouped)
     out << "  saltelli: base size N = " << s.base_samples << ", N (D + 2) = " << s.base_samples << " x "
         << s.saltelli_block() << " = " << s.samples
@@ -162,38 +157,51 @@ void print_ensemble_summary(std::ostream& out, const Job& job, const EnsembleSpe
         << " by Delta = 1/2 in u\n";
   }
   if (s.grouped && (s.design == Design::saltelli || s.design == Design::morris)) print_groups(out, s);
+}
+
+// One perturbation: its distribution and what it does to the model.
+void print_perturbation(std::ostream& out, const Job& job, const Perturbation& p) {
+  const auto nominal = job.definition.parameters.nominal();
+  out << "  " << p.target << ": " << p.distribution.describe();
+  if (p.unit != 1.0) out << " x " << format_number(p.unit) << " (to " << p.si_unit << ")";
+  if (p.kind == Kind::orientation)
+    out << " per rotation-vector component, rad";
+  else if (p.kind == Kind::rotation)
+    out << ", rad, composed with the nominal orientation";
+  else if (p.kind == Kind::parameter_list)
+    out << " per entry (" << p.entries << " inputs), " << (p.mode == Mode::add ? "is added to" : "replaces")
+        << " each nominal entry";
+  else if (p.entries > 1)
+    out << (p.mode == Mode::scale ? " multiplies the matrix"
+            : p.mode == Mode::add ? " x E is added to the matrix"
+                                  : " x E replaces the matrix");
+  else
+    out << (p.mode == Mode::scale ? " multiplies"
+            : p.mode == Mode::add ? " is added to"
+                                  : " replaces")
+        << " the nominal "
+        << (p.kind == Kind::parameter ? nominal[p.first] / p.factor : job.initial.angular_velocity[p.first][p.axis])
+        << " " << p.si_unit;
+  out << "\n      " << p.enters << "\n";
+  print_invalid_mass(out, p, job.definition);
+  print_band_share(out, p, job.definition);
+}
+
+}  // namespace
+
+void print_ensemble_summary(std::ostream& out, const Job& job, const EnsembleSpec& s) {
+  out << "ensemble: " << (s.subset ? "at most " : "") << s.samples
+      << (s.subset ? " runs (below: how many for which P)" : " samples") << ", seed " << s.seed << ", design "
+      << name(s.design) << ", " << s.perturbations.size() << " perturbation" << (s.perturbations.size() == 1 ? "" : "s")
+      << " (" << s.input_dimensions() << " sampled inputs)\n";
+  print_design(out, s);
   print_correlations(out, s);
   print_subset(out, s);
   print_stop_rule(out, s);
   if (s.design == Design::latin_hypercube)
     out << "  latin_hypercube: sample k depends on N too, so prefixes are not nested samples "
            "(convergence by prefix is not meaningful)\n";
-  const auto nominal = job.definition.parameters.nominal();
-  for (const Perturbation& p : s.perturbations) {
-    out << "  " << p.target << ": " << p.distribution.describe();
-    if (p.unit != 1.0) out << " x " << format_number(p.unit) << " (to " << p.si_unit << ")";
-    if (p.kind == Kind::orientation)
-      out << " per rotation-vector component, rad";
-    else if (p.kind == Kind::rotation)
-      out << ", rad, composed with the nominal orientation";
-    else if (p.kind == Kind::parameter_list)
-      out << " per entry (" << p.entries << " inputs), " << (p.mode == Mode::add ? "is added to" : "replaces")
-          << " each nominal entry";
-    else if (p.entries > 1)
-      out << (p.mode == Mode::scale ? " multiplies the matrix"
-              : p.mode == Mode::add ? " x E is added to the matrix"
-                                    : " x E replaces the matrix");
-    else
-      out << (p.mode == Mode::scale ? " multiplies"
-              : p.mode == Mode::add ? " is added to"
-                                    : " replaces")
-          << " the nominal "
-          << (p.kind == Kind::parameter ? nominal[p.first] / p.factor : job.initial.angular_velocity[p.first][p.axis])
-          << " " << p.si_unit;
-    out << "\n      " << p.enters << "\n";
-    print_invalid_mass(out, p, job.definition);
-    print_band_share(out, p, job.definition);
-  }
+  for (const Perturbation& p : s.perturbations) print_perturbation(out, job, p);
   out << "statistics: quantiles";
   for (double q : s.quantiles) out << " " << format_number(q);
   out << "; " << s.histogram_bins << " histogram bins; pilot samples 0-" << s.pilot_samples - 1 << "; blocks of "

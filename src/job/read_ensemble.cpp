@@ -103,6 +103,23 @@ std::vector<Reduction> read_per_sample(const TomlView& t) {
   return out;
 }
 
+// A response's limit and which side of it fails.
+void read_limit(const TomlView& t, Response& r) {
+  const auto fail_if = t.string("fail_if");
+  if (t.has("limit") && !fail_if)
+    t.fail("limit", "a limit needs fail_if = \"above\" or \"below\" (which side is failure)");
+  if (fail_if) {
+    if (*fail_if == "above")
+      r.fail_if = Response::FailIf::above;
+    else if (*fail_if == "below")
+      r.fail_if = Response::FailIf::below;
+    else
+      t.fail("fail_if", "\"" + *fail_if + "\" is not allowed; use \"above\" or \"below\"");
+    if (!t.has("limit")) t.fail("fail_if", "needs a limit = value (in " + r.units + ")");
+    r.limit = t.required_number("limit");
+  }
+}
+
 // One [[ensemble.response]]: a named scalar of one recorded column.
 Response read_response(const TomlView& t, const Job& job, const ColumnLayout& layout) {
   t.check_keys({"name", "quantity", "column", "reduce", "time", "threshold", "limit", "fail_if"});
@@ -154,19 +171,7 @@ Response read_response(const TomlView& t, const Job& job, const ColumnLayout& la
     r.threshold = t.required_number("threshold");
   else if (t.has("threshold"))
     t.fail("threshold", "only used with reduce = \"first_time_above\" or \"first_time_below\"");
-  const auto fail_if = t.string("fail_if");
-  if (t.has("limit") && !fail_if)
-    t.fail("limit", "a limit needs fail_if = \"above\" or \"below\" (which side is failure)");
-  if (fail_if) {
-    if (*fail_if == "above")
-      r.fail_if = Response::FailIf::above;
-    else if (*fail_if == "below")
-      r.fail_if = Response::FailIf::below;
-    else
-      t.fail("fail_if", "\"" + *fail_if + "\" is not allowed; use \"above\" or \"below\"");
-    if (!t.has("limit")) t.fail("fail_if", "needs a limit = value (in " + r.units + ")");
-    r.limit = t.required_number("limit");
-  }
+  read_limit(t, r);
   return r;
 }
 
