@@ -152,9 +152,13 @@ void print_design(std::ostream& out, const EnsembleSpec& s) {
   if (s.design == Design::morris) {
     const char* u = s.grouped ? "G" : "D";
     out << "  morris: r = " << s.base_samples << " trajectories of (" << u << " + 1) = " << s.unit_count() + 1
-        << " runs = " << s.samples << " runs, " << s.morris->levels << " levels (u = (l + 1/2) / " << s.morris->levels
-        << "); run t (" << u << " + 1) + s of trajectory t moves one " << (s.grouped ? "group" : "input")
-        << " by Delta = 1/2 in u\n";
+        << " runs = " << s.samples << " runs; ";
+    if (s.morris->radial)
+      out << "radial steps: run t (" << u << " + 1) of trajectory t is A_t, run t (" << u << " + 1) + s is A_t with "
+          << (s.grouped ? "group" : "input") << " s - 1 from B_t (scrambled Sobol' points A and B, as Saltelli's)\n";
+    else
+      out << s.morris->levels << " levels (u = (l + 1/2) / " << s.morris->levels << "); run t (" << u
+          << " + 1) + s of trajectory t moves one " << (s.grouped ? "group" : "input") << " by Delta = 1/2 in u\n";
   }
   if (s.grouped && (s.design == Design::saltelli || s.design == Design::morris)) print_groups(out, s);
 }

@@ -14,8 +14,7 @@ namespace treedyn::ensemble {
 SampleRunner::SampleRunner(const Job& job, const EnsembleSpec& spec)
     : job_(job),
       spec_(spec),
-      design_(spec.design, spec.seed, spec.samples, spec.input_dimensions(), spec.unit_of_input(),
-              spec.morris ? spec.morris->levels : 4u),
+      design_(spec.design, spec.seed, spec.samples, spec.input_dimensions(), spec.unit_of_input(), spec.morris),
       copula_(spec.input_dimensions(), spec.correlations),
       uniforms_(spec.input_dimensions()),
       recorder_(job.model, job.output),

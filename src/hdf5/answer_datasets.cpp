@@ -65,9 +65,9 @@ std::vector<std::string> unit_names(const ensemble::EnsembleSpec& spec) {
 }
 
 void write_interval_matrix(hid_t g, const char* name, const std::vector<double>& v, const std::string& what,
-                           const std::vector<std::string>& rows, const char* row_word) {
+                           const std::vector<std::string>& rows, const char* row_word, const std::string& units) {
   h5::Handle set = h5::write_matrix(g, name, v, rows.size(), 2);
-  describe(set.id(), "1", what + ": " + row_word + " x (low, high); rows follow the '" + row_word + "s' attribute",
+  describe(set.id(), units, what + ": " + row_word + " x (low, high); rows follow the '" + row_word + "s' attribute",
            {"low", "high"});
   h5::write_attribute(set.id(), std::string(row_word) + "s", rows);
 }

@@ -32,7 +32,8 @@ std::vector<double> per_input_values(const ensemble::EnsembleSpec& spec, const s
 std::vector<std::string> unit_names(const ensemble::EnsembleSpec& spec);
 
 // Rows x (low, high), the rows named in the attribute '<row_word>s'.
+// `units`: the values' (an index's "1").
 void write_interval_matrix(hid_t g, const char* name, const std::vector<double>& v, const std::string& what,
-                           const std::vector<std::string>& rows, const char* row_word);
+                           const std::vector<std::string>& rows, const char* row_word, const std::string& units = "1");
 
 }  // namespace treedyn::answers_file

@@ -108,7 +108,7 @@ void write_convergence(hid_t g, const ensemble::Response& response, const ensemb
   h5::Handle c = h5::write_matrix(g, "convergence", table, a.convergence.size(), 7);
   describe(c.id(), "per column: the 'column_units' attribute",
            "answers from samples 0 .. m-1 for m = 1, 2, 4, ... and N, in sample-index order "
-           "(meaningful as convergence for nested designs: monte_carlo, sobol, saltelli)",
+           "(meaningful as convergence for nested designs: monte_carlo, sobol, saltelli, morris)",
            {"samples", "used", "mean", "sem", "exceedance_probability", "wilson_low", "wilson_high"});
   h5::write_attribute(c.id(), "column_units",
                       std::vector<std::string>{"1", "1", response.units, response.units, "1", "1", "1"});

@@ -119,9 +119,10 @@ EnsembleWriter::EnsembleWriter(const std::filesystem::path& path, const Job& job
                                         "U + 2 are root attributes")
                       : spec.design == ensemble::Design::morris
                           ? std::string("one row per run, by sample index 0 .. samples-1; morris: row t (U + 1) + s "
-                                        "is run s of trajectory t, which differs from run s - 1 in one unit (an "
-                                        "input or a group), moved by 1/2 in u; morris_trajectories, morris_levels "
-                                        "and morris_block U + 1 are root attributes")
+                                        "is run s of trajectory t: radial, run 0 with unit s - 1 (an input or a "
+                                        "group) from an independent point; trajectories, run s - 1 with that unit "
+                                        "moved by 1/2 in u; morris_trajectories, morris_steps (morris_levels) and "
+                                        "morris_block U + 1 are root attributes")
                           : std::string("one row per sample, by sample index 0 .. samples-1"));
   create_sample_columns();
   create_reductions();
@@ -471,7 +472,8 @@ void EnsembleWriter::finish(const EnsembleSummary& summary, const RunProvenance&
     h5::write_attribute(root, "saltelli_block", static_cast<long long>(spec_.saltelli_block()));
   if (spec_.design == ensemble::Design::morris) {
     h5::write_attribute(root, "morris_trajectories", static_cast<long long>(spec_.base_samples));
-    h5::write_attribute(root, "morris_levels", static_cast<long long>(spec_.morris->levels));
+    h5::write_attribute(root, "morris_steps", std::string(spec_.morris->radial ? "radial" : "trajectories"));
+    if (!spec_.morris->radial) h5::write_attribute(root, "morris_levels", static_cast<long long>(spec_.morris->levels));
     h5::write_attribute(root, "morris_block", static_cast<long long>(spec_.unit_count() + 1));
   }
   h5::write_attribute(root, "samples_used", static_cast<long long>(summary.samples_used));

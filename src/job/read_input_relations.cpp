@@ -218,18 +218,17 @@ void check_positive_definite(const TomlView& c, const EnsembleSpec& s) {
 void read_correlations(const TomlView& t, EnsembleSpec& s) {
   const std::vector<TomlView> entries = t.table_array("correlation");
   if (entries.empty()) return;
-  if (s.design == Design::morris)
-    entries.front().fail("inputs",
-                         "Morris' elementary effects move one input (or group) at a time: with correlated "
-                         "inputs a step in one moves the others, and the effects mix. Use design = "
-                         "\"monte_carlo\", \"latin_hypercube\" or \"sobol\": the rank measures (Spearman, "
-                         "SRRC) in /sensitivity allow correlated inputs");
-  if (s.design == Design::saltelli)
-    entries.front().fail("inputs",
-                         "Saltelli's Sobol' indices assume independent inputs: a correlated design "
-                         "would give wrong indices. Use design = \"monte_carlo\", \"latin_hypercube\" "
-                         "or \"sobol\": the rank measures (Spearman, SRRC) in /sensitivity allow "
-                         "correlated inputs");
+  const char* why = s.design == Design::morris
+                        ? "Morris' elementary effects move one input (or group) at a time: with correlated inputs a "
+                          "step in one moves the others, and the effects mix"
+                    : s.design == Design::saltelli
+                        ? "Saltelli's Sobol' indices assume independent inputs: a correlated design would give "
+                          "wrong indices"
+                        : nullptr;
+  if (why)
+    entries.front().fail("inputs", std::string(why) +
+                                       ". Use design = \"monte_carlo\", \"latin_hypercube\" or \"sobol\": the "
+                                       "rank measures (Spearman, SRRC) in /sensitivity allow correlated inputs");
   for (const TomlView& c : entries) {
     s.correlations.push_back(read_correlation(c, s));
     const InputCorrelation& last = s.correlations.back();

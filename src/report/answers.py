@@ -15,8 +15,8 @@ from failure_region import exceeded, failure_region_section
 from page import legend_outside, subplot_grid
 from rankings import has_sobol, primary_ranking, rank_ranking, visible_units
 from rare_event import rare_event_answer, rare_event_levels
-from read import (column_units, counted_rows, fail_side, folded_note, held_rows, shown_inputs, strings,
-                  subset_response, text)
+from read import (column_units, counted_rows, fail_side, folded_note, held_rows, morris_design, shown_inputs,
+                  strings, subset_response, text)
 
 MEAN_PRECISION = 0.05         # "N is enough" for a mean: 95 % half-width within 5 % of |mean|
 PROBABILITY_PRECISION = 0.20  # ... for P(exceeded): 95 % half-width within 20 % of P
@@ -144,6 +144,13 @@ def counted_runs_meaning(f):
         block = int(f.attrs["saltelli_block"])
         return (f"For this Saltelli design K counted runs are samples = K / 2 base points, that is K / 2 x {block} "
                 f"model runs.")
+    if morris_design(f):
+        where = (f"on the inputs' {int(f.attrs['morris_levels'])}-level grid" if "morris_levels" in f.attrs
+                 else "a scrambled Sobol' point")
+        return (f"For this Morris design the mean and the probability use each trajectory's first run (an "
+                f"independent draw, {where}: a screen, not an estimate of a small probability); K counted runs "
+                f"are K trajectories, that is K x "
+                f"{int(f.attrs['morris_block'])} model runs.")
     if design in ("sobol", "latin_hypercube"):
         return (f"The verdicts take the runs as independent; the {design} design's stratification usually makes "
                 f"the estimates better than that.")
@@ -294,7 +301,7 @@ def scatter_inputs(f, name):
 def scatter_figures(f, page, rows):
     """Each response against its strongest inputs, over every run the file holds (so every run of the
     extremes table is inside the axes): by level for subset simulation, else the counted runs and the others
-    (Saltelli's AB runs) apart."""
+    (Saltelli's AB runs, Morris' trajectory steps) apart."""
     if "sensitivity" not in f or "samples/inputs" not in f:
         return
     values = f["samples/responses"]
@@ -313,7 +320,8 @@ def scatter_figures(f, page, rows):
             if level is not None:
                 level_scatter(ax, inputs[:, i], y, status, held, level)
             else:
-                run_scatter(ax, inputs[:, i], y, status, (rows & held, held & ~rows), exceeded(values, r, y))
+                run_scatter(ax, inputs[:, i], y, status, (rows & held, held & ~rows), exceeded(values, r, y),
+                            other_runs(f)[1])
             if np.isfinite(values.attrs["limit"][r]):
                 ax.axhline(values.attrs["limit"][r], color="tab:red", ls="--", lw=0.8, label="limit")
             ax.set_xlabel(f"{input_names[i]} ({input_units[i]})", fontsize=8)
@@ -328,21 +336,28 @@ def scatter_caption(f, name, count, sets, failed):
     runs = (f"every run of every level ({int((counted | others).sum())}), coloured by level (level 0: the "
             "Monte-Carlo sample; level j: the chains beyond level j - 1's threshold)" if "samples/level" in f else
             f"the {int(counted.sum())} counted runs (dots)" +
-            (f" and the {int(others.sum())} AB runs (+: A's inputs with one from B, in the extremes table too)"
-             if others.any() else ""))
+            (f" and the {int(others.sum())} {other_runs(f)[0]}" if others.any() else ""))
     return f"{name} against its {count} strongest inputs: {runs}" + ("; failed runs drawn at the bottom of the axes"
                                                                     if failed else "")
+
+
+def other_runs(f):
+    """The runs beside the counted ones, for a caption and for a legend label."""
+    if morris_design(f):
+        return ("other runs of the Morris trajectories (+: each steps one factor from the run before, in the "
+                "extremes table too)", ", trajectory step")
+    return "AB runs (+: A's inputs with one from B, in the extremes table too)", ", AB run"
 
 
 def drawn_range(y, ok):
     return (float(np.min(y[ok])), float(np.max(y[ok]))) if ok.any() else (0.0, 1.0)
 
 
-def run_scatter(ax, x, y, status, sets, beyond):
+def run_scatter(ax, x, y, status, sets, beyond, other_label=", AB run"):
     """The counted runs as dots, the others (+) fainter; blue ok, red beyond the limit."""
     ok, infinite, failed = (status == 0) & np.isfinite(y), (status == 0) & np.isinf(y), (status != 0) & (status != 3)
     low, high = drawn_range(y, ok & (sets[0] | sets[1]))
-    for rows, marker, alpha, words in ((sets[0], ".", 1.0, ""), (sets[1], "+", 0.45, ", AB run")):
+    for rows, marker, alpha, words in ((sets[0], ".", 1.0, ""), (sets[1], "+", 0.45, other_label)):
         if not rows.any():
             continue
         ax.plot(x[rows & ok & ~beyond], y[rows & ok & ~beyond], marker, color="tab:blue", ms=4, alpha=alpha,
@@ -391,9 +406,10 @@ def extreme_samples(f, page, file_name):
     status = f["samples/status"][:]
     level = f["samples/level"][:] if "samples/level" in f else None
     page.heading("Extreme and failed samples", 3)
-    page.paragraph("Every run counts here (for Saltelli designs the AB runs too, for subset simulation every "
-                   "level: each is a real sample). The commands rerun one sample alone, bit for bit, or write it "
-                   "as a standalone job.")
+    page.paragraph("Every run counts here (" + ("every step of the Morris trajectories too" if morris_design(f) else
+                                            "for Saltelli designs the AB runs too, for subset simulation every level")
+                   + ": each is a real sample). The commands rerun one sample alone, bit for bit, or write it as a "
+                   "standalone job.")
     table = []
     for r, name in enumerate(names):
         y = np.where(status == 0, values[:, r], np.nan)

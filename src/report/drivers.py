@@ -1,19 +1,38 @@
 """Which inputs drive each response: one sentence per response from the design's own ranking (the total
-Sobol' index where the design gives one, else |SRRC| or |Spearman|) that orders two inputs only where the
-bootstrap tells them apart, the measures with their intervals, and one note where the rank measures and the
-Sobol' indices rank differently."""
+Sobol' index where the design gives one, Morris' mu* for a Morris screen, else |SRRC| or |Spearman|) that orders
+two inputs only where the bootstrap tells them apart, the measures with their intervals, and one note where the
+rank measures and the design's own measure rank differently."""
 import math
 import re
 
 import numpy as np
 
-from rankings import (clipped, driven_by, has_sobol, primary_ranking, rank_ranking, top_unit, value_text,
-                      visible_units)
-from read import folded_note, shown_inputs, strings
+from rankings import (clipped, driven_by, has_morris, has_sobol, primary_ranking, rank_ranking, top_unit,
+                      value_text, visible_units)
+from read import folded_note, shown_inputs, strings, text
 
 CORRELATED_INPUTS = 0.2  # |Spearman| between two inputs above which their rank measures mix
 RELIABLE_SHARE = 0.8     # the file's sobol_reliable: at least this share of the base points complete
 TABLE_ROWS = 20
+SAME_SIGN = 0.99         # |mu| this close to mu*: the elementary effects all have one sign
+SOBOL_WORDS = "The total Sobol' index is the share of the response's variance that goes with an input, its " \
+              "interactions included;"
+MORRIS_WORDS = ("Morris mu* is the mean size of a factor's elementary effects: the change of the response when "
+                "the factor (an input, or a group of inputs moved together) alone steps, divided by the step in "
+                "its inputs' probability u, so in the response's units per unit of u; mu is their "
+                "mean with its sign (the direction), sigma their spread (large: the effect changes with where "
+                "on the grid the step is taken, a nonlinear or interacting factor). A screen: it orders the "
+                "factors with few runs; it is no share of variance.")
+# What the design's own measure says, where it and the rank measures rank differently: the words for it, the
+# runs the rank measures stand on, what it measures, and the ranking's name.
+PRIMARY_WORDS = {
+    "total Sobol' index": ("the total Sobol' index", "over the A and B runs", "the share of the response's "
+                           "variance that goes with the input, its interactions and non-monotone effects "
+                           "included", "its Sobol' index", "Sobol'"),
+    "Morris mu*": ("Morris mu*", "over each trajectory's first run", "the mean size of the response's change "
+                   "when the input alone steps on its grid, its interactions and non-monotone effects included",
+                   "its Morris mu*", "Morris"),
+}
 
 
 def drivers_section(f, page, rows):
@@ -21,10 +40,11 @@ def drivers_section(f, page, rows):
         return
     inputs = f["samples/inputs"]
     page.heading("Which inputs drive each response", 3)
+    morris = any(has_morris(f["sensitivity"][n]) for n in f["sensitivity"])
     page.paragraph("An order (A > B) is stated only where the 95 % bootstrap interval of the difference excludes "
-                   "0; A ~ B: not told apart yet. The total Sobol' index is the share of the response's variance "
-                   "that goes with an input, its interactions included; |SRRC| and |Spearman| measure how "
-                   "monotonically the response's ranks follow the input's (SRRC: the others held fixed).")
+                   "0; A ~ B: not told apart yet. " + (MORRIS_WORDS if morris else SOBOL_WORDS) + " |SRRC| and "
+                   "|Spearman| measure how monotonically the response's ranks follow the input's (SRRC: the others "
+                   "held fixed).")
     asked = asked_correlations(f)
     if asked:
         page.note("Inputs correlated on purpose by the job ([[ensemble.correlation]], a normal copula on each "
@@ -32,8 +52,10 @@ def drivers_section(f, page, rows):
                   "each other's effects; the SRRC separate them.")
     _, folded = shown_inputs(inputs) if "column_targets" in inputs.attrs else ([], {})
     if folded:
-        page.paragraph(folded_note(folded) + " Their effect together is a group's Sobol' index where the job "
-                       "groups them ([[ensemble.group]]).")
+        page.paragraph(folded_note(folded) + (" Their effect together is their factor's Morris mu*: a list's "
+                                              "entries step together." if morris else
+                                              " Their effect together is a group's Sobol' index where the job "
+                                              "groups them ([[ensemble.group]])."))
     correlations = input_correlations(f, rows)
     no_regression = set()
     for name in [r for r in strings(f["samples/responses"].attrs["columns"]) if r in f["sensitivity"]]:
@@ -41,7 +63,11 @@ def drivers_section(f, page, rows):
                                            "level 0's " if "samples/level" in f else ""))
     for line in sorted(no_regression - {""}):  # said once: it is about the design, not a response
         page.paragraph(line)
-    if correlations[0]:
+    if correlations[0] and morris:
+        page.note(f"Some inputs are correlated in the {correlations[1]} counted runs (|rho| >= {CORRELATED_INPUTS}): "
+                  "their Spearman coefficients mix each other's effects; Morris mu* does not (each elementary "
+                  "effect steps one factor alone).")
+    elif correlations[0]:
         page.note(f"Some inputs are correlated in the sample (|rho| >= {CORRELATED_INPUTS}, see the notes): their "
                   "Spearman coefficients mix each other's effects; read the SRRC or the Sobol' indices instead.")
 
@@ -51,7 +77,23 @@ def where_words(s, ranking, runs_of=""):
     level 0)."""
     if ranking.word == "base points":
         return f"from {int(s.attrs.get('sobol_base_samples', 0))} of {int(s.attrs.get('sobol_blocks', 0))} base points"
+    if ranking.word == "trajectories":
+        return f"{morris_units(s)} per unit of u, {trajectories_words(s)}"
     return f"over {runs_of}{int(s.attrs.get('rank_samples', 0))} runs"
+
+
+def morris_units(s):
+    return text(s["morris_mu_star"].attrs.get("units", ""))
+
+
+def trajectories_words(s):
+    """'from 10 trajectories', and how many elementary effects a factor rests on where failed runs cost some."""
+    trajectories = int(s.attrs.get("morris_trajectories", 0))
+    effects = s["morris_effects"][:] if "morris_effects" in s else np.full(1, float(trajectories))
+    if np.nanmin(effects) >= trajectories:
+        return f"from {trajectories} trajectories"
+    return (f"from {trajectories} trajectories; failed runs left {np.nanmin(effects):.0f} to {np.nanmax(effects):.0f} "
+            "elementary effects per factor")
 
 
 def unreliable_words(s):
@@ -77,12 +119,15 @@ def response_drivers(page, name, s, inputs, correlations, asked, runs_of):
     ranks = rank_ranking(s, names)
     if has_sobol(s):
         sobol_table(page, s, primary, visible, ranks, (correlations, asked))
+    elif has_morris(s):
+        morris_table(page, name, s, primary, visible, names)
+    else:
+        rank_table(page, s, ranks, visible, (correlations, asked))
+    if has_sobol(s) or has_morris(s):
         disagreement = disagreement_note(name, primary, visible, ranks, visible_units(ranks, inputs))
         if disagreement:
             page.note(disagreement)
-    else:
-        rank_table(page, s, ranks, visible, (correlations, asked))
-    line = rank_regression_line(name, s, has_sobol(s))
+    line = rank_regression_line(name, s, has_sobol(s) or has_morris(s))
     if line:
         page.paragraph(line)
     return no_regression_line(s, len(names))
@@ -154,18 +199,79 @@ def index_notes(sobol, visible, first, first_ci):
     return out
 
 
-def disagreement_note(name, sobol, visible, ranks, rank_visible):
-    """One note where the two rankings put a different unit first, saying what each measures."""
-    top, rank_top = top_unit(sobol, visible), top_unit(ranks, rank_visible)
-    if top is None or rank_top is None or sobol.members[top] == [rank_top]:
+def disagreement_note(name, primary, visible, ranks, rank_visible):
+    """One note where the two rankings (the design's own, Sobol' or Morris, and the rank measure's) put a
+    different unit first, saying what each measures."""
+    top, rank_top = top_unit(primary, visible), top_unit(ranks, rank_visible)
+    if top is None or rank_top is None or primary.members[top] == [rank_top]:
         return ""
-    group = (f" {sobol.units[top]} is a group: its inputs one by one show little in a rank measure, its effect "
-             "together only in its Sobol' index." if len(sobol.members[top]) > 1 else "")
+    by, runs, meaning, its, which = PRIMARY_WORDS[primary.measure]
+    group = (f" {primary.units[top]} is a group: its inputs one by one show little in a rank measure, its effect "
+             f"together only in {its}." if len(primary.members[top]) > 1 else "")
     return (f"{name}: the rank measures put another input first: {value_text(ranks, rank_top)} by "
-            f"{ranks.measure}, {value_text(sobol, top)} by the total Sobol' index. They measure different "
-            f"things: {ranks.measure} how monotonically the response's ranks follow one input's, over the A and "
-            "B runs; the total Sobol' index the share of the response's variance that goes with the input, its "
-            "interactions and non-monotone effects included." + group + " The ranking above is the Sobol' one.")
+            f"{ranks.measure}, {value_text(primary, top)} by {by}. They measure different things: "
+            f"{ranks.measure} how monotonically the response's ranks follow one input's, {runs}; {by} {meaning}."
+            + group + f" The ranking above is the {which} one.")
+
+
+def morris_table(page, name, s, morris, visible, input_names):
+    """mu* with its interval, mu and sigma per factor (largest mu* first), in the response's units per unit of
+    u, and what mu and sigma say of each; then the factors that act nonlinearly or through interactions."""
+    grouped = any(len(morris.members[u]) > 1 for u in visible)
+    unit = morris_units(s)
+    shown = [int(u) for u in morris.order if int(u) in set(visible)]
+    header = ["factor"] + (["its inputs"] if grouped else []) + \
+             [f"mu* [95 %] ({unit} per unit of u)", f"mu [95 %] ({unit} per unit of u)",
+              f"sigma [95 %] ({unit} per unit of u)", "elementary effects", "reading"]
+    page.table(header, [morris_row(name, s, morris, u, input_names if grouped else None) for u in shown[:TABLE_ROWS]])
+    line = nonlinear_line(name, morris, s["morris_sigma"][:], shown)
+    if line:
+        page.paragraph(line)
+
+
+def morris_row(name, s, morris, u, input_names):
+    """One factor's row; its inputs folded where `input_names` is given (a table with groups)."""
+    mu, sigma = s["morris_mu"][u], s["morris_sigma"][u]
+    effects = float(s["morris_effects"][u]) if "morris_effects" in s else float("nan")
+    return [morris.units[u]] + ([folded_members(morris.members[u], input_names)] if input_names else []) + \
+        [size_text(morris.value[u], morris.ci[u]), size_text(mu, s["morris_mu_ci"][u]),
+         size_text(sigma, s["morris_sigma_ci"][u]), f"{effects:.0f}" if np.isfinite(effects) else "n/a",
+         morris_reading(name, morris.value[u], mu, sigma)]
+
+
+def nonlinear_line(name, morris, sigma, shown):
+    """The factors with sigma >= mu*, as the text summary names them ('' where there are none)."""
+    nonlinear = [f"{morris.units[u]} (sigma {sigma[u]:.3g}, mu* {morris.value[u]:.3g})" for u in shown
+                 if nonlinear_factor(morris.value[u], sigma[u])]
+    if not nonlinear:
+        return ""
+    return (f"{name}: sigma >= mu*, nonlinear or interacting: {', '.join(nonlinear)}. Their effect depends on where "
+            "on the grid they step (or on the other factors): mu* orders them, but a Saltelli design's Sobol' "
+            "indices say how much of the variance goes with them.")
+
+
+def size_text(v, ci):
+    """A size in the response's units with its interval, not clipped (mu, mu*, sigma)."""
+    if not np.isfinite(v):
+        return "n/a"
+    return f"{v:.3g}" + (f" [{ci[0]:.3g}, {ci[1]:.3g}]" if np.isfinite(ci[0]) and np.isfinite(ci[1]) else "")
+
+
+def nonlinear_factor(mu_star, sigma):
+    """The summary's rule: sigma at least mu* (and an effect at all)."""
+    return bool(np.isfinite(sigma) and np.isfinite(mu_star) and mu_star > 0 and sigma >= mu_star)
+
+
+def morris_reading(name, mu_star, mu, sigma):
+    """What mu and sigma say of one factor: its direction where its effects (nearly) all have one sign
+    (|mu| = mu*), else that they change sign; nonlinear or interacting where sigma >= mu*."""
+    if not (np.isfinite(mu_star) and np.isfinite(mu)) or mu_star == 0:
+        return "no effect seen" if mu_star == 0 else ""
+    words = [(f"raises {name}" if mu > 0 else f"lowers {name}") if abs(mu) >= SAME_SIGN * mu_star else
+             "its effects change sign (|mu| < mu*): non-monotone"]
+    if nonlinear_factor(mu_star, sigma):
+        words.append("nonlinear or interacting (sigma >= mu*)")
+    return "; ".join(words)
 
 
 def rank_table(page, s, ranks, visible, correlations):

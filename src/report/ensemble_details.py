@@ -5,7 +5,7 @@ import numpy as np
 import matplotlib.pyplot as plt
 
 from page import subplot_grid
-from read import column_units, folded_note, held_rows, shown_inputs, strings, subset_response, text
+from read import column_units, folded_note, held_rows, morris_design, shown_inputs, strings, subset_response, text
 
 MAX_FAILED_ROWS = 50
 MAX_BINS = 60
@@ -15,6 +15,9 @@ def other_runs_words(f, others):
     """What the runs outside the counted ones are, for a caption."""
     if "samples/level" in f:
         return f"the {others} runs of levels 1 and up (chains beyond each level's threshold, not draws of the inputs)"
+    if morris_design(f):
+        return (f"the {others} other runs of the Morris trajectories (each steps one factor from the run before: "
+                "not independent draws)")
     return f"the {others} AB runs (A's inputs with one from B: real samples, not independent draws)"
 
 

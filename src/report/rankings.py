@@ -1,6 +1,6 @@
-"""The rankings the file stores (/sensitivity/<r>/sobol_ranking and rank_ranking) read as one shape, and what
-they allow a reader to say: "A > B" only where the bootstrap tells the two apart, else that they cannot yet be
-told apart and about how many more base points or runs would."""
+"""The rankings the file stores (/sensitivity/<r>/sobol_ranking, morris_ranking and rank_ranking) read as one
+shape, and what they allow a reader to say: "A > B" only where the bootstrap tells the two apart, else that they
+cannot yet be told apart and about how many more base points, trajectories or runs would."""
 from collections import namedtuple
 
 import numpy as np
@@ -12,8 +12,11 @@ TOP_UNITS = 10     # units named in a "driven by" sentence
 
 # units: names; members: each unit's input indices (one for an input, several for a group); value, ci: the
 # measure and its 95 % interval per unit (ci NaN without a bootstrap); order: units, largest first;
-# told_apart, needed: per neighbour pair in that order; word: what `needed` counts.
-Ranking = namedtuple("Ranking", "measure units members value ci order told_apart needed resamples word")
+# told_apart, needed: per neighbour pair in that order; word: what `needed` counts; share: the measure is a
+# share in [0, 1] (a Sobol' index, a rank coefficient: shown clipped to it, negligible below NEGLIGIBLE), not a
+# size in the response's units (Morris mu*).
+Ranking = namedtuple("Ranking", "measure units members value ci order told_apart needed resamples word share",
+                     defaults=(True,))
 # One unit of a ranking as a reader is told it: whether the bootstrap tells it from the unit before it in
 # the sentence, and about how many base points or runs would where it does not.
 Link = namedtuple("Link", "unit apart needed")
@@ -23,10 +26,14 @@ def has_sobol(s):
     return "total_order" in s or "group_total_order" in s
 
 
-def group_members(s, input_names):
-    """Each group's input indices, from the 'group_inputs' attribute ("a, b, c" per group)."""
+def has_morris(s):
+    return "morris_mu_star" in s
+
+
+def group_members(s, input_names, key="group_inputs"):
+    """Each group's input indices, from the attribute `key` ("a, b, c" per group)."""
     index = {n: i for i, n in enumerate(input_names)}
-    return [[index[n] for n in members.split(", ") if n in index] for members in strings(s.attrs["group_inputs"])]
+    return [[index[n] for n in members.split(", ") if n in index] for members in strings(s.attrs[key])]
 
 
 def sobol_ranking(s, input_names):
@@ -37,6 +44,17 @@ def sobol_ranking(s, input_names):
     members = group_members(s, input_names) if grouped else [[i] for i in range(len(units))]
     return stored_ranking(s.get("sobol_ranking"), "total Sobol' index", units, members, s[key][:],
                           s[key + "_ci"][:], "base points")
+
+
+def morris_ranking(s, input_names):
+    """Morris' ranking by mu* over its factors (an input, or a group of inputs moved together), in the
+    response's units per unit of u."""
+    units = strings(s["morris_mu_star"].attrs["columns"])
+    members = group_members(s, input_names, "morris_unit_inputs") if "morris_unit_inputs" in s.attrs else \
+        [[list(input_names).index(u)] if u in input_names else [] for u in units]
+    ranking = stored_ranking(s.get("morris_ranking"), "Morris mu*", units, members, s["morris_mu_star"][:],
+                             s["morris_mu_star_ci"][:], "trajectories")
+    return ranking._replace(share=False)
 
 
 def rank_ranking(s, input_names):
@@ -62,8 +80,11 @@ def stored_ranking(g, measure, units, members, value, ci, word):
 
 
 def primary_ranking(s, input_names):
-    """The design's own ranking: Sobol' where there is one (saltelli), else the rank measure's."""
-    return sobol_ranking(s, input_names) if has_sobol(s) else rank_ranking(s, input_names)
+    """The design's own ranking: Sobol' where there is one (saltelli), Morris' mu* (morris), else the rank
+    measure's."""
+    if has_sobol(s):
+        return sobol_ranking(s, input_names)
+    return morris_ranking(s, input_names) if has_morris(s) else rank_ranking(s, input_names)
 
 
 def visible_units(ranking, inputs):
@@ -74,7 +95,9 @@ def visible_units(ranking, inputs):
 
 
 def negligible(ranking, u):
-    return bool(np.isfinite(ranking.ci[u][1]) and ranking.ci[u][1] < NEGLIGIBLE)
+    """A share whose interval ends below NEGLIGIBLE; a size in the response's units (mu*) never is: what is
+    small there is the reader's call."""
+    return bool(ranking.share and np.isfinite(ranking.ci[u][1]) and ranking.ci[u][1] < NEGLIGIBLE)
 
 
 def chain(ranking, visible):
@@ -100,8 +123,11 @@ def clipped(v):
 
 
 def value_text(ranking, u):
-    """'name 0.84 [0.53, 1]': the estimate, and its interval shown within [0, 1] (as the text summary)."""
+    """'name 0.84 [0.53, 1]': the estimate, and its interval shown within [0, 1] for a share (as the text
+    summary; mu* as it is, to 3 digits: 'name 6.41e+03 [6.32e+03, 6.51e+03]')."""
     v, (low, high) = ranking.value[u], ranking.ci[u]
+    if not ranking.share:
+        return f"{ranking.units[u]} {v:.3g}" + (f" [{low:.3g}, {high:.3g}]" if np.isfinite(low) else "")
     words = f"{ranking.units[u]} {v:.2g}"
     return words + (f" [{clipped(low):.2g}, {clipped(high):.2g}]" if np.isfinite(low) else "")
 

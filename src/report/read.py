@@ -39,9 +39,14 @@ def subset_response(f):
     return next(iter(f["rare_event"].keys()), "") if "rare_event" in f else ""
 
 
+def morris_design(f):
+    return text(f.attrs.get("design", "")) == "morris" and "morris_block" in f.attrs
+
+
 def counted_rows(f):
     """The rows of /samples that are independent draws, and the words saying which: for Saltelli the A and B
-    runs (the AB runs repeat A's inputs but one), for subset simulation level 0 (its Monte-Carlo sample)."""
+    runs (the AB runs repeat A's inputs but one), for Morris each trajectory's first run (the others step one
+    factor at a time from it), for subset simulation level 0 (its Monte-Carlo sample)."""
     status = f["samples/status"][:]
     n, held = status.size, status != 3  # 3: not in this file (a merge of some parts)
     note = "" if held.all() else f", of the {int(held.sum())} this merged file holds"
@@ -52,6 +57,10 @@ def counted_rows(f):
         rows = (np.arange(n) % int(f.attrs["saltelli_block"]) < 2) & held
         return rows, (f"the {int(rows.sum())} independent runs of the {n} (the A and B runs of the Saltelli "
                       f"design; its AB runs repeat A's inputs but one){note}")
+    if morris_design(f):
+        rows = (np.arange(n) % int(f.attrs["morris_block"]) == 0) & held
+        return rows, (f"the {int(rows.sum())} independent runs of the {n} (each Morris trajectory's first run; "
+                      f"the trajectory's other runs step one factor at a time from it){note}")
     return held, f"all {int(held.sum())} samples{note}"
 
 

@@ -90,7 +90,7 @@ std::uint32_t sobol_bits(std::uint64_t k, unsigned dimension, unsigned dimension
 }
 
 SampleDesign::SampleDesign(Design design, std::uint64_t seed, std::uint64_t samples, unsigned dimensions,
-                           std::vector<unsigned> unit_of_dimension, unsigned levels)
+                           std::vector<unsigned> unit_of_dimension, const std::optional<MorrisSpec>& morris)
     : design_(design),
       seed_(seed),
       samples_(samples),
@@ -102,14 +102,18 @@ SampleDesign::SampleDesign(Design design, std::uint64_t seed, std::uint64_t samp
   if (unit_of_dimension_.size() != dimensions)
     throw std::invalid_argument("sample design: one Saltelli unit per input dimension");
   units_ = dimensions == 0 ? 0 : *std::max_element(unit_of_dimension_.begin(), unit_of_dimension_.end()) + 1;
-  if (design == Design::morris) morris_.emplace(seed, levels, unit_of_dimension_, units_);
-  const unsigned sobol_dimensions = design == Design::saltelli ? 2 * dimensions : dimensions;
-  const bool uses_sobol = design == Design::sobol || design == Design::saltelli;
+  radial_ = design == Design::morris && (!morris || morris->radial);
+  if (design == Design::morris && !radial_) morris_.emplace(seed, morris->levels, unit_of_dimension_, units_);
+  const bool two_points = design == Design::saltelli || radial_;  // A and B from 2D Sobol' dimensions
+  const unsigned sobol_dimensions = two_points ? 2 * dimensions : dimensions;
+  const bool uses_sobol = design == Design::sobol || two_points;
   if (uses_sobol && sobol_dimensions > boost::random::detail::qrng_tables::sobol::max_dimension)
     throw std::invalid_argument(std::string(name(design)) + " design: at most " +
                                 std::to_string(boost::random::detail::qrng_tables::sobol::max_dimension) +
                                 " Sobol dimensions");
-  const std::uint64_t points = design == Design::saltelli ? samples / saltelli_block(units_) : samples;
+  const std::uint64_t points = design == Design::saltelli ? samples / saltelli_block(units_)
+                               : radial_                  ? samples / (units_ + 1u)
+                                                          : samples;
   if (uses_sobol && points > 0xffffffffULL)
     throw std::invalid_argument(std::string(name(design)) + " design: at most 2^32 - 1 Sobol points");
 }
@@ -126,23 +130,26 @@ void SampleDesign::sobol_point(std::uint64_t index, unsigned total, unsigned fir
   }
 }
 
+void SampleDesign::two_point(const SaltelliPlace& at, std::span<double> u) const {
+  const unsigned d = dimensions_;
+  sobol_point(at.base, 2 * d, at.role == SaltelliRole::b ? d : 0, u);
+  if (at.role != SaltelliRole::ab) return;
+  double from_b = 0.0;
+  for (unsigned i = 0; i < d; ++i) {
+    if (unit_of_dimension_[i] != at.unit) continue;
+    sobol_point(at.base, 2 * d, d + i, std::span<double>(&from_b, 1));
+    u[i] = from_b;
+  }
+}
+
 void SampleDesign::point(std::uint64_t sample, std::span<double> u) const {
   if (design_ == Design::sobol) return sobol_point(sample, dimensions_, 0, u);
-  if (design_ == Design::morris) return morris_->point(sample, u);
-  if (design_ == Design::saltelli) {
-    const SaltelliPlace at = saltelli_place(sample, units_);
-    const unsigned d = dimensions_;
-    sobol_point(at.base, 2 * d, at.role == SaltelliRole::b ? d : 0, u);
-    if (at.role == SaltelliRole::ab) {
-      double from_b = 0.0;
-      for (unsigned i = 0; i < d; ++i) {
-        if (unit_of_dimension_[i] != at.unit) continue;
-        sobol_point(at.base, 2 * d, d + i, std::span<double>(&from_b, 1));
-        u[i] = from_b;
-      }
-    }
-    return;
+  if (design_ == Design::saltelli) return two_point(saltelli_place(sample, units_), u);
+  if (radial_) {  // run s of trajectory t: A_t (s = 0), then A_t with unit s - 1 from B_t
+    const std::uint64_t t = sample / (units_ + 1u), s = sample % (units_ + 1u);
+    return two_point({t, s == 0 ? SaltelliRole::a : SaltelliRole::ab, s == 0 ? 0u : static_cast<unsigned>(s - 1)}, u);
   }
+  if (design_ == Design::morris) return morris_->point(sample, u);
   for (unsigned d = 0; d < u.size(); ++d) u[d] = uniform(sample, d);
 }
 

@@ -12,6 +12,7 @@
 
 #include "common/enum_names.hpp"
 #include "designs/morris/morris_points.hpp"
+#include "designs/morris/morris_spec.hpp"
 
 namespace treedyn::ensemble {
 
@@ -64,9 +65,9 @@ class SampleDesign {
  public:
   // `unit_of_dimension` (saltelli, morris): the unit of each input
   // dimension, 0 .. U-1; empty: every dimension is a unit of its own
-  // (U = D). `levels`: morris' p.
+  // (U = D). `morris`: its variant and levels.
   SampleDesign(Design design, std::uint64_t seed, std::uint64_t samples, unsigned dimensions,
-               std::vector<unsigned> unit_of_dimension = {}, unsigned levels = 4);
+               std::vector<unsigned> unit_of_dimension = {}, const std::optional<MorrisSpec>& morris = {});
 
   // u in the open interval (0, 1).
   double uniform(std::uint64_t sample, unsigned dimension) const;
@@ -77,6 +78,9 @@ class SampleDesign {
   unsigned dimensions() const { return dimensions_; }
 
  private:
+  // A and B of base point `at.base` over 2D Sobol' dimensions, with unit
+  // `at.unit`'s inputs from B for AB (saltelli, and morris' radial steps).
+  void two_point(const SaltelliPlace& at, std::span<double> u) const;
   // Scrambled Sobol point `index` of `total` dimensions: dimensions
   // first .. first + u.size() - 1 into u.
   void sobol_point(std::uint64_t index, unsigned total, unsigned first, std::span<double> u) const;
@@ -87,7 +91,8 @@ class SampleDesign {
   unsigned dimensions_;
   std::vector<unsigned> unit_of_dimension_;  // size D
   unsigned units_;                           // U
-  std::optional<MorrisPoints> morris_;
+  std::optional<MorrisPoints> morris_;       // morris' trajectories (not radial)
+  bool radial_ = false;                      // morris, radial
 };
 
 // Independent uniform in (0, 1) from Philox4x64 keyed by seed, counter

@@ -336,4 +336,24 @@ TEST_F(ReportAnswers, NoExceedingRunIsOneLineAndNoLimitIsNothing) {
     EXPECT_TRUE(at > 0 && std::isalpha(static_cast<unsigned char>(r.page[at - 1]))) << r.page.substr(at - 40, 80);
 }
 
+// The crane example as a Morris screen: the page ranks by mu* as the
+// summary does, with its table and its mu*-sigma figure
+// (tests/report/morris_page_checks.py); a Saltelli page has none of it.
+TEST_F(ReportAnswers, MorrisScreenRanksByMuStarWithItsTableAndFigure) {
+  if (const std::string why = skipped_when_sanitized("crane_payload", true); !why.empty()) GTEST_SKIP() << why;
+  const std::string checks = std::string(TREEDYN_TEST_SUPPORT_DIR) + "/../report/morris_page_checks.py";
+  const std::string job = edited_job_text("crane_payload.toml", {{"\nsamples = 16\n", "\n"},
+                                                                 {"design = \"saltelli\"", "design = \"morris\""}}) +
+                          "\n[ensemble.morris]\ntrajectories = 10\n";
+  for (const fs::path& out : {run("crane_morris", job),
+                              run("crane_saltelli", read_text(fs::path(TREEDYN_JOBS_DIR) / "crane_payload.toml"))}) {
+    SCOPED_TRACE(out.string());
+    report(out);
+    const CommandResult c =
+        run_command(kPython, {checks, out.string(), (dir_.path() / (out.stem().string() + "_report")).string()},
+                    dir_.path() / "capture_morris");
+    EXPECT_EQ(c.exit_code, 0) << c.out << c.err;
+  }
+}
+
 }  // namespace

@@ -15,12 +15,14 @@
 
 #include <cmath>
 #include <cstdint>
+#include <numbers>
 #include <numeric>
 #include <vector>
 
 #include "designs/morris/morris_effects.hpp"
 #include "designs/morris/morris_points.hpp"
 #include "job/ensemble_spec.hpp"
+#include "sampling/design.hpp"
 
 namespace {
 
@@ -84,25 +86,52 @@ TEST(MorrisPoints, LevelsAreDrawnUniformly) {
   for (int c : count) EXPECT_NEAR(c, 1500, 4 * 33.5);
 }
 
-// The spec and table of a morris run over `inputs` uniform on [lo, hi] u.
+// Radial steps: run s of trajectory t is run 0 with unit s - 1's inputs
+// replaced (every one of them, by values in (0, 1)), and nothing else.
+TEST(MorrisRadial, EachRunIsTheBaseWithOneUnitFromAnotherPoint) {
+  const SampleDesign design(Design::morris, 7, 300, 3, kUnits, MorrisSpec{});
+  std::vector<double> base(3), run(3);
+  for (std::uint64_t t = 0; t < 100; ++t) {
+    design.point(t * 3, base);
+    for (std::uint64_t s = 1; s < 3; ++s) {
+      design.point(t * 3 + s, run);
+      for (unsigned d = 0; d < 3; ++d) {
+        EXPECT_GT(run[d], 0.0);
+        EXPECT_LT(run[d], 1.0);
+        if (kUnits[d] == s - 1)
+          EXPECT_NE(run[d], base[d]) << t << " " << s << " " << d;
+        else
+          EXPECT_EQ(run[d], base[d]) << t << " " << s << " " << d;
+      }
+    }
+  }
+}
+
+// The spec and inputs (u) of a morris run: radial steps or trajectories on
+// 4 levels.
 struct Synthetic {
   EnsembleSpec spec;
   std::vector<std::int32_t> status;
   std::vector<double> inputs;
 };
 
-Synthetic synthetic(unsigned inputs, std::vector<SobolUnit> units, std::uint64_t trajectories, std::uint64_t seed) {
+Synthetic synthetic(unsigned inputs, std::vector<SobolUnit> units, std::uint64_t trajectories, std::uint64_t seed,
+                    bool radial) {
   Synthetic s;
   s.spec.design = Design::morris;
   s.spec.seed = seed;
-  s.spec.morris = MorrisSpec{trajectories, 4};
+  MorrisSpec morris;
+  morris.trajectories = trajectories;
+  morris.radial = radial;
+  s.spec.morris = morris;
   s.spec.sobol_units = std::move(units);
   s.spec.perturbations.resize(inputs);  // scalar parameters: one input each
-  const MorrisPoints points(seed, 4, s.spec.unit_of_input(), s.spec.unit_count());
-  const std::uint64_t runs = trajectories * points.runs_per_trajectory();
+  const std::uint64_t runs = trajectories * (s.spec.unit_count() + 1u);
+  s.spec.samples = runs;
+  const SampleDesign design(Design::morris, seed, runs, inputs, s.spec.unit_of_input(), s.spec.morris);
   s.status.assign(runs, 0);
   s.inputs.resize(runs * inputs);
-  for (std::uint64_t k = 0; k < runs; ++k) points.point(k, std::span<double>(s.inputs).subspan(k * inputs, inputs));
+  for (std::uint64_t k = 0; k < runs; ++k) design.point(k, std::span<double>(s.inputs).subspan(k * inputs, inputs));
   return s;
 }
 
@@ -115,10 +144,12 @@ MorrisIndices indices_of(const Synthetic& s, const std::vector<double>& f, unsig
 // c_i (b_i - a_i) Delta, so EE_i = c_i (b_i - a_i) in every trajectory.
 // Tolerance: a few ulps of the largest term (the differences of sums of
 // about 10^2).
-TEST(MorrisIndices, LinearResponseEffectsAreItsCoefficientsExactly) {
+class MorrisIndicesBoth : public ::testing::TestWithParam<bool> {};  // radial, trajectories
+
+TEST_P(MorrisIndicesBoth, LinearResponseEffectsAreItsCoefficientsExactly) {
   const std::vector<double> c{3.0, -2.0, 0.5, 0.0}, a{0.0, 1.0, -4.0, 2.0}, b{1.0, 3.0, 4.0, 5.0};
   const unsigned d = 4;
-  const Synthetic s = synthetic(d, {{"x0", {0}}, {"x1", {1}}, {"x2", {2}}, {"x3", {3}}}, 25, 5);
+  const Synthetic s = synthetic(d, {{"x0", {0}}, {"x1", {1}}, {"x2", {2}}, {"x3", {3}}}, 25, 5, GetParam());
   std::vector<double> f(s.status.size());
   for (std::size_t k = 0; k < f.size(); ++k)
     for (unsigned i = 0; i < d; ++i) f[k] += c[i] * (a[i] + (b[i] - a[i]) * s.inputs[k * d + i]);
@@ -135,10 +166,11 @@ TEST(MorrisIndices, LinearResponseEffectsAreItsCoefficientsExactly) {
   EXPECT_EQ(m.ranking.order[3], 3u);
 }
 
-// A group moves its inputs together, the same way: its effect is the sum.
+// A trajectory's group moves its inputs together, the same way, by Delta:
+// its effect is the sum.
 TEST(MorrisIndices, GroupEffectIsTheSumOfItsInputsEffects) {
   const unsigned d = 3;
-  const Synthetic s = synthetic(d, {{"x0 and x2", {0, 2}}, {"x1", {1}}}, 20, 9);
+  const Synthetic s = synthetic(d, {{"x0 and x2", {0, 2}}, {"x1", {1}}}, 20, 9, false);
   std::vector<double> f(s.status.size());
   for (std::size_t k = 0; k < f.size(); ++k) f[k] = 2.0 * s.inputs[k * d] + 5.0 * s.inputs[k * d + 2];
   const MorrisIndices m = indices_of(s, f, d);
@@ -152,12 +184,12 @@ TEST(MorrisIndices, GroupEffectIsTheSumOfItsInputsEffects) {
 // a = (0, 1, 4.5, 9, 99): the total indices fall with a_i (Saltelli et al.
 // 2008, 4.5: 0.79, 0.24, 0.034, 0.010, 0.0001 for the first four and
 // a = 99), and so must mu*, each neighbour told apart with 400 trajectories.
-TEST(MorrisIndices, GFunctionRankedAsItsTotalIndices) {
+TEST_P(MorrisIndicesBoth, GFunctionRankedAsItsTotalIndices) {
   const std::vector<double> a{0.0, 1.0, 4.5, 9.0, 99.0};
   const unsigned d = 5;
   std::vector<SobolUnit> units;
   for (unsigned i = 0; i < d; ++i) units.push_back({"x" + std::to_string(i), {i}});
-  const Synthetic s = synthetic(d, units, 400, 21);
+  const Synthetic s = synthetic(d, units, 400, 21, GetParam());
   std::vector<double> f(s.status.size(), 1.0);
   for (std::size_t k = 0; k < f.size(); ++k)
     for (unsigned i = 0; i < d; ++i) f[k] *= (std::abs(4.0 * s.inputs[k * d + i] - 2.0) + a[i]) / (1.0 + a[i]);
@@ -170,18 +202,49 @@ TEST(MorrisIndices, GFunctionRankedAsItsTotalIndices) {
   }
 }
 
-// A failed run (or a NaN value) takes out the effects of the steps into and
-// out of it: run 1 of trajectory 0 is both steps' end and start.
-TEST(MorrisIndices, FailedRunDropsTheEffectsOfItsTwoSteps) {
+// A failed run (or a NaN value) takes out the effects of the steps it
+// is an end of.
+TEST_P(MorrisIndicesBoth, FailedRunDropsTheEffectsOfItsSteps) {
   const unsigned d = 3;
-  Synthetic s = synthetic(d, {{"x0", {0}}, {"x1", {1}}, {"x2", {2}}}, 10, 4);
+  Synthetic s = synthetic(d, {{"x0", {0}}, {"x1", {1}}, {"x2", {2}}}, 10, 4, GetParam());
   std::vector<double> f(s.status.size());
   for (std::size_t k = 0; k < f.size(); ++k) f[k] = s.inputs[k * d] + s.inputs[k * d + 1] + s.inputs[k * d + 2];
-  s.status[1] = 1;
+  s.status[1] = 1;  // trajectory 0's run 1: two steps in a trajectory, one radial step
+  s.status[4] = 1;  // trajectory 1's run 0: one step in a trajectory, every radial step
   const MorrisIndices m = indices_of(s, f, d);
   const std::uint64_t kept = std::accumulate(m.effects.begin(), m.effects.end(), std::uint64_t{0});
-  EXPECT_EQ(kept, 10u * 3u - 2u);
+  EXPECT_EQ(kept, GetParam() ? 10u * 3u - 1u - 3u : 10u * 3u - 2u - 1u);
   for (unsigned i = 0; i < d; ++i) EXPECT_NEAR(m.mu[i], 1.0, 1e-12);
 }
+
+// A response of period 1/2 in u (Ishigami's sin^2 x on [-pi, pi], a wave's
+// phase as sin^2): a trajectory's step of 1/2 cannot see it (every effect
+// exactly 0, the documented blind spot), radial steps to an independent
+// point do.
+TEST(MorrisIndices, RadialStepsSeeWhatHalfStepsMiss) {
+  const unsigned d = 2;
+  std::vector<double> mu_star;
+  for (bool radial : {false, true}) {
+    const Synthetic s = synthetic(d, {{"phase", {0}}, {"x", {1}}}, 50, 3, radial);
+    std::vector<double> f(s.status.size());
+    for (std::size_t k = 0; k < f.size(); ++k) {
+      const double phase = std::sin(2.0 * std::numbers::pi * s.inputs[k * d]);
+      f[k] = phase * phase + 0.1 * s.inputs[k * d + 1];
+    }
+    const MorrisIndices m = indices_of(s, f, d);
+    mu_star.push_back(m.mu_star[0]);
+    if (radial) {
+      EXPECT_EQ(m.ranking.order.front(), 0u);
+    } else {
+      EXPECT_NEAR(m.mu_star[0], 0.0, 1e-12);
+    }
+  }
+  EXPECT_GT(mu_star[1], 1.0);  // |change| about 0.5 over a step of about 1/3
+}
+
+INSTANTIATE_TEST_SUITE_P(Variants, MorrisIndicesBoth, ::testing::Values(true, false),
+                         [](const ::testing::TestParamInfo<bool>& variant) {
+                           return variant.param ? "Radial" : "Trajectories";
+                         });
 
 }  // namespace

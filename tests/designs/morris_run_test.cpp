@@ -22,7 +22,7 @@ using namespace treedyn::testing;
 namespace fs = std::filesystem;
 
 // 12 trajectories of 3 factors (the orientation's three inputs are one, a
-// multi-input perturbation), 48 runs.
+// multi-input perturbation), 48 runs, radial steps.
 std::string spin_screening_job() {
   std::string text = spin_exceedance_job(64, false, "morris");
   const std::string samples = "samples = 64\n";
@@ -53,7 +53,15 @@ class MorrisRun : public ::testing::Test {
   fs::path job_;
 };
 
-TEST_F(MorrisRun, SpinEffectIsItsRangeOthersZeroOnAnyRanks) {
+// Either kind of step: a radial one divides a change of 0.4 x (b - a) by
+// b - a (b - a may be as small as about 1e-4 here: rounding then reaches
+// 1e-11, hence 1e-9); a trajectory's by 1/2.
+class MorrisSpin : public MorrisRun, public ::testing::WithParamInterface<const char*> {};
+
+TEST_P(MorrisSpin, EffectIsItsRangeOthersZeroOnAnyRanks) {
+  std::string text = spin_screening_job();
+  text.replace(text.find("trajectories = 12"), 17, std::string("trajectories = 12\nsteps = \"") + GetParam() + "\"");
+  write_text(job_, text);
   const CommandResult one =
       run_command(TREEDYN_ENSEMBLE_BINARY, {job_.string(), "-o", out("one.h5").string()}, dir_.path() / "capture");
   ASSERT_EQ(one.exit_code, 0) << one.err;
@@ -66,9 +74,9 @@ TEST_F(MorrisRun, SpinEffectIsItsRangeOthersZeroOnAnyRanks) {
   const std::vector<double> mu_star = read_doubles(f.id(), "/sensitivity/spin0/morris_mu_star");
   const std::vector<double> sigma = read_doubles(f.id(), "/sensitivity/spin0/morris_sigma");
   ASSERT_EQ(mu.size(), 3u);  // orientation, angular_velocity.z, joint_on_child.z
-  EXPECT_NEAR(mu[1], 0.4, 1e-12);
-  EXPECT_NEAR(mu_star[1], 0.4, 1e-12);
-  EXPECT_NEAR(sigma[1], 0.0, 1e-12);
+  EXPECT_NEAR(mu[1], 0.4, 1e-9);
+  EXPECT_NEAR(mu_star[1], 0.4, 1e-9);
+  EXPECT_NEAR(sigma[1], 0.0, 1e-9);
   for (std::size_t g : {0u, 2u}) EXPECT_NEAR(mu_star[g], 0.0, 1e-12) << g;
   EXPECT_EQ(read_integers(f.id(), "/sensitivity/spin0/morris_ranking/order").at(0), 1);
   EXPECT_EQ(read_integers(f.id(), "/sensitivity/spin0/morris_ranking/told_apart").at(0), 1);
@@ -78,6 +86,8 @@ TEST_F(MorrisRun, SpinEffectIsItsRangeOthersZeroOnAnyRanks) {
   ASSERT_EQ(three.exit_code, 0) << three.err;
   EXPECT_EQ(read_all(out("one.h5")), read_all(out("three.h5")));
 }
+
+INSTANTIATE_TEST_SUITE_P(Steps, MorrisSpin, ::testing::Values("radial", "trajectories"));
 
 // Two parts over runs [0, 20) and [20, 48), merged: the same bits as one
 // run; run 29 alone: the inputs of row 29.
@@ -120,8 +130,12 @@ TEST(MorrisJob, RefusedWithTheFieldAndTheReason) {
   expect_job_refused(replaced("\n[ensemble.morris]\ntrajectories = 12\n", ""),
                      {"design: morris needs an [ensemble.morris] table"});
   expect_job_refused(replaced("trajectories = 12", "trajectories = 1"), {"trajectories: must be at least 2"});
-  expect_job_refused(replaced("trajectories = 12", "trajectories = 12\nlevels = 3"),
+  expect_job_refused(replaced("trajectories = 12", "trajectories = 12\nsteps = \"trajectories\"\nlevels = 3"),
                      {"levels: must be an even integer from 2 to 1024"});
+  expect_job_refused(replaced("trajectories = 12", "trajectories = 12\nlevels = 4"),
+                     {"levels: only for steps = \"trajectories\""});
+  expect_job_refused(replaced("trajectories = 12", "trajectories = 12\nsteps = \"grid\""),
+                     {"steps: \"grid\" is not allowed; use \"radial\""});
   expect_job_refused(replaced("trajectories = 12", "trajectories = 12\nlevel = 4"), {"level"});
   expect_job_refused(replaced("design = \"morris\"", "design = \"sobol\"\nsamples = 10"),
                      {"[ensemble.morris] is only for design = \"morris\""});

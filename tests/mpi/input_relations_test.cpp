@@ -270,8 +270,8 @@ TEST(InputRelations, GroupsOutsideSaltelliOrOfUnknownOrRepeatedInputsAreRefused)
   const std::string group =
       "\n[[ensemble.group]]\nname = \"start\"\ninputs = [\"body.rod.orientation\", \"body.rod.angular_velocity.z\"]\n";
   expect_refused(kSobol, group,
-                 {"ensemble.group[1].name: [[ensemble.group]] sets which inputs Saltelli's design "
-                  "moves together; it is only for design = \"saltelli\""});
+                 {"ensemble.group[1].name: [[ensemble.group]] sets which inputs Saltelli's or Morris' design "
+                  "moves together; it is only for design = \"saltelli\" or \"morris\""});
   const std::string unknown = "\n[[ensemble.group]]\nname = \"start\"\ninputs = [\"body.rod.orientation.x\"]\n";
   expect_refused(kSaltelli, unknown,
                  {":" + position_of(spherical_job(kSaltelli, unknown), "\"body.rod.orientation.x\"]") +

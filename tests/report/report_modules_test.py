@@ -9,14 +9,16 @@ import unittest
 import h5py
 import numpy as np
 
-from answers import (extreme_samples, integration_verdicts, failure_effects, index_verdict, last_time_warnings, mean_verdict,
-                     outside_range_warnings, probability_verdict, response_row, scatter_figures)
+from answers import (counted_runs_meaning, extreme_samples, integration_verdicts, failure_effects, index_verdict,
+                     last_time_warnings, mean_verdict, outside_range_warnings, probability_verdict, response_row,
+                     scatter_figures)
 from drivers import (asked_pair, disagreement_note, drivers_section, first_order_cell, index_notes,
                      input_correlations)
 from ensemble_details import response_figures, sensitivity_figures
 from failure_region import failure_region_section
 from history import constant_columns, rotation_angle_degrees, valid_range
 from index_figures import index_figures
+from morris_figures import morris_figures
 from rankings import Ranking, chain, driven_by, primary_ranking, visible_units
 from read import counted_rows
 from trajectory import advice, lines
@@ -741,6 +743,139 @@ class FromAnswerFiles(unittest.TestCase):
         self.assertEqual(header[2:5], ["value (with its unit) or reason", "a (kg)", "b (m)"])
         self.assertTrue(rows[0][2].endswith(" N"), rows[0])
         self.assertEqual(rows[-1][1:3], ["failed", "too_much_work at t = 1 s"])
+
+
+def morris_file(f, trajectories=4):
+    """A Morris screen over three factors: a (kg), b (m) and a list p[1..4] stepped together; one response y
+    (N) with a limit. Blocks of U + 1 = 4 runs per trajectory; mu*, mu and sigma chosen by hand (b and p act
+    nonlinearly: sigma >= mu*; p's sigma has no interval)."""
+    inputs = ["a", "b"] + [f"p[{k}]" for k in range(1, 5)]
+    n = 4 * trajectories
+    f.attrs.update({"design": "morris", "morris_block": 4, "morris_levels": 4, "morris_trajectories": trajectories})
+    f["samples/status"] = np.zeros(n, dtype=np.int32)
+    x = np.random.default_rng(5).uniform(size=(n, 6))
+    f["samples/inputs"] = x
+    f["samples/inputs"].attrs.update({"columns": inputs, "column_units": ["kg", "m"] + ["rad"] * 4,
+                                      "column_targets": ["a", "b"] + ["p"] * 4})
+    r = f.create_dataset("samples/responses", data=(20 + 10 * x[:, 0])[:, None])
+    r.attrs.update({"columns": ["y"], "column_units": ["N"], "limit": [25.0], "fail_if": ["above"]})
+    f.create_dataset("samples/reason", data=[""] * n, dtype=h5py.string_dtype())
+    s = f.create_group("sensitivity/y")
+    factors = ["a", "b", "p"]
+    for key, v, ci in (("mu_star", [10.0, 2.0, 0.5], [[9.0, 11.0], [0.5, 3.5], [0.2, 0.8]]),
+                       ("mu", [10.0, -1.0, 0.1], [[9.0, 11.0], [-2.5, 0.5], [-0.3, 0.5]]),
+                       ("sigma", [1.0, 3.0, 0.6], [[0.5, 1.5], [2.0, 4.0], [np.nan, np.nan]])):
+        s[f"morris_{key}"] = np.array(v)
+        s[f"morris_{key}"].attrs.update({"columns": factors, "units": "N"})
+        s[f"morris_{key}_ci"] = np.array(ci)
+        s[f"morris_{key}_ci"].attrs.update({"columns": ["low", "high"], "factors": factors})
+    s["morris_effects"] = np.full(3, float(trajectories))
+    s.attrs.update({"morris_units": factors, "morris_unit_inputs": ["a", "b", "p[1], p[2], p[3], p[4]"],
+                    "morris_trajectories": trajectories, "morris_levels": 4, "rank_samples": trajectories,
+                    "rank_r_squared": np.nan})
+    s["spearman"], s["srrc"] = np.array([0.9, 0.3, 0.1, 0.1, 0.1, 0.1]), np.full(6, np.nan)
+    s["spearman"].attrs["columns"] = inputs
+    s["rank_measure_ci"] = np.tile([0.0, 1.0], (6, 1))
+    for key, measure, order, told, needed in (("morris_ranking", "Morris mu*", [0, 1, 2], [1, 0], [np.nan, 30.0]),
+                                              ("rank_ranking", "|Spearman|", range(6), [0] * 5, [np.nan] * 5)):
+        g = s.create_group(key)
+        g.attrs["measure"], g.attrs["resamples"] = measure, 1000
+        g["order"], g["told_apart"], g["needed"] = np.array(list(order)), np.array(told), np.array(needed, float)
+        g["difference_ci"] = np.zeros((len(told), 2))
+    return s
+
+
+class Morris(unittest.TestCase):
+    def setUp(self):
+        self.dir = tempfile.TemporaryDirectory()
+        self.path = os.path.join(self.dir.name, "m.h5")
+
+    def tearDown(self):
+        self.dir.cleanup()
+
+    def page_of(self, build):
+        """The drivers section and the figures of a file built by `build`."""
+        write(self.path, build)
+        page = Collect()
+        with h5py.File(self.path) as f:
+            drivers_section(f, page, counted_rows(f)[0])
+            index_figures(f, page)
+            morris_figures(f, page)
+        return page
+
+    def test_each_trajectory_s_first_run_is_counted_and_said_to_be_a_screen(self):
+        write(self.path, morris_file)
+        with h5py.File(self.path) as f:
+            rows, words = counted_rows(f)
+            meaning = counted_runs_meaning(f)
+        self.assertEqual(list(np.flatnonzero(rows)), [0, 4, 8, 12])
+        self.assertTrue(words.startswith("the 4 independent runs of the 16 (each Morris trajectory's first run"), words)
+        self.assertIn("each trajectory's first run (an independent draw, on the inputs' 4-level grid: a screen, not "
+                      "an estimate of a small probability)", meaning)
+
+    def test_the_ranking_is_by_mu_star_told_apart_as_the_bootstrap_says_and_not_clipped(self):
+        write(self.path, morris_file)
+        with h5py.File(self.path) as f:
+            r = primary_ranking(f["sensitivity/y"], strings_of(f["samples/inputs"].attrs["columns"]))
+        self.assertEqual((r.measure, r.word, r.share, list(r.order)), ("Morris mu*", "trajectories", False, [0, 1, 2]))
+        self.assertEqual(r.members, [[0], [1], [2, 3, 4, 5]])
+        page = self.page_of(morris_file)
+        self.assertEqual(page.words("good"), ["y is driven by a 10 [9, 11] > b 2 [0.5, 3.5] ~ p 0.5 [0.2, 0.8] (Morris "
+                                              "mu* [95 %], N per unit of u, from 4 trajectories). b and p cannot yet "
+                                              "be told apart (about 30 trajectories would tell them apart)."])
+        self.assertNotIn("matters little", page.words("good")[0])  # mu* is a size in N, not a share
+
+    def test_the_table_gives_mu_star_mu_and_sigma_with_units_largest_mu_star_first(self):
+        page = self.page_of(morris_file)
+        header, rows = page.tables()[0]
+        self.assertEqual(header, ["factor", "its inputs", "mu* [95 %] (N per unit of u)", "mu [95 %] (N per unit of u)",
+                                  "sigma [95 %] (N per unit of u)", "elementary effects", "reading"])
+        self.assertEqual([row[:6] for row in rows], [["a", "a", "10 [9, 11]", "10 [9, 11]", "1 [0.5, 1.5]", "4"],
+                                                     ["b", "b", "2 [0.5, 3.5]", "-1 [-2.5, 0.5]", "3 [2, 4]", "4"],
+                                                     ["p", "p[1..4]", "0.5 [0.2, 0.8]", "0.1 [-0.3, 0.5]", "0.6", "4"]])
+        self.assertEqual(rows[0][6], "raises y")
+        self.assertEqual(rows[1][6], "its effects change sign (|mu| < mu*): non-monotone; nonlinear or interacting "
+                                     "(sigma >= mu*)")
+        self.assertTrue(any(w.startswith("y: sigma >= mu*, nonlinear or interacting: b (sigma 3, mu* 2), p (sigma "
+                                         "0.6, mu* 0.5).") for w in page.words("paragraph")))
+
+    def test_the_figure_draws_mu_star_against_sigma_with_the_line_sigma_equals_mu_star(self):
+        page = self.page_of(morris_file)
+        self.assertEqual(len(page.figures), 1)
+        fig, caption, name = page.figures[0]
+        self.assertEqual(name, "morris_y")
+        self.assertIn("dashed: sigma = mu*. Above the line a factor acts nonlinearly or through interactions", caption)
+        self.assertIn("near the x-axis it acts linearly", caption)
+        ax = fig.axes[0]
+        self.assertEqual([t.get_text() for t in ax.texts], ["a", "b", "p"])
+        dashed = [line for line in ax.get_lines() if line.get_linestyle() == "--"]
+        self.assertEqual(len(dashed), 1)
+        np.testing.assert_allclose(dashed[0].get_xdata(), dashed[0].get_ydata())
+        self.assertEqual(ax.get_xlim()[0], 0)
+        self.assertGreaterEqual(ax.get_xlim()[1], 11.0)  # every interval inside the axes
+        self.assertGreaterEqual(ax.get_ylim()[1], 4.0)
+        points = [line for line in ax.get_lines() if line.get_marker() == "o"][0]
+        np.testing.assert_allclose(points.get_xdata(), [10.0, 2.0, 0.5])
+        np.testing.assert_allclose(points.get_ydata(), [1.0, 3.0, 0.6])
+
+    def test_no_morris_section_for_saltelli_or_monte_carlo(self):
+        def saltelli(f):
+            saltelli_file(f)
+            sensitivity_group(f, "y", [0.2, 0.8], [[0.1, 0.3], [0.6, 1.1]], [1, 0], [1], [np.nan])
+
+        def monte_carlo(f):
+            saltelli(f)
+            del f.attrs["design"], f["sensitivity/y/total_order"], f["sensitivity/y/total_order_ci"]
+        for build in (saltelli, monte_carlo):
+            page = self.page_of(build)
+            self.assertNotIn("morris", " ".join(page.words()).lower())
+            self.assertFalse([name for _, _, name in page.figures if name.startswith("morris")])
+            with h5py.File(self.path) as f:
+                self.assertNotIn("Morris", counted_runs_meaning(f) + counted_rows(f)[1])
+
+
+def strings_of(v):
+    return [x.decode() if isinstance(x, bytes) else str(x) for x in v]
 
 
 if __name__ == "__main__":

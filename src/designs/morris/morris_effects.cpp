@@ -84,7 +84,39 @@ MorrisIndices morris_indices(std::span<const double> effects, std::size_t units,
   return out;
 }
 
+namespace {
+
+// Radial steps: run s of trajectory t is A_t with unit s - 1's inputs from
+// B_t, so its effect is (f_s - f_0) / step, the step b - a of a single
+// input (signed) or, for a group, the root mean square of its inputs'.
+std::vector<double> radial_effects(const EnsembleSpec& spec, const ResponseTable& table, std::size_t r) {
+  const unsigned units = spec.unit_count(), dimensions = spec.input_dimensions();
+  const std::vector<unsigned> unit_of = spec.unit_of_input();
+  const SampleDesign design(Design::morris, spec.seed, spec.samples, dimensions, unit_of, spec.morris);
+  const std::uint64_t per = units + 1u, trajectories = table.samples() / per;
+  std::vector<double> effects(trajectories * units, kNaN), a(dimensions), b(dimensions);
+  auto value = [&](std::uint64_t k) { return table.ok(k) ? table.response(k, r) : kNaN; };
+  for (std::uint64_t t = 0; t < trajectories; ++t) {
+    design.point(t * per, a);
+    const double before = value(t * per);
+    for (unsigned g = 0; g < units; ++g) {
+      design.point(t * per + g + 1, b);
+      double step = 0.0, inputs = 0.0, last = 0.0;
+      for (unsigned i = 0; i < dimensions; ++i)
+        if (unit_of[i] == g) step += (b[i] - a[i]) * (b[i] - a[i]), inputs += 1.0, last = b[i] - a[i];
+      step = inputs == 1.0 ? last : std::sqrt(step / inputs);
+      const double after = value(t * per + g + 1);
+      if (std::isfinite(before) && std::isfinite(after) && step != 0.0)
+        effects[t * units + g] = (after - before) / step;
+    }
+  }
+  return effects;
+}
+
+}  // namespace
+
 std::vector<double> elementary_effects(const EnsembleSpec& spec, const ResponseTable& table, std::size_t r) {
+  if (spec.morris->radial) return radial_effects(spec, table, r);
   const unsigned units = spec.unit_count();
   const MorrisPoints points(spec.seed, spec.morris->levels, spec.unit_of_input(), units);
   const std::uint64_t per = points.runs_per_trajectory(), trajectories = table.samples() / per;

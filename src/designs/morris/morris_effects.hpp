@@ -1,12 +1,16 @@
-// Morris' screening measures of one response from its elementary effects:
-// per unit (an input, or a group moved together),
-//   EE_g(t) = d (f(x_s) - f(x_{s-1})) / Delta
-// for the step s of trajectory t that moved g, d = +1 up or -1 down, Delta
-// = 1/2 in u (morris_points.hpp); mu_g their mean, mu*_g the mean of
-// |EE_g| (Campolongo et al. 2007: it ranks like the total Sobol' index),
-// sigma_g their standard deviation (n - 1; large: the input acts through
-// interactions or nonlinearly). Units: the response's per unit of u, so
-// for an input uniform on [a, b] and f = c x, EE = c (b - a) exactly.
+// Morris' screening measures of one response from its elementary effects,
+// per factor g (an input, or a group moved together):
+//   radial (default): EE_g(t) = (f(A_t with g from B_t) - f(A_t)) / step,
+//     step = b - a for a single input, the root mean square of its inputs'
+//     b - a for a group (whose sign then says nothing);
+//   trajectories: EE_g(t) = d (f(x_s) - f(x_{s-1})) / Delta for the step s
+//     that moved g, d = +1 up or -1 down, Delta = 1/2 in u
+//     (morris_points.hpp).
+// mu_g their mean, mu*_g the mean of |EE_g| (Campolongo et al. 2007: it
+// ranks like the total Sobol' index), sigma_g their standard deviation
+// (n - 1; large: the input acts through interactions or nonlinearly).
+// Units: the response's per unit of u, so for an input uniform on [a, b]
+// and f = c x, EE = c (b - a) exactly in either variant.
 #pragma once
 
 #include <cstddef>

@@ -1,0 +1,71 @@
+"""Morris' screen drawn per response: each factor's mu* (the mean size of its elementary effects) against sigma
+(their spread), with their 95 % bootstrap intervals where finite, and the line sigma = mu*: above it a factor acts
+nonlinearly or through interactions, near the x-axis linearly. Sizes in the response's units per unit of u, drawn
+as they are (no share of variance: nothing to clip)."""
+import numpy as np
+
+import matplotlib.pyplot as plt
+
+from drivers import morris_units, trajectories_words
+from rankings import has_morris, morris_ranking, visible_units
+from read import strings
+
+MAX_LABELS = 12  # factors named beside their point, largest mu* first
+MARGIN = 1.15    # the axes reach this far beyond the largest interval
+
+
+def morris_figures(f, page):
+    if "sensitivity" not in f or "samples/inputs" not in f or "samples/responses" not in f:
+        return
+    inputs = f["samples/inputs"]
+    names = strings(inputs.attrs["columns"])
+    for name in [r for r in strings(f["samples/responses"].attrs["columns"]) if r in f["sensitivity"]]:
+        s = f["sensitivity"][name]
+        if not has_morris(s):
+            continue
+        morris = morris_ranking(s, names)
+        units = [int(u) for u in morris.order if int(u) in set(visible_units(morris, inputs))]
+        fig, ax = plt.subplots(figsize=(10, 4.8), layout="constrained")
+        morris_plane(ax, morris, s["morris_sigma"][:], s["morris_sigma_ci"][:], units, morris_units(s))
+        ax.set_title(name, fontsize=9)
+        page.figure(fig, morris_caption(name, s, len(units) > MAX_LABELS), f"morris_{name}")
+
+
+def morris_caption(name, s, unlabelled):
+    unit = morris_units(s)
+    return (f"{name}: Morris mu* (the mean size of a factor's elementary effects) against sigma (their spread), per "
+            f"factor, in {unit} per unit of u, with their 95 % bootstrap intervals where finite, "
+            f"{trajectories_words(s)}; dashed: sigma = mu*. Above the line a factor acts nonlinearly or through "
+            "interactions (its effect changes with where on the grid it steps, or with the other factors); near "
+            "the x-axis it acts linearly (about the same effect wherever it steps); near the origin it matters "
+            "little" + (f"; the {MAX_LABELS} largest mu* named" if unlabelled else ""))
+
+
+def interval_errors(v, ci):
+    """Asymmetric error bars from an interval (none where it or the estimate is not finite)."""
+    errors = np.vstack([v - ci[:, 0], ci[:, 1] - v])
+    errors[:, ~(np.isfinite(v) & np.all(np.isfinite(ci), axis=1))] = 0.0
+    return np.maximum(errors, 0.0)
+
+
+def morris_plane(ax, morris, sigma, sigma_ci, units, unit):
+    x, y = morris.value[units], sigma[units]
+    x_ci, y_ci = morris.ci[units], sigma_ci[units]
+    ax.errorbar(x, y, xerr=interval_errors(x, x_ci), yerr=interval_errors(y, y_ci), fmt="o", color="tab:blue",
+                ecolor="0.55", elinewidth=0.9, capsize=2, ms=5, label="factor (95 % intervals)")
+    right = MARGIN * max(np.nanmax(np.r_[x, x_ci[:, 1][np.isfinite(x_ci[:, 1])]], initial=0.0), 1e-300)
+    top = MARGIN * max(np.nanmax(np.r_[y, y_ci[:, 1][np.isfinite(y_ci[:, 1])]], initial=0.0), 1e-300)
+    reach = max(right, top)
+    ax.plot([0, reach], [0, reach], "--", color="0.3", lw=1, label="sigma = mu*")
+    ax.set_xlim(0, right)
+    ax.set_ylim(0, top)
+    for k, u in enumerate(units[:MAX_LABELS]):
+        if np.isfinite(x[k]) and np.isfinite(y[k]):
+            near_right = x[k] > 0.6 * right
+            ax.annotate(morris.units[u], (x[k], y[k]), xytext=(-5 if near_right else 5, 5), textcoords="offset points",
+                        ha="right" if near_right else "left", fontsize=8)
+    ax.set_xlabel(f"mu*, the mean |elementary effect| ({unit} per unit of u)", fontsize=8)
+    ax.set_ylabel(f"sigma, their standard deviation ({unit} per unit of u)", fontsize=8)
+    ax.tick_params(labelsize=8)
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))  # outside: the upper left is where
+    # the nonlinear factors sit
