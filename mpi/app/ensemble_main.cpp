@@ -123,6 +123,9 @@ void define_options(CLI::App& app, CommandLine& c) {
   app.add_option("--progress-interval", c.options.progress_interval,
                  "seconds between progress lines when stderr is not a terminal")
       ->check(CLI::PositiveNumber);
+  // The tests' seam (parallel/test_hooks.hpp), left out of --help.
+  app.add_option("--test-hold-after", c.options.test.hold_after)->group("");
+  app.add_flag("--test-hold-unsaved", c.options.test.hold_unsaved)->group("");
 }
 
 // --samples FIRST:END into the options; false (and a message on rank 0) when malformed.

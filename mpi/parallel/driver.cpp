@@ -29,9 +29,6 @@ EnsembleRun::EnsembleRun(MPI_Comm c, const EnsembleOptions& o, const Job& j, con
                                     build_identity())
            : job_id;
   checkpoint_dir = ensemble::checkpoint_directory(options.output_path);
-  if (const char* hold = std::getenv("TREEDYN_TEST_HOLD_AFTER"); hold && *hold)
-    hold_after = std::strtoull(hold, nullptr, 10);
-  if (const char* unsaved = std::getenv("TREEDYN_TEST_HOLD_UNSAVED")) hold_unsaved = std::string(unsaved) == "1";
 }
 
 namespace {

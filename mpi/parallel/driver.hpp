@@ -49,6 +49,7 @@
 #include "hdf5/ensemble_file.hpp"
 #include "hdf5/provenance.hpp"
 #include "parallel/record_sink.hpp"
+#include "parallel/test_hooks.hpp"
 #include "process/output_lock.hpp"
 
 namespace treedyn::parallel {
@@ -65,6 +66,7 @@ struct EnsembleOptions {
   // merge command joins parts); end 0: the whole ensemble into HDF5.
   std::uint64_t first_sample = 0, end_sample = 0;
   bool part() const { return end_sample > 0; }
+  TestHooks test;  // the tests' seam (hidden options); inert unless set
 };
 
 // Returns the process exit code, the same on all ranks.
@@ -112,16 +114,7 @@ struct EnsembleRun {
   double busy_seconds = 0.0, busy_cpu_seconds = 0.0;
   std::uint64_t samples_run = 0;
 
-  // Fault injection for the tests of kills and signals (never set by users):
-  // TREEDYN_TEST_HOLD_AFTER=N makes every rank hold after keeping N samples
-  // of the waves after the pilot: it saves its checkpoint (unless
-  // TREEDYN_TEST_HOLD_UNSAVED=1: then only a stop signal's save puts them on
-  // disk), writes OUT.h5.checkpoint/held-rankR ("pid P kept K": its process
-  // and every sample it has kept) and waits for a stop signal (or SIGKILL).
-  // A test kills or signals the run in a known state.
-  std::optional<std::uint64_t> hold_after;
-  bool hold_unsaved = false;
-  std::uint64_t kept_after_pilot = 0, kept = 0;
+  std::uint64_t kept_after_pilot = 0, kept = 0;  // for options.test.hold_after
 };
 
 // Runs `work` on rank 0 alone and gives every rank its exit code. A file

@@ -165,11 +165,12 @@ void keep_after_pilot(EnsembleRun& run, SampleRecord record, std::vector<double>
   hold_if_asked(run);
 }
 
-// TREEDYN_TEST_HOLD_AFTER (driver.hpp): once this rank has kept that many
+// --test-hold-after (test_hooks.hpp): once this rank has kept that many
 // samples after the pilot, it says so in a file and waits for a stop signal.
 void hold_if_asked(EnsembleRun& run) {
-  if (!run.hold_after || run.kept_after_pilot != *run.hold_after) return;
-  if (!run.hold_unsaved) run.results.save();
+  const TestHooks& test = run.options.test;
+  if (!test.hold_after || run.kept_after_pilot != *test.hold_after) return;
+  if (!test.hold_unsaved) run.results.save();
   // Released by a stop signal; a rank whose launcher died (reparented) ends
   // as an unheld one would at its next MPI call. The launcher is read before
   // the file says "held": a test may kill it the moment the file appears,

@@ -8,6 +8,7 @@
 #include "common/format.hpp"
 #include "hdf5/answers_file.hpp"
 #include "hdf5/described.hpp"
+#include "hdf5/statistics_file.hpp"
 #include "hdf5/trajectory_file.hpp"
 #include "output/final_state.hpp"
 #include "output/motion.hpp"
@@ -298,108 +299,6 @@ void EnsembleWriter::write_nominal(const std::vector<double>& trajectory) {
                      "/nominal/orientation (and /trajectories/...) when those quantities are recorded");
 }
 
-void EnsembleWriter::write_statistics(const ensemble::EnsembleStatistics& s) {
-  h5::Handle group = h5::create_group(file_.id(), "stats");
-  h5::write_attribute(group.id(), "description",
-                      std::string("statistics over the successful samples at every output time; "
-                                  "failed samples are left out (see /samples/status)") +
-                          (spec_.design == ensemble::Design::saltelli
-                               ? "; saltelli: over every run, the correlated AB_i rows included (sem "
-                                 "assumes independent samples: use the A and B rows of /samples for it)"
-                           : spec_.design == ensemble::Design::subset_simulation
-                               ? "; subset_simulation: level 0 alone (samples 0 .. N-1), an unbiased "
-                                 "Monte-Carlo sample; the later levels' runs are conditional samples and "
-                                 "left out (they are in /samples)"
-                               : ""));
-  const std::vector<double>& t = job_.request.output_times;
-  h5::write_attribute(group.id(), "quantities", layout_.quantity);  // in the job's order
-  h5::Handle time = h5::write_vector(group.id(), "time", t);
-  describe(time.id(), "s", "output times", {"time"});
-  for (std::size_t q = 0; q < layout_.quantity.size(); ++q) {
-    h5::Handle qg = h5::create_group(group.id(), layout_.quantity[q]);
-    h5::write_attribute(qg.id(), "units", std::string(find_quantity(layout_.quantity[q])->units));
-    write_quantity_statistics(qg.id(), q, s);
-    write_final_histograms(qg.id(), q, s);
-  }
-}
-
-// /stats/<quantity>: count, mean, std, sem, min, max and quantiles, time x column.
-void EnsembleWriter::write_quantity_statistics(hid_t qg, std::size_t q, const ensemble::EnsembleStatistics& s) {
-  const std::size_t T = job_.request.output_times.size(), C = layout_.columns;
-  const std::size_t cols = layout_.names[q].size(), offset = layout_.offset[q];
-  const std::string units(find_quantity(layout_.quantity[q])->units);
-  std::vector<double> mean, sd, sem, mn, mx;
-  std::vector<std::uint64_t> count;
-  std::vector<double> quantiles(spec_.quantiles.size() * T * cols);
-  for (std::size_t k = 0; k < T; ++k)
-    for (std::size_t c = 0; c < cols; ++c) {
-      const std::size_t e = k * C + offset + c;
-      count.push_back(s.count(e));
-      mean.push_back(s.mean(e));
-      sd.push_back(s.std_dev(e));
-      sem.push_back(s.count(e) > 1 ? s.std_dev(e) / std::sqrt(static_cast<double>(s.count(e)))
-                                   : std::numeric_limits<double>::quiet_NaN());
-      mn.push_back(s.min(e));
-      mx.push_back(s.max(e));
-      for (std::size_t p = 0; p < spec_.quantiles.size(); ++p)
-        quantiles[(p * T + k) * cols + c] = s.quantile(e, spec_.quantiles[p]);
-    }
-  const hsize_t dims2[2] = {T, cols};
-  h5::Handle cs = h5::write_array(qg, "count", H5T_NATIVE_UINT64, count.data(), dims2);
-  describe(cs.id(), "1", "number of samples in mean and std (successful samples)", layout_.names[q]);
-  auto matrix = [&](const char* name, const std::vector<double>& v, const std::string& what) {
-    h5::Handle set = h5::write_matrix(qg, name, v, T, cols);
-    describe(set.id(), units, what + " over the successful samples; rows: /stats/time", layout_.names[q]);
-    write_column_units(set.id(), layout_, q);
-  };
-  matrix("mean", mean, "mean");
-  matrix("std", sd, "sample standard deviation (n - 1)");
-  matrix("sem", sem, "standard error of the mean, std / sqrt(count),");
-  matrix("min", mn, "minimum");
-  matrix("max", mx, "maximum");
-  const hsize_t dims3[3] = {spec_.quantiles.size(), T, cols};
-  h5::Handle qs = h5::write_array(qg, "quantiles", H5T_NATIVE_DOUBLE, quantiles.data(), dims3);
-  describe(qs.id(), units,
-           "quantiles (probabilities in the 'probabilities' attribute) x time x column, from a "
-           "histogram per entry: within one bin width of the exact sample quantile inside the "
-           "histogram range",
-           layout_.names[q]);
-  h5::write_attribute(qs.id(), "probabilities", std::span<const double>(spec_.quantiles));
-}
-
-// /stats/<quantity>/histogram: the values at the last output time, per column.
-void EnsembleWriter::write_final_histograms(hid_t qg, std::size_t q, const ensemble::EnsembleStatistics& s) {
-  const std::size_t T = job_.request.output_times.size(), C = layout_.columns;
-  const std::size_t cols = layout_.names[q].size(), offset = layout_.offset[q];
-  const std::string units(find_quantity(layout_.quantity[q])->units);
-  const int bins = s.bins();
-  h5::Handle hg = h5::create_group(qg, "histogram");
-  h5::write_attribute(hg.id(), "description",
-                      std::string("histogram of the values at the last output time, per column"));
-  std::vector<std::uint32_t> counts;
-  std::vector<std::uint64_t> under, over;
-  std::vector<double> edges;
-  for (std::size_t c = 0; c < cols; ++c) {
-    const std::size_t e = (T - 1) * C + offset + c;
-    const auto h = s.histogram(e);
-    under.push_back(h[0]);
-    over.push_back(h[static_cast<std::size_t>(bins + 1)]);
-    counts.insert(counts.end(), h.begin() + 1, h.begin() + 1 + bins);
-    for (int b = 0; b <= bins; ++b) edges.push_back(s.bin_edge(e, b));
-  }
-  const hsize_t hdims[2] = {cols, static_cast<hsize_t>(bins)};
-  h5::Handle hc = h5::write_array(hg.id(), "counts", H5T_NATIVE_UINT32, counts.data(), hdims);
-  describe(hc.id(), "1", "samples per bin, column x bin", layout_.names[q]);
-  const hsize_t edims[2] = {cols, static_cast<hsize_t>(bins + 1)};
-  h5::Handle he = h5::write_array(hg.id(), "edges", H5T_NATIVE_DOUBLE, edges.data(), edims);
-  describe(he.id(), units, "bin edges, column x (bins + 1)", layout_.names[q]);
-  const hsize_t udims[1] = {cols};
-  h5::Handle hu = h5::write_array(hg.id(), "underflow", H5T_NATIVE_UINT64, under.data(), udims);
-  describe(hu.id(), "1", "samples below the first edge", layout_.names[q]);
-  h5::Handle ho = h5::write_array(hg.id(), "overflow", H5T_NATIVE_UINT64, over.data(), udims);
-  describe(ho.id(), "1", "samples above the last edge", layout_.names[q]);
-}
-
 void EnsembleWriter::write_merge_origin(const std::vector<std::string>& parts,
                                         const std::vector<std::pair<std::uint64_t, std::uint64_t>>& held) {
   const hid_t root = file_.id();
@@ -449,7 +348,7 @@ EnsembleSummary EnsembleWriter::complete(const std::vector<double>& nominal, con
   if (!summary.writing_seconds.empty())
     summary.writing_seconds.front() += std::chrono::duration<double>(Clock::now() - flushing).count();
   write_nominal(nominal);
-  write_statistics(stats);
+  statistics_file::write_statistics(file_.id(), job_, spec_, layout_, stats);
   answers_file::write_answers(file_.id(), spec_, answers);
   answers_file::write_tolerance_check(file_.id(), spec_, tolerance);
   summary.wall_seconds = std::chrono::duration<double>(Clock::now() - started).count();

@@ -1,6 +1,7 @@
 // The ensemble's HDF5 file, written by one rank: per-sample records as they
-// arrive (by sample index, any order), then the nominal run and the
-// statistics. Temporary name until complete() renames it into place.
+// arrive (by sample index, any order), then the nominal run, the
+// statistics (statistics_file.hpp) and the answers (answers_file.hpp).
+// Temporary name until complete() renames it into place.
 #pragma once
 
 #include <chrono>
@@ -60,9 +61,6 @@ class EnsembleWriter {
   // Every per-sample dataset of numbers (hdf5/row_dataset.hpp).
   std::vector<h5::RowDataset*> row_datasets();
   void write_nominal(const std::vector<double>& trajectory);
-  void write_statistics(const ensemble::EnsembleStatistics& stats);
-  void write_quantity_statistics(hid_t group, std::size_t quantity, const ensemble::EnsembleStatistics& stats);
-  void write_final_histograms(hid_t group, std::size_t quantity, const ensemble::EnsembleStatistics& stats);
   void finish(const EnsembleSummary& summary, const RunProvenance& run);
   void write_run_places(const rare_event::SubsetSettings& settings, std::size_t rows);
 

@@ -9,7 +9,7 @@
 // The job is the shipped Kapitza pendulum (Sobol design, two inputs, two
 // responses), cut to 64 samples of 1 s in blocks of 4 with 8 pilot samples. The
 // tests act on a known state, never at a guessed moment: the run holds
-// (TREEDYN_TEST_HOLD_AFTER) after a given number of samples and says so in
+// (--test-hold-after) after a given number of samples and says so in
 // a file, and the test kills or signals it then; the number of samples a
 // resume restores is known exactly.
 #include <gtest/gtest.h>
@@ -51,7 +51,7 @@ std::string kapitza_job() {
 
 // An ensemble started in the background through /bin/sh's exec, so the PID
 // is that of the first word (mpirun, `timeout`, `script`, or the binary
-// alone when ranks == 0). `hold` sets TREEDYN_TEST_HOLD_AFTER (driver.hpp):
+// alone when ranks == 0). `hold` is --test-hold-after (test_hooks.hpp):
 // every rank holds after that many samples past the pilot and writes
 // held-rankR into the checkpoint, so a test acts on a known state instead of
 // a guessed moment. `wrapper` words go before mpirun; with `pty`, stdin is a
@@ -60,7 +60,7 @@ struct Launch {
   int ranks = 2;
   std::vector<std::string> extra;
   std::optional<int> hold;
-  bool unsaved = false;  // TREEDYN_TEST_HOLD_UNSAVED: only a signal's save reaches the disk
+  bool unsaved = false;  // --test-hold-unsaved: only a signal's save reaches the disk
   std::vector<std::string> wrapper;
   bool pty = false;
   std::vector<std::string> environment;  // NAME=VALUE words for the launch (io_faults)
@@ -86,9 +86,9 @@ class Background {
       command += quote(TREEDYN_MPIEXEC) + " --oversubscribe -np " + std::to_string(launch.ranks) + " ";
     command += quote(TREEDYN_ENSEMBLE_BINARY) + " " + quote(job.string()) + " -o " + quote(out.string()) + " -q";
     for (const auto& e : launch.extra) command += " " + quote(e);
+    if (launch.hold) command += " --test-hold-after " + std::to_string(*launch.hold);
+    if (launch.unsaved) command += " --test-hold-unsaved";
     std::string line = "exec env " + launcher_environment(launch.ranks > 0);
-    if (launch.hold) line += " TREEDYN_TEST_HOLD_AFTER=" + std::to_string(*launch.hold);
-    if (launch.unsaved) line += " TREEDYN_TEST_HOLD_UNSAVED=1";
     for (const auto& e : launch.environment) line += " " + quote(e);
     for (const auto& w : launch.wrapper) line += " " + quote(w);
     line += launch.pty ? " script -qec " + quote(command) + " /dev/null" : " " + command;
