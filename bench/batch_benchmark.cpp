@@ -283,8 +283,7 @@ void measure(const std::string& name, const std::string& path, int count) {
   const auto [job, spec] = ensemble::read_ensemble_job(JobDocument::read(path));
   ensemble::SampleRunner runner(job, spec);
   std::vector<std::uint64_t> samples;
-  for (int i = 0; i < count; ++i)
-    samples.push_back((spec.pilot_samples + static_cast<std::uint64_t>(i)) % spec.samples);
+  for (int i = 0; i < count; ++i) samples.push_back((spec.pilot_samples + static_cast<std::uint64_t>(i)) % spec.runs);
   if (job.request.settings.method != Method::cvode_adams) {
     std::printf("| %s | not measured: the batch is CVODE Adams, the job is %s |\n", name.c_str(),
                 std::string(treedyn::name(job.request.settings.method)).c_str());

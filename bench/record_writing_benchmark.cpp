@@ -52,7 +52,7 @@ Costs measure(const Job& job, const ensemble::EnsembleSpec& spec, const std::vec
   const std::vector<ensemble::SampleRecord> decoded = ensemble::read_records(message, "benchmark");
   c.decode = (cpu_seconds() - t) / static_cast<double>(kRecords);
   ensemble::EnsembleSpec sized = spec;
-  sized.samples = kRecords;
+  sized.runs = kRecords;
   {
     EnsembleWriter writer(file, job, sized, runner.layout(), runner.final_state_size());
     t = cpu_seconds();
@@ -76,7 +76,7 @@ int main(int argc, char** argv) {
     if (argc > 2 && std::string(argv[2]) != name) continue;
     auto [job, spec] =
         ensemble::read_ensemble_job(JobDocument::read(std::string(TREEDYN_JOBS_DIR) + "/" + name + ".toml"));
-    spec.samples = 16 * kBatch;  // sample indices for every record below
+    spec.runs = 16 * kBatch;  // sample indices for every record below
     ensemble::SampleRunner runner(job, spec);
     std::vector<double> trajectory;
     // About 10 s of samples, in whole batches.

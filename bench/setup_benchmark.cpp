@@ -52,7 +52,7 @@ void BM_SampleSetup(benchmark::State& state, const std::string& name) {
   ensemble::SampleRunner runner(l.job, l.spec);
   std::uint64_t k = 0;
   for (auto _ : state) {
-    std::vector<double> inputs = runner.prepare(k++ % l.spec.samples, false);
+    std::vector<double> inputs = runner.prepare(k++ % l.spec.runs, false);
     benchmark::DoNotOptimize(inputs.data());
     double mass = runner.model().total_mass;
     benchmark::DoNotOptimize(mass);
@@ -65,7 +65,7 @@ void BM_Sample(benchmark::State& state, const std::string& name) {
   std::vector<double> trajectory;
   std::uint64_t k = 0;
   for (auto _ : state) {
-    const ensemble::SampleRecord r = runner.run(k++ % l.spec.samples, false, trajectory);
+    const ensemble::SampleRecord r = runner.run(k++ % l.spec.runs, false, trajectory);
     if (r.status != ensemble::SampleStatus::ok) state.SkipWithError(r.reason.c_str());
     benchmark::DoNotOptimize(trajectory.data());
   }

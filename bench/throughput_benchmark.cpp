@@ -98,7 +98,7 @@ Row measure(const std::string& name, const std::string& path, int samples, int f
   SimulationRequest bare = job.request;  // nothing observed: no dynamics at the output times
   bare.accelerations_at_outputs = false;
   for (int i = 0; i < samples; ++i) {
-    const std::uint64_t k = (spec.pilot_samples + static_cast<std::uint64_t>(i)) % spec.samples;
+    const std::uint64_t k = (spec.pilot_samples + static_cast<std::uint64_t>(i)) % spec.runs;
     runner.prepare(k, false);
     auto t0 = Clock::now();
     const IntegrationOutcome outcome = simulate(runner.model(), runner.initial_state(), bare, {});

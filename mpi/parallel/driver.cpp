@@ -22,7 +22,7 @@ EnsembleRun::EnsembleRun(MPI_Comm c, const EnsembleOptions& o, const Job& j, con
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
   first = options.part() ? options.first_sample : 0;
-  end = options.part() ? options.end_sample : spec.samples;
+  end = options.part() ? options.end_sample : spec.runs;
   job_id = ensemble::run_identity(job.text, build_identity());
   id = options.part()
            ? ensemble::run_identity(job.text + "\n# --samples " + std::to_string(first) + ":" + std::to_string(end),
@@ -119,10 +119,10 @@ int check_range(EnsembleRun& run) {
                    "number of ranks), not in parts\n";
     return kExitBadInput;
   }
-  if (run.first < run.end && run.end <= run.spec.samples) return kExitOk;
+  if (run.first < run.end && run.end <= run.spec.runs) return kExitOk;
   if (run.rank == 0)
     std::cerr << "error: --samples " << run.options.first_sample << ":" << run.options.end_sample
-              << " is not a range of this ensemble's sample indices: FIRST < END <= " << run.spec.samples << "\n";
+              << " is not a range of this ensemble's sample indices: FIRST < END <= " << run.spec.runs << "\n";
   return kExitBadInput;
 }
 

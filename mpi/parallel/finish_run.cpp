@@ -103,7 +103,7 @@ int write_part(EnsembleRun& run, const ensemble::EnsembleStatistics& stats) {
     return kExitIo;
   }
   if (!run.options.quiet)
-    std::cout << "part: samples " << run.first << " .. " << run.end - 1 << " of " << run.spec.samples << ", "
+    std::cout << "part: samples " << run.first << " .. " << run.end - 1 << " of " << run.spec.runs << ", "
               << run.records->failed() << " failed\n";
   std::printf("wrote %s (merge the parts with: treedyn-ensemble merge -o OUT.h5 PART ...)\n",
               run.options.output_path.c_str());
@@ -126,7 +126,7 @@ std::string stop_reason_of(const EnsembleRun& run, const rare_event::SubsetResul
   if (!run.spec.stop) return "no stopping rule: every sample of the design was run";
   if (run.table)
     if (auto reason = ensemble::stop_reason(run.spec, *run.table, run.samples_used)) return *reason;
-  return "no target of [ensemble.stop] held: stopped at the most samples, " + std::to_string(run.spec.samples);
+  return "no target of [ensemble.stop] held: stopped at the most samples, " + std::to_string(run.spec.runs);
 }
 
 // Rank 0, a whole ensemble: the records are in the file already (a write
@@ -137,7 +137,7 @@ int write_ensemble(EnsembleRun& run, const ensemble::EnsembleStatistics& stats, 
   summary.failed = run.records->failed();
   summary.ok = run.records->done() - summary.failed;
   summary.samples_used = run.samples_used;
-  if (run.samples_used < run.spec.samples && run.table) run.table->truncate(run.samples_used);
+  if (run.samples_used < run.spec.runs && run.table) run.table->truncate(run.samples_used);
   std::optional<ensemble::RareEventAnswer> rare;
   if (run.spec.subset && run.table) rare = ensemble::answer_rare_event(run.spec, *run.table);
   summary.stop_reason = stop_reason_of(run, rare ? &rare->result : nullptr);
@@ -145,7 +145,7 @@ int write_ensemble(EnsembleRun& run, const ensemble::EnsembleStatistics& stats, 
       run.table ? ensemble::answer_responses(run.spec, *run.table) : std::vector<ensemble::ResponseAnswer>{};
   try {
     if (!run.records->io_error().empty()) throw process::FileError(run.records->io_error());
-    if (run.samples_used < run.spec.samples) run.writer->keep_samples(run.samples_used);
+    if (run.samples_used < run.spec.runs) run.writer->keep_samples(run.samples_used);
     if (rare) run.writer->write_rare_event(ensemble::subset_settings(run.spec), *rare, run.samples_used);
     summary =
         run.writer->complete(run.nominal, stats, answers, run.tolerance, std::move(summary), provenance, run.start);
@@ -158,7 +158,7 @@ int write_ensemble(EnsembleRun& run, const ensemble::EnsembleStatistics& stats, 
     ensemble::print_response_summary(std::cout, run.spec, answers, run.tolerance);
     if (rare) ensemble::print_rare_event(std::cout, run.spec, *rare);
     if (run.spec.stop)
-      std::cout << "stopped after " << run.samples_used << " of at most " << run.spec.samples
+      std::cout << "stopped after " << run.samples_used << " of at most " << run.spec.runs
                 << " samples: " << summary.stop_reason << "\n";
   }
   std::printf("wrote %s\n", run.options.output_path.c_str());

@@ -150,7 +150,7 @@ int start_records(EnsembleRun& run) {
   run.progress = std::make_unique<ensemble::Progress>(run.end - run.first, run.options.progress_interval,
                                                       run.rank == 0 && !run.options.quiet);
   if (run.rank == 0 && !run.spec.responses.empty() && !run.options.part())
-    run.table.emplace(run.spec.samples, run.spec.input_dimensions(), run.spec.responses.size());
+    run.table.emplace(run.spec.runs, run.spec.input_dimensions(), run.spec.responses.size());
   if (run.rank == 0) {
     auto writer = std::make_unique<RecordWriter>(run.comm, run.size, run.writer.get(), *run.progress,
                                                  run.table ? &*run.table : nullptr,

@@ -236,8 +236,7 @@ void print_rare_event(std::ostream& out, const EnsembleSpec& spec, const RareEve
       << number(result.interval_high, "%.4g") << "]"
       << (result.probability > 0.0 ? " (lognormal)\n"
                                    : " (none beyond the limit: the rule of three at the last level)\n");
-  out << "  " << result.runs << " runs in " << result.levels.size() << " levels of " << spec.base_samples
-      << "; thresholds:";
+  out << "  " << result.runs << " runs in " << result.levels.size() << " levels of " << spec.samples << "; thresholds:";
   for (const rare_event::LevelSummary& level : result.levels) out << " " << number(sign * level.threshold, "%.5g");
   out << " " << response.units << "\n";
   if (result.probability > 0.0 && result.cov > 0.0)

@@ -207,9 +207,9 @@ RareEventAnswer answer_rare_event(const EnsembleSpec& spec, const ResponseTable&
 }
 
 std::vector<ResponseAnswer> answer_responses(const EnsembleSpec& spec, const ResponseTable& table) {
-  if (spec.subset && table.samples() > spec.base_samples) {
+  if (spec.subset && table.samples() > spec.samples) {
     ResponseTable level_zero = table;
-    level_zero.truncate(spec.base_samples);
+    level_zero.truncate(spec.samples);
     return answer_responses(spec, level_zero);
   }
   if (table.input_count() != spec.input_dimensions())

@@ -33,7 +33,7 @@ EnsembleDigest digest_of(const Job& job, const EnsembleSpec& spec, const Ensembl
   const ColumnLayout layout = column_layout(job.model, job.output);
   const std::size_t last = job.request.output_times.size() - 1;
   EnsembleDigest d;
-  d.samples = summary.samples_used > 0 ? summary.samples_used : spec.samples;
+  d.samples = summary.samples_used > 0 ? summary.samples_used : spec.runs;
   d.ok = summary.ok;
   d.failed = summary.failed;
   d.ranks = summary.ranks;

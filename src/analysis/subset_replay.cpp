@@ -9,7 +9,7 @@ namespace treedyn::ensemble {
 rare_event::SubsetSettings subset_settings(const EnsembleSpec& spec) {
   const Response& r = spec.responses[spec.subset->response];
   rare_event::SubsetSettings s;
-  s.samples = spec.base_samples;
+  s.samples = spec.samples;
   s.level_probability = spec.subset->level_probability;
   s.max_levels = spec.subset->max_levels;
   s.seed = spec.seed;

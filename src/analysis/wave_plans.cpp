@@ -42,19 +42,19 @@ std::optional<std::string> stop_reason(const EnsembleSpec& spec, const ResponseT
 }
 
 Wave StoppingPlan::wave_from(std::uint64_t first) const {
-  const std::uint64_t end = std::min(first + spec_.stop->every, spec_.samples);
+  const std::uint64_t end = std::min(first + spec_.stop->every, spec_.runs);
   return {first, end, "samples " + std::to_string(first) + " .. " + std::to_string(end - 1), 0, {}};
 }
 
 Wave StoppingPlan::first_wave() const { return wave_from(0); }
 
 std::optional<Wave> StoppingPlan::next_wave(const Wave& done, const ResponseTable* so_far) const {
-  if (done.end >= spec_.samples) return std::nullopt;
+  if (done.end >= spec_.runs) return std::nullopt;
   if (so_far && stop_reason(spec_, *so_far, done.end)) return std::nullopt;
   return wave_from(done.end);
 }
 
-Wave SubsetPlan::first_wave() const { return {0, spec_.base_samples, "level 0", 0, {}}; }
+Wave SubsetPlan::first_wave() const { return {0, spec_.samples, "level 0", 0, {}}; }
 
 std::optional<Wave> SubsetPlan::next_wave(const Wave& done, const ResponseTable* so_far) const {
   if (!so_far) return std::nullopt;
@@ -70,7 +70,7 @@ std::optional<Wave> SubsetPlan::next_wave(const Wave& done, const ResponseTable*
 std::unique_ptr<WavePlan> make_wave_plan(const EnsembleSpec& spec) {
   if (spec.subset) return std::make_unique<SubsetPlan>(spec);
   if (spec.stop) return std::make_unique<StoppingPlan>(spec);
-  return std::make_unique<FixedDesignPlan>(spec.samples);
+  return std::make_unique<FixedDesignPlan>(spec.runs);
 }
 
 }  // namespace treedyn::ensemble

@@ -45,8 +45,8 @@ void print_invalid_mass(std::ostream& out, const Perturbation& p, const ModelDef
 void print_subset(std::ostream& out, const EnsembleSpec& s) {
   if (!s.subset) return;
   const double p0 = s.subset->level_probability;
-  const double n = static_cast<double>(s.base_samples);
-  out << "  subset_simulation: " << s.base_samples << " runs per level, level_probability " << format_number(p0) << " ("
+  const double n = static_cast<double>(s.samples);
+  out << "  subset_simulation: " << s.samples << " runs per level, level_probability " << format_number(p0) << " ("
       << static_cast<std::uint64_t>(std::llround(n * p0)) << " chains of " << std::llround(1.0 / p0)
       << " states), at most " << s.subset->max_levels << " levels after level 0, for P("
       << s.responses[s.subset->response].name << " beyond its limit) down to about "
@@ -55,7 +55,7 @@ void print_subset(std::ostream& out, const EnsembleSpec& s) {
   for (int m = 1; m <= s.subset->max_levels; ++m)
     out << (m > 1 ? ";" : "") << " P ~ " << format_digits(std::pow(p0, m + 1), 2) << ": "
         << std::llround(n * (1.0 + (1.0 - p0) * m));
-  out << " runs (at most " << s.samples << ")\n";
+  out << " runs (at most " << s.runs << ")\n";
 }
 
 // The stopping rule's line: the check interval and each target.
@@ -72,7 +72,7 @@ void print_stop_rule(std::ostream& out, const EnsembleSpec& s) {
   target("exceedance_cov", rule.exceedance_cov);
   target("mean_sem", rule.mean_sem);
   target("mean_relative_sem", rule.mean_relative_sem);
-  out << " (at most " << s.samples << " runs)\n";
+  out << " (at most " << s.runs << " runs)\n";
 }
 
 // A sea state's band is the job's, whatever Tp a sample draws: the share of
@@ -141,18 +141,17 @@ void print_correlations(std::ostream& out, const EnsembleSpec& s) {
 // How the design makes its runs (saltelli, morris), and its groups.
 void print_design(std::ostream& out, const EnsembleSpec& s) {
   if (s.design == Design::saltelli && !s.grouped)
-    out << "  saltelli: base size N = " << s.base_samples << ", N (D + 2) = " << s.base_samples << " x "
-        << s.saltelli_block() << " = " << s.samples
-        << " runs; sample j (D + 2) + r is A_j (r = 0), B_j (r = 1), AB_i,j (r = 2 + i)\n";
+    out << "  saltelli: base size N = " << s.samples << ", N (D + 2) = " << s.samples << " x " << s.saltelli_block()
+        << " = " << s.runs << " runs; sample j (D + 2) + r is A_j (r = 0), B_j (r = 1), AB_i,j (r = 2 + i)\n";
   if (s.design == Design::saltelli && s.grouped)
-    out << "  saltelli with " << s.unit_count() << " groups: base size N = " << s.base_samples
-        << ", N (G + 2) = " << s.base_samples << " x " << s.saltelli_block() << " = " << s.samples
+    out << "  saltelli with " << s.unit_count() << " groups: base size N = " << s.samples
+        << ", N (G + 2) = " << s.samples << " x " << s.saltelli_block() << " = " << s.runs
         << " runs; sample j (G + 2) + r is A_j (r = 0), B_j (r = 1), AB_g,j (r = 2 + g: A_j with group g's "
            "inputs from B_j)\n";
   if (s.design == Design::morris) {
     const char* u = s.grouped ? "G" : "D";
-    out << "  morris: r = " << s.base_samples << " trajectories of (" << u << " + 1) = " << s.unit_count() + 1
-        << " runs = " << s.samples << " runs; ";
+    out << "  morris: r = " << s.samples << " trajectories of (" << u << " + 1) = " << s.unit_count() + 1
+        << " runs = " << s.runs << " runs; ";
     if (s.morris->radial)
       out << "radial steps: run t (" << u << " + 1) of trajectory t is A_t, run t (" << u << " + 1) + s is A_t with "
           << (s.grouped ? "group" : "input") << " s - 1 from B_t (scrambled Sobol' points A and B, as Saltelli's)\n";
@@ -194,7 +193,7 @@ void print_perturbation(std::ostream& out, const Job& job, const Perturbation& p
 }  // namespace
 
 void print_ensemble_summary(std::ostream& out, const Job& job, const EnsembleSpec& s) {
-  out << "ensemble: " << (s.subset ? "at most " : "") << s.samples
+  out << "ensemble: " << (s.subset ? "at most " : "") << s.runs
       << (s.subset ? " runs (below: how many for which P)" : " samples") << ", seed " << s.seed << ", design "
       << name(s.design) << ", " << s.perturbations.size() << " perturbation" << (s.perturbations.size() == 1 ? "" : "s")
       << " (" << s.input_dimensions() << " sampled inputs)\n";

@@ -79,7 +79,7 @@ void check_fit(const std::vector<PartFile>& parts, const std::vector<std::string
                const ensemble::EnsembleSpec& spec, const ensemble::SampleRunner& runner) {
   const std::size_t entries = runner.times() * runner.layout().columns;
   for (std::size_t k = 0; k < parts.size(); ++k) {
-    if (parts[k].nominal.size() != entries || parts[k].end > spec.samples || parts[k].nominal != parts[0].nominal)
+    if (parts[k].nominal.size() != entries || parts[k].end > spec.runs || parts[k].nominal != parts[0].nominal)
       throw Refused{names[k] + " does not fit the job it carries (nominal run, histogram or range)"};
     if (!(parts[k].calibration == parts[0].calibration))
       throw Refused{"the parts' calibrations differ: they did not run the same pilot samples"};
@@ -148,22 +148,22 @@ int merge_parts(const std::vector<std::string>& names, const std::string& output
     const auto [job, spec] = ensemble::read_ensemble_job(JobDocument::parse(parts[0].job_text, parts[0].job_path));
     ensemble::SampleRunner runner(job, spec);
     check_fit(parts, names, spec, runner);
-    const bool complete = held.count() == spec.samples;
-    if (!complete) note_incomplete(held, spec.samples);
+    const bool complete = held.count() == spec.runs;
+    if (!complete) note_incomplete(held, spec.runs);
     ensemble::EnsembleStatistics stats(runner.times(), runner.layout().columns, spec.histogram_bins,
                                        parts[0].calibration);
     for (std::size_t k = 0; k < parts.size(); ++k) stats.add_state(parts[k].statistics, "part file " + names[k]);
-    std::vector<SampleRecord> records = merged_records(parts, held, runner, spec.samples);
+    std::vector<SampleRecord> records = merged_records(parts, held, runner, spec.runs);
     std::vector<ensemble::ResponseAnswer> answers;
     if (complete && !spec.responses.empty()) {
-      ensemble::ResponseTable table(spec.samples, spec.input_dimensions(), spec.responses.size());
+      ensemble::ResponseTable table(spec.runs, spec.input_dimensions(), spec.responses.size());
       for (const SampleRecord& r : records) table.add(r);
       answers = ensemble::answer_responses(spec, table);
     }
     EnsembleSummary summary = merge_summary(records);
     RunProvenance provenance = run;
     provenance.job_path = parts[0].job_path;  // the job the parts ran (absolute), not a part file
-    summary.samples_used = spec.samples;
+    summary.samples_used = spec.runs;
     summary.stop_reason = complete ? "merged parts: every sample of the design was run"
                                    : "merged parts: " + std::to_string(held.count()) + " of the samples were run";
     EnsembleWriter writer(output_path, job, spec, runner.layout(), runner.final_state_size());
@@ -176,7 +176,7 @@ int merge_parts(const std::vector<std::string>& names, const std::string& output
     writer.complete(parts[0].nominal, stats, answers, parts[0].tolerance, std::move(summary), provenance, start);
     if (!quiet && !answers.empty()) ensemble::print_response_summary(std::cout, spec, answers, parts[0].tolerance);
     std::printf("wrote %s (%llu of %llu samples from %zu parts)\n", output_path.c_str(),
-                static_cast<unsigned long long>(held.count()), static_cast<unsigned long long>(spec.samples),
+                static_cast<unsigned long long>(held.count()), static_cast<unsigned long long>(spec.runs),
                 parts.size());
     return kExitOk;
   } catch (const Refused& r) {

@@ -21,11 +21,11 @@ namespace {
 
 // Sample k must exist: the message says how many there are.
 void require_sample(const Job& job, const ensemble::EnsembleSpec& spec, std::uint64_t k) {
-  if (k >= spec.samples)
+  if (k >= spec.runs)
     throw JobError(
         job.file, 0, 0, "ensemble.samples",
-        "there is no sample " + std::to_string(k) + ": the ensemble has " + std::to_string(spec.samples) +
-            " samples, 0 .. " + std::to_string(spec.samples - 1) +
+        "there is no sample " + std::to_string(k) + ": the ensemble has " + std::to_string(spec.runs) +
+            " samples, 0 .. " + std::to_string(spec.runs - 1) +
             (spec.design == ensemble::Design::saltelli ? " (saltelli: samples x (D + 2) runs, or x (G + 2) with groups)"
              : spec.design == ensemble::Design::morris
                  ? " (morris: trajectories x (D + 1) runs, or x (G + 1) with groups)"
@@ -41,7 +41,7 @@ void require_sample(const Job& job, const ensemble::EnsembleSpec& spec, std::uin
 // (and checked against the inputs the file recorded for it).
 std::vector<double> inputs_of(const Job& job, const ensemble::EnsembleSpec& spec, ensemble::SampleRunner& runner,
                               std::uint64_t k, const std::string& from) {
-  if (!spec.subset || k < spec.base_samples) return runner.sample_inputs(k);
+  if (!spec.subset || k < spec.samples) return runner.sample_inputs(k);
   if (from.empty())
     refuse("run " + std::to_string(k) +
            " is in a level after level 0 of this subset simulation: its inputs follow "

@@ -14,7 +14,7 @@ namespace treedyn::ensemble {
 SampleRunner::SampleRunner(const Job& job, const EnsembleSpec& spec)
     : job_(job),
       spec_(spec),
-      design_(spec.design, spec.seed, spec.samples, spec.input_dimensions(), spec.unit_of_input(), spec.morris),
+      design_(spec.design, spec.seed, spec.runs, spec.input_dimensions(), spec.unit_of_input(), spec.morris),
       copula_(spec.input_dimensions(), spec.correlations),
       uniforms_(spec.input_dimensions()),
       recorder_(job.model, job.output),
@@ -135,7 +135,7 @@ RecordShape record_shape(const SampleRunner& runner, std::uint64_t first, std::u
   shape.final_state = runner.final_state_size();
   shape.trajectory = runner.times() * runner.layout().columns;
   shape.stored = spec.store_trajectories;
-  if (spec.subset) shape.statistics_end = spec.base_samples;  // /stats is level 0
+  if (spec.subset) shape.statistics_end = spec.samples;  // /stats is level 0
   return shape;
 }
 

@@ -129,7 +129,7 @@ EnsembleWriter::EnsembleWriter(const std::filesystem::path& path, const Job& job
   create_reductions();
   if (!spec.responses.empty()) {
     const hsize_t columns[1] = {spec.responses.size()};
-    responses_ = h5::RowDataset(samples_.id(), "responses", H5T_NATIVE_DOUBLE, spec.samples, columns);
+    responses_ = h5::RowDataset(samples_.id(), "responses", H5T_NATIVE_DOUBLE, spec.runs, columns);
     describe_responses(responses_.id(), spec.responses);
   }
   if (spec.store_trajectories > 0) create_trajectories();
@@ -137,7 +137,7 @@ EnsembleWriter::EnsembleWriter(const std::filesystem::path& path, const Job& job
 
 void EnsembleWriter::create_sample_columns() {
   const hid_t g = samples_.id();
-  const std::size_t n = spec_.samples, d = spec_.input_dimensions();
+  const std::size_t n = spec_.runs, d = spec_.input_dimensions();
   if (d > 0) {
     const hsize_t columns[1] = {d};
     inputs_ = h5::RowDataset(g, "inputs", H5T_NATIVE_DOUBLE, n, columns);
@@ -176,8 +176,8 @@ void EnsembleWriter::create_reductions() {
     reductions_.emplace_back();
     for (std::size_t q = 0; q < layout_.quantity.size(); ++q) {
       const hsize_t columns[1] = {layout_.names[q].size()};
-      reductions_.back().emplace_back(reduction_groups_.back().id(), layout_.quantity[q], H5T_NATIVE_DOUBLE,
-                                      spec_.samples, columns);
+      reductions_.back().emplace_back(reduction_groups_.back().id(), layout_.quantity[q], H5T_NATIVE_DOUBLE, spec_.runs,
+                                      columns);
       describe(reductions_.back().back().id(), time ? "s" : std::string(layout_.info[q]->units),
                about + " of " + layout_.quantity[q], layout_.names[q]);
       if (!time) write_column_units(reductions_.back().back().id(), layout_, q);
@@ -365,12 +365,12 @@ void EnsembleWriter::finish(const EnsembleSummary& summary, const RunProvenance&
   h5::write_attribute(root, "title", job_.title);
   h5::write_attribute(root, "seed", static_cast<long long>(spec_.seed));
   h5::write_attribute(root, "design", std::string(ensemble::name(spec_.design)));
-  h5::write_attribute(root, "samples", static_cast<long long>(spec_.samples));
-  h5::write_attribute(root, "base_samples", static_cast<long long>(spec_.base_samples));
+  h5::write_attribute(root, "samples", static_cast<long long>(spec_.runs));
+  h5::write_attribute(root, "base_samples", static_cast<long long>(spec_.samples));
   if (spec_.design == ensemble::Design::saltelli)
     h5::write_attribute(root, "saltelli_block", static_cast<long long>(spec_.saltelli_block()));
   if (spec_.design == ensemble::Design::morris) {
-    h5::write_attribute(root, "morris_trajectories", static_cast<long long>(spec_.base_samples));
+    h5::write_attribute(root, "morris_trajectories", static_cast<long long>(spec_.samples));
     h5::write_attribute(root, "morris_steps", std::string(spec_.morris->radial ? "radial" : "trajectories"));
     if (!spec_.morris->radial) h5::write_attribute(root, "morris_levels", static_cast<long long>(spec_.morris->levels));
     h5::write_attribute(root, "morris_block", static_cast<long long>(spec_.unit_count() + 1));

@@ -49,8 +49,8 @@ struct SobolUnit {
 };
 
 struct EnsembleSpec {
-  std::uint64_t samples = 100;       // runs; for saltelli base_samples * (U + 2), U = D without groups
-  std::uint64_t base_samples = 100;  // `samples` as the job gives it (saltelli: the base size N)
+  std::uint64_t runs = 100;     // the runs it makes: saltelli samples (U + 2), morris samples (U + 1)
+  std::uint64_t samples = 100;  // as the job gives it: samples, saltelli's base size N, morris' trajectories r
   std::uint64_t seed = 1;
   Design design = Design::monte_carlo;
   std::vector<double> quantiles{0.05, 0.5, 0.95};
@@ -63,9 +63,9 @@ struct EnsembleSpec {
   std::vector<Response> responses;
   std::uint64_t store_trajectories = 0;  // full trajectories of samples 0 .. M-1
   int bootstrap_resamples = 1000;        // for the Sobol' index intervals
-  std::optional<StopRule> stop;          // `samples` is then the most the run makes
-  std::optional<SubsetSpec> subset;      // design = "subset_simulation": samples = the most runs
-  std::optional<MorrisSpec> morris;      // design = "morris": samples = trajectories x (U + 1) runs
+  std::optional<StopRule> stop;          // `runs` is then the most the run makes
+  std::optional<SubsetSpec> subset;      // design = "subset_simulation": runs = the most it makes
+  std::optional<MorrisSpec> morris;      // design = "morris": runs = trajectories x (U + 1)
   std::vector<SobolUnit> sobol_units;    // Saltelli's and Morris' units (read_ensemble fills them for every design)
   bool grouped = false;                  // sobol_units are not the inputs ([[ensemble.group]], morris' lists)
   std::vector<InputCorrelation> correlations;

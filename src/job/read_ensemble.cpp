@@ -179,7 +179,7 @@ Response read_response(const TomlView& t, const Job& job, const ColumnLayout& la
 
 double per_sample_bytes(const Job& job, const EnsembleSpec& spec) {
   const std::size_t columns = column_layout(job.model, job.output).columns;
-  return 8.0 * static_cast<double>(spec.samples) * static_cast<double>(columns) *
+  return 8.0 * static_cast<double>(spec.runs) * static_cast<double>(columns) *
          static_cast<double>(spec.per_sample.size());
 }
 
@@ -189,8 +189,7 @@ double answers_bytes(const EnsembleSpec& spec) {
   // analysed, its rows, their ranks, the standardised rank matrix and its QR
   // copy: about 4 D more doubles per sample.
   const double d = spec.input_dimensions();
-  return 8.0 * static_cast<double>(spec.samples) *
-         (d + static_cast<double>(spec.responses.size()) + 1.0 + 4.0 * d + 2.0);
+  return 8.0 * static_cast<double>(spec.runs) * (d + static_cast<double>(spec.responses.size()) + 1.0 + 4.0 * d + 2.0);
 }
 
 double stored_trajectory_bytes(const Job& job, const EnsembleSpec& spec) {
@@ -326,7 +325,7 @@ Perturbation read_perturbation(const TomlView& p, const Job& job) {
 void count_runs(const TomlView& t, EnsembleSpec& s) {
   if (s.design == Design::sobol && s.input_dimensions() > 1000)
     t.fail("perturbation", "sobol supports at most 1000 input dimensions");
-  s.base_samples = s.samples;
+  s.runs = s.samples;  // one run per sample, but for saltelli, morris (read_morris) and subset simulation
   if (s.design == Design::morris) read_morris(t, s, kMaxRuns);
   if (s.design == Design::saltelli) {
     const unsigned d = s.input_dimensions();
@@ -335,21 +334,21 @@ void count_runs(const TomlView& t, EnsembleSpec& s) {
       t.fail("perturbation", "saltelli supports at most 500 input dimensions (2D Sobol dimensions); this job has " +
                                  std::to_string(d) + " (a sea state's phases count one per component)");
     const std::string block = s.grouped ? "(G + 2)" : "(D + 2)";
-    if (s.base_samples > kMaxRuns / s.saltelli_block())
-      t.fail("samples", "saltelli makes samples x " + block + " = " + std::to_string(s.base_samples) + " x " +
+    if (s.samples > kMaxRuns / s.saltelli_block())
+      t.fail("samples", "saltelli makes samples x " + block + " = " + std::to_string(s.samples) + " x " +
                             std::to_string(s.saltelli_block()) + " runs; at most " + std::to_string(kMaxRuns) +
                             " (2^26, so that the exact 128-bit sums cannot overflow): use at most " +
                             std::to_string(kMaxRuns / s.saltelli_block()));
-    s.samples = s.base_samples * s.saltelli_block();
+    s.runs = s.samples * s.saltelli_block();
   }
   // The exact sums hold 2^26 extreme samples (d / S at its 2^20 limit, squared
   // with 60 fraction bits: 2^100 each, 2^126 in all); 32-bit Sobol points and
   // histogram counters would allow more.
-  if (s.samples > kMaxRuns)
-    t.fail("samples", std::to_string(s.samples) + " samples: at most " + std::to_string(kMaxRuns) +
+  if (s.runs > kMaxRuns)
+    t.fail("samples", std::to_string(s.runs) + " samples: at most " + std::to_string(kMaxRuns) +
                           " (2^26, so that the exact 128-bit sums cannot overflow); split larger studies into "
                           "several ensembles with different seeds");
-  s.pilot_samples = std::min(s.pilot_samples, s.samples);  // runs, also for saltelli
+  s.pilot_samples = std::min(s.pilot_samples, s.runs);  // runs, also for saltelli
 }
 
 // Per-sample reductions, the named responses, the bootstrap.
@@ -373,8 +372,8 @@ void read_stored_trajectories(const TomlView& t, const Job& job, EnsembleSpec& s
   if (!m) return;
   if (*m < 0) t.fail("store_trajectories", "must be >= 0 (samples 0 .. M-1 are stored)");
   s.store_trajectories = static_cast<std::uint64_t>(*m);
-  if (s.store_trajectories > s.samples)
-    t.fail("store_trajectories", "is more than the " + std::to_string(s.samples) + " samples");
+  if (s.store_trajectories > s.runs)
+    t.fail("store_trajectories", "is more than the " + std::to_string(s.runs) + " samples");
   // Each stored trajectory travels to rank 0 with its record, a block of
   // them at a time: that block must fit in memory.
   const double one =
@@ -434,13 +433,13 @@ void read_stop(const TomlView& parent, EnsembleSpec& s) {
   if (!every) t.fail("every", "missing: the check interval in samples (saltelli: in base samples, whole blocks)");
   if (*every < 1) t.fail("every", "must be at least 1");
   const std::uint64_t unit = s.design == Design::saltelli ? s.saltelli_block() : 1;
-  if (static_cast<std::uint64_t>(*every) > s.samples / unit)
+  if (static_cast<std::uint64_t>(*every) > s.runs / unit)
     t.fail("every", "checks every " + std::to_string(*every) + (unit > 1 ? " blocks" : " samples") +
-                        ", more than the ensemble makes at most (" + std::to_string(s.samples / unit) +
+                        ", more than the ensemble makes at most (" + std::to_string(s.runs / unit) +
                         (unit > 1 ? " blocks)" : ")"));
   rule.every = static_cast<std::uint64_t>(*every) * unit;
-  if (rule.every > s.samples)
-    t.fail("every", "checks every " + std::to_string(rule.every) + " runs, more than the " + std::to_string(s.samples) +
+  if (rule.every > s.runs)
+    t.fail("every", "checks every " + std::to_string(rule.every) + " runs, more than the " + std::to_string(s.runs) +
                         " the ensemble makes at most");
   s.stop = rule;
 }
@@ -478,7 +477,7 @@ void read_subset(const TomlView& parent, EnsembleSpec& s) {
   if (std::abs(inverse - std::round(inverse)) > 1e-9 * inverse)
     t.fail("level_probability", "1 / level_probability must be a whole number (0.1, 0.2, 0.25, 0.5, ...)");
   const auto states = static_cast<std::uint64_t>(std::llround(inverse));
-  if (s.base_samples % states != 0)
+  if (s.samples % states != 0)
     parent.fail("samples",
                 "subset_simulation: samples (per level) x level_probability must be a whole number "
                 "of chains: samples must be a multiple of " +
@@ -486,11 +485,11 @@ void read_subset(const TomlView& parent, EnsembleSpec& s) {
   const auto levels = t.integer("max_levels");
   if (levels && (*levels < 1 || *levels > 100)) t.fail("max_levels", "must be from 1 to 100");
   subset.max_levels = levels ? static_cast<int>(*levels) : 10;
-  const std::uint64_t chain_runs = s.base_samples - s.base_samples / states;
-  s.samples = s.base_samples + static_cast<std::uint64_t>(subset.max_levels) * chain_runs;
-  if (s.samples > kMaxRuns)
+  const std::uint64_t chain_runs = s.samples - s.samples / states;
+  s.runs = s.samples + static_cast<std::uint64_t>(subset.max_levels) * chain_runs;
+  if (s.runs > kMaxRuns)
     parent.fail("samples", "subset_simulation may make samples + max_levels x samples x (1 - level_probability) = " +
-                               std::to_string(s.samples) + " runs; at most " + std::to_string(kMaxRuns));
+                               std::to_string(s.runs) + " runs; at most " + std::to_string(kMaxRuns));
   s.subset = subset;
 }
 
@@ -499,7 +498,7 @@ void check_memory(const TomlView& t, const Job& job, const EnsembleSpec& s) {
   if (!s.responses.empty()) {
     const double gib = answers_bytes(s) / (1024.0 * 1024.0 * 1024.0);
     if (gib > 8.0)
-      t.fail("response", "the responses and inputs of " + std::to_string(s.samples) + " samples would need " +
+      t.fail("response", "the responses and inputs of " + std::to_string(s.runs) + " samples would need " +
                              format_number(std::round(gib)) + " GiB on rank 0; at most 8: use fewer samples");
   }
   const double gib = statistics_bytes(job, s) / (1024.0 * 1024.0 * 1024.0);

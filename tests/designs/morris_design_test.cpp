@@ -127,7 +127,7 @@ Synthetic synthetic(unsigned inputs, std::vector<SobolUnit> units, std::uint64_t
   s.spec.sobol_units = std::move(units);
   s.spec.perturbations.resize(inputs);  // scalar parameters: one input each
   const std::uint64_t runs = trajectories * (s.spec.unit_count() + 1u);
-  s.spec.samples = runs;
+  s.spec.runs = runs;
   const SampleDesign design(Design::morris, seed, runs, inputs, s.spec.unit_of_input(), s.spec.morris);
   s.status.assign(runs, 0);
   s.inputs.resize(runs * inputs);

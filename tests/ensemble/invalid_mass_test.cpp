@@ -121,15 +121,15 @@ TEST(InvalidMass, TheShareOfRefusedSamplesIsTheProbability) {
   const double p = invalid_mass(spec.perturbations.at(0), job.definition)->probability;
   SampleRunner runner(job, spec);
   std::uint64_t refused = 0;
-  for (std::uint64_t k = 0; k < spec.samples; ++k) {
+  for (std::uint64_t k = 0; k < spec.runs; ++k) {
     try {
       runner.prepare(k, false);
     } catch (const ModelError&) {
       ++refused;
     }
   }
-  const double n = static_cast<double>(spec.samples), share = static_cast<double>(refused) / n;
-  EXPECT_NEAR(share, p, 4.0 * std::sqrt(p * (1.0 - p) / n)) << refused << " of " << spec.samples;
+  const double n = static_cast<double>(spec.runs), share = static_cast<double>(refused) / n;
+  EXPECT_NEAR(share, p, 4.0 * std::sqrt(p * (1.0 - p) / n)) << refused << " of " << spec.runs;
 }
 
 }  // namespace

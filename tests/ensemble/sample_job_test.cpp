@@ -64,7 +64,7 @@ bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; 
 TEST(SampleJob, ReadsBackToTheSampleBitForBit) {
   const Job job = parse_job(kJob, "job.toml");
   const ensemble::EnsembleSpec spec = ensemble::read_ensemble(job);
-  for (std::uint64_t k = 0; k < spec.samples; ++k) {
+  for (std::uint64_t k = 0; k < spec.runs; ++k) {
     SCOPED_TRACE("sample " + std::to_string(k));
     ensemble::SampleRunner runner(job, spec);
     const std::vector<double> inputs = runner.prepare(k, false);

@@ -140,7 +140,7 @@ const RealEnsemble& real_ensemble() {
     if (nominal.status != SampleStatus::ok) throw std::runtime_error("nominal run failed");
     r.pilot_low.assign(entries, std::numeric_limits<double>::infinity());
     r.pilot_high.assign(entries, -std::numeric_limits<double>::infinity());
-    for (std::uint64_t k = 0; k < r.spec.samples; ++k) {
+    for (std::uint64_t k = 0; k < r.spec.runs; ++k) {
       std::vector<double> trajectory;
       const SampleRecord rec = runner.run(k, false, trajectory);
       if (rec.status != SampleStatus::ok)
@@ -187,7 +187,7 @@ void expect_identical(const EnsembleStatistics& a, const EnsembleStatistics& b, 
 // the ensemble really spreads (otherwise the comparisons below test little).
 TEST(Statistics, RealEnsembleSetup) {
   const RealEnsemble& r = real_ensemble();
-  EXPECT_EQ(r.spec.samples, 60u);
+  EXPECT_EQ(r.spec.runs, 60u);
   EXPECT_EQ(r.spec.pilot_samples, 16u);
   EXPECT_EQ(r.spec.perturbations.size(), 3u);
   EXPECT_EQ(r.times, 51u);

@@ -25,7 +25,7 @@ constexpr std::uint64_t kMost = 20000;
 
 EnsembleSpec spec_with(double p, StopRule rule) {
   EnsembleSpec spec;
-  spec.samples = kMost;
+  spec.runs = kMost;
   spec.design = Design::monte_carlo;
   Response r;
   r.name = "y";
@@ -73,7 +73,7 @@ TEST(StopRule, WavesAreCheckIntervalsUpToTheMostSamples) {
   rule.mean_sem = 1e-9;  // never holds here
   rule.every = 300;
   EnsembleSpec spec = spec_with(0.5, rule);
-  spec.samples = 1000;
+  spec.runs = 1000;
   StoppingPlan plan(spec);
   const ResponseTable table = uniform_responses(1);
   std::vector<std::pair<std::uint64_t, std::uint64_t>> waves;

@@ -693,7 +693,7 @@ TEST_P(EnsembleMpiExample, RunsOnTwoRanksWithEverySampleOkAndTheDocumentedShapes
   const std::string text = read_text(job_path);
   const treedyn::Job job = treedyn::parse_job(text, job_path.string());
   const treedyn::ensemble::EnsembleSpec spec = treedyn::ensemble::read_ensemble(job);
-  const hsize_t T = job.request.output_times.size(), N = spec.samples;
+  const hsize_t T = job.request.output_times.size(), N = spec.runs;
   const hsize_t P = spec.quantiles.size(), B = static_cast<hsize_t>(spec.histogram_bins);
   const hsize_t D = spec.input_dimensions(), n = static_cast<hsize_t>(job.model.n);
   ASSERT_GT(N, 0u);

@@ -92,7 +92,7 @@ namespace {
 std::vector<double> radial_effects(const EnsembleSpec& spec, const ResponseTable& table, std::size_t r) {
   const unsigned units = spec.unit_count(), dimensions = spec.input_dimensions();
   const std::vector<unsigned> unit_of = spec.unit_of_input();
-  const SampleDesign design(Design::morris, spec.seed, spec.samples, dimensions, unit_of, spec.morris);
+  const SampleDesign design(Design::morris, spec.seed, spec.runs, dimensions, unit_of, spec.morris);
   const std::uint64_t per = units + 1u, trajectories = table.samples() / per;
   std::vector<double> effects(trajectories * units, kNaN), a(dimensions), b(dimensions);
   auto value = [&](std::uint64_t k) { return table.ok(k) ? table.response(k, r) : kNaN; };

@@ -52,8 +52,8 @@ void read_morris(const TomlView& parent, EnsembleSpec& s, std::uint64_t max_runs
     t.fail("trajectories", "morris makes trajectories x " + shape + " = " + std::to_string(m.trajectories) + " x " +
                                std::to_string(per_trajectory) + " runs; at most " + std::to_string(max_runs) +
                                ": use at most " + std::to_string(max_runs / per_trajectory) + " trajectories");
-  s.base_samples = m.trajectories;
-  s.samples = m.trajectories * per_trajectory;
+  s.samples = m.trajectories;
+  s.runs = m.trajectories * per_trajectory;
   s.morris = m;
 }
 
