@@ -17,8 +17,8 @@
 namespace treedyn::parallel {
 namespace fs = std::filesystem;
 
-EnsembleRun::EnsembleRun(MPI_Comm c, const EnsembleOptions& o, const Job& j, const ensemble::EnsembleSpec& s)
-    : comm(c), options(o), job(j), spec(s), runner(j, s), plan(ensemble::make_wave_plan(s)) {
+RunSetup::RunSetup(MPI_Comm c, const EnsembleOptions& o, const Job& j, const ensemble::EnsembleSpec& s)
+    : comm(c), options(o), job(j), spec(s) {
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
   first = options.part() ? options.first_sample : 0;

@@ -72,25 +72,39 @@ struct EnsembleOptions {
 // Returns the process exit code, the same on all ranks.
 int run_ensemble(MPI_Comm comm, const EnsembleOptions& options);
 
-// Everything one rank knows of the run (the phases' shared data).
-struct EnsembleRun {
-  EnsembleRun(MPI_Comm comm, const EnsembleOptions& options, const Job& job, const ensemble::EnsembleSpec& spec);
+// What is configured once, the same on every rank for the whole run.
+struct RunSetup {
+  RunSetup(MPI_Comm comm, const EnsembleOptions& options, const Job& job, const ensemble::EnsembleSpec& spec);
 
   MPI_Comm comm;
   int rank = 0, size = 1;
   const EnsembleOptions& options;
   const Job& job;
   const ensemble::EnsembleSpec& spec;
-  ensemble::SampleRunner runner;
-  std::unique_ptr<ensemble::WavePlan> plan;
   std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
   // The samples this run owns, [first, end): the whole ensemble unless a part.
   std::uint64_t first = 0, end = 0;
-  std::uint64_t samples_used = 0;  // the end of the last wave run: [ensemble.stop] may end before `end`
   bool owns(std::uint64_t k) const { return k >= first && k < end; }
   // A part's checkpoint belongs to its range (id); the part file to the job (job_id).
   ensemble::RunIdentity job_id, id;
   std::filesystem::path checkpoint_dir;
+};
+
+// What the design owns: its waves, and what decides the next one.
+struct DesignState {
+  explicit DesignState(const ensemble::EnsembleSpec& spec) : plan(ensemble::make_wave_plan(spec)) {}
+
+  std::unique_ptr<ensemble::WavePlan> plan;
+  std::uint64_t samples_used = 0;                // the end of the last wave run: [ensemble.stop] may end before `end`
+  std::optional<ensemble::ResponseTable> table;  // rank 0, with responses: the answers and the plans' decisions
+};
+
+// What this rank owns: its runner, what it restored, its results and
+// checkpoint, its records' way out, its output (rank 0) and its counters.
+struct RankState {
+  RankState(const Job& job, const ensemble::EnsembleSpec& spec) : runner(job, spec) {}
+
+  ensemble::SampleRunner runner;
   // Rank 0: the output's lock (process/output_lock.hpp), held from before
   // anything of the output is touched to the end; released last.
   std::optional<process::OutputLock> lock;
@@ -103,7 +117,6 @@ struct EnsembleRun {
 
   std::unique_ptr<EnsembleWriter> writer;  // rank 0, whole ensembles
   std::unique_ptr<ensemble::Progress> progress;
-  std::optional<ensemble::ResponseTable> table;      // rank 0, with responses
   std::vector<ensemble::SampleRecord> part_records;  // rank 0, parts
   std::unique_ptr<RecordSink> sink;
   RecordWriter* records = nullptr;  // rank 0's view of the sink
@@ -115,6 +128,12 @@ struct EnsembleRun {
   std::uint64_t samples_run = 0;
 
   std::uint64_t kept_after_pilot = 0, kept = 0;  // for options.test.hold_after
+};
+
+// Everything one rank knows of the run (the phases' shared data), by trade.
+struct EnsembleRun : RunSetup, DesignState, RankState {
+  EnsembleRun(MPI_Comm c, const EnsembleOptions& o, const Job& j, const ensemble::EnsembleSpec& s)
+      : RunSetup(c, o, j, s), DesignState(s), RankState(j, s) {}
 };
 
 // Runs `work` on rank 0 alone and gives every rank its exit code. A file
