@@ -21,7 +21,7 @@ MORRIS_WORDS = ("Morris mu* is the mean size of a factor's elementary effects: t
                 "the factor (an input, or a group of inputs moved together) alone steps, divided by the step in "
                 "its inputs' probability u, so in the response's units per unit of u; mu is their "
                 "mean with its sign (the direction), sigma their spread (large: the effect changes with where "
-                "on the grid the step is taken, a nonlinear or interacting factor). A screen: it orders the "
+                "the step is taken, a nonlinear or interacting factor). A screen: it orders the "
                 "factors with few runs; it is no share of variance.")
 # What the design's own measure says, where it and the rank measures rank differently: the words for it, the
 # runs the rank measures stand on, what it measures, and the ranking's name.
@@ -246,7 +246,7 @@ def nonlinear_line(name, morris, sigma, shown):
     if not nonlinear:
         return ""
     return (f"{name}: sigma >= mu*, nonlinear or interacting: {', '.join(nonlinear)}. Their effect depends on where "
-            "on the grid they step (or on the other factors): mu* orders them, but a Saltelli design's Sobol' "
+            "they step (or on the other factors): mu* orders them, but a Saltelli design's Sobol' "
             "indices say how much of the variance goes with them.")
 
 

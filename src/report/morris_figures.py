@@ -36,7 +36,7 @@ def morris_caption(name, s, unlabelled):
     return (f"{name}: Morris mu* (the mean size of a factor's elementary effects) against sigma (their spread), per "
             f"factor, in {unit} per unit of u, with their 95 % bootstrap intervals where finite, "
             f"{trajectories_words(s)}; dashed: sigma = mu*. Above the line a factor acts nonlinearly or through "
-            "interactions (its effect changes with where on the grid it steps, or with the other factors); near "
+            "interactions (its effect changes with where it steps, or with the other factors); near "
             "the x-axis it acts linearly (about the same effect wherever it steps); near the origin it matters "
             "little" + (f"; the {MAX_LABELS} largest mu* named" if unlabelled else ""))
 
