@@ -79,18 +79,11 @@ std::vector<bool> list_entries(const EnsembleSpec& spec) {
   return hidden;
 }
 
-std::vector<std::string> unit_names(const EnsembleSpec& spec) {
-  if (!spec.grouped) return spec.input_names();
-  std::vector<std::string> names;
-  for (const SobolUnit& unit : spec.sobol_units) names.push_back(unit.name);
-  return names;
-}
-
 // Morris' ranking by mu*, and which of the leading units act nonlinearly
 // or through interactions (sigma at least mu*: their effects change sign
 // or size across the grid).
 void print_morris(std::ostream& out, const EnsembleSpec& spec, const Response& response, const MorrisIndices& m) {
-  const std::vector<std::string> names = unit_names(spec);
+  const std::vector<std::string> names = spec.unit_names();
   out << "    drivers (" << (spec.grouped ? "groups, " : "") << "Morris mu* [95 %], " << response.units
       << " per unit of u, from " << m.trajectories << " trajectories): ";
   print_ranking(out, names, m.ranking, m.mu_star, &m.mu_star_ci, "trajectories", {}, false);
@@ -112,7 +105,7 @@ void print_drivers(std::ostream& out, const EnsembleSpec& spec, const Response& 
     if (s.total.empty()) return;
     out << "    drivers (" << (spec.grouped ? "groups, " : "") << "total Sobol' index [95 %], from " << s.base_samples
         << " of " << a.sobol_blocks << " base points): ";
-    print_ranking(out, unit_names(spec), s.ranking, s.total, &s.total_ci, "base points");
+    print_ranking(out, spec.unit_names(), s.ranking, s.total, &s.total_ci, "base points");
     if (a.sobol_blocks > 0 &&
         static_cast<double>(s.base_samples) < kReliableBlockShare * static_cast<double>(a.sobol_blocks))
       out << "      unreliable: failed runs left " << s.base_samples << " of " << a.sobol_blocks
@@ -121,7 +114,7 @@ void print_drivers(std::ostream& out, const EnsembleSpec& spec, const Response& 
     if (std::isfinite(v.widest))
       out << "      is N enough for the indices? " << (v.enough ? "yes" : "no")
           << ": the widest interval of a total index "
-          << "that matters is " << number(v.widest, "%.2g") << " (" << unit_names(spec)[v.unit] << ")"
+          << "that matters is " << number(v.widest, "%.2g") << " (" << spec.unit_names()[v.unit] << ")"
           << (v.enough ? ""
                        : "; about " + number(v.needed, "%.0f") + " base points would make it " +
                              number(kIndexIntervalWidth, "%.1f"))

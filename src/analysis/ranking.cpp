@@ -75,8 +75,6 @@ Ranking rank_units(std::span<const double> point, std::span<const double> replic
   return ranking;
 }
 
-// The 95 % percentile interval of each of the `units` columns of the
-// resample-major `replicates` into `out` (low, high per unit).
 void percentile_intervals(std::span<const double> replicates, std::size_t units, std::vector<double>& out) {
   const std::size_t resamples = replicates.size() / units;
   std::vector<double> column(resamples);

@@ -57,13 +57,6 @@ std::vector<double> per_input_values(const ensemble::EnsembleSpec& spec, const s
   return out;
 }
 
-std::vector<std::string> unit_names(const ensemble::EnsembleSpec& spec) {
-  if (!spec.grouped) return spec.input_names();
-  std::vector<std::string> names;
-  for (const ensemble::SobolUnit& unit : spec.sobol_units) names.push_back(unit.name);
-  return names;
-}
-
 void write_interval_matrix(hid_t g, const char* name, const std::vector<double>& v, const std::string& what,
                            const std::vector<std::string>& rows, const char* row_word, const std::string& units) {
   h5::Handle set = h5::write_matrix(g, name, v, rows.size(), 2);

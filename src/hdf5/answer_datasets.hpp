@@ -28,9 +28,6 @@ void write_ranking(hid_t sg, const char* name, const ensemble::Ranking& ranking,
 std::vector<double> per_input_values(const ensemble::EnsembleSpec& spec, const std::vector<double>& unit_values,
                                      std::size_t width);
 
-// The units' names: the inputs', or the groups' where units are not inputs.
-std::vector<std::string> unit_names(const ensemble::EnsembleSpec& spec);
-
 // Rows x (low, high), the rows named in the attribute '<row_word>s'.
 // `units`: the values' (an index's "1").
 void write_interval_matrix(hid_t g, const char* name, const std::vector<double>& v, const std::string& what,

@@ -134,13 +134,7 @@ void write_response_answer(hid_t parent, const ensemble::EnsembleSpec& spec, con
 
 // The groups' indices of a grouped design, and the group list.
 void write_group_indices(hid_t sg, const ensemble::EnsembleSpec& spec, const ensemble::SobolIndices& s) {
-  const std::vector<std::string> inputs = spec.input_names(), groups = unit_names(spec);
-  std::vector<std::string> members;
-  for (const ensemble::SobolUnit& unit : spec.sobol_units) {
-    std::string listed;
-    for (unsigned d : unit.inputs) listed += (listed.empty() ? "" : ", ") + inputs[d];
-    members.push_back(listed);
-  }
+  const std::vector<std::string> groups = spec.unit_names(), members = spec.unit_inputs();
   write_per_input(sg, "group_first_order", s.first, "1", "first-order Sobol' index of each group (its inputs together)",
                   groups);
   write_per_input(sg, "group_total_order", s.total, "1", "total Sobol' index of each group (its inputs together)",
@@ -163,7 +157,7 @@ void write_index_verdict(hid_t sg, const ensemble::EnsembleSpec& spec, const ens
                       static_cast<long long>(static_cast<double>(s.base_samples) >=
                                              ensemble::kReliableBlockShare * static_cast<double>(a.sobol_blocks)));
   h5::write_attribute(sg, "index_widest_interval", v.widest);
-  h5::write_attribute(sg, "index_widest_unit", std::isnan(v.widest) ? std::string() : unit_names(spec)[v.unit]);
+  h5::write_attribute(sg, "index_widest_unit", std::isnan(v.widest) ? std::string() : spec.unit_names()[v.unit]);
   h5::write_attribute(sg, "index_base_points_needed", v.needed);
   h5::write_attribute(sg, "indices_enough", static_cast<long long>(v.enough));
 }
@@ -188,12 +182,12 @@ void write_sobol(hid_t sg, const ensemble::EnsembleSpec& spec, const ensemble::R
   h5::write_attribute(sg, "sobol_base_samples", static_cast<long long>(s.base_samples));
   h5::write_attribute(sg, "bootstrap_resamples", static_cast<long long>(spec.bootstrap_resamples));
   write_index_verdict(sg, spec, a);
-  write_ranking(sg, "sobol_ranking", s.ranking, "total Sobol' index", unit_names(spec), "base points");
+  write_ranking(sg, "sobol_ranking", s.ranking, "total Sobol' index", spec.unit_names(), "base points");
 }
 
 // <sg>/sobol_convergence: the indices of the first 1, 2, 4, ... base points.
 void write_sobol_convergence(hid_t sg, const ensemble::EnsembleSpec& spec, const ensemble::ResponseAnswer& a) {
-  const std::vector<std::string> units = unit_names(spec);
+  const std::vector<std::string> units = spec.unit_names();
   const std::size_t k = a.sobol_convergence.size(), u = units.size();
   std::vector<double> base_points, used, first, total, first_ci, total_ci;
   for (const ensemble::SobolPrefix& p : a.sobol_convergence) {

@@ -79,6 +79,10 @@ struct EnsembleSpec {
   unsigned unit_count() const;
   std::vector<unsigned> unit_of_input() const;
   std::uint64_t saltelli_block() const { return ensemble::saltelli_block(unit_count()); }
+  // The units' names (the inputs' where every unit is one input), and each
+  // unit's inputs as one comma-separated text.
+  std::vector<std::string> unit_names() const;
+  std::vector<std::string> unit_inputs() const;
 };
 
 // Memory the statistics need on every rank: bin counters, sums, minima and

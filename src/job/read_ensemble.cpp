@@ -224,6 +224,24 @@ unsigned EnsembleSpec::unit_count() const {
   return sobol_units.empty() ? input_dimensions() : static_cast<unsigned>(sobol_units.size());
 }
 
+std::vector<std::string> EnsembleSpec::unit_names() const {
+  if (!grouped) return input_names();
+  std::vector<std::string> names;
+  for (const SobolUnit& unit : sobol_units) names.push_back(unit.name);
+  return names;
+}
+
+std::vector<std::string> EnsembleSpec::unit_inputs() const {
+  const std::vector<std::string> inputs = input_names();
+  std::vector<std::string> members;
+  for (const SobolUnit& unit : sobol_units) {
+    std::string listed;
+    for (unsigned d : unit.inputs) listed += (listed.empty() ? "" : ", ") + inputs[d];
+    members.push_back(listed);
+  }
+  return members;
+}
+
 std::vector<unsigned> EnsembleSpec::unit_of_input() const {
   std::vector<unsigned> unit(input_dimensions());
   for (unsigned d = 0; d < unit.size(); ++d) unit[d] = d;

@@ -10,7 +10,7 @@ namespace treedyn::answers_file {
 
 void write_morris(hid_t sg, const ensemble::EnsembleSpec& spec, const ensemble::MorrisIndices& m,
                   const std::string& response_units) {
-  const std::vector<std::string> units = unit_names(spec), inputs = spec.input_names();
+  const std::vector<std::string> units = spec.unit_names();
   const std::string per =
       " of each factor (an input, or a group moved together: see morris_unit_inputs); elementary effect EE = "
       "change of the response / its step in the inputs' probability u (radial: b - a, for a group the root mean "
@@ -31,14 +31,8 @@ void write_morris(hid_t sg, const ensemble::EnsembleSpec& spec, const ensemble::
                   "elementary effects per unit (one per trajectory whose two runs "
                   "of that step succeeded with finite values)",
                   units);
-  std::vector<std::string> members;
-  for (const ensemble::SobolUnit& unit : spec.sobol_units) {
-    std::string listed;
-    for (unsigned d : unit.inputs) listed += (listed.empty() ? "" : ", ") + inputs[d];
-    members.push_back(listed);
-  }
   h5::write_attribute(sg, "morris_units", units);
-  h5::write_attribute(sg, "morris_unit_inputs", members);
+  h5::write_attribute(sg, "morris_unit_inputs", spec.unit_inputs());
   h5::write_attribute(sg, "morris_trajectories", static_cast<long long>(m.trajectories));
   h5::write_attribute(sg, "morris_steps", std::string(spec.morris->radial ? "radial" : "trajectories"));
   if (!spec.morris->radial) h5::write_attribute(sg, "morris_levels", static_cast<long long>(spec.morris->levels));
