@@ -12,7 +12,12 @@
 # two runs of block size 1 and 64 differed by less than the noise of rank
 # 0's CPU spent waiting in MPI. BENCHMARKS.md says more.)
 #
-# EXAMPLES="spherical_pendulum crane_payload" picks examples.
+# EXAMPLES="spherical_pendulum crane_payload" picks examples; SAMPLES=N
+# sets N for all of them; UNIT_ROWS=R makes senders send units of R rows
+# (whole compressed chunks, ensemble/capacity.hpp) whatever N and the
+# ranks, through the hidden --test-unit-rows (a run chooses R itself from
+# its samples and ranks; N must then be many times ranks x R, so that
+# rank 0's own samples, written as records, are a small share).
 #
 #   bash bench/capacity_benchmark.sh [BUILD_DIR] [RANKS...]
 set -euo pipefail
@@ -54,12 +59,12 @@ edited() {
 echo "| example | record (bytes) | ranks | rank 0 CPU per record (us) | sample CPU (ms) | scales to (ranks) |"
 echo "|---|---:|---:|---:|---:|---:|"
 for name in ${EXAMPLES:-spherical_pendulum double_pendulum chain10 y_tree crane_payload kapitza}; do
-  n=${samples[$name]}
+  n=${SAMPLES:-${samples[$name]}}
   for p in "${ranks[@]}"; do
     for m in "$n" "$((4 * n))"; do
       edited "jobs/$name.toml" "$m" 4 "$work/$name.toml"
       mpirun -np "$p" --oversubscribe "$ensemble" "$work/$name.toml" -o "$work/run_$m.h5" -q --checkpoint-every 0 \
-        > /dev/null 2>&1
+        ${UNIT_ROWS:+--test-unit-rows "$UNIT_ROWS"} > /dev/null 2>&1
     done
     read -r w1 b1 _ r1 <<< "$(measure "$work/run_$n.h5")"
     read -r w4 b4 _ r4 <<< "$(measure "$work/run_$((4 * n)).h5")"

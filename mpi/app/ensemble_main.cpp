@@ -27,7 +27,8 @@ int check(const std::string& job_path) {
     const auto [job, spec] = treedyn::ensemble::read_ensemble_job(treedyn::JobDocument::read(job_path));
     treedyn::print_model_summary(std::cout, job);
     treedyn::ensemble::print_ensemble_summary(std::cout, job, spec);
-    treedyn::ensemble::print_capacity(std::cout, treedyn::ensemble::measure_capacity(job, spec), "sample 0, timed now");
+    treedyn::ensemble::print_capacity(std::cout, treedyn::ensemble::measure_capacity(job, spec), spec,
+                                      "sample 0, timed now");
     std::cout << job_path << ": OK\n";
     return treedyn::kExitOk;
   } catch (const treedyn::JobError& e) {
@@ -126,6 +127,7 @@ void define_options(CLI::App& app, CommandLine& c) {
   // The tests' seam (parallel/test_hooks.hpp), left out of --help.
   app.add_option("--test-hold-after", c.options.test.hold_after)->group("");
   app.add_flag("--test-hold-unsaved", c.options.test.hold_unsaved)->group("");
+  app.add_option("--test-unit-rows", c.options.test.unit_rows)->group("");
 }
 
 // --samples FIRST:END into the options; false (and a message on rank 0) when malformed.

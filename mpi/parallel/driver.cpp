@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "common/exit_codes.hpp"
+#include "ensemble/capacity.hpp"
 #include "job/job_error.hpp"
 #include "job/sample_job.hpp"
 #include "parallel/collectives.hpp"
@@ -29,6 +30,13 @@ RunSetup::RunSetup(MPI_Comm c, const EnsembleOptions& o, const Job& j, const ens
                                     build_identity())
            : job_id;
   checkpoint_dir = ensemble::checkpoint_directory(options.output_path);
+}
+
+EnsembleRun::EnsembleRun(MPI_Comm c, const EnsembleOptions& o, const Job& j, const ensemble::EnsembleSpec& s)
+    : RunSetup(c, o, j, s), DesignState(s), RankState(j, s) {
+  if (options.part() || spec.subset) return;
+  const ensemble::SampleRows rows(spec, runner.layout(), runner.final_state_size());
+  unit_rows = options.test.unit_rows.value_or(ensemble::unit_rows(spec, size, ensemble::most_unit_rows(rows)));
 }
 
 namespace {

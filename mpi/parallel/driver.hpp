@@ -85,6 +85,10 @@ struct RunSetup {
   // The samples this run owns, [first, end): the whole ensemble unless a part.
   std::uint64_t first = 0, end = 0;
   bool owns(std::uint64_t k) const { return k >= first && k < end; }
+  // Rows of a unit (ensemble/capacity.hpp: unit_rows), 0: none; never for a
+  // part, whose records go into its part file. Set once the rows' layout
+  // is known (EnsembleRun).
+  std::size_t unit_rows = 0;
   // A part's checkpoint belongs to its range (id); the part file to the job (job_id).
   ensemble::RunIdentity job_id, id;
   std::filesystem::path checkpoint_dir;
@@ -132,8 +136,7 @@ struct RankState {
 
 // Everything one rank knows of the run (the phases' shared data), by trade.
 struct EnsembleRun : RunSetup, DesignState, RankState {
-  EnsembleRun(MPI_Comm c, const EnsembleOptions& o, const Job& j, const ensemble::EnsembleSpec& s)
-      : RunSetup(c, o, j, s), DesignState(s), RankState(j, s) {}
+  EnsembleRun(MPI_Comm c, const EnsembleOptions& o, const Job& j, const ensemble::EnsembleSpec& s);
 };
 
 // Runs `work` on rank 0 alone and gives every rank its exit code. A file

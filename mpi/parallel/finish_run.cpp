@@ -137,6 +137,8 @@ int write_ensemble(EnsembleRun& run, const ensemble::EnsembleStatistics& stats, 
   summary.failed = run.records->failed();
   summary.ok = run.records->done() - summary.failed;
   summary.samples_used = run.samples_used;
+  summary.unit_rows = run.unit_rows;
+  summary.samples_in_units = run.records->done_in_units();
   if (run.samples_used < run.spec.runs && run.table) run.table->truncate(run.samples_used);
   std::optional<ensemble::RareEventAnswer> rare;
   if (run.spec.subset && run.table) rare = ensemble::answer_rare_event(run.spec, *run.table);

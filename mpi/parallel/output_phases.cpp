@@ -158,7 +158,9 @@ int start_records(EnsembleRun& run) {
     run.records = writer.get();
     run.sink = std::move(writer);
   } else {
-    run.sink = std::make_unique<RecordSender>(run.comm, run.size);
+    std::optional<ensemble::SampleRows> rows;
+    if (run.unit_rows > 0) rows.emplace(run.spec, run.runner.layout(), run.runner.final_state_size());
+    run.sink = std::make_unique<RecordSender>(run.comm, run.size, std::move(rows));
   }
   if (run.restored) {
     if (const int code = on_rank_zero(run, [&run] { return restore_on_rank_zero(run); }); code != kExitOk) return code;

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <stdexcept>
 
 #include "persistence/record_codec.hpp"
 
@@ -12,6 +13,7 @@ namespace {
 
 constexpr int kTagRecords = 1;
 constexpr int kTagDone = 2;
+constexpr int kTagUnit = 3;
 // Batches in flight per rank. A batch above MPI's eager limit is sent only
 // once rank 0 receives it, and rank 0 does not receive while it writes a
 // batch of records: the other ranks go on integrating as long as they may
@@ -111,11 +113,15 @@ void RecordWriter::end_wave() {
   finished_ranks_ = 0;
 }
 
+void RecordWriter::count(const ensemble::SampleRecord& r) {
+  ++done_;
+  if (r.status != ensemble::SampleStatus::ok) ++failed_;
+  if (table_) table_->add(r);
+}
+
 void RecordWriter::write(std::vector<ensemble::SampleRecord> records) {
   for (auto& r : records) {
-    ++done_;
-    if (r.status != ensemble::SampleStatus::ok) ++failed_;
-    if (table_) table_->add(r);
+    count(r);
     if (!io_error_.empty()) continue;  // nothing more goes to a file that failed
     batch_bytes_ += record_bytes(r);
     batch_.push_back(std::move(r));
@@ -213,18 +219,68 @@ bool RecordWriter::complete_received(bool wait) {
 }
 
 void RecordWriter::handle(std::vector<char>& bytes, int count, int source, int tag) {
+  const std::span<const char> message(bytes.data(), static_cast<std::size_t>(count));
   if (tag == kTagDone)
     ++finished_ranks_;
+  else if (tag == kTagUnit)
+    write_unit(message, source);
   else
-    write(ensemble::read_records(std::span<const char>(bytes.data(), static_cast<std::size_t>(count)),
-                                 "the records of rank " + std::to_string(source)));
+    write(ensemble::read_records(message, "the records of rank " + std::to_string(source)));
 }
 
-RecordSender::RecordSender(MPI_Comm comm, int ranks) : comm_(comm), send_bytes_(message_bytes(ranks)) {}
+// A unit's chunks go to the file at once (each is whole; nothing to wait
+// for), its records are counted.
+void RecordWriter::write_unit(std::span<const char> message, int source) {
+  if (!writer_) throw std::logic_error("a unit sent to a part's writer (parts have no units)");
+  const h5::Unit unit =
+      h5::decode_unit(message, writer_->sample_rows().datasets().size(), "a unit of rank " + std::to_string(source));
+  if (io_error_.empty()) try {
+      writer_->write_unit(unit);
+    } catch (const std::exception& e) {
+      io_error_ = e.what();
+    }
+  for (const ensemble::SampleRecord& r : unit.records) count(r);
+  done_in_units_ += unit.records.size();
+  progress_.update(done_, failed_);
+}
+
+RecordSender::RecordSender(MPI_Comm comm, int ranks, std::optional<ensemble::SampleRows> rows)
+    : comm_(comm), send_bytes_(message_bytes(ranks)), rows_(std::move(rows)) {
+  if (rows_) encoder_.emplace(*rows_);
+}
 
 void RecordSender::add(ensemble::SampleRecord record) {
+  if (in_unit_) {
+    unit_.push_back(std::move(record));
+    return;
+  }
   if (batch_.empty()) held_since_ = std::chrono::steady_clock::now();
   ensemble::append_record(record, batch_);
+}
+
+void RecordSender::begin_unit(std::uint64_t first, std::uint64_t rows) {
+  in_unit_ = encoder_.has_value();
+  unit_first_ = first;
+  unit_rows_ = rows;
+  unit_.clear();
+}
+
+// A unit cut short (a stop) goes as records: rank 0 counts them, and the
+// rows it lacks are not a whole chunk.
+void RecordSender::end_unit() {
+  if (!in_unit_) return;
+  in_unit_ = false;
+  bool whole = unit_.size() == unit_rows_;
+  for (std::size_t k = 0; whole && k < unit_.size(); ++k) whole = unit_[k].index == unit_first_ + k;
+  if (!whole) {
+    for (ensemble::SampleRecord& r : unit_) add(std::move(r));
+    unit_.clear();
+    return;
+  }
+  std::vector<char> message;
+  encoder_->encode(unit_, message);
+  unit_.clear();
+  send(std::move(message), kTagUnit);
 }
 
 // The records held go when they fill a message, or have waited long enough
@@ -245,16 +301,23 @@ bool RecordSender::room_in_flight() const {
 
 void RecordSender::send_held() {
   if (batch_.empty()) return;
-  while (!pending_.empty() && !room_in_flight()) {
+  send(std::move(batch_), kTagRecords);
+  batch_.clear();
+  batch_.reserve(send_bytes_ + send_bytes_ / 4);  // the next message's, without regrowing from nothing
+}
+
+// Waits for room in flight first (a unit may be larger than all of it: it
+// then goes alone).
+void RecordSender::send(std::vector<char> message, int tag) {
+  while (!pending_.empty() &&
+         (pending_.size() >= kMaxPendingSends || pending_bytes_ + message.size() > kMaxPendingBytes)) {
     MPI_Wait(&pending_.front().first, MPI_STATUS_IGNORE);
     retire_oldest_send();
   }
-  pending_bytes_ += batch_.size();
-  pending_.emplace_back(MPI_REQUEST_NULL, std::move(batch_));
-  batch_.clear();
-  batch_.reserve(send_bytes_ + send_bytes_ / 4);  // the next message's, without regrowing from nothing
+  pending_bytes_ += message.size();
+  pending_.emplace_back(MPI_REQUEST_NULL, std::move(message));
   auto& [request, buffer] = pending_.back();
-  MPI_Isend(buffer.data(), static_cast<int>(buffer.size()), MPI_BYTE, 0, kTagRecords, comm_, &request);
+  MPI_Isend(buffer.data(), static_cast<int>(buffer.size()), MPI_BYTE, 0, tag, comm_, &request);
 }
 
 // The oldest send has completed: its buffer goes.

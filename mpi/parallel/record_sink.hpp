@@ -10,12 +10,15 @@
 #include <chrono>
 #include <cstdint>
 #include <deque>
+#include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "ensemble/progress.hpp"
 #include "ensemble/response_table.hpp"
 #include "hdf5/ensemble_file.hpp"
+#include "hdf5/unit_chunks.hpp"
 #include "output/sample_record.hpp"
 
 namespace treedyn::parallel {
@@ -27,6 +30,16 @@ class RecordSink {
  public:
   virtual ~RecordSink() = default;
   virtual void add(ensemble::SampleRecord record) = 0;
+  // Around the samples [first, first + rows) of one unit
+  // (hdf5/unit_chunks.hpp: a whole chunk of every per-sample dataset, run
+  // here): a sender holds their records and, when every one of them was
+  // added, sends them as one unit of compressed chunks; else (a stop cut
+  // the unit short) as records. Rank 0 writes its own records as they come.
+  virtual void begin_unit(std::uint64_t first, std::uint64_t rows) {
+    (void)first;
+    (void)rows;
+  }
+  virtual void end_unit() {}
   // At the end of each block of samples: rank 0 counts its own records;
   // the others send theirs when enough are held (RecordSender).
   virtual void end_block() = 0;
@@ -97,6 +110,8 @@ class RecordWriter final : public RecordSink {
   void write_held();
   std::uint64_t done() const { return done_; }
   std::uint64_t failed() const { return failed_; }
+  // Of done(): the samples that came in units.
+  std::uint64_t done_in_units() const { return done_in_units_; }
   const std::string& io_error() const { return io_error_; }
 
  private:
@@ -107,6 +122,8 @@ class RecordWriter final : public RecordSink {
   bool complete_received(bool wait);
   void handle(std::vector<char>& bytes, int count, int source, int tag);
   void write(std::vector<ensemble::SampleRecord> records);
+  void count(const ensemble::SampleRecord& record);
+  void write_unit(std::span<const char> message, int source);
 
   // A message matched and being received (MPI_Imrecv): rank 0 never waits
   // in a receive for a sender busy with a sample (a message past MPI's
@@ -130,7 +147,7 @@ class RecordWriter final : public RecordSink {
   std::vector<std::vector<char>> spare_;       // buffers of completed messages, reused: no allocation per message
   std::size_t batch_bytes_ = 0;
   int finished_ranks_ = 0;
-  std::uint64_t done_ = 0, failed_ = 0;
+  std::uint64_t done_ = 0, failed_ = 0, done_in_units_ = 0;
   std::string io_error_;
 };
 
@@ -139,12 +156,17 @@ class RecordWriter final : public RecordSink {
 // record_sink.cpp), and at a wave's end whatever their size.
 class RecordSender final : public RecordSink {
  public:
-  RecordSender(MPI_Comm comm, int ranks);
+  // `rows`: the per-sample rows' layout, for units (none: every record is
+  // sent as a record).
+  RecordSender(MPI_Comm comm, int ranks, std::optional<ensemble::SampleRows> rows);
   void add(ensemble::SampleRecord record) override;
+  void begin_unit(std::uint64_t first, std::uint64_t rows) override;
+  void end_unit() override;
   void end_block() override;
   void end_wave() override;
 
  private:
+  void send(std::vector<char> message, int tag);
   void make_progress() override;
   bool held_too_long() const;
   bool room_in_flight() const;
@@ -157,6 +179,11 @@ class RecordSender final : public RecordSink {
   std::chrono::steady_clock::time_point held_since_;  // when batch_'s first record came
   std::deque<std::pair<MPI_Request, std::vector<char>>> pending_;
   std::size_t pending_bytes_ = 0;  // of the batches in `pending_`
+  std::optional<ensemble::SampleRows> rows_;
+  std::optional<h5::UnitEncoder> encoder_;
+  bool in_unit_ = false;
+  std::uint64_t unit_first_ = 0, unit_rows_ = 0;
+  std::vector<ensemble::SampleRecord> unit_;  // the unit's records so far
 };
 
 }  // namespace treedyn::parallel

@@ -2,6 +2,7 @@
 // known state (hidden options of treedyn-ensemble; never set by users).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 
@@ -15,6 +16,10 @@ struct TestHooks {
   // sample it has kept) and waits for a stop signal (or SIGKILL).
   std::optional<std::uint64_t> hold_after;
   bool hold_unsaved = false;  // --test-hold-unsaved
+  // --test-unit-rows R: units of R rows (ensemble/capacity.hpp: unit_rows)
+  // whatever the samples and ranks, 0 none; for the tests and benchmarks of
+  // units on small runs.
+  std::optional<std::size_t> unit_rows;
 };
 
 }  // namespace treedyn::parallel

@@ -12,6 +12,7 @@
 #include "analysis/subset_replay.hpp"
 #include "common/exit_codes.hpp"
 #include "ensemble/capacity.hpp"
+#include "ensemble/sample_rows.hpp"
 #include "parallel/collectives.hpp"
 #include "parallel/driver.hpp"
 #include "parallel/work_queue.hpp"
@@ -127,9 +128,12 @@ void report_capacity(EnsembleRun& run, std::vector<double> pilot_cpu, double rec
   ensemble::Capacity c;
   c.record_bytes = static_cast<std::size_t>(largest[0]);
   c.record_seconds = ensemble::rank_zero_seconds_per_record(c.record_bytes);
+  const ensemble::SampleRows rows(run.spec, run.runner.layout(), run.runner.final_state_size());
+  c.datasets = rows.datasets().size();
+  c.most_unit_rows = ensemble::most_unit_rows(rows);
   c.sample_seconds = pilot_cpu[pilot_cpu.size() / 2];
-  ensemble::print_capacity(std::cerr, c, "the pilot's");
-  if (static_cast<double>(run.size) > c.ranks())
+  ensemble::print_capacity(std::cerr, c, run.spec, "the pilot's");
+  if (static_cast<double>(run.size) > c.ranks(run.unit_rows))
     std::cerr << "warning: this run has " << run.size
               << " ranks: rank 0 will limit it (fewer ranks would do as well)\n";
 }
@@ -280,14 +284,31 @@ void save_common(EnsembleRun& run) {
   run.results.save_if_due();  // the pilot may have taken longer than the interval
 }
 
-// Samples [from, to) of a wave, from the shared queue in blocks, skipping
-// those a resumed run has. Returns whether a stop cut it short.
+// Whether [begin, end) is a unit this rank runs (ensemble/capacity.hpp):
+// a whole chunk of rows, none of them finished (a resumed run's) or stored
+// with its trajectory. Rank 0 writes its own records itself.
+bool whole_unit(const EnsembleRun& run, std::uint64_t begin, std::uint64_t end) {
+  if (run.unit_rows == 0 || run.rank == 0 || end - begin != run.unit_rows || begin % run.unit_rows != 0 ||
+      begin < run.spec.store_trajectories)
+    return false;
+  for (std::uint64_t k = begin; k < end; ++k)
+    if (run.finished.contains(k)) return false;
+  return true;
+}
+
+// Samples [from, to) of a wave, from the shared queue in blocks (units,
+// aligned to their rows, when the run has them), skipping those a resumed
+// run has. Returns whether a stop cut it short.
 bool run_wave(EnsembleRun& run, std::uint64_t from, std::uint64_t to) {
-  WorkQueue queue(run.comm, from, to, run.spec.block_size);
+  const std::uint64_t unit = run.unit_rows;
+  WorkQueue queue(run.comm, unit > 0 ? from / unit * unit : from, to, unit > 0 ? unit : run.spec.block_size);
   std::uint64_t begin = 0, end = 0;
   std::vector<double> trajectory;
   bool stopped = false;
   while (!stopped && queue.next(begin, end)) {
+    begin = std::max(begin, from);
+    const bool whole = whole_unit(run, begin, end);
+    if (whole) run.sink->begin_unit(begin, end - begin);
     for (std::uint64_t k = begin; k < end && !stopped; ++k) {
       stopped = !may_go_on(queue);
       if (stopped || run.finished.contains(k)) continue;
@@ -296,7 +317,9 @@ bool run_wave(EnsembleRun& run, std::uint64_t from, std::uint64_t to) {
         keep_after_pilot(run, std::move(*r), &trajectory);
       else
         stopped = true;
+      if (!stopped && (k + 1 - begin) % run.spec.block_size == 0) run.results.save_if_due();
     }
+    if (whole) run.sink->end_unit();
     run.sink->end_block();
     if (!stopped) run.results.save_if_due();
   }
@@ -380,7 +403,7 @@ int run_nominal(EnsembleRun& run) {
   const int code = on_rank_zero(run, [&run] {
     if (!run.options.part())
       run.writer = std::make_unique<EnsembleWriter>(run.options.output_path, run.job, run.spec, run.runner.layout(),
-                                                    run.runner.final_state_size());
+                                                    run.runner.final_state_size(), run.unit_rows);
     if (run.restored) {
       run.nominal = run.restored->nominal;
       return kExitOk;

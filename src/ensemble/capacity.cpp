@@ -8,6 +8,7 @@
 #include <limits>
 #include <vector>
 
+#include "ensemble/sample_rows.hpp"
 #include "ensemble/sample_runner.hpp"
 #include "persistence/record_codec.hpp"
 
@@ -29,6 +30,50 @@ double rank_zero_seconds_per_record(std::size_t bytes) {
   // a part per byte (decoding, the scatter into every per-sample dataset,
   // deflate).
   return kRankZeroFixedSeconds + kRankZeroSecondsPerByte * static_cast<double>(bytes);
+}
+
+double rank_zero_seconds_per_unit_record(std::size_t datasets, std::size_t rows) {
+  return kUnitRecordSeconds + kChunkWriteSeconds * static_cast<double>(datasets) / static_cast<double>(rows);
+}
+
+double Capacity::seconds_per_record(std::size_t unit_rows) const {
+  return unit_rows > 0 ? rank_zero_seconds_per_unit_record(datasets, unit_rows) : record_seconds;
+}
+
+// Rank 0's cost per record grows with P (smaller units, then records): the
+// ranks it keeps up with fall as P grows, and the first P beyond them ends
+// the scan (doubling, then halving the step).
+Scale scales_to(const Capacity& c, const EnsembleSpec& spec) {
+  constexpr std::uint64_t kMostRanks = std::uint64_t{1} << 24;
+  const auto keeps_up = [&](std::uint64_t p) {
+    return static_cast<double>(p) <= c.ranks(unit_rows(spec, static_cast<int>(p), c.most_unit_rows));
+  };
+  std::uint64_t good = 1, step = 1;
+  while (good + step <= kMostRanks && keeps_up(good + step)) {
+    good += step;
+    step *= 2;
+  }
+  for (; step > 0; step /= 2)
+    if (good + step <= kMostRanks && keeps_up(good + step)) good += step;
+  return {good, unit_rows(spec, static_cast<int>(good), c.most_unit_rows)};
+}
+
+std::size_t most_unit_rows(const SampleRows& rows) {
+  std::size_t unit = 0, widest = 1;
+  for (const SampleRows::Dataset& d : rows.datasets()) {
+    unit += d.row_bytes;
+    widest = std::max(widest, d.row_bytes);
+  }
+  std::size_t most = kMaxUnitRows;
+  while (most > 1 && (most * widest > kMaxChunkBytes || most * unit > kMaxUnitBytes)) most /= 2;
+  return most;
+}
+
+std::size_t unit_rows(const EnsembleSpec& spec, int ranks, std::size_t most) {
+  if (ranks < 2 || spec.subset) return 0;
+  std::size_t rows = std::min(most, kMaxUnitRows);
+  while (rows >= kMinUnitRows && spec.runs < kUnitsPerRank * static_cast<std::uint64_t>(ranks) * rows) rows /= 2;
+  return rows >= kMinUnitRows ? rows : 0;
 }
 
 std::size_t typical_record_bytes(const SampleRecord& record) {
@@ -60,17 +105,33 @@ Capacity measure_capacity(const Job& job, const EnsembleSpec& spec, double budge
     if (c.sample_cut) break;
   }
   c.record_seconds = rank_zero_seconds_per_record(c.record_bytes);
+  const SampleRows rows(spec, runner.layout(), runner.final_state_size());
+  c.datasets = rows.datasets().size();
+  c.most_unit_rows = most_unit_rows(rows);
   return c;
 }
 
-void print_capacity(std::ostream& out, const Capacity& c, const char* timed) {
-  char line[400];
-  std::snprintf(line, sizeof line,
-                "rank 0's capacity: it takes in about %.0f records/s of this job's size (%zu bytes each, "
-                "measured on the development machine: BENCHMARKS.md); at %s%.3g ms per sample (%s) this job "
-                "scales to %sabout %.0f ranks before rank 0 limits it",
-                1.0 / c.record_seconds, c.record_bytes, c.sample_cut ? "more than " : "", c.sample_seconds * 1e3, timed,
-                c.sample_cut ? "more than " : "", std::floor(c.ranks()));
+void print_capacity(std::ostream& out, const Capacity& c, const EnsembleSpec& spec, const char* timed) {
+  const Scale scale = scales_to(c, spec);
+  const char* more = c.sample_cut ? "more than " : "";
+  char line[700];
+  int n = std::snprintf(
+      line, sizeof line,
+      "rank 0's capacity: it takes in about %.0f records/s of this job's size as records (%zu bytes each), %.0f/s "
+      "in units of %zu rows (%zu chunks each; measured on the development machine: BENCHMARKS.md); at %s%.3g ms "
+      "per sample (%s) this job's %llu runs scale to %sabout %llu ranks before rank 0 limits them",
+      1.0 / c.record_seconds, c.record_bytes, 1.0 / c.seconds_per_record(c.most_unit_rows), c.most_unit_rows,
+      c.datasets, more, c.sample_seconds * 1e3, timed, static_cast<unsigned long long>(spec.runs), more,
+      static_cast<unsigned long long>(scale.ranks));
+  if (scale.unit_rows > 0)
+    n += std::snprintf(line + n, sizeof line - static_cast<std::size_t>(n), " (in units of %zu rows)", scale.unit_rows);
+  else
+    n += std::snprintf(line + n, sizeof line - static_cast<std::size_t>(n), " (as records: too few runs for units)");
+  const double most = std::floor(c.ranks(c.most_unit_rows));
+  if (scale.unit_rows < c.most_unit_rows && most > static_cast<double>(scale.ranks))
+    std::snprintf(line + n, sizeof line - static_cast<std::size_t>(n),
+                  "; with %llu runs per rank or more, to %sabout %.0f",
+                  static_cast<unsigned long long>(kUnitsPerRank * c.most_unit_rows), more, most);
   out << line << "\n";
 }
 

@@ -28,7 +28,10 @@ struct EnsembleSummary {
   // ranks do not inflate (rank 0's capacity), and each rank's whole CPU time.
   std::vector<double> busy_cpu_seconds, writing_cpu_seconds, cpu_seconds;
   std::uint64_t samples_used = 0;  // the runs the answers count ([ensemble.stop]: <= samples)
-  std::string stop_reason;         // why the run ended where it did
+  // Rows of a unit (a whole chunk a sender compressed itself), 0: none; and
+  // the samples whose rows came that way.
+  std::uint64_t unit_rows = 0, samples_in_units = 0;
+  std::string stop_reason;  // why the run ended where it did
 };
 
 }  // namespace treedyn

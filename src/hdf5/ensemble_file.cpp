@@ -108,8 +108,14 @@ std::string reduction_about(ensemble::Reduction r) {
 }  // namespace
 
 EnsembleWriter::EnsembleWriter(const std::filesystem::path& path, const Job& job, const ensemble::EnsembleSpec& spec,
-                               const ColumnLayout& layout, std::size_t final_state_size)
-    : job_(job), spec_(spec), layout_(layout), final_size_(final_state_size), file_(path) {
+                               const ColumnLayout& layout, std::size_t final_state_size, std::size_t unit_rows)
+    : job_(job),
+      spec_(spec),
+      layout_(layout),
+      final_size_(final_state_size),
+      unit_rows_(unit_rows),
+      rows_(spec, layout, final_state_size),
+      file_(path) {
   samples_ = h5::create_group(file_.id(), "samples");
   h5::write_attribute(samples_.id(), "description",
                       spec.design == ensemble::Design::saltelli
@@ -129,10 +135,33 @@ EnsembleWriter::EnsembleWriter(const std::filesystem::path& path, const Job& job
   create_reductions();
   if (!spec.responses.empty()) {
     const hsize_t columns[1] = {spec.responses.size()};
-    responses_ = h5::RowDataset(samples_.id(), "responses", H5T_NATIVE_DOUBLE, spec.runs, columns);
+    responses_ = h5::RowDataset(samples_.id(), "responses", H5T_NATIVE_DOUBLE, spec.runs, columns, unit_rows_);
     describe_responses(responses_.id(), spec.responses);
   }
   if (spec.store_trajectories > 0) create_trajectories();
+  for (const ensemble::SampleRows::Dataset& d : rows_.datasets()) sample_sets_.push_back(&sample_set(d));
+}
+
+// SampleRows' dataset `d` among those created.
+h5::RowDataset& EnsembleWriter::sample_set(const ensemble::SampleRows::Dataset& d) {
+  using Kind = ensemble::SampleRows::Kind;
+  switch (d.kind) {
+    case Kind::inputs:
+      return inputs_;
+    case Kind::status:
+      return status_;
+    case Kind::time_reached:
+      return time_reached_;
+    case Kind::integrator_stats:
+      return integrator_stats_;
+    case Kind::final_state:
+      return final_state_;
+    case Kind::responses:
+      return responses_;
+    case Kind::reduction:
+      break;
+  }
+  return reductions_[d.reduction][d.quantity];
 }
 
 void EnsembleWriter::create_sample_columns() {
@@ -140,25 +169,25 @@ void EnsembleWriter::create_sample_columns() {
   const std::size_t n = spec_.runs, d = spec_.input_dimensions();
   if (d > 0) {
     const hsize_t columns[1] = {d};
-    inputs_ = h5::RowDataset(g, "inputs", H5T_NATIVE_DOUBLE, n, columns);
+    inputs_ = h5::RowDataset(g, "inputs", H5T_NATIVE_DOUBLE, n, columns, unit_rows_);
     describe_inputs(inputs_.id(), spec_);
   }
   // A row no record reached reads as "not run", not as the fill's 0 (ok).
   const auto not_run = static_cast<std::int32_t>(ensemble::SampleStatus::not_run);
-  status_ = h5::RowDataset(g, "status", H5T_NATIVE_INT32, n, {}, 0, &not_run);
+  status_ = h5::RowDataset(g, "status", H5T_NATIVE_INT32, n, {}, unit_rows_, &not_run);
   describe(status_.id(), "1",
            "0 ok, 1 integration failed, 2 invalid model (perturbed input refused), 3 not run (a merge of an "
            "incomplete set of parts: see the root attribute held_samples; also what a row that no record "
            "reached reads as)",
            {});
-  reason_ = h5::create_string_rows(g, "reason", n);
+  reason_ = h5::create_string_rows(g, "reason", n, unit_rows_);
   describe(reason_.id(), "1", "why the sample failed; empty when ok", {});
-  time_reached_ = h5::RowDataset(g, "time_reached", H5T_NATIVE_DOUBLE, n, {});
+  time_reached_ = h5::RowDataset(g, "time_reached", H5T_NATIVE_DOUBLE, n, {}, unit_rows_);
   describe(time_reached_.id(), "s", "time the integration reached (the end time when ok)", {});
   const hsize_t stat_columns[1] = {kIntegratorStatFields.size()}, final_columns[1] = {final_size_};
-  integrator_stats_ = h5::RowDataset(g, "integrator_stats", H5T_NATIVE_INT64, n, stat_columns);
+  integrator_stats_ = h5::RowDataset(g, "integrator_stats", H5T_NATIVE_INT64, n, stat_columns, unit_rows_);
   describe(integrator_stats_.id(), "1", "integrator statistics per sample", integrator_stat_columns());
-  final_state_ = h5::RowDataset(g, "final_state", H5T_NATIVE_DOUBLE, n, final_columns);
+  final_state_ = h5::RowDataset(g, "final_state", H5T_NATIVE_DOUBLE, n, final_columns, unit_rows_);
   describe(final_state_.id(), "1, rad/s",
            "state at the last output time: per body the orientation quaternion (q0 >= 0) and "
            "the inertial angular velocity; NaN for failed samples",
@@ -177,7 +206,7 @@ void EnsembleWriter::create_reductions() {
     for (std::size_t q = 0; q < layout_.quantity.size(); ++q) {
       const hsize_t columns[1] = {layout_.names[q].size()};
       reductions_.back().emplace_back(reduction_groups_.back().id(), layout_.quantity[q], H5T_NATIVE_DOUBLE, spec_.runs,
-                                      columns);
+                                      columns, unit_rows_);
       describe(reductions_.back().back().id(), time ? "s" : std::string(layout_.info[q]->units),
                about + " of " + layout_.quantity[q], layout_.names[q]);
       if (!time) write_column_units(reductions_.back().back().id(), layout_, q);
@@ -232,45 +261,35 @@ void EnsembleWriter::write_records(std::vector<SampleRecord> records) {
 
 void EnsembleWriter::write_run(const std::vector<SampleRecord>& run) {
   const std::size_t first = run.front().index, rows = run.size();
-  const std::size_t d = spec_.input_dimensions();
-  std::vector<double> inputs, times, finals;
-  std::vector<std::int32_t> status;
-  std::vector<std::int64_t> stats;
   std::vector<std::string> reasons;
-  for (const SampleRecord& r : run) {
-    std::vector<double> in = r.inputs;
-    in.resize(d, std::numeric_limits<double>::quiet_NaN());
-    inputs.insert(inputs.end(), in.begin(), in.end());
-    times.push_back(r.time_reached);
-    status.push_back(static_cast<std::int32_t>(r.status));
-    for (const IntegratorStatField& f : kIntegratorStatFields) stats.push_back(r.stats.*f.member);
-    reasons.push_back(r.reason);
-    finals.insert(finals.end(), r.final_state.begin(), r.final_state.end());
-  }
-  if (d > 0) inputs_.write(first, rows, inputs.data());
-  status_.write(first, rows, status.data());
+  for (const SampleRecord& r : run) reasons.push_back(r.reason);
   h5::write_string_rows(reason_.id(), first, reasons);
-  time_reached_.write(first, rows, times.data());
-  integrator_stats_.write(first, rows, stats.data());
-  final_state_.write(first, rows, finals.data());
-  const std::size_t columns = layout_.columns;
-  std::vector<double> block;
-  for (std::size_t r = 0; r < spec_.per_sample.size(); ++r)
-    for (std::size_t q = 0; q < layout_.quantity.size(); ++q) {
-      const std::size_t cols = layout_.names[q].size();
-      block.clear();
-      for (const SampleRecord& record : run) {
-        const auto begin = record.reductions.begin() + static_cast<long>(r * columns + layout_.offset[q]);
-        block.insert(block.end(), begin, begin + static_cast<long>(cols));
-      }
-      reductions_[r][q].write(first, rows, block.data());
-    }
-  if (!spec_.responses.empty()) {
-    block.clear();
-    for (const SampleRecord& record : run) block.insert(block.end(), record.responses.begin(), record.responses.end());
-    responses_.write(first, rows, block.data());
+  std::vector<unsigned char> bytes;
+  for (std::size_t i = 0; i < sample_sets_.size(); ++i) {
+    bytes.clear();
+    rows_.append(i, run, bytes);
+    sample_sets_[i]->write(first, rows, bytes.data());
   }
+  write_trajectories(run);
+}
+
+void EnsembleWriter::write_unit(const h5::Unit& unit) {
+  if (unit.chunks.size() != sample_sets_.size() || unit_rows_ == 0 || unit.rows != unit_rows_ ||
+      unit.first % unit_rows_ != 0)
+    throw h5::IoError("HDF5: a unit of rows " + std::to_string(unit.first) + " .. " +
+                      std::to_string(unit.first + unit.rows) + " is not one whole chunk of " +
+                      std::to_string(unit_rows_) + " rows");
+  std::vector<std::string> reasons;
+  for (const SampleRecord& r : unit.records) reasons.push_back(r.reason);
+  h5::write_string_rows(reason_.id(), unit.first, reasons);
+  for (std::size_t i = 0; i < sample_sets_.size(); ++i)
+    sample_sets_[i]->write_chunk_whole(unit.first / unit_rows_, unit.chunks[i].bytes, unit.chunks[i].deflated);
+}
+
+void EnsembleWriter::write_trajectories(const std::vector<SampleRecord>& run) {
   // Stored trajectories: one row per sample below M (NaN when it failed).
+  std::vector<double> block;
+  const std::size_t columns = layout_.columns;
   const std::size_t T = job_.request.output_times.size();
   for (const SampleRecord& record : run) {
     if (record.index >= spec_.store_trajectories) break;
@@ -389,6 +408,8 @@ void EnsembleWriter::finish(const EnsembleSummary& summary, const RunProvenance&
   h5::write_attribute(root, "record_writing_cpu_seconds_per_rank",
                       std::span<const double>(summary.writing_cpu_seconds));
   h5::write_attribute(root, "cpu_seconds_per_rank", std::span<const double>(summary.cpu_seconds));
+  h5::write_attribute(root, "unit_rows", static_cast<long long>(summary.unit_rows));
+  h5::write_attribute(root, "samples_in_units", static_cast<long long>(summary.samples_in_units));
   h5::write_attribute(root, "method", std::string(name(job_.request.settings.method)));
   h5::write_attribute(root, "parameterisation", std::string(name(job_.request.parameterisation)));
   h5::write_attribute(root, "solver", std::string(name(resolve_solver(job_.request.solver))));

@@ -10,9 +10,11 @@
 
 #include "analysis/answers.hpp"
 #include "ensemble/run_summary.hpp"
+#include "ensemble/sample_rows.hpp"
 #include "hdf5/hdf5.hpp"
 #include "hdf5/provenance.hpp"
 #include "hdf5/row_dataset.hpp"
+#include "hdf5/unit_chunks.hpp"
 #include "job/ensemble_spec.hpp"
 #include "output/quantities.hpp"
 #include "output/sample_record.hpp"
@@ -23,11 +25,19 @@ namespace treedyn {
 
 class EnsembleWriter {
  public:
+  // `unit_rows` > 0: every per-sample dataset of numbers, and the reasons,
+  // in chunks of that many rows, so that a unit of as many samples is one
+  // chunk of each (write_unit); 0: chunks of about 64 KiB each.
   EnsembleWriter(const std::filesystem::path& path, const Job& job, const ensemble::EnsembleSpec& spec,
-                 const ColumnLayout& layout, std::size_t final_state_size);
+                 const ColumnLayout& layout, std::size_t final_state_size, std::size_t unit_rows = 0);
 
   // Per-sample records, as they arrive (any order, any batches).
   void write_records(std::vector<ensemble::SampleRecord> records);
+  // The layout of the per-sample rows, for a sender's UnitEncoder.
+  const ensemble::SampleRows& sample_rows() const { return rows_; }
+  // A unit's whole chunks (unit_chunks.hpp), stored as they are, and its
+  // records' reasons. Its records (stripped) are the caller's to count.
+  void write_unit(const h5::Unit& unit);
   // A merged file: the part files it came from and the sample ranges they
   // held, root attributes merged_from (strings) and held_samples ((K, 2),
   // [first, end) rows). Call before complete().
@@ -58,6 +68,8 @@ class EnsembleWriter {
   void create_reductions();
   void create_trajectories();
   void write_run(const std::vector<ensemble::SampleRecord>& run);
+  void write_trajectories(const std::vector<ensemble::SampleRecord>& run);
+  h5::RowDataset& sample_set(const ensemble::SampleRows::Dataset& d);
   // Every per-sample dataset of numbers (hdf5/row_dataset.hpp).
   std::vector<h5::RowDataset*> row_datasets();
   void write_nominal(const std::vector<double>& trajectory);
@@ -67,7 +79,8 @@ class EnsembleWriter {
   const Job& job_;
   const ensemble::EnsembleSpec& spec_;
   const ColumnLayout& layout_;
-  std::size_t final_size_;
+  std::size_t final_size_, unit_rows_;
+  ensemble::SampleRows rows_;
   h5::File file_;
   h5::Handle samples_, reason_;
   h5::RowDataset inputs_, status_, time_reached_, integrator_stats_, final_state_, responses_;
@@ -75,6 +88,7 @@ class EnsembleWriter {
   std::vector<std::vector<h5::RowDataset>> reductions_;  // [reduction][quantity]
   h5::Handle trajectory_group_;
   std::vector<h5::RowDataset> trajectories_;  // [quantity], (M, T, columns)
+  std::vector<h5::RowDataset*> sample_sets_;  // rows_'s datasets, in its order
 };
 
 }  // namespace treedyn

@@ -251,9 +251,9 @@ void write_rows(hid_t dataset, hid_t type, std::size_t first_row, std::size_t ro
 }
 }  // namespace
 
-Handle create_string_rows(hid_t parent, const std::string& name, std::size_t rows) {
+Handle create_string_rows(hid_t parent, const std::string& name, std::size_t rows, std::size_t chunk_rows) {
   Handle type = text_type();
-  return create_rows(parent, name, type.id(), rows, {});
+  return create_rows(parent, name, type.id(), rows, {}, chunk_rows);
 }
 
 void write_string_rows(hid_t dataset, std::size_t first_row, const std::vector<std::string>& rows) {

@@ -102,7 +102,7 @@ Handle create_rows(hid_t parent, const std::string& name, hid_t type, std::size_
 constexpr unsigned kRowsDeflateLevel = 1;
 // Strings, one per row, filled later. Every string this layer writes
 // (datasets and attributes) is variable-length UTF-8: h5py gives `str`.
-Handle create_string_rows(hid_t parent, const std::string& name, std::size_t rows);
+Handle create_string_rows(hid_t parent, const std::string& name, std::size_t rows, std::size_t chunk_rows = 0);
 void write_string_rows(hid_t dataset, std::size_t first_row, const std::vector<std::string>& rows);
 
 void write_attribute(hid_t object, const std::string& name, const std::string& value);

@@ -63,6 +63,28 @@ void RowDataset::write(std::size_t first_row, std::size_t rows, const void* data
   while (held_.size() > kHeldChunks) store_least_recent();
 }
 
+void RowDataset::write_chunk_whole(std::size_t c, std::span<const unsigned char> bytes, bool deflated) {
+  const std::string what = "HDF5: " + name_ + ": a sent chunk " + std::to_string(c);
+  if (c >= stored_.size() || rows_in(c) != chunk_rows_) throw IoError(what + ": not a whole chunk of the dataset");
+  if (held_.contains(c) || stored_[c]) {
+    std::vector<unsigned char> rows(chunk_rows_ * row_bytes_);
+    if (deflated)
+      inflate(bytes, rows, what.c_str());
+    else if (bytes.size() == rows.size())
+      std::memcpy(rows.data(), bytes.data(), rows.size());
+    else
+      throw IoError(what + ": " + std::to_string(bytes.size()) + " bytes raw, not " + std::to_string(rows.size()));
+    write(c * chunk_rows_, chunk_rows_, rows.data());
+    return;
+  }
+  if (!deflated && bytes.size() != chunk_rows_ * row_bytes_)
+    throw IoError(what + ": " + std::to_string(bytes.size()) + " bytes raw, not " +
+                  std::to_string(chunk_rows_ * row_bytes_));
+  write_chunk(c, bytes, deflated);
+  stored_[c] = true;
+  ++stores_;
+}
+
 // The chunk written longest ago leaves memory first: its missing rows are a
 // slow rank's block, while the others' rows arrive now.
 void RowDataset::store_least_recent() {

@@ -35,6 +35,13 @@ class RowDataset {
 
   // Rows first_row .. first_row + rows - 1, their values contiguous.
   void write(std::size_t first_row, std::size_t rows, const void* data);
+  // Chunk c whole, as a sender assembled it (unit_chunks.hpp): `bytes` are
+  // its chunk_rows() rows, deflated or raw, stored as they are. A chunk
+  // that already has rows here (never, when every unit is a whole chunk no
+  // one else writes to) is decoded and written as rows.
+  void write_chunk_whole(std::size_t c, std::span<const unsigned char> bytes, bool deflated);
+  std::size_t chunk_rows() const { return chunk_rows_; }
+
   // Every chunk still missing rows into the file, those rows as the fill:
   // before the file is completed, and before HDF5 reads the dataset (its
   // record of a raw chunk is right from then on; id() may change). A row

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "ensemble/sample_rows.hpp"
 #include "ensemble/sample_runner.hpp"
 #include "job/sample_job.hpp"
 #include "persistence/record_codec.hpp"
@@ -50,10 +51,71 @@ TEST(Capacity, ASampleIsTimedAndItsRecordModelled) {
                    kRankZeroFixedSeconds + kRankZeroSecondsPerByte * static_cast<double>(c.record_bytes));
   EXPECT_DOUBLE_EQ(c.ranks(), c.sample_seconds / c.record_seconds);
   std::ostringstream out;
-  print_capacity(out, c, "sample 0, timed now");
+  print_capacity(out, c, spec, "sample 0, timed now");
   EXPECT_NE(out.str().find("rank 0's capacity: it takes in about "), std::string::npos) << out.str();
   EXPECT_NE(out.str().find("(" + std::to_string(c.record_bytes) + " bytes each"), std::string::npos) << out.str();
   EXPECT_EQ(out.str().find("more than"), std::string::npos) << out.str();
+  // The chunks a unit carries: the sample's datasets of numbers.
+  EXPECT_EQ(c.datasets, SampleRows(spec, runner.layout(), runner.final_state_size()).datasets().size());
+  EXPECT_NE(out.str().find("in units of 4096 rows (" + std::to_string(c.datasets) + " chunks each"), std::string::npos)
+      << out.str();
+  EXPECT_NE(out.str().find("this job's 64 runs scale to about "), std::string::npos) << out.str();
+}
+
+// The rule of ensemble/capacity.hpp, case by case: the largest power of two
+// up to 4096 (or `most`) with 16 units per rank, none below 256 rows, on one rank, or
+// for subset simulation.
+TEST(Capacity, UnitRowsFollowTheRunsAndTheRanks) {
+  auto [job, spec] = spherical();
+  const auto rows = [&](std::uint64_t runs, int ranks) {
+    spec.runs = runs;
+    return unit_rows(spec, ranks);
+  };
+  EXPECT_EQ(rows(16 * 2 * 4096, 2), 4096u);
+  EXPECT_EQ(rows(16 * 2 * 4096 - 1, 2), 2048u);
+  EXPECT_EQ(rows(std::uint64_t{1} << 40, 2), 4096u);
+  EXPECT_EQ(unit_rows(spec, 2, 1024), 1024u);  // at most `most`
+  EXPECT_EQ(rows(16 * 64 * 512, 64), 512u);
+  EXPECT_EQ(rows(16 * 64 * 256, 64), 256u);
+  EXPECT_EQ(rows(16 * 64 * 256 - 1, 64), 0u);
+  EXPECT_EQ(rows(std::uint64_t{1} << 40, 1), 0u);
+  spec.subset.emplace();
+  EXPECT_EQ(rows(std::uint64_t{1} << 40, 2), 0u);
+}
+
+// A unit's chunks stay within 1 MiB each (a reader's default chunk cache):
+// 300 responses make a 2400-byte row, of which 1 MiB holds 436 rows, so
+// units of 256.
+TEST(Capacity, UnitsOfWideRowsAreShorter) {
+  auto [job, spec] = spherical();
+  SampleRunner runner(job, spec);
+  EXPECT_EQ(most_unit_rows(SampleRows(spec, runner.layout(), runner.final_state_size())), 4096u);
+  spec.responses.resize(300);
+  const std::size_t most = most_unit_rows(SampleRows(spec, runner.layout(), runner.final_state_size()));
+  EXPECT_EQ(most, 256u);
+  spec.runs = std::uint64_t{1} << 40;
+  EXPECT_EQ(unit_rows(spec, 2, most), 256u);
+}
+
+// scales_to against a plain count: P keeps up when P <= sample / rank 0's
+// cost at the unit rows of P ranks; the answer is the last such P before
+// the first that does not.
+TEST(Capacity, ScalesToIsTheLastRankCountRankZeroKeepsUpWith) {
+  auto [job, spec] = spherical();
+  Capacity c;
+  c.record_bytes = 2460;
+  c.record_seconds = rank_zero_seconds_per_record(c.record_bytes);
+  c.datasets = 91;
+  for (const double sample : {1.4e-3, 6e-3, 25e-3})
+    for (const std::uint64_t runs : {std::uint64_t{5000}, std::uint64_t{2'000'000}, std::uint64_t{50'000'000}}) {
+      c.sample_seconds = sample;
+      spec.runs = runs;
+      std::uint64_t counted = 1;
+      while (static_cast<double>(counted + 1) <= c.ranks(unit_rows(spec, static_cast<int>(counted + 1)))) ++counted;
+      const Scale scale = scales_to(c, spec);
+      EXPECT_EQ(scale.ranks, counted) << sample << " s, " << runs << " runs";
+      EXPECT_EQ(scale.unit_rows, unit_rows(spec, static_cast<int>(counted)));
+    }
 }
 
 // Sample 0 stores its trajectory when store_trajectories > 0, but only the
@@ -82,9 +144,9 @@ TEST(Capacity, ASampleOverItsBudgetIsStoppedAndSaidToTakeMore) {
   const Capacity c = measure_capacity(job, spec, 0.0);
   EXPECT_TRUE(c.sample_cut);
   std::ostringstream out;
-  print_capacity(out, c, "sample 0, timed now");
+  print_capacity(out, c, spec, "sample 0, timed now");
   EXPECT_NE(out.str().find("at more than "), std::string::npos) << out.str();
-  EXPECT_NE(out.str().find("scales to more than about "), std::string::npos) << out.str();
+  EXPECT_NE(out.str().find("runs scale to more than about "), std::string::npos) << out.str();
 }
 
 }  // namespace

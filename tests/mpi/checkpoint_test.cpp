@@ -578,6 +578,31 @@ TEST_F(Checkpoint, EveryDamagedMessagesAdviceFollowedLeadsToAWorkingRun) {
 }
 
 // Two generations: a resumed run is killed too, and resumed again.
+// Units (hdf5/unit_chunks.hpp), forced to 8 rows on this small job: a
+// stop in the middle of every sender's unit sends what it holds as records;
+// the resumed run sends as units only those with no restored sample, and
+// the output is the uninterrupted run's (2 ranks, no units) bit for bit.
+TEST_F(Checkpoint, UnitsCutShortByAStopAndResumedGiveTheSameBits) {
+  const fs::path out = fresh_output("units");
+  const fs::path ckpt = out.string() + ".checkpoint";
+  std::vector<std::string> extra = kRarely;
+  extra.insert(extra.end(), {"--test-unit-rows", "8"});
+  {
+    Background run(job_, out, held_run(3, extra, 5), dir_.path() / "capture_bg");
+    await_held(ckpt, 3, run);
+    ::kill(run.pid(), SIGUSR1);
+    ASSERT_EQ(run.wait(), 5) << run.err();
+  }
+  extra.push_back("--resume");
+  const auto resumed = run_ensemble(3, job_, out, dir_.path() / "capture", extra);
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  expect_like_reference(out, "units, stopped and resumed");
+  H5File f(out);
+  ASSERT_TRUE(f.ok());
+  EXPECT_EQ(read_integer_attribute(f.id(), "unit_rows"), 8);
+  EXPECT_GE(read_integer_attribute(f.id(), "samples_in_units"), 8) << "the resumed run sent no unit";
+}
+
 TEST_F(Checkpoint, AResumedRunKilledAgainResumesAgain) {
   const fs::path out = fresh_output("twice");
   const fs::path ckpt = out.string() + ".checkpoint";

@@ -416,7 +416,14 @@ class EnsembleFailures : public ::testing::Test {
       std::printf("[failures] %s: exit %d in %.2f s\n", describe(ranks).c_str(), results_[ranks].exit_code,
                   results_[ranks].seconds);
     }
+    // 3 ranks with units of 8 rows (--test-unit-rows): samples 8 .. 39 are
+    // 4 units, which ranks 1 and 2 send as compressed chunks.
+    const fs::path out_dir = dir_->path() / "out_units";
+    fs::create_directory(out_dir);
+    outputs_[kUnits] = out_dir / "ensemble.h5";
+    results_[kUnits] = run_ensemble(3, job, outputs_[kUnits], dir_->path() / "capture", {"--test-unit-rows", "8"});
   }
+  static constexpr int kUnits = -3;  // the key of the run with units
   static void TearDownTestSuite() { dir_.reset(); }
 
   static std::unique_ptr<TempDir> dir_;
@@ -526,6 +533,34 @@ TEST_F(EnsembleFailures, OneAndTwoRanksGiveIdenticalStatisticsAndSamples) {
   for (const char* a : {"seed", "samples", "samples_ok", "samples_failed"})
     EXPECT_EQ(read_integer_attribute(one.id(), a), read_integer_attribute(two.id(), a)) << a;
   expect_identical_datasets(one.id(), describe(1), two.id(), describe(2), {"/stats", "/samples", "/nominal"});
+}
+
+// Units (hdf5/unit_chunks.hpp): rows that senders assembled into whole
+// chunks and compressed themselves, failed samples among them (NaN rows,
+// reasons), read back as the same values as rows rank 0 assembled, and
+// the chunks are the units' rows.
+TEST_F(EnsembleFailures, UnitsOnThreeRanksGiveTheBitsOfOneRank) {
+  expect_success(results_[kUnits], outputs_[kUnits]);
+  H5File one(outputs_[1]), units(outputs_[kUnits]);
+  ASSERT_TRUE(one.ok() && units.ok());
+  const hid_t f = units.id();
+  EXPECT_EQ(read_integer_attribute(f, "unit_rows"), 8);
+  EXPECT_EQ(read_integer_attribute(one.id(), "unit_rows"), 0);
+  EXPECT_GE(read_integer_attribute(f, "samples_in_units"), 8) << "no unit was sent";
+  EXPECT_GT(read_integer_attribute(f, "samples_failed"), 0);
+  for (const char* a : {"samples_ok", "samples_failed"})
+    EXPECT_EQ(read_integer_attribute(one.id(), a), read_integer_attribute(f, a)) << a;
+  expect_identical_datasets(one.id(), describe(1), f, "3 ranks with units", {"/stats", "/samples", "/nominal"});
+  // The failed samples' reasons in the units' rows, as rank 0 wrote them.
+  const std::vector<long long> status = read_integers(f, "/samples/status");
+  const std::vector<std::string> reason = read_strings(f, "/samples/reason");
+  std::size_t failed_in_units = 0;
+  for (std::size_t k = 8; k < status.size(); ++k)
+    if (status[k] != 0) {
+      ++failed_in_units;
+      EXPECT_FALSE(reason[k].empty()) << "sample " << k;
+    }
+  EXPECT_GT(failed_in_units, 0u) << "no failure fell in a unit: the test does not see them";
 }
 
 // docs/hdf5.md and the dataset's description: /samples/final_state is "NaN when
