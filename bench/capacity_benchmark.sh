@@ -43,7 +43,8 @@ import sys, h5py
 with h5py.File(sys.argv[1]) as f:
     a = f.attrs
     writing, busy, cpu = a["record_writing_cpu_seconds_per_rank"], a["busy_cpu_seconds_per_rank"], a["cpu_seconds_per_rank"]
-    print(f"{writing[0]:.6f} {busy.sum():.6f} {cpu[0] - busy[0] - writing[0]:.6f} {int(a['samples_used'])}")
+    print(f"{writing[0]:.6f} {busy.sum():.6f} {cpu[0] - busy[0] - writing[0]:.6f} {int(a['samples_used'])} "
+          f"{a['unit_storing_cpu_seconds']:.6f} {int(a['samples_in_units'])}")
 PY
 }
 
@@ -56,8 +57,8 @@ edited() {
 # (the first chunks of each dataset are always deflated, to judge whether
 # deflate pays); the marginal cost, between N and 4 N samples, is what a
 # long run pays per record.
-echo "| example | record (bytes) | ranks | rank 0 CPU per record (us) | sample CPU (ms) | scales to (ranks) |"
-echo "|---|---:|---:|---:|---:|---:|"
+echo "| example | record (bytes) | ranks | rank 0 CPU per record (us) | of which storing units (us per unit record) | sample CPU (ms) | scales to (ranks) |"
+echo "|---|---:|---:|---:|---:|---:|---:|"
 for name in ${EXAMPLES:-spherical_pendulum double_pendulum chain10 y_tree crane_payload kapitza}; do
   n=${SAMPLES:-${samples[$name]}}
   for p in "${ranks[@]}"; do
@@ -66,13 +67,14 @@ for name in ${EXAMPLES:-spherical_pendulum double_pendulum chain10 y_tree crane_
       mpirun -np "$p" --oversubscribe "$ensemble" "$work/$name.toml" -o "$work/run_$m.h5" -q --checkpoint-every 0 \
         ${UNIT_ROWS:+--test-unit-rows "$UNIT_ROWS"} > /dev/null 2>&1
     done
-    read -r w1 b1 _ r1 <<< "$(measure "$work/run_$n.h5")"
-    read -r w4 b4 _ r4 <<< "$(measure "$work/run_$((4 * n)).h5")"
+    read -r w1 b1 _ r1 s1 u1 <<< "$(measure "$work/run_$n.h5")"
+    read -r w4 b4 _ r4 s4 u4 <<< "$(measure "$work/run_$((4 * n)).h5")"
     bytes=$("$ensemble" --check "$work/$name.toml" | sed -n 's/.*(\([0-9]*\) bytes each.*/\1/p')
     /usr/bin/python3 -c "
 record = ($w4 - $w1) / ($r4 - $r1)
 sample = ($b4 - $b1) / ($r4 - $r1)
-print(f'| $name | $bytes | $p | {record * 1e6:.2f} | {sample * 1e3:.3f} | {int(sample / record)} |')"
+storing = f'{($s4 - $s1) / ($u4 - $u1) * 1e6:.2f}' if $u4 > $u1 else '-'
+print(f'| $name | $bytes | $p | {record * 1e6:.2f} | {storing} | {sample * 1e3:.3f} | {int(sample / record)} |')"
     rm -f "$work"/run_*.h5
   done
 done

@@ -139,6 +139,7 @@ int write_ensemble(EnsembleRun& run, const ensemble::EnsembleStatistics& stats, 
   summary.samples_used = run.samples_used;
   summary.unit_rows = run.unit_rows;
   summary.samples_in_units = run.records->done_in_units();
+  summary.unit_storing_cpu_seconds = run.records->unit_storing_cpu_seconds();
   if (run.samples_used < run.spec.runs && run.table) run.table->truncate(run.samples_used);
   std::optional<ensemble::RareEventAnswer> rare;
   if (run.spec.subset && run.table) rare = ensemble::answer_rare_event(run.spec, *run.table);

@@ -232,6 +232,7 @@ void RecordWriter::handle(std::vector<char>& bytes, int count, int source, int t
 // for), its records are counted.
 void RecordWriter::write_unit(std::span<const char> message, int source) {
   if (!writer_) throw std::logic_error("a unit sent to a part's writer (parts have no units)");
+  const double start = thread_cpu_seconds();
   const h5::Unit unit =
       h5::decode_unit(message, writer_->sample_rows().datasets().size(), "a unit of rank " + std::to_string(source));
   if (io_error_.empty()) try {
@@ -241,6 +242,7 @@ void RecordWriter::write_unit(std::span<const char> message, int source) {
     }
   for (const ensemble::SampleRecord& r : unit.records) count(r);
   done_in_units_ += unit.records.size();
+  unit_storing_cpu_seconds_ += thread_cpu_seconds() - start;
   progress_.update(done_, failed_);
 }
 

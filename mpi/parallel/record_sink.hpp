@@ -110,8 +110,11 @@ class RecordWriter final : public RecordSink {
   void write_held();
   std::uint64_t done() const { return done_; }
   std::uint64_t failed() const { return failed_; }
-  // Of done(): the samples that came in units.
+  // Of done(): the samples that came in units; and the CPU time (of
+  // writing_cpu_seconds()) rank 0 spent storing them: decoding, the direct
+  // chunk writes, counting; the rest of it receiving (MPI) or on records.
   std::uint64_t done_in_units() const { return done_in_units_; }
+  double unit_storing_cpu_seconds() const { return unit_storing_cpu_seconds_; }
   const std::string& io_error() const { return io_error_; }
 
  private:
@@ -148,6 +151,7 @@ class RecordWriter final : public RecordSink {
   std::size_t batch_bytes_ = 0;
   int finished_ranks_ = 0;
   std::uint64_t done_ = 0, failed_ = 0, done_in_units_ = 0;
+  double unit_storing_cpu_seconds_ = 0.0;
   std::string io_error_;
 };
 

@@ -31,7 +31,8 @@ struct EnsembleSummary {
   // Rows of a unit (a whole chunk a sender compressed itself), 0: none; and
   // the samples whose rows came that way.
   std::uint64_t unit_rows = 0, samples_in_units = 0;
-  std::string stop_reason;  // why the run ended where it did
+  double unit_storing_cpu_seconds = 0.0;  // rank 0's CPU storing them (of its record writing)
+  std::string stop_reason;                // why the run ended where it did
 };
 
 }  // namespace treedyn

@@ -410,6 +410,7 @@ void EnsembleWriter::finish(const EnsembleSummary& summary, const RunProvenance&
   h5::write_attribute(root, "cpu_seconds_per_rank", std::span<const double>(summary.cpu_seconds));
   h5::write_attribute(root, "unit_rows", static_cast<long long>(summary.unit_rows));
   h5::write_attribute(root, "samples_in_units", static_cast<long long>(summary.samples_in_units));
+  h5::write_attribute(root, "unit_storing_cpu_seconds", summary.unit_storing_cpu_seconds);
   h5::write_attribute(root, "method", std::string(name(job_.request.settings.method)));
   h5::write_attribute(root, "parameterisation", std::string(name(job_.request.parameterisation)));
   h5::write_attribute(root, "solver", std::string(name(resolve_solver(job_.request.solver))));
