@@ -267,13 +267,15 @@ void RecordSender::begin_unit(std::uint64_t first, std::uint64_t rows) {
   unit_.clear();
 }
 
-// A unit cut short (a stop) goes as records: rank 0 counts them, and the
-// rows it lacks are not a whole chunk.
-void RecordSender::end_unit() {
+void RecordSender::end_unit(bool stopped) {
   if (!in_unit_) return;
   in_unit_ = false;
   bool whole = unit_.size() == unit_rows_;
   for (std::size_t k = 0; whole && k < unit_.size(); ++k) whole = unit_[k].index == unit_first_ + k;
+  if (!whole && stopped) {
+    unit_.clear();
+    return;
+  }
   if (!whole) {
     for (ensemble::SampleRecord& r : unit_) add(std::move(r));
     unit_.clear();

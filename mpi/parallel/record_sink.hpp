@@ -33,13 +33,17 @@ class RecordSink {
   // Around the samples [first, first + rows) of one unit
   // (hdf5/unit_chunks.hpp: a whole chunk of every per-sample dataset, run
   // here): a sender holds their records and, when every one of them was
-  // added, sends them as one unit of compressed chunks; else (a stop cut
-  // the unit short) as records. Rank 0 writes its own records as they come.
+  // added, sends them as one unit of compressed chunks. A unit a stop cut
+  // short (`stopped`) is dropped: the stopped run's output is removed, and
+  // its records are in this rank's checkpoint already (RankResults::keep),
+  // so rank 0 need not take in up to a unit per rank inside the launcher's
+  // SIGTERM-to-SIGKILL window. Otherwise a unit short of rows goes as
+  // records. Rank 0 writes its own records as they come.
   virtual void begin_unit(std::uint64_t first, std::uint64_t rows) {
     (void)first;
     (void)rows;
   }
-  virtual void end_unit() {}
+  virtual void end_unit(bool stopped) { (void)stopped; }
   // At the end of each block of samples: rank 0 counts its own records;
   // the others send theirs when enough are held (RecordSender).
   virtual void end_block() = 0;
@@ -165,7 +169,7 @@ class RecordSender final : public RecordSink {
   RecordSender(MPI_Comm comm, int ranks, std::optional<ensemble::SampleRows> rows);
   void add(ensemble::SampleRecord record) override;
   void begin_unit(std::uint64_t first, std::uint64_t rows) override;
-  void end_unit() override;
+  void end_unit(bool stopped) override;
   void end_block() override;
   void end_wave() override;
 

@@ -319,7 +319,7 @@ bool run_wave(EnsembleRun& run, std::uint64_t from, std::uint64_t to) {
         stopped = true;
       if (!stopped && (k + 1 - begin) % run.spec.block_size == 0) run.results.save_if_due();
     }
-    if (whole) run.sink->end_unit();
+    if (whole) run.sink->end_unit(stopped);
     run.sink->end_block();
     if (!stopped) run.results.save_if_due();
   }

@@ -44,7 +44,8 @@ double Capacity::seconds_per_record(std::size_t unit_rows) const {
 // ranks it keeps up with fall as P grows, and the first P beyond them ends
 // the scan (doubling, then halving the step).
 Scale scales_to(const Capacity& c, const EnsembleSpec& spec) {
-  constexpr std::uint64_t kMostRanks = std::uint64_t{1} << 24;
+  const std::uint64_t kMostRanks =
+      std::max<std::uint64_t>(1, std::min<std::uint64_t>(spec.runs, std::uint64_t{1} << 24));
   const auto keeps_up = [&](std::uint64_t p) {
     return static_cast<double>(p) <= c.ranks(unit_rows(spec, static_cast<int>(p), c.most_unit_rows));
   };
@@ -123,10 +124,10 @@ void print_capacity(std::ostream& out, const Capacity& c, const EnsembleSpec& sp
       1.0 / c.record_seconds, c.record_bytes, 1.0 / c.seconds_per_record(c.most_unit_rows), c.most_unit_rows,
       c.datasets, more, c.sample_seconds * 1e3, timed, static_cast<unsigned long long>(spec.runs), more,
       static_cast<unsigned long long>(scale.ranks));
-  if (scale.unit_rows > 0)
-    n += std::snprintf(line + n, sizeof line - static_cast<std::size_t>(n), " (in units of %zu rows)", scale.unit_rows);
-  else
-    n += std::snprintf(line + n, sizeof line - static_cast<std::size_t>(n), " (as records: too few runs for units)");
+  const char* how = scale.ranks >= spec.runs ? " (one run per rank: more ranks would idle)"
+                    : scale.unit_rows > 0    ? " (in units of %zu rows)"
+                                             : " (as records: too few runs for units)";
+  n += std::snprintf(line + n, sizeof line - static_cast<std::size_t>(n), how, scale.unit_rows);
   const double most = std::floor(c.ranks(c.most_unit_rows));
   if (scale.unit_rows < c.most_unit_rows && most > static_cast<double>(scale.ranks))
     std::snprintf(line + n, sizeof line - static_cast<std::size_t>(n),

@@ -58,11 +58,14 @@ inline constexpr std::size_t kMaxChunkBytes = std::size_t{1} << 20, kMaxUnitByte
 std::size_t most_unit_rows(const SampleRows& rows);
 
 // Rank 0's CPU time per record that came in a unit of `rows` rows, each
-// row in `datasets` chunks, s: a fixed part per record (the stripped
-// record's decoding, its reason's row, the response table) and a direct
-// chunk write per dataset per unit (BENCHMARKS.md, "Rank 0's capacity").
-inline constexpr double kUnitRecordSeconds = 1.5e-6;
-inline constexpr double kChunkWriteSeconds = 20e-6;
+// row in `datasets` chunks, s: a part per record (receiving the unit's
+// message, decoding the stripped record, its reason's row, the response
+// table) and a direct chunk write per dataset per unit. Measured on 64
+// ranks oversubscribed on 2 cores (BENCHMARKS.md, "Units"): 21 us per
+// chunk write; 5.5 us per record is the spherical pendulum's 6.0 us at
+// 4096 rows less its chunk writes (on 16 ranks the whole was 0.85 us).
+inline constexpr double kUnitRecordSeconds = 5.5e-6;
+inline constexpr double kChunkWriteSeconds = 21e-6;
 double rank_zero_seconds_per_unit_record(std::size_t datasets, std::size_t rows);
 
 struct Capacity {
@@ -80,8 +83,8 @@ struct Capacity {
 
 // The most ranks `spec`'s runs keep busy: on P ranks a run has units of
 // unit_rows(spec, P) rows (fewer with more ranks, then none), so rank 0's
-// cost per record grows with P; the largest P it still keeps up with, and
-// that run's unit rows.
+// cost per record grows with P; the largest P it still keeps up with (at
+// most the runs: more ranks would idle), and that run's unit rows.
 struct Scale {
   std::uint64_t ranks = 1;
   std::size_t unit_rows = 0;

@@ -60,6 +60,7 @@ TEST(Capacity, ASampleIsTimedAndItsRecordModelled) {
   EXPECT_NE(out.str().find("in units of 4096 rows (" + std::to_string(c.datasets) + " chunks each"), std::string::npos)
       << out.str();
   EXPECT_NE(out.str().find("this job's 64 runs scale to about "), std::string::npos) << out.str();
+  EXPECT_LE(scales_to(c, spec).ranks, 64u) << "more ranks than runs";
 }
 
 // The rule of ensemble/capacity.hpp, case by case: the largest power of two
@@ -99,7 +100,7 @@ TEST(Capacity, UnitsOfWideRowsAreShorter) {
 
 // scales_to against a plain count: P keeps up when P <= sample / rank 0's
 // cost at the unit rows of P ranks; the answer is the last such P before
-// the first that does not.
+// the first that does not, or the runs (more ranks would idle).
 TEST(Capacity, ScalesToIsTheLastRankCountRankZeroKeepsUpWith) {
   auto [job, spec] = spherical();
   Capacity c;
@@ -111,7 +112,9 @@ TEST(Capacity, ScalesToIsTheLastRankCountRankZeroKeepsUpWith) {
       c.sample_seconds = sample;
       spec.runs = runs;
       std::uint64_t counted = 1;
-      while (static_cast<double>(counted + 1) <= c.ranks(unit_rows(spec, static_cast<int>(counted + 1)))) ++counted;
+      while (counted + 1 <= runs &&
+             static_cast<double>(counted + 1) <= c.ranks(unit_rows(spec, static_cast<int>(counted + 1))))
+        ++counted;
       const Scale scale = scales_to(c, spec);
       EXPECT_EQ(scale.ranks, counted) << sample << " s, " << runs << " runs";
       EXPECT_EQ(scale.unit_rows, unit_rows(spec, static_cast<int>(counted)));

@@ -579,9 +579,10 @@ TEST_F(Checkpoint, EveryDamagedMessagesAdviceFollowedLeadsToAWorkingRun) {
 
 // Two generations: a resumed run is killed too, and resumed again.
 // Units (hdf5/unit_chunks.hpp), forced to 8 rows on this small job: a
-// stop in the middle of every sender's unit sends what it holds as records;
-// the resumed run sends as units only those with no restored sample, and
-// the output is the uninterrupted run's (2 ranks, no units) bit for bit.
+// stop in the middle of every sender's unit drops what it holds (the
+// output goes; the checkpoint has them); the resumed run sends as units
+// only those with no restored sample, and the output is the uninterrupted
+// run's (2 ranks, no units) bit for bit.
 TEST_F(Checkpoint, UnitsCutShortByAStopAndResumedGiveTheSameBits) {
   const fs::path out = fresh_output("units");
   const fs::path ckpt = out.string() + ".checkpoint";
