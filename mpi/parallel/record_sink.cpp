@@ -34,6 +34,9 @@ constexpr std::size_t kWriteBatchRecords = 4096;
 constexpr std::size_t kSendBytes = std::size_t{64} << 10;
 constexpr std::size_t kAllHeldBytes = std::size_t{512} << 10;
 constexpr double kMaxHoldSeconds = 0.5;
+// Buffers of completed messages rank 0 keeps for the next ones: those of
+// records' messages; a unit's (up to kMaxUnitBytes) is freed.
+constexpr std::size_t kSpareBytes = std::size_t{1} << 20;
 
 // A sender's message size when `ranks` ranks run: kSendBytes, less beyond
 // 9 ranks so that the ranks - 1 senders hold kAllHeldBytes together.
@@ -212,7 +215,7 @@ bool RecordWriter::complete_received(bool wait) {
     receiving_.erase(receiving_.begin() + static_cast<std::ptrdiff_t>(k));
     requests_.erase(requests_.begin() + static_cast<std::ptrdiff_t>(k));
     handle(r.bytes, r.count, r.source, r.tag);
-    spare_.push_back(std::move(r.bytes));
+    if (r.bytes.capacity() <= kSpareBytes) spare_.push_back(std::move(r.bytes));  // a unit's goes
     any = true;
   }
   return any;

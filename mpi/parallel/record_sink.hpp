@@ -167,6 +167,8 @@ class RecordSender final : public RecordSink {
   // `rows`: the per-sample rows' layout, for units (none: every record is
   // sent as a record).
   RecordSender(MPI_Comm comm, int ranks, std::optional<ensemble::SampleRows> rows);
+  RecordSender(const RecordSender&) = delete;  // its encoder refers to its rows
+  RecordSender& operator=(const RecordSender&) = delete;
   void add(ensemble::SampleRecord record) override;
   void begin_unit(std::uint64_t first, std::uint64_t rows) override;
   void end_unit(bool stopped) override;

@@ -300,8 +300,8 @@ bool whole_unit(const EnsembleRun& run, std::uint64_t begin, std::uint64_t end) 
 // aligned to their rows, when the run has them), skipping those a resumed
 // run has. Returns whether a stop cut it short.
 bool run_wave(EnsembleRun& run, std::uint64_t from, std::uint64_t to) {
-  const std::uint64_t unit = run.unit_rows;
-  WorkQueue queue(run.comm, unit > 0 ? from / unit * unit : from, to, unit > 0 ? unit : run.spec.block_size);
+  const std::uint64_t unit = run.unit_rows, block = run.spec.block_size;
+  WorkQueue queue(run.comm, unit > 0 ? from / unit * unit : from, to, unit > 0 ? unit : block);
   std::uint64_t begin = 0, end = 0;
   std::vector<double> trajectory;
   bool stopped = false;
@@ -317,9 +317,16 @@ bool run_wave(EnsembleRun& run, std::uint64_t from, std::uint64_t to) {
         keep_after_pilot(run, std::move(*r), &trajectory);
       else
         stopped = true;
-      if (!stopped && (k + 1 - begin) % run.spec.block_size == 0) run.results.save_if_due();
+      // Records of a block that is not a unit go every `block` samples, as
+      // with blocks of that size (their memory, stored trajectories).
+      if (!stopped && (k + 1 - begin) % block == 0) {
+        if (!whole) run.sink->end_block();
+        run.results.save_if_due();
+      }
     }
-    if (whole) run.sink->end_unit(stopped);
+    // A stop may come while a sample is kept (RankResults::keep refuses it):
+    // the signal says so.
+    if (whole) run.sink->end_unit(stopped || process::stop_signal() != 0);
     run.sink->end_block();
     if (!stopped) run.results.save_if_due();
   }

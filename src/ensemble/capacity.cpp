@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include "ensemble/sample_rows.hpp"
@@ -72,8 +73,10 @@ std::size_t most_unit_rows(const SampleRows& rows) {
 
 std::size_t unit_rows(const EnsembleSpec& spec, int ranks, std::size_t most) {
   if (ranks < 2 || spec.subset) return 0;
+  // A stopping rule's waves are `every` runs each: the units are of a wave.
+  const std::uint64_t wave = spec.stop ? std::min<std::uint64_t>(spec.runs, spec.stop->every) : spec.runs;
   std::size_t rows = std::min(most, kMaxUnitRows);
-  while (rows >= kMinUnitRows && spec.runs < kUnitsPerRank * static_cast<std::uint64_t>(ranks) * rows) rows /= 2;
+  while (rows >= kMinUnitRows && wave < kUnitsPerRank * static_cast<std::uint64_t>(ranks) * rows) rows /= 2;
   return rows >= kMinUnitRows ? rows : 0;
 }
 
@@ -112,28 +115,41 @@ Capacity measure_capacity(const Job& job, const EnsembleSpec& spec, double budge
   return c;
 }
 
+namespace {
+
+std::string formatted(const char* format, auto... values) {
+  char text[400];
+  std::snprintf(text, sizeof text, format, values...);
+  return text;
+}
+
+}  // namespace
+
 void print_capacity(std::ostream& out, const Capacity& c, const EnsembleSpec& spec, const char* timed) {
   const Scale scale = scales_to(c, spec);
   const char* more = c.sample_cut ? "more than " : "";
-  char line[700];
-  int n = std::snprintf(
-      line, sizeof line,
-      "rank 0's capacity: it takes in about %.0f records/s of this job's size as records (%zu bytes each), %.0f/s "
-      "in units of %zu rows (%zu chunks each; measured on the development machine: BENCHMARKS.md); at %s%.3g ms "
-      "per sample (%s) this job's %llu runs scale to %sabout %llu ranks before rank 0 limits them",
-      1.0 / c.record_seconds, c.record_bytes, 1.0 / c.seconds_per_record(c.most_unit_rows), c.most_unit_rows,
-      c.datasets, more, c.sample_seconds * 1e3, timed, static_cast<unsigned long long>(spec.runs), more,
-      static_cast<unsigned long long>(scale.ranks));
-  const char* how = scale.ranks >= spec.runs ? " (one run per rank: more ranks would idle)"
-                    : scale.unit_rows > 0    ? " (in units of %zu rows)"
-                                             : " (as records: too few runs for units)";
-  n += std::snprintf(line + n, sizeof line - static_cast<std::size_t>(n), how, scale.unit_rows);
+  out << formatted(
+             "rank 0's capacity: it takes in about %.0f records/s of this job's size as records (%zu bytes "
+             "each), %.0f/s in units of %zu rows (%zu chunks each; measured on the development machine: "
+             "BENCHMARKS.md); ",
+             1.0 / c.record_seconds, c.record_bytes, 1.0 / c.seconds_per_record(c.most_unit_rows), c.most_unit_rows,
+             c.datasets)
+      << formatted(
+             "at %s%.3g ms per sample (%s) this job's %llu runs scale to %sabout %llu ranks before rank 0 "
+             "limits them",
+             more, c.sample_seconds * 1e3, timed, static_cast<unsigned long long>(spec.runs), more,
+             static_cast<unsigned long long>(scale.ranks));
+  if (scale.ranks >= spec.runs)
+    out << " (one run per rank: more ranks would idle)";
+  else if (scale.unit_rows > 0)
+    out << " (in units of " << scale.unit_rows << " rows)";
+  else
+    out << " (as records: too few runs for units)";
   const double most = std::floor(c.ranks(c.most_unit_rows));
   if (scale.unit_rows < c.most_unit_rows && most > static_cast<double>(scale.ranks))
-    std::snprintf(line + n, sizeof line - static_cast<std::size_t>(n),
-                  "; with %llu runs per rank or more, to %sabout %.0f",
-                  static_cast<unsigned long long>(kUnitsPerRank * c.most_unit_rows), more, most);
-  out << line << "\n";
+    out << formatted("; with %llu runs per rank or more, to %sabout %.0f",
+                     static_cast<unsigned long long>(kUnitsPerRank * c.most_unit_rows), more, most);
+  out << "\n";
 }
 
 }  // namespace treedyn::ensemble

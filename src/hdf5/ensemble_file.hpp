@@ -30,6 +30,8 @@ class EnsembleWriter {
   // chunk of each (write_unit); 0: chunks of about 64 KiB each.
   EnsembleWriter(const std::filesystem::path& path, const Job& job, const ensemble::EnsembleSpec& spec,
                  const ColumnLayout& layout, std::size_t final_state_size, std::size_t unit_rows = 0);
+  EnsembleWriter(const EnsembleWriter&) = delete;  // sample_sets_ points into it
+  EnsembleWriter& operator=(const EnsembleWriter&) = delete;
 
   // Per-sample records, as they arrive (any order, any batches).
   void write_records(std::vector<ensemble::SampleRecord> records);

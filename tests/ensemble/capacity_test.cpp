@@ -80,6 +80,13 @@ TEST(Capacity, UnitRowsFollowTheRunsAndTheRanks) {
   EXPECT_EQ(rows(16 * 64 * 256, 64), 256u);
   EXPECT_EQ(rows(16 * 64 * 256 - 1, 64), 0u);
   EXPECT_EQ(rows(std::uint64_t{1} << 40, 1), 0u);
+  // A stopping rule's waves of `every` runs: units of a wave.
+  spec.stop.emplace();
+  spec.stop->every = 16 * 2 * 512;
+  EXPECT_EQ(rows(std::uint64_t{1} << 40, 2), 512u);
+  spec.stop->every = 1000;
+  EXPECT_EQ(rows(std::uint64_t{1} << 40, 2), 0u);
+  spec.stop.reset();
   spec.subset.emplace();
   EXPECT_EQ(rows(std::uint64_t{1} << 40, 2), 0u);
 }

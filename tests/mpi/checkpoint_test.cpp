@@ -578,7 +578,7 @@ TEST_F(Checkpoint, EveryDamagedMessagesAdviceFollowedLeadsToAWorkingRun) {
 }
 
 // Two generations: a resumed run is killed too, and resumed again.
-// Units (hdf5/unit_chunks.hpp), forced to 8 rows on this small job: a
+// Units (hdf5/unit_chunks.hpp), forced to 4 rows on this small job: a
 // stop in the middle of every sender's unit drops what it holds (the
 // output goes; the checkpoint has them); the resumed run sends as units
 // only those with no restored sample, and the output is the uninterrupted
@@ -587,7 +587,7 @@ TEST_F(Checkpoint, UnitsCutShortByAStopAndResumedGiveTheSameBits) {
   const fs::path out = fresh_output("units");
   const fs::path ckpt = out.string() + ".checkpoint";
   std::vector<std::string> extra = kRarely;
-  extra.insert(extra.end(), {"--test-unit-rows", "8"});
+  extra.insert(extra.end(), {"--test-unit-rows", "4"});
   {
     Background run(job_, out, held_run(3, extra, 5), dir_.path() / "capture_bg");
     await_held(ckpt, 3, run);
@@ -600,8 +600,8 @@ TEST_F(Checkpoint, UnitsCutShortByAStopAndResumedGiveTheSameBits) {
   expect_like_reference(out, "units, stopped and resumed");
   H5File f(out);
   ASSERT_TRUE(f.ok());
-  EXPECT_EQ(read_integer_attribute(f.id(), "unit_rows"), 8);
-  EXPECT_GE(read_integer_attribute(f.id(), "samples_in_units"), 8) << "the resumed run sent no unit";
+  EXPECT_EQ(read_integer_attribute(f.id(), "unit_rows"), 4);
+  EXPECT_GE(read_integer_attribute(f.id(), "samples_in_units"), 4) << "the resumed run sent no unit";
 }
 
 TEST_F(Checkpoint, AResumedRunKilledAgainResumesAgain) {

@@ -430,12 +430,12 @@ class EnsembleFailures : public ::testing::Test {
       std::printf("[failures] %s: exit %d in %.2f s\n", describe(ranks).c_str(), results_[ranks].exit_code,
                   results_[ranks].seconds);
     }
-    // 3 ranks with units of 8 rows (--test-unit-rows): samples 8 .. 39 are
-    // 4 units, which ranks 1 and 2 send as compressed chunks.
+    // 3 ranks with units of 4 rows (--test-unit-rows): samples 8 .. 39 are
+    // 8 units, which ranks 1 and 2 send as compressed chunks.
     const fs::path out_dir = dir_->path() / "out_units";
     fs::create_directory(out_dir);
     outputs_[kUnits] = out_dir / "ensemble.h5";
-    results_[kUnits] = run_ensemble(3, job, outputs_[kUnits], dir_->path() / "capture", {"--test-unit-rows", "8"});
+    results_[kUnits] = run_ensemble(3, job, outputs_[kUnits], dir_->path() / "capture", {"--test-unit-rows", "4"});
   }
   static constexpr int kUnits = -3;  // the key of the run with units
   static void TearDownTestSuite() { dir_.reset(); }
@@ -471,7 +471,9 @@ FailureCounts expect_consistent_rows(hid_t f) {
     SCOPED_TRACE("sample " + std::to_string(k) + ": status " + std::to_string(status[k]) + ", reason \"" + reason[k] +
                  "\"");
     const double mass = inputs[2 * k];
-    if (mass <= 0.0) EXPECT_EQ(status[k], 2);
+    if (mass <= 0.0) {
+      EXPECT_EQ(status[k], 2);
+    }
     if (status[k] == 0) {
       ++n.ok;
       EXPECT_EQ(reason[k], "");
@@ -561,9 +563,9 @@ TEST_F(EnsembleFailures, UnitsOnThreeRanksGiveTheBitsOfOneRank) {
   H5File one(outputs_[1]), units(outputs_[kUnits]);
   ASSERT_TRUE(one.ok() && units.ok());
   const hid_t f = units.id();
-  EXPECT_EQ(read_integer_attribute(f, "unit_rows"), 8);
+  EXPECT_EQ(read_integer_attribute(f, "unit_rows"), 4);
   EXPECT_EQ(read_integer_attribute(one.id(), "unit_rows"), 0);
-  EXPECT_GE(read_integer_attribute(f, "samples_in_units"), 8) << "no unit was sent";
+  EXPECT_GE(read_integer_attribute(f, "samples_in_units"), 4) << "no unit was sent";
   EXPECT_GT(read_integer_attribute(f, "samples_failed"), 0);
   for (const char* a : {"samples_ok", "samples_failed"})
     EXPECT_EQ(read_integer_attribute(one.id(), a), read_integer_attribute(f, a)) << a;

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -61,9 +62,15 @@ TEST_F(Stop, StopsAtTheFirstCheckPointWhereTheTargetHoldsOnAnyRankCount) {
 
   const fs::path job = write_job("stop.toml", stop_job(true));
   std::vector<fs::path> outputs;
-  for (int ranks : {0, 2, 3}) {
-    outputs.push_back(dir_.path() / ("stop" + std::to_string(ranks) + ".h5"));
-    const auto s = run_ensemble(ranks, job, outputs.back(), dir_.path() / ("capture" + std::to_string(ranks)));
+  // -3: 3 ranks with units of 16 rows (--test-unit-rows): waves of 100 runs
+  // hold units and records, and the cut at the stop goes through chunks
+  // the senders wrote.
+  for (int run : {0, 2, 3, -3}) {
+    const int ranks = std::abs(run);
+    outputs.push_back(dir_.path() / ("stop" + std::to_string(run) + ".h5"));
+    const std::vector<std::string> extra =
+        run < 0 ? std::vector<std::string>{"--test-unit-rows", "16"} : std::vector<std::string>{};
+    const auto s = run_ensemble(ranks, job, outputs.back(), dir_.path() / ("capture" + std::to_string(run)), extra);
     ASSERT_EQ(s.exit_code, 0) << describe(ranks) << ": " << s.err;
     H5File f(outputs.back());
     EXPECT_EQ(read_integer_attribute(f.id(), "samples_used"), static_cast<long long>(expected)) << describe(ranks);
@@ -74,6 +81,9 @@ TEST_F(Stop, StopsAtTheFirstCheckPointWhereTheTargetHoldsOnAnyRankCount) {
     // The stopped run's samples are the unstopped run's first ones.
     const std::vector<double> kept = read_doubles(f.id(), "/samples/responses");
     EXPECT_EQ(kept, std::vector<double>(spin.begin(), spin.begin() + static_cast<std::ptrdiff_t>(expected)));
+    if (run < 0) {
+      EXPECT_GT(read_integer_attribute(f.id(), "samples_in_units"), 0) << "no unit was sent";
+    }
   }
   H5File alone(outputs[0]);
   for (std::size_t k = 1; k < outputs.size(); ++k) {
