@@ -18,7 +18,7 @@ void put(std::vector<unsigned char>& out, const T& value) {
 void put_row(std::vector<unsigned char>& out, std::span<const double> values, std::size_t width) {
   const std::size_t n = std::min(values.size(), width), at = out.size();
   out.resize(at + width * sizeof(double));
-  std::memcpy(out.data() + at, values.data(), n * sizeof(double));
+  if (n > 0) std::memcpy(out.data() + at, values.data(), n * sizeof(double));  // data() may be null when empty
   for (std::size_t k = n; k < width; ++k) {
     const double nan = std::numeric_limits<double>::quiet_NaN();
     std::memcpy(out.data() + at + k * sizeof(double), &nan, sizeof nan);

@@ -150,7 +150,9 @@ std::vector<Held> held_ranks(const fs::path& checkpoint) {
   std::error_code ec;
   for (const auto& e : fs::directory_iterator(checkpoint, ec)) {
     const std::string name = e.path().filename().string();
-    if (name.rfind("held-rank", 0) != 0) continue;
+    // Not its temporary (held-rankR.tmp-PID, written then renamed): listed
+    // before the rename, it made a held rank's files look touched later.
+    if (name.rfind("held-rank", 0) != 0 || name.find('.') != std::string::npos) continue;
     std::istringstream in(read_text(e.path()));
     std::string pid_word, kept_word;
     Held h;
