@@ -551,5 +551,42 @@ TEST(RowDatasetFullDisk, RawRowsOnAFullDiskFailWithTheDatasetsName) {
   EXPECT_FALSE(deflating);
 }
 
+// The same full disk for chunks a sender assembled (write_chunk_whole, a
+// unit's): the store fails with the dataset's name, and the chunk that
+// failed is not counted as stored.
+TEST(RowDatasetFullDisk, SentChunksOnAFullDiskFailWithTheDatasetsName) {
+  if (geteuid() != 0) GTEST_SKIP() << "needs root to mount a small tmpfs";
+  h5::quiet_errors();
+  testing::TempDir dir{"sent_full"};
+  const fs::path disk = dir.path() / "disk";
+  fs::create_directory(disk);
+  if (mount("tmpfs", disk.c_str(), "tmpfs", 0, "size=128k") != 0)
+    GTEST_SKIP() << "cannot mount a tmpfs here (" << std::strerror(errno) << ")";
+  const std::size_t rows = 20000;
+  const std::vector<double> values = random_rows(rows, 8);
+  std::string error;
+  std::size_t stored = 0, sent = 0;
+  {
+    h5::Handle file(H5Fcreate((disk / "rows.h5").c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose,
+                    "creating");
+    const hsize_t shape[1] = {kColumns};
+    h5::RowDataset set(file.id(), "inputs", H5T_NATIVE_DOUBLE, rows, shape, kChunkRows, &kFill);
+    const std::size_t chunk_bytes = kChunkRows * kColumns * sizeof(double);
+    try {
+      for (std::size_t c = 0; c < rows / kChunkRows; ++c, ++sent) {
+        const auto* bytes = reinterpret_cast<const unsigned char*>(values.data() + c * kChunkRows * kColumns);
+        set.write_chunk_whole(c, std::span<const unsigned char>(bytes, chunk_bytes), false);
+      }
+    } catch (const h5::IoError& e) {
+      error = e.what();
+    }
+    stored = set.chunks_stored();
+  }
+  umount(disk.c_str());
+  EXPECT_EQ(error, "HDF5: inputs: writing rows failed");
+  EXPECT_LT(sent, rows / kChunkRows) << "the disk never filled";
+  EXPECT_EQ(stored, sent) << "the chunk whose write failed was counted as stored";
+}
+
 }  // namespace
 }  // namespace treedyn
