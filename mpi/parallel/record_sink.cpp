@@ -34,9 +34,10 @@ constexpr std::size_t kWriteBatchRecords = 4096;
 constexpr std::size_t kSendBytes = std::size_t{64} << 10;
 constexpr std::size_t kAllHeldBytes = std::size_t{512} << 10;
 constexpr double kMaxHoldSeconds = 0.5;
-// Buffers of completed messages rank 0 keeps for the next ones: those of
-// records' messages; a unit's (up to kMaxUnitBytes) is freed.
-constexpr std::size_t kSpareBytes = std::size_t{1} << 20;
+// Buffers of completed messages rank 0 keeps for the next ones, up to this
+// many bytes together (one largest unit's message): a buffer allocated per
+// unit would cost rank 0 its page faults and the unmapping.
+constexpr std::size_t kSpareBytes = std::size_t{32} << 20;
 
 // A sender's message size when `ranks` ranks run: kSendBytes, less beyond
 // 9 ranks so that the ranks - 1 senders hold kAllHeldBytes together.
@@ -90,7 +91,13 @@ double thread_cpu_seconds() {
 
 RecordWriter::RecordWriter(MPI_Comm comm, int ranks, EnsembleWriter* writer, ensemble::Progress& progress,
                            ensemble::ResponseTable* table, std::vector<ensemble::SampleRecord>* collected)
-    : comm_(comm), ranks_(ranks), writer_(writer), progress_(progress), table_(table), collected_(collected) {}
+    : comm_(comm),
+      ranks_(ranks),
+      writer_(writer),
+      progress_(progress),
+      table_(table),
+      collected_(collected),
+      spare_(kSpareBytes) {}
 
 void RecordWriter::add(ensemble::SampleRecord record) { local_.push_back(std::move(record)); }
 
@@ -182,14 +189,9 @@ void RecordWriter::post(MPI_Message& message, const MPI_Status& status) {
   const Writing writing(*this);
   int count = 0;
   MPI_Get_count(&status, MPI_BYTE, &count);
-  Receiving r{std::vector<char>(), count, status.MPI_SOURCE, status.MPI_TAG};
-  if (!spare_.empty()) {
-    r.bytes = std::move(spare_.back());
-    spare_.pop_back();
-  }
-  if (r.bytes.size() < static_cast<std::size_t>(count)) r.bytes.resize(static_cast<std::size_t>(count));
+  Receiving r{spare_.take(static_cast<std::size_t>(count)), count, status.MPI_SOURCE, status.MPI_TAG};
   requests_.emplace_back();
-  MPI_Imrecv(r.bytes.data(), count, MPI_BYTE, &message, &requests_.back());
+  MPI_Imrecv(r.bytes.data.get(), count, MPI_BYTE, &message, &requests_.back());
   receiving_.push_back(std::move(r));
 }
 
@@ -214,15 +216,14 @@ bool RecordWriter::complete_received(bool wait) {
     Receiving r = std::move(receiving_[k]);
     receiving_.erase(receiving_.begin() + static_cast<std::ptrdiff_t>(k));
     requests_.erase(requests_.begin() + static_cast<std::ptrdiff_t>(k));
-    handle(r.bytes, r.count, r.source, r.tag);
-    if (r.bytes.capacity() <= kSpareBytes) spare_.push_back(std::move(r.bytes));  // a unit's goes
+    handle(std::span<const char>(r.bytes.data.get(), static_cast<std::size_t>(r.count)), r.source, r.tag);
+    spare_.give_back(std::move(r.bytes));
     any = true;
   }
   return any;
 }
 
-void RecordWriter::handle(std::vector<char>& bytes, int count, int source, int tag) {
-  const std::span<const char> message(bytes.data(), static_cast<std::size_t>(count));
+void RecordWriter::handle(std::span<const char> message, int source, int tag) {
   if (tag == kTagDone)
     ++finished_ranks_;
   else if (tag == kTagUnit)
@@ -236,15 +237,15 @@ void RecordWriter::handle(std::vector<char>& bytes, int count, int source, int t
 void RecordWriter::write_unit(std::span<const char> message, int source) {
   if (!writer_) throw std::logic_error("a unit sent to a part's writer (parts have no units)");
   const double start = thread_cpu_seconds();
-  const h5::Unit unit =
-      h5::decode_unit(message, writer_->sample_rows().datasets().size(), "a unit of rank " + std::to_string(source));
+  h5::decode_unit_into(message, writer_->sample_rows().datasets().size(), "a unit of rank " + std::to_string(source),
+                       unit_);
   if (io_error_.empty()) try {
-      writer_->write_unit(unit);
+      writer_->write_unit(unit_);
     } catch (const std::exception& e) {
       io_error_ = e.what();
     }
-  for (const ensemble::SampleRecord& r : unit.records) count(r);
-  done_in_units_ += unit.records.size();
+  for (const ensemble::SampleRecord& r : unit_.records) count(r);
+  done_in_units_ += unit_.records.size();
   unit_storing_cpu_seconds_ += thread_cpu_seconds() - start;
   progress_.update(done_, failed_);
 }

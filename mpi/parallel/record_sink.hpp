@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "common/buffer_pool.hpp"
 #include "ensemble/progress.hpp"
 #include "ensemble/response_table.hpp"
 #include "hdf5/ensemble_file.hpp"
@@ -127,7 +128,7 @@ class RecordWriter final : public RecordSink {
   void post_arrived();
   void post(MPI_Message& message, const MPI_Status& status);
   bool complete_received(bool wait);
-  void handle(std::vector<char>& bytes, int count, int source, int tag);
+  void handle(std::span<const char> message, int source, int tag);
   void write(std::vector<ensemble::SampleRecord> records);
   void count(const ensemble::SampleRecord& record);
   void write_unit(std::span<const char> message, int source);
@@ -137,7 +138,7 @@ class RecordWriter final : public RecordSink {
   // eager limit needs its sender's progress too), it goes on and takes the
   // message at a later poll.
   struct Receiving {
-    std::vector<char> bytes;
+    ByteBuffer bytes;
     int count = 0, source = 0, tag = 0;
   };
 
@@ -151,7 +152,8 @@ class RecordWriter final : public RecordSink {
   std::vector<ensemble::SampleRecord> batch_;  // counted, not yet in the file
   std::vector<Receiving> receiving_;           // posted, in the order matched
   std::vector<MPI_Request> requests_;          // theirs, in the same order
-  std::vector<std::vector<char>> spare_;       // buffers of completed messages, reused: no allocation per message
+  h5::Unit unit_;                              // the last unit received, decoded (its vectors reused)
+  BufferPool spare_;                           // buffers of completed messages, reused: no allocation per message
   std::size_t batch_bytes_ = 0;
   int finished_ranks_ = 0;
   std::uint64_t done_ = 0, failed_ = 0, done_in_units_ = 0;

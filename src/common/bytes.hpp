@@ -69,17 +69,29 @@ class ByteReader {
   }
   template <class T>
   std::vector<T> get_vector() {
+    std::vector<T> values;
+    get_vector_into(values);
+    return values;
+  }
+  // Into `values`, reusing its capacity (a decoder of many records keeps
+  // its vectors).
+  template <class T>
+  void get_vector_into(std::vector<T>& values) {
     static_assert(std::is_trivially_copyable_v<T>);
     const auto count = get<std::uint64_t>();
     if (count > left() / sizeof(T)) fail("truncated");
-    std::vector<T> values(static_cast<std::size_t>(count));
+    values.resize(static_cast<std::size_t>(count));
     if (count > 0) std::memcpy(values.data(), take(count * sizeof(T)).data(), count * sizeof(T));
-    return values;
   }
   std::string get_text() {
+    std::string text;
+    get_text_into(text);
+    return text;
+  }
+  void get_text_into(std::string& text) {
     const auto count = get<std::uint64_t>();
     const std::span<const char> s = take(count);
-    return std::string(s.data(), s.size());
+    text.assign(s.data(), s.size());
   }
   // `count` raw bytes.
   std::span<const char> get_bytes(std::uint64_t count) { return take(count); }

@@ -33,23 +33,31 @@ void UnitEncoder::encode(std::span<ensemble::SampleRecord> run, std::vector<char
 }
 
 Unit decode_unit(std::span<const char> message, std::size_t datasets, const std::string& what) {
-  ByteReader in(message, what);
   Unit unit;
+  decode_unit_into(message, datasets, what, unit);
+  return unit;
+}
+
+void decode_unit_into(std::span<const char> message, std::size_t datasets, const std::string& what, Unit& unit) {
+  ByteReader in(message, what);
   unit.first = in.get<std::uint64_t>();
   unit.rows = in.get<std::uint64_t>();
   if (in.get<std::uint64_t>() != datasets) in.fail("a unit of another number of datasets");
-  for (std::size_t i = 0; i < datasets; ++i) {
-    UnitChunk c;
+  unit.chunks.resize(datasets);
+  for (UnitChunk& c : unit.chunks) {
     c.deflated = in.get<std::uint8_t>() != 0;
     const std::span<const char> bytes = in.get_bytes(in.get<std::uint64_t>());
     c.bytes = std::span<const unsigned char>(reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size());
-    unit.chunks.push_back(c);
   }
-  while (!in.done()) unit.records.push_back(ensemble::read_record(in));
-  if (unit.records.size() != unit.rows) in.fail("a unit whose records are not its rows");
-  for (std::size_t k = 0; k < unit.records.size(); ++k)
+  // Checked before sizing the records by it: a damaged count would
+  // otherwise ask for any amount of memory.
+  if (unit.rows > in.left() / ensemble::least_encoded_size()) in.fail("a unit whose records are not its rows");
+  unit.records.resize(unit.rows);
+  for (std::size_t k = 0; k < unit.records.size(); ++k) {
+    ensemble::read_record_into(in, unit.records[k]);
     if (unit.records[k].index != unit.first + k) in.fail("a unit's records out of order");
-  return unit;
+  }
+  if (!in.done()) in.fail("a unit whose records are not its rows");
 }
 
 }  // namespace treedyn::h5

@@ -48,5 +48,7 @@ class UnitEncoder {
 // DecodeError naming `what` when the message is not a unit of `datasets`
 // chunks.
 Unit decode_unit(std::span<const char> message, std::size_t datasets, const std::string& what);
+// ... into `unit`, reusing its vectors (rank 0 decodes every unit into one).
+void decode_unit_into(std::span<const char> message, std::size_t datasets, const std::string& what, Unit& unit);
 
 }  // namespace treedyn::h5

@@ -13,15 +13,19 @@ void write_record(const SampleRecord& r, ByteWriter& out) {
 
 SampleRecord read_record(ByteReader& in) {
   SampleRecord r;
+  read_record_into(in, r);
+  return r;
+}
+
+void read_record_into(ByteReader& in, SampleRecord& r) {
   r.index = in.get<std::uint64_t>();
   r.status = in.get<SampleStatus>();
   if (static_cast<std::int32_t>(r.status) < 0 || r.status > SampleStatus::not_run)
     in.fail("a sample record with an unknown status");
   r.time_reached = in.get<double>();
   for (const IntegratorStatField& f : kIntegratorStatFields) r.stats.*f.member = in.get<long>();
-  r.reason = in.get_text();
-  for (auto* v : {&r.inputs, &r.reductions, &r.responses, &r.final_state, &r.trajectory}) *v = in.get_vector<double>();
-  return r;
+  in.get_text_into(r.reason);
+  for (auto* v : {&r.inputs, &r.reductions, &r.responses, &r.final_state, &r.trajectory}) in.get_vector_into(*v);
 }
 
 std::size_t encoded_size(const SampleRecord& r) {
@@ -30,6 +34,8 @@ std::size_t encoded_size(const SampleRecord& r) {
   return sizeof r.index + sizeof r.status + sizeof r.time_reached + kIntegratorStatFields.size() * sizeof(long) +
          sizeof(std::uint64_t) + r.reason.size() + 5 * sizeof(std::uint64_t) + doubles * sizeof(double);
 }
+
+std::size_t least_encoded_size() { return encoded_size(SampleRecord{}); }
 
 void append_record(const SampleRecord& record, std::vector<char>& buffer) {
   ByteWriter out(buffer);

@@ -13,6 +13,11 @@ namespace treedyn::ensemble {
 
 void write_record(const SampleRecord& record, ByteWriter& out);
 SampleRecord read_record(ByteReader& in);
+// Into `record`, reusing its vectors' capacity (no allocation per record
+// once they have grown).
+void read_record_into(ByteReader& in, SampleRecord& record);
+// The fewest bytes write_record makes of any record.
+std::size_t least_encoded_size();
 
 // The bytes write_record makes of `record`, without making them.
 std::size_t encoded_size(const SampleRecord& record);

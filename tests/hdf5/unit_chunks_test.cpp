@@ -105,9 +105,10 @@ TEST_F(UnitChunks, UnitsReadBackAsTheRowsRankZeroWritesFromRecords) {
   {
     EnsembleWriter writer(path, r.job, r.spec, r.runner->layout(), r.runner->final_state_size(), kRows);
     writer.write_records(r.slice(0, kRows));
+    h5::Unit unit;  // decoded into again and again, as rank 0 does (the first holds the failed sample)
     for (std::size_t first = kRows; first < kRuns; first += kRows) {
       const std::vector<char> message = encoded(writer.sample_rows(), r.slice(first, kRows));
-      const h5::Unit unit = h5::decode_unit(message, writer.sample_rows().datasets().size(), "a test unit");
+      h5::decode_unit_into(message, writer.sample_rows().datasets().size(), "a test unit", unit);
       ASSERT_EQ(unit.first, first);
       ASSERT_EQ(unit.records.size(), kRows);
       for (const h5::UnitChunk& c : unit.chunks) ++(c.deflated ? deflated : raw);
@@ -177,7 +178,8 @@ TEST_F(UnitChunks, AUnitThatIsNotOneWholeChunkIsRefused) {
 }
 
 // A damaged message: cut short, or of another number of datasets, or with
-// records that are not its rows: a DecodeError that says so.
+// records that are not its rows (one more, or more than any message could
+// hold): a DecodeError that says so.
 TEST_F(UnitChunks, ADamagedUnitIsADecodeErrorNamingIt) {
   const Records& r = records();
   const ensemble::SampleRows rows(r.spec, r.runner->layout(), r.runner->final_state_size());
@@ -196,6 +198,9 @@ TEST_F(UnitChunks, ADamagedUnitIsADecodeErrorNamingIt) {
   std::vector<char> more_rows = message;
   more_rows[8] = static_cast<char>(kRows + 1);  // the row count, little-endian
   refused(more_rows, datasets, "a row count its records do not match");
+  std::vector<char> huge_rows = message;
+  huge_rows[15] = 0x10;  // 2^60 rows: refused before any memory is asked for them
+  refused(huge_rows, datasets, "a row count no message could hold");
 }
 
 }  // namespace
