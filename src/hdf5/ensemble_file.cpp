@@ -181,7 +181,7 @@ void EnsembleWriter::create_sample_columns() {
            "reached reads as)",
            {});
   reason_ = h5::create_string_rows(g, "reason", n, unit_rows_);
-  describe(reason_.id(), "1", "why the sample failed; empty when ok", {});
+  describe(reason_.id(), "1", "why the sample failed; empty (a null string) when ok", {});
   time_reached_ = h5::RowDataset(g, "time_reached", H5T_NATIVE_DOUBLE, n, {}, unit_rows_);
   describe(time_reached_.id(), "s", "time the integration reached (the end time when ok)", {});
   const hsize_t stat_columns[1] = {kIntegratorStatFields.size()}, final_columns[1] = {final_size_};
@@ -261,9 +261,7 @@ void EnsembleWriter::write_records(std::vector<SampleRecord> records) {
 
 void EnsembleWriter::write_run(const std::vector<SampleRecord>& run) {
   const std::size_t first = run.front().index, rows = run.size();
-  std::vector<std::string> reasons;
-  for (const SampleRecord& r : run) reasons.push_back(r.reason);
-  h5::write_string_rows(reason_.id(), first, reasons);
+  write_reasons(run, first);
   std::vector<unsigned char> bytes;
   for (std::size_t i = 0; i < sample_sets_.size(); ++i) {
     bytes.clear();
@@ -279,11 +277,23 @@ void EnsembleWriter::write_unit(const h5::Unit& unit) {
     throw h5::IoError("HDF5: a unit of rows " + std::to_string(unit.first) + " .. " +
                       std::to_string(unit.first + unit.rows) + " is not one whole chunk of " +
                       std::to_string(unit_rows_) + " rows");
-  std::vector<std::string> reasons;
-  for (const SampleRecord& r : unit.records) reasons.push_back(r.reason);
-  h5::write_string_rows(reason_.id(), unit.first, reasons);
+  write_reasons(unit.records, unit.first);
   for (std::size_t i = 0; i < sample_sets_.size(); ++i)
     sample_sets_[i]->write_chunk_whole(unit.first / unit_rows_, unit.chunks[i].bytes, unit.chunks[i].deflated);
+}
+
+// Only a failed sample has a reason: the others' rows are left unwritten
+// (read as empty), which spares rank 0 HDF5's conversion, a heap object
+// and the deflate of a chunk of empty strings for every unit of rows.
+void EnsembleWriter::write_reasons(std::span<const SampleRecord> records, std::size_t first) {
+  reason_rows_.clear();
+  reason_texts_.clear();
+  for (std::size_t k = 0; k < records.size(); ++k)
+    if (!records[k].reason.empty()) {
+      reason_rows_.push_back(first + k);
+      reason_texts_.push_back(records[k].reason.c_str());
+    }
+  h5::write_strings_at(reason_.id(), reason_rows_, reason_texts_);
 }
 
 void EnsembleWriter::write_trajectories(const std::vector<SampleRecord>& run) {

@@ -71,6 +71,7 @@ class EnsembleWriter {
   void create_trajectories();
   void write_run(const std::vector<ensemble::SampleRecord>& run);
   void write_trajectories(const std::vector<ensemble::SampleRecord>& run);
+  void write_reasons(std::span<const ensemble::SampleRecord> records, std::size_t first);
   h5::RowDataset& sample_set(const ensemble::SampleRows::Dataset& d);
   // Every per-sample dataset of numbers (hdf5/row_dataset.hpp).
   std::vector<h5::RowDataset*> row_datasets();
@@ -85,6 +86,8 @@ class EnsembleWriter {
   ensemble::SampleRows rows_;
   h5::File file_;
   h5::Handle samples_, reason_;
+  std::vector<hsize_t> reason_rows_;  // write_reasons' rows and texts, reused
+  std::vector<const char*> reason_texts_;
   h5::RowDataset inputs_, status_, time_reached_, integrator_stats_, final_state_, responses_;
   std::vector<h5::Handle> reduction_groups_;             // /samples/<reduction>
   std::vector<std::vector<h5::RowDataset>> reductions_;  // [reduction][quantity]

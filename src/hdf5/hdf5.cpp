@@ -240,24 +240,15 @@ void keep_rows(hid_t dataset, std::size_t rows) {
   check(H5Dset_extent(dataset, dims.data()), "cutting a dataset to the samples used");
 }
 
-namespace {
-void write_rows(hid_t dataset, hid_t type, std::size_t first_row, std::size_t rows, const void* data, hid_t transfer) {
-  if (rows == 0) return;
-  Handle file_space(H5Dget_space(dataset), H5Sclose, "getting a dataspace");
-  const hsize_t start[1] = {first_row}, count[1] = {rows};
-  check(H5Sselect_hyperslab(file_space.id(), H5S_SELECT_SET, start, nullptr, count, nullptr), "selecting rows");
-  Handle memory_space = simple_space(count);
-  check(H5Dwrite(dataset, type, memory_space.id(), file_space.id(), transfer, data), "writing rows");
-}
-}  // namespace
 
 Handle create_string_rows(hid_t parent, const std::string& name, std::size_t rows, std::size_t chunk_rows) {
   Handle type = text_type();
   return create_rows(parent, name, type.id(), rows, {}, chunk_rows);
 }
 
-void write_string_rows(hid_t dataset, std::size_t first_row, const std::vector<std::string>& rows) {
-  const std::vector<const char*> pointers = pointers_to(rows);
+void write_strings_at(hid_t dataset, std::span<const hsize_t> rows, std::span<const char* const> texts) {
+  if (rows.size() != texts.size()) throw std::logic_error("write_strings_at: a text for every row");
+  if (rows.empty()) return;
   Handle type = text_type();
   // Variable-length strings go through HDF5's type conversion, whose buffer
   // (1 MiB by default) is allocated and zeroed on every write, a large cost
@@ -266,7 +257,11 @@ void write_string_rows(hid_t dataset, std::size_t first_row, const std::vector<s
   Handle transfer(H5Pcreate(H5P_DATASET_XFER), H5Pclose, "creating transfer properties");
   check(H5Pset_buffer(transfer.id(), std::max<std::size_t>(4096, 64 * rows.size()), nullptr, nullptr),
         "sizing the conversion buffer");
-  write_rows(dataset, type.id(), first_row, rows.size(), pointers.data(), transfer.id());
+  Handle file_space(H5Dget_space(dataset), H5Sclose, "getting a dataspace");
+  check(H5Sselect_elements(file_space.id(), H5S_SELECT_SET, rows.size(), rows.data()), "selecting rows");
+  const hsize_t count[1] = {rows.size()};
+  Handle memory_space = simple_space(count);
+  check(H5Dwrite(dataset, type.id(), memory_space.id(), file_space.id(), transfer.id(), texts.data()), "writing rows");
 }
 
 Handle write_vector(hid_t parent, const std::string& name, std::span<const double> data) {

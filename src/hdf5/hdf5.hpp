@@ -89,7 +89,7 @@ Handle write_array(hid_t parent, const std::string& name, hid_t type, const void
 Handle write_scalar(hid_t parent, const std::string& name, double value);
 Handle write_scalar(hid_t parent, const std::string& name, std::uint64_t value);
 // A dataset (rows, row_shape...) of `type` created empty, filled later (by
-// RowDataset, row_dataset.hpp, or write_string_rows) as records arrive out
+// RowDataset, row_dataset.hpp, or write_strings_at) as records arrive out
 // of order: chunks of `chunk_rows` whole rows (0: about 64 KiB), deflated
 // at kRowsDeflateLevel (RowDataset skips it for a raw chunk). `fill` (one value of `type`) is what a row never
 // written reads as; HDF5's default is zero.
@@ -102,8 +102,11 @@ Handle create_rows(hid_t parent, const std::string& name, hid_t type, std::size_
 constexpr unsigned kRowsDeflateLevel = 1;
 // Strings, one per row, filled later. Every string this layer writes
 // (datasets and attributes) is variable-length UTF-8: h5py gives `str`.
+// A row never written is a null string: h5py reads it as empty (b''),
+// h5dump shows NULL, the C API gives a null pointer.
 Handle create_string_rows(hid_t parent, const std::string& name, std::size_t rows, std::size_t chunk_rows = 0);
-void write_string_rows(hid_t dataset, std::size_t first_row, const std::vector<std::string>& rows);
+// texts[k] into row rows[k] (increasing), the other rows untouched.
+void write_strings_at(hid_t dataset, std::span<const hsize_t> rows, std::span<const char* const> texts);
 
 void write_attribute(hid_t object, const std::string& name, const std::string& value);
 void write_attribute(hid_t object, const std::string& name, double value);

@@ -130,6 +130,20 @@ TEST_F(UnitChunks, UnitsReadBackAsTheRowsRankZeroWritesFromRecords) {
   ASSERT_TRUE(units.ok() && plain.ok());
   expect_identical_datasets(plain.id(), "from records", units.id(), "units", {"/samples"});
   EXPECT_EQ(read_strings(units.id(), "/samples/reason")[45], "too much work");
+  // Only the failed sample's reason was written: the chunk holding row 45
+  // is stored (one of 4 in units of 32 rows; the one of the file from
+  // records), the others are not (rows never written: null strings, read
+  // as empty).
+  for (const H5File* f : {&units, &plain}) {
+    const hid_t reason = H5Dopen2(f->id(), "/samples/reason", H5P_DEFAULT);
+    ASSERT_GE(reason, 0);
+    const hid_t space = H5Dget_space(reason);
+    hsize_t stored = 0;
+    ASSERT_GE(H5Dget_num_chunks(reason, space, &stored), 0);
+    EXPECT_EQ(stored, 1u);
+    H5Sclose(space);
+    H5Dclose(reason);
+  }
   const std::vector<double> final_state = read_doubles(units.id(), "/samples/final_state");
   EXPECT_TRUE(std::isnan(final_state[45 * (final_state.size() / kRuns)]));
 }
