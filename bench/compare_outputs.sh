@@ -47,8 +47,10 @@ for g in groups:
     if da.keys() != db.keys():
         print(f"differs in {g}: datasets {sorted(set(da) ^ set(db))}"); sys.exit(1)
     for name in da:
-        x, y = da[name][()], db[name][()]
-        if np.shape(x) != np.shape(y) or np.asarray(x).tobytes() != np.asarray(y).tobytes():
+        x, y = np.asarray(da[name][()]), np.asarray(db[name][()])
+        # Strings come as objects, whose bytes are pointers: compare the values.
+        bits = (lambda v: v.tolist()) if x.dtype == object else (lambda v: v.tobytes())
+        if x.shape != y.shape or x.dtype != y.dtype or bits(x) != bits(y):
             print(f"differs in {name}"); sys.exit(1)
 PY
 }
