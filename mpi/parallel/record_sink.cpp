@@ -34,10 +34,13 @@ constexpr std::size_t kWriteBatchRecords = 4096;
 constexpr std::size_t kSendBytes = std::size_t{64} << 10;
 constexpr std::size_t kAllHeldBytes = std::size_t{512} << 10;
 constexpr double kMaxHoldSeconds = 0.5;
-// Buffers of completed messages rank 0 keeps for the next ones, up to this
-// many bytes together (one largest unit's message): a buffer allocated per
-// unit would cost rank 0 its page faults and the unmapping.
-constexpr std::size_t kSpareBytes = std::size_t{32} << 20;
+// Rank 0 receives at most kMostReceivingBytes of messages at a time (one
+// largest unit's; a larger message alone), into buffers it keeps for the
+// next ones, up to kSpareBytes together. Units of many senders come in a
+// burst: receiving all at once would cost rank 0 memory without bound and
+// a fresh buffer each (its page faults and unmapping).
+constexpr std::size_t kMostReceivingBytes = std::size_t{32} << 20;
+constexpr std::size_t kSpareBytes = kMostReceivingBytes;
 
 // A sender's message size when `ranks` ranks run: kSendBytes, less beyond
 // 9 ranks so that the ranks - 1 senders hold kAllHeldBytes together.
@@ -172,9 +175,10 @@ void RecordWriter::drain(bool wait) {
   }
 }
 
-// Every message that has arrived, matched and posted.
+// Every message that has arrived, matched and posted, while those posted
+// hold less than kMostReceivingBytes; the others wait in MPI's queue.
 void RecordWriter::post_arrived() {
-  for (;;) {
+  while (receiving_bytes_ < kMostReceivingBytes) {
     int flag = 0;
     MPI_Message message;
     MPI_Status status;
@@ -190,6 +194,7 @@ void RecordWriter::post(MPI_Message& message, const MPI_Status& status) {
   int count = 0;
   MPI_Get_count(&status, MPI_BYTE, &count);
   Receiving r{spare_.take(static_cast<std::size_t>(count)), count, status.MPI_SOURCE, status.MPI_TAG};
+  receiving_bytes_ += static_cast<std::size_t>(count);
   requests_.emplace_back();
   MPI_Imrecv(r.bytes.data.get(), count, MPI_BYTE, &message, &requests_.back());
   receiving_.push_back(std::move(r));
@@ -216,6 +221,7 @@ bool RecordWriter::complete_received(bool wait) {
     Receiving r = std::move(receiving_[k]);
     receiving_.erase(receiving_.begin() + static_cast<std::ptrdiff_t>(k));
     requests_.erase(requests_.begin() + static_cast<std::ptrdiff_t>(k));
+    receiving_bytes_ -= static_cast<std::size_t>(r.count);
     handle(std::span<const char>(r.bytes.data.get(), static_cast<std::size_t>(r.count)), r.source, r.tag);
     spare_.give_back(std::move(r.bytes));
     any = true;

@@ -152,6 +152,7 @@ class RecordWriter final : public RecordSink {
   std::vector<ensemble::SampleRecord> batch_;  // counted, not yet in the file
   std::vector<Receiving> receiving_;           // posted, in the order matched
   std::vector<MPI_Request> requests_;          // theirs, in the same order
+  std::size_t receiving_bytes_ = 0;            // of the messages in receiving_
   h5::Unit unit_;                              // the last unit received, decoded (its vectors reused)
   BufferPool spare_;                           // buffers of completed messages, reused: no allocation per message
   std::size_t batch_bytes_ = 0;
