@@ -59,10 +59,11 @@ std::size_t most_unit_rows(const SampleRows& rows);
 
 // Rank 0's CPU time per record that came in a unit of `rows` rows, each
 // row in `datasets` chunks, s: a part per record (receiving the unit's
-// message, decoding the stripped record, its reason's row, the response
+// message, decoding the stripped record, a failed one's reason, the response
 // table) and a direct chunk write per dataset per unit, fitted to the
-// 64-rank measurements (BENCHMARKS.md, "Units": the fit and its spread).
-inline constexpr double kUnitRecordSeconds = 5.5e-6;
+// 64-rank measurements (BENCHMARKS.md, "Rank 0's receiving": the fit and
+// its spread).
+inline constexpr double kUnitRecordSeconds = 3.4e-6;
 inline constexpr double kChunkWriteSeconds = 21e-6;
 double rank_zero_seconds_per_unit_record(std::size_t datasets, std::size_t rows);
 
