@@ -34,9 +34,9 @@ constexpr std::size_t kWriteBatchRecords = 4096;
 constexpr std::size_t kSendBytes = std::size_t{64} << 10;
 constexpr std::size_t kAllHeldBytes = std::size_t{512} << 10;
 constexpr double kMaxHoldSeconds = 0.5;
-// Rank 0 receives at most kMostReceivingBytes of messages at a time (one
-// largest unit's; a larger message alone), into buffers it keeps for the
-// next ones, up to kSpareBytes together. Units of many senders come in a
+// Rank 0 takes in new messages only while those it is receiving come to
+// less than kMostReceivingBytes (one largest unit's), into buffers it keeps
+// for the next ones, up to kSpareBytes together. Units of many senders come in a
 // burst: receiving all at once would cost rank 0 memory without bound and
 // a fresh buffer each (its page faults and unmapping).
 constexpr std::size_t kMostReceivingBytes = std::size_t{32} << 20;

@@ -18,10 +18,13 @@ ByteBuffer BufferPool::take(std::size_t bytes) {
 
 void BufferPool::give_back(ByteBuffer buffer) {
   if (buffer.size == 0 || buffer.size > most_bytes_) return;
+  std::size_t smaller = 0;  // what evicting every smaller buffer would free
+  for (const ByteBuffer& k : kept_)
+    if (k.size < buffer.size) smaller += k.size;
+  if (kept_bytes_ - smaller + buffer.size > most_bytes_) return;  // would not fit even so: freed
   const auto by_size = [](const ByteBuffer& a, const ByteBuffer& b) { return a.size < b.size; };
   while (kept_bytes_ + buffer.size > most_bytes_) {
     const auto smallest = std::min_element(kept_.begin(), kept_.end(), by_size);
-    if (smallest->size >= buffer.size) return;  // `buffer` is freed
     kept_bytes_ -= smallest->size;
     kept_.erase(smallest);
   }

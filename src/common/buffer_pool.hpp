@@ -23,8 +23,8 @@ class BufferPool {
   // 0 bytes).
   ByteBuffer take(std::size_t bytes);
   // `buffer` kept for a later take(); beyond the bound, smaller buffers go
-  // first (the largest are the ones worth keeping), and one larger than
-  // the bound is freed.
+  // first (the largest are the ones worth keeping), and a buffer that would
+  // not fit even then is freed, nothing evicted for it.
   void give_back(ByteBuffer buffer);
   std::size_t kept_bytes() const { return kept_bytes_; }
   std::size_t kept_buffers() const { return kept_.size(); }

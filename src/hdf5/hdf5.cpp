@@ -240,7 +240,6 @@ void keep_rows(hid_t dataset, std::size_t rows) {
   check(H5Dset_extent(dataset, dims.data()), "cutting a dataset to the samples used");
 }
 
-
 Handle create_string_rows(hid_t parent, const std::string& name, std::size_t rows, std::size_t chunk_rows) {
   Handle type = text_type();
   return create_rows(parent, name, type.id(), rows, {}, chunk_rows);

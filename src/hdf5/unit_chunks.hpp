@@ -44,7 +44,8 @@ class UnitEncoder {
   std::vector<unsigned char> raw_, stream_;  // reused: no allocation per unit once grown
 };
 
-// A unit's message read back; its chunks point into `message`. Throws
+// A unit's message read back; its chunks point into `message` (valid as
+// long as it is). Throws
 // DecodeError naming `what` when the message is not a unit of `datasets`
 // chunks.
 Unit decode_unit(std::span<const char> message, std::size_t datasets, const std::string& what);

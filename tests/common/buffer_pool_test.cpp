@@ -49,13 +49,26 @@ TEST(BufferPool, OverItsBoundSmallerBuffersGoFirst) {
   EXPECT_EQ(pool.kept_bytes(), 900u);
   pool.give_back(std::move(e));  // fits exactly
   EXPECT_EQ(pool.kept_bytes(), 1000u);
-  ByteBuffer f = pool.take(50);  // the 100 one
+  ByteBuffer f = pool.take(50);  // the smallest that fits: the 100 one
   EXPECT_EQ(f.size, 100u);
-  ByteBuffer g = pool.take(50);  // none left that small: new
-  pool.give_back(std::move(f));
-  pool.give_back(std::move(g));  // the pool is full of larger ones: freed
+  EXPECT_EQ(pool.kept_bytes(), 900u);
+}
+
+// A buffer that would fit only by evicting buffers at least as large is
+// freed, and nothing is evicted for it.
+TEST(BufferPool, ABufferThatCannotFitIsFreedWithoutEvictingAny) {
+  BufferPool pool(1000);
+  ByteBuffer a = pool.take(100), b = pool.take(450), c = pool.take(450), d = pool.take(400), e = pool.take(200);
+  pool.give_back(std::move(a));
+  pool.give_back(std::move(b));
+  pool.give_back(std::move(c));
+  pool.give_back(std::move(d));  // only the 100 is smaller: 900 + 400 > 1000 even without it
   EXPECT_EQ(pool.kept_bytes(), 1000u);
   EXPECT_EQ(pool.kept_buffers(), 3u);
+  EXPECT_EQ(pool.take(100).size, 100u) << "the 100 was evicted for nothing";
+  pool.give_back(std::move(e));  // 900 + 200 > 1000, and the 450s are larger: freed
+  EXPECT_EQ(pool.kept_bytes(), 900u);
+  EXPECT_EQ(pool.kept_buffers(), 2u);
 }
 
 // Random takes and returns: every buffer taken is as large as asked, and
