@@ -4,6 +4,7 @@
 #include <string>
 
 #include "analysis/answers.hpp"
+#include "designs/design_rules.hpp"
 
 namespace treedyn::ensemble {
 namespace {
@@ -177,11 +178,7 @@ void print_response_summary(std::ostream& out, const EnsembleSpec& spec, const s
                             const ToleranceCheck& tolerance) {
   if (answers.empty()) return;
   out << "responses: mean +- standard error (successful samples with finite values"
-      << (spec.design == Design::saltelli            ? "; saltelli: the A and B runs"
-          : spec.design == Design::subset_simulation ? "; subset_simulation: level 0, the Monte-Carlo level"
-          : spec.design == Design::morris ? "; morris: each trajectory's first run, on the inputs' level grid"
-                                          : "")
-      << ")\n";
+      << designs::rules_of(spec.design).counted_runs_note() << ")\n";
   for (std::size_t r = 0; r < answers.size(); ++r) {
     const Response& response = spec.responses[r];
     const ResponseAnswer& a = answers[r];

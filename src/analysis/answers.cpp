@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "analysis/subset_replay.hpp"
+#include "designs/design_rules.hpp"
 
 namespace treedyn::ensemble {
 namespace {
@@ -30,30 +31,14 @@ double ratio(std::uint64_t k, std::uint64_t n) {
   return n > 0 ? static_cast<double>(k) / static_cast<double>(n) : kNaN;
 }
 
-// Whether sample k is an independent draw of the inputs. Saltelli's AB_i
-// rows repeat all of A_j's inputs but one: each is distributed like the
-// inputs, but not independently of A_j, so the mean, the standard error,
-// the exceedance probability (and their intervals) and the rank measures
-// use the A and B runs only.
-bool independent_draw(const EnsembleSpec& spec, std::uint64_t k) {
-  if (spec.design == Design::morris) return k % (spec.unit_count() + 1u) == 0;  // a trajectory's first run
-  return spec.design != Design::saltelli || saltelli_place(k, spec.unit_count()).role != SaltelliRole::ab;
-}
-
-// Runs per convergence step: whole Saltelli blocks, or Morris trajectories.
-std::uint64_t design_block(const EnsembleSpec& spec) {
-  return spec.design == Design::saltelli ? spec.saltelli_block()
-         : spec.design == Design::morris ? spec.unit_count() + 1u
-                                         : 1;
-}
-
 RankSensitivity ranks_of(const EnsembleSpec& spec, const ResponseTable& table, std::size_t r) {
   const std::size_t d = table.input_count();
+  const designs::DesignRules& rules = designs::rules_of(spec.design);
   std::vector<double> x, y;
   x.reserve(table.samples() * d);
   y.reserve(table.samples());
   for (std::uint64_t k = 0; k < table.samples(); ++k) {
-    if (!table.ok(k) || std::isnan(table.response(k, r)) || !independent_draw(spec, k)) continue;
+    if (!table.ok(k) || std::isnan(table.response(k, r)) || !rules.independent_draw(spec, k)) continue;
     for (std::size_t i = 0; i < d; ++i) x.push_back(table.input(k, i));
     y.push_back(table.response(k, r));
   }
@@ -116,13 +101,16 @@ ResponseAnswer answer_response(const EnsembleSpec& spec, const ResponseTable& ta
   const std::uint64_t n = std::min(prefix, table.samples());
   ResponseAnswer a;
   Running running;
-  // Convergence at 1, 2, 4, ... samples; for saltelli at 1, 2, 4, ...
-  // whole blocks (2 independent draws each), for morris trajectories (1).
-  const std::uint64_t unit = design_block(spec);
+  // Convergence at 1, 2, 4, ... steps of the design (saltelli: whole
+  // blocks, 2 independent draws each; morris: trajectories, 1 each). The
+  // mean, the standard error, the exceedance (and their intervals), the
+  // rank measures and the failure region use the independent draws only.
+  const designs::DesignRules& rules = designs::rules_of(spec.design);
+  const std::uint64_t unit = rules.runs_per_step(spec);
   std::uint64_t successful = 0, exceeded = 0, next_report = unit;
   for (std::uint64_t k = 0; k < n; ++k) {
-    if (!independent_draw(spec, k)) {
-      // Saltelli's AB_i rows: left out here (see independent_draw).
+    if (!rules.independent_draw(spec, k)) {
+      // e.g. Saltelli's AB_i rows, which repeat all of A_j's inputs but one
     } else if (!table.ok(k)) {
       ++a.failed;
     } else {
@@ -172,7 +160,7 @@ ResponseAnswer answer_response(const EnsembleSpec& spec, const ResponseTable& ta
   const bool subset_answer = spec.subset && spec.subset->response == r;
   if (response.has_limit() && table.input_count() > 0 && !subset_answer)
     a.failure_region =
-        failure_region(spec, table, r, [&](std::uint64_t k) { return k < n && independent_draw(spec, k); });
+        failure_region(spec, table, r, [&](std::uint64_t k) { return k < n && rules.independent_draw(spec, k); });
   return a;
 }
 

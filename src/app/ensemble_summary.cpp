@@ -7,6 +7,7 @@
 
 #include "app/model_summary.hpp"
 #include "common/format.hpp"
+#include "designs/design_rules.hpp"
 #include "sampling/invalid_mass.hpp"
 
 namespace treedyn::ensemble {
@@ -37,25 +38,6 @@ void print_invalid_mass(std::ostream& out, const Perturbation& p, const ModelDef
   if (m->probability > kInvalidMassWarning)
     out << "      warning: " << percent << " of the samples will fail as invalid models (status 2); narrow the "
         << "distribution, or use truncated_normal (lower bound) or lognormal for a positive quantity\n";
-}
-
-// The subset-simulation lines: runs per level, chains, and the runs the
-// simulation makes, which depend on P: N (1 + (1 - p0) m) when level m is
-// the first whose threshold reaches the limit, P near p0^(m + 1).
-void print_subset(std::ostream& out, const EnsembleSpec& s) {
-  if (!s.subset) return;
-  const double p0 = s.subset->level_probability;
-  const double n = static_cast<double>(s.samples);
-  out << "  subset_simulation: " << s.samples << " runs per level, level_probability " << format_number(p0) << " ("
-      << static_cast<std::uint64_t>(std::llround(n * p0)) << " chains of " << std::llround(1.0 / p0)
-      << " states), at most " << s.subset->max_levels << " levels after level 0, for P("
-      << s.responses[s.subset->response].name << " beyond its limit) down to about "
-      << format_digits(std::pow(p0, s.subset->max_levels + 1), 2) << "\n";
-  out << "    the runs depend on P (the levels until a threshold reaches the limit):";
-  for (int m = 1; m <= s.subset->max_levels; ++m)
-    out << (m > 1 ? ";" : "") << " P ~ " << format_digits(std::pow(p0, m + 1), 2) << ": "
-        << std::llround(n * (1.0 + (1.0 - p0) * m));
-  out << " runs (at most " << s.runs << ")\n";
 }
 
 // The stopping rule's line: the check interval and each target.
@@ -138,30 +120,6 @@ void print_correlations(std::ostream& out, const EnsembleSpec& s) {
   }
 }
 
-// How the design makes its runs (saltelli, morris), and its groups.
-void print_design(std::ostream& out, const EnsembleSpec& s) {
-  if (s.design == Design::saltelli && !s.grouped)
-    out << "  saltelli: base size N = " << s.samples << ", N (D + 2) = " << s.samples << " x " << s.saltelli_block()
-        << " = " << s.runs << " runs; sample j (D + 2) + r is A_j (r = 0), B_j (r = 1), AB_i,j (r = 2 + i)\n";
-  if (s.design == Design::saltelli && s.grouped)
-    out << "  saltelli with " << s.unit_count() << " groups: base size N = " << s.samples
-        << ", N (G + 2) = " << s.samples << " x " << s.saltelli_block() << " = " << s.runs
-        << " runs; sample j (G + 2) + r is A_j (r = 0), B_j (r = 1), AB_g,j (r = 2 + g: A_j with group g's "
-           "inputs from B_j)\n";
-  if (s.design == Design::morris) {
-    const char* u = s.grouped ? "G" : "D";
-    out << "  morris: r = " << s.samples << " trajectories of (" << u << " + 1) = " << s.unit_count() + 1
-        << " runs = " << s.runs << " runs; ";
-    if (s.morris->radial)
-      out << "radial steps: run t (" << u << " + 1) of trajectory t is A_t, run t (" << u << " + 1) + s is A_t with "
-          << (s.grouped ? "group" : "input") << " s - 1 from B_t (scrambled Sobol' points A and B, as Saltelli's)\n";
-    else
-      out << s.morris->levels << " levels (u = (l + 1/2) / " << s.morris->levels << "); run t (" << u
-          << " + 1) + s of trajectory t moves one " << (s.grouped ? "group" : "input") << " by Delta = 1/2 in u\n";
-  }
-  if (s.grouped && (s.design == Design::saltelli || s.design == Design::morris)) print_groups(out, s);
-}
-
 // One perturbation: its distribution and what it does to the model.
 void print_perturbation(std::ostream& out, const Job& job, const Perturbation& p) {
   const auto nominal = job.definition.parameters.nominal();
@@ -197,13 +155,10 @@ void print_ensemble_summary(std::ostream& out, const Job& job, const EnsembleSpe
       << (s.subset ? " runs (below: how many for which P)" : " samples") << ", seed " << s.seed << ", design "
       << name(s.design) << ", " << s.perturbations.size() << " perturbation" << (s.perturbations.size() == 1 ? "" : "s")
       << " (" << s.input_dimensions() << " sampled inputs)\n";
-  print_design(out, s);
+  designs::rules_of(s.design).print_runs(out, s);
+  if (s.grouped) print_groups(out, s);
   print_correlations(out, s);
-  print_subset(out, s);
   print_stop_rule(out, s);
-  if (s.design == Design::latin_hypercube)
-    out << "  latin_hypercube: sample k depends on N too, so prefixes are not nested samples "
-           "(convergence by prefix is not meaningful)\n";
   for (const Perturbation& p : s.perturbations) print_perturbation(out, job, p);
   out << "statistics: quantiles";
   for (double q : s.quantiles) out << " " << format_number(q);

@@ -9,6 +9,7 @@
 #include "app/run_trajectory.hpp"
 #include "common/error.hpp"
 #include "common/exit_codes.hpp"
+#include "designs/design_rules.hpp"
 #include "ensemble/sample_runner.hpp"
 #include "hdf5/read_file.hpp"
 #include "job/ensemble_spec.hpp"
@@ -22,14 +23,10 @@ namespace {
 // Sample k must exist: the message says how many there are.
 void require_sample(const Job& job, const ensemble::EnsembleSpec& spec, std::uint64_t k) {
   if (k >= spec.runs)
-    throw JobError(
-        job.file, 0, 0, "ensemble.samples",
-        "there is no sample " + std::to_string(k) + ": the ensemble has " + std::to_string(spec.runs) +
-            " samples, 0 .. " + std::to_string(spec.runs - 1) +
-            (spec.design == ensemble::Design::saltelli ? " (saltelli: samples x (D + 2) runs, or x (G + 2) with groups)"
-             : spec.design == ensemble::Design::morris
-                 ? " (morris: trajectories x (D + 1) runs, or x (G + 1) with groups)"
-                 : ""));
+    throw JobError(job.file, 0, 0, "ensemble.samples",
+                   "there is no sample " + std::to_string(k) + ": the ensemble has " + std::to_string(spec.runs) +
+                       " samples, 0 .. " + std::to_string(spec.runs - 1) +
+                       std::string(designs::rules_of(spec.design).runs_note()));
 }
 
 // Refused with what to do instead: a subset simulation's run k after level

@@ -21,10 +21,11 @@
 // A run's inputs are a pure function of (seed, index) for the fixed designs
 // and subset simulation's level 0; a chain's runs are not: each starts from
 // the wave's `start` (decided by rank 0 from earlier waves) and the chain's
-// own earlier states, and runs through SampleRunner::run_at. So a new design
-// provides a WavePlan (first_wave, next_wave) and, where its inputs depend on
-// earlier waves, its own runs as wave_phases.cpp has for chains; today it
-// also touches the Design table (sampling/design.hpp) and the switches on it.
+// own earlier states, and runs through SampleRunner::run_at. So a design
+// whose runs depend on earlier waves provides a WavePlan (first_wave,
+// next_wave) and its own runs, as wave_phases.cpp has for chains; what
+// every design tells the rest of the ensemble is its DesignRules
+// (designs/design_rules.hpp).
 #pragma once
 
 #include <cstdint>

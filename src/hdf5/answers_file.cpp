@@ -6,6 +6,7 @@
 #include <optional>
 #include <string>
 
+#include "designs/design_rules.hpp"
 #include "designs/morris/morris_file.hpp"
 #include "hdf5/answer_datasets.hpp"
 #include "hdf5/described.hpp"
@@ -217,13 +218,7 @@ void write_sensitivity(hid_t parent, const ensemble::EnsembleSpec& spec, const e
                        const ensemble::ResponseAnswer& a) {
   const std::vector<std::string> inputs = spec.input_names();
   h5::Handle sg = h5::create_group(parent, response.name);
-  h5::write_attribute(sg.id(), "description",
-                      std::string(spec.design == ensemble::Design::saltelli
-                                      ? "rank measures over the A and B runs; Sobol' indices from all blocks"
-                                  : spec.design == ensemble::Design::morris
-                                      ? "rank measures over each trajectory's first run; Morris' measures "
-                                        "(morris_*) from every step"
-                                      : "rank measures over the successful samples"));
+  h5::write_attribute(sg.id(), "description", std::string(designs::rules_of(spec.design).sensitivity_description()));
   write_per_input(sg.id(), "spearman", a.ranks.spearman, "1",
                   "Spearman rank correlation of each input with the response", inputs);
   write_per_input(sg.id(), "srrc", a.ranks.srrc, "1",

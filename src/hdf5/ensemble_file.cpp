@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "common/format.hpp"
+#include "designs/design_rules.hpp"
 #include "hdf5/answers_file.hpp"
 #include "hdf5/described.hpp"
 #include "hdf5/statistics_file.hpp"
@@ -117,20 +118,7 @@ EnsembleWriter::EnsembleWriter(const std::filesystem::path& path, const Job& job
       rows_(spec, layout, final_state_size),
       file_(path) {
   samples_ = h5::create_group(file_.id(), "samples");
-  h5::write_attribute(samples_.id(), "description",
-                      spec.design == ensemble::Design::saltelli
-                          ? std::string("one row per run, by sample index 0 .. samples-1; saltelli: "
-                                        "row j (U + 2) + r is A_j (r = 0), B_j (r = 1), AB_u,j (r = 2 + u: "
-                                        "A_j with unit u's inputs from B_j; a unit is one input, or a group "
-                                        "with [[ensemble.group]]); base_samples N and saltelli_block "
-                                        "U + 2 are root attributes")
-                      : spec.design == ensemble::Design::morris
-                          ? std::string("one row per run, by sample index 0 .. samples-1; morris: row t (U + 1) + s "
-                                        "is run s of trajectory t: radial, run 0 with unit s - 1 (an input or a "
-                                        "group) from an independent point; trajectories, run s - 1 with that unit "
-                                        "moved by 1/2 in u; morris_trajectories, morris_steps (morris_levels) and "
-                                        "morris_block U + 1 are root attributes")
-                          : std::string("one row per sample, by sample index 0 .. samples-1"));
+  h5::write_attribute(samples_.id(), "description", std::string(designs::rules_of(spec.design).samples_description()));
   create_sample_columns();
   create_reductions();
   if (!spec.responses.empty()) {
@@ -396,14 +384,8 @@ void EnsembleWriter::finish(const EnsembleSummary& summary, const RunProvenance&
   h5::write_attribute(root, "design", std::string(ensemble::name(spec_.design)));
   h5::write_attribute(root, "samples", static_cast<long long>(spec_.runs));
   h5::write_attribute(root, "base_samples", static_cast<long long>(spec_.samples));
-  if (spec_.design == ensemble::Design::saltelli)
-    h5::write_attribute(root, "saltelli_block", static_cast<long long>(spec_.saltelli_block()));
-  if (spec_.design == ensemble::Design::morris) {
-    h5::write_attribute(root, "morris_trajectories", static_cast<long long>(spec_.samples));
-    h5::write_attribute(root, "morris_steps", std::string(spec_.morris->radial ? "radial" : "trajectories"));
-    if (!spec_.morris->radial) h5::write_attribute(root, "morris_levels", static_cast<long long>(spec_.morris->levels));
-    h5::write_attribute(root, "morris_block", static_cast<long long>(spec_.unit_count() + 1));
-  }
+  for (const auto& [name, value] : designs::rules_of(spec_.design).attributes(spec_))
+    std::visit([&, &name = name](const auto& v) { h5::write_attribute(root, name, v); }, value);
   h5::write_attribute(root, "samples_used", static_cast<long long>(summary.samples_used));
   h5::write_attribute(root, "stop_reason", summary.stop_reason);
   h5::write_attribute(root, "samples_ok", static_cast<long long>(summary.ok));

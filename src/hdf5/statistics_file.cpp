@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "designs/design_rules.hpp"
 #include "hdf5/described.hpp"
 #include "hdf5/trajectory_file.hpp"
 #include "output/quantities.hpp"
@@ -103,17 +104,7 @@ void write_statistics(hid_t file, const Job& job, const ensemble::EnsembleSpec& 
   h5::write_attribute(group.id(), "description",
                       std::string("statistics over the successful samples at every output time; "
                                   "failed samples are left out (see /samples/status)") +
-                          (spec.design == ensemble::Design::saltelli
-                               ? "; saltelli: over every run, the correlated AB_i rows included (sem "
-                                 "assumes independent samples: use the A and B rows of /samples for it)"
-                           : spec.design == ensemble::Design::morris
-                               ? "; morris: over every run of every trajectory (sem assumes independent "
-                                 "samples: use each trajectory's first row of /samples for it)"
-                           : spec.design == ensemble::Design::subset_simulation
-                               ? "; subset_simulation: level 0 alone (samples 0 .. N-1), an unbiased "
-                                 "Monte-Carlo sample; the later levels' runs are conditional samples and "
-                                 "left out (they are in /samples)"
-                               : ""));
+                          std::string(designs::rules_of(spec.design).statistics_note()));
   const std::vector<double>& t = job.request.output_times;
   h5::write_attribute(group.id(), "quantities", layout.quantity);  // in the job's order
   h5::Handle time = h5::write_vector(group.id(), "time", t);

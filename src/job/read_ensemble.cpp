@@ -3,7 +3,7 @@
 #include <cstdio>
 #include <numbers>
 
-#include "designs/morris/read_morris.hpp"
+#include "designs/design_rules.hpp"
 #include "job/ensemble_spec.hpp"
 #include "job/readers.hpp"
 #include "job/toml_document.hpp"
@@ -279,7 +279,7 @@ namespace {
 void read_settings(const TomlView& t, EnsembleSpec& s) {
   if (auto design = t.string("design"); design && !parse_design(*design, s.design))
     t.fail("design", "\"" + *design + "\" is not allowed; use " + choices(kDesignNames));
-  if (s.design != Design::morris) {  // morris: [ensemble.morris] trajectories (read_morris)
+  if (designs::rules_of(s.design).takes_samples()) {
     const auto samples = t.integer("samples");
     if (!samples) t.fail("samples", "missing required field: the number of samples (integer >= 1)");
     if (*samples < 1) t.fail("samples", "must be at least 1");
@@ -338,27 +338,19 @@ Perturbation read_perturbation(const TomlView& p, const Job& job) {
   return pert;
 }
 
-// The number of runs the design makes (saltelli: N (U + 2)), within what the
-// exact sums hold.
-void count_runs(const TomlView& t, EnsembleSpec& s) {
-  if (s.design == Design::sobol && s.input_dimensions() > 1000)
-    t.fail("perturbation", "sobol supports at most 1000 input dimensions");
-  s.runs = s.samples;  // one run per sample, but for saltelli, morris (read_morris) and subset simulation
-  if (s.design == Design::morris) read_morris(t, s, kMaxRuns);
-  if (s.design == Design::saltelli) {
-    const unsigned d = s.input_dimensions();
-    if (d == 0) t.fail("design", "saltelli needs at least one [[ensemble.perturbation]] (the inputs to rank)");
-    if (2 * d > 1000)
-      t.fail("perturbation", "saltelli supports at most 500 input dimensions (2D Sobol dimensions); this job has " +
-                                 std::to_string(d) + " (a sea state's phases count one per component)");
-    const std::string block = s.grouped ? "(G + 2)" : "(D + 2)";
-    if (s.samples > kMaxRuns / s.saltelli_block())
-      t.fail("samples", "saltelli makes samples x " + block + " = " + std::to_string(s.samples) + " x " +
-                            std::to_string(s.saltelli_block()) + " runs; at most " + std::to_string(kMaxRuns) +
-                            " (2^26, so that the exact 128-bit sums cannot overflow): use at most " +
-                            std::to_string(kMaxRuns / s.saltelli_block()));
-    s.runs = s.samples * s.saltelli_block();
+// Every design's own table is refused in another design's job.
+void refuse_other_tables(const TomlView& t, const EnsembleSpec& s) {
+  for (const auto& [design, name] : kDesignNames) {
+    const std::string_view table = designs::rules_of(design).table();
+    if (design != s.design && !table.empty() && t.has(table))
+      t.fail(table, "[ensemble." + std::string(table) + "] is only for design = \"" + std::string(name) + "\"");
   }
+}
+
+// The number of runs the design makes (its rules: saltelli N (U + 2), ...),
+// within what the exact sums hold.
+void count_runs(const TomlView& t, EnsembleSpec& s) {
+  designs::rules_of(s.design).read_runs(t, s, kMaxRuns);
   // The exact sums hold 2^26 extreme samples (d / S at its 2^20 limit, squared
   // with 60 fraction bits: 2^100 each, 2^126 in all); 32-bit Sobol points and
   // histogram counters would allow more.
@@ -366,7 +358,7 @@ void count_runs(const TomlView& t, EnsembleSpec& s) {
     t.fail("samples", std::to_string(s.runs) + " samples: at most " + std::to_string(kMaxRuns) +
                           " (2^26, so that the exact 128-bit sums cannot overflow); split larger studies into "
                           "several ensembles with different seeds");
-  s.pilot_samples = std::min(s.pilot_samples, s.runs);  // runs, also for saltelli
+  s.pilot_samples = std::min(s.pilot_samples, designs::rules_of(s.design).first_wave_runs(s));
 }
 
 // Per-sample reductions, the named responses, the bootstrap.
@@ -405,31 +397,14 @@ void read_stored_trajectories(const TomlView& t, const Job& job, EnsembleSpec& s
                                      "quantities, or block_size = 1");
 }
 
-// The index of the [[ensemble.response]] that `t`'s `response` names.
-std::size_t named_response(const TomlView& t, const EnsembleSpec& s) {
-  const std::string name = t.required_string("response");
-  for (std::size_t r = 0; r < s.responses.size(); ++r)
-    if (s.responses[r].name == name) return r;
-  t.fail("response", "\"" + name + "\" is not the name of an [[ensemble.response]]");
-}
-
 // [ensemble.stop]: which response, which targets, how often to check.
 void read_stop(const TomlView& parent, EnsembleSpec& s) {
   const auto section = parent.subtable("stop");
   if (!section) return;
   const TomlView& t = *section;
   t.check_keys({"response", "exceedance_cov", "mean_sem", "mean_relative_sem", "every"});
-  if (s.design == Design::morris)
-    t.fail("response",
-           "morris screens with all its trajectories: a stopping rule on a response's mean or "
-           "exceedance does not apply (choose the trajectories; the page says whether the ranking is resolved)");
-  if (!nested_prefixes(s.design))
-    t.fail("response",
-           "a stopping rule needs a design whose prefixes are designs (monte_carlo, sobol, "
-           "saltelli); " +
-               std::string(s.design == Design::latin_hypercube
-                               ? "the first n samples of a latin_hypercube are not one"
-                               : "subset_simulation sets its own runs (samples per level, levels)"));
+  const designs::DesignRules& rules = designs::rules_of(s.design);
+  if (const std::string_view why = rules.why_no_stopping_rule(); !why.empty()) t.fail("response", std::string(why));
   StopRule rule;
   const std::size_t index = named_response(t, s);
   const Response& response = s.responses[index];
@@ -450,7 +425,7 @@ void read_stop(const TomlView& parent, EnsembleSpec& s) {
   const auto every = t.integer("every");
   if (!every) t.fail("every", "missing: the check interval in samples (saltelli: in base samples, whole blocks)");
   if (*every < 1) t.fail("every", "must be at least 1");
-  const std::uint64_t unit = s.design == Design::saltelli ? s.saltelli_block() : 1;
+  const std::uint64_t unit = rules.runs_per_step(s);
   if (static_cast<std::uint64_t>(*every) > s.runs / unit)
     t.fail("every", "checks every " + std::to_string(*every) + (unit > 1 ? " blocks" : " samples") +
                         ", more than the ensemble makes at most (" + std::to_string(s.runs / unit) +
@@ -460,55 +435,6 @@ void read_stop(const TomlView& parent, EnsembleSpec& s) {
     t.fail("every", "checks every " + std::to_string(rule.every) + " runs, more than the " + std::to_string(s.runs) +
                         " the ensemble makes at most");
   s.stop = rule;
-}
-
-// [ensemble.subset] of design = "subset_simulation": the response whose
-// limit is the failure, p0, the levels; `samples` is per level, and the
-// run count is the most the levels can make: N + max_levels N (1 - p0).
-void read_subset(const TomlView& parent, EnsembleSpec& s) {
-  const auto section = parent.subtable("subset");
-  if (s.design != Design::subset_simulation) {
-    if (section) section->fail("response", "[ensemble.subset] is only for design = \"subset_simulation\"");
-    return;
-  }
-  if (!section)
-    parent.fail("design",
-                "subset_simulation needs an [ensemble.subset] table with response = NAME (a response "
-                "with a limit)");
-  const TomlView& t = *section;
-  t.check_keys({"response", "level_probability", "max_levels"});
-  if (s.input_dimensions() == 0)
-    parent.fail("design", "subset_simulation needs at least one [[ensemble.perturbation]] (the uncertain inputs)");
-  SubsetSpec subset;
-  const std::size_t index = named_response(t, s);
-  const Response& response = s.responses[index];
-  const std::string& name = response.name;
-  if (!response.has_limit())
-    t.fail("response", "response \"" + name +
-                           "\" has no limit: give it limit and fail_if (the failure whose "
-                           "probability is estimated)");
-  subset.response = index;
-  subset.level_probability = t.number("level_probability", 0.1);
-  const double p0 = subset.level_probability;
-  if (!(p0 > 0.0 && p0 <= 0.5)) t.fail("level_probability", "must be in (0, 0.5]; 0.1 is the usual value");
-  const double inverse = 1.0 / p0;
-  if (std::abs(inverse - std::round(inverse)) > 1e-9 * inverse)
-    t.fail("level_probability", "1 / level_probability must be a whole number (0.1, 0.2, 0.25, 0.5, ...)");
-  const auto states = static_cast<std::uint64_t>(std::llround(inverse));
-  if (s.samples % states != 0)
-    parent.fail("samples",
-                "subset_simulation: samples (per level) x level_probability must be a whole number "
-                "of chains: samples must be a multiple of " +
-                    std::to_string(states));
-  const auto levels = t.integer("max_levels");
-  if (levels && (*levels < 1 || *levels > 100)) t.fail("max_levels", "must be from 1 to 100");
-  subset.max_levels = levels ? static_cast<int>(*levels) : 10;
-  const std::uint64_t chain_runs = s.samples - s.samples / states;
-  s.runs = s.samples + static_cast<std::uint64_t>(subset.max_levels) * chain_runs;
-  if (s.runs > kMaxRuns)
-    parent.fail("samples", "subset_simulation may make samples + max_levels x samples x (1 - level_probability) = " +
-                               std::to_string(s.runs) + " runs; at most " + std::to_string(kMaxRuns));
-  s.subset = subset;
 }
 
 // What rank 0 and every rank must hold, within 8 GiB each.
@@ -526,7 +452,25 @@ void check_memory(const TomlView& t, const Job& job, const EnsembleSpec& s) {
                                  "fewer bins, output times or quantities");
 }
 
+// [ensemble]'s keys: its own, and every design's table.
+std::vector<std::string_view> ensemble_keys() {
+  std::vector<std::string_view> keys{
+      "samples",    "seed",         "design",     "quantiles", "histogram_bins",     "pilot_samples",
+      "block_size", "perturbation", "per_sample", "response",  "store_trajectories", "bootstrap_resamples",
+      "stop",       "group",        "correlation"};
+  for (const auto& [design, name] : kDesignNames)
+    if (const std::string_view table = designs::rules_of(design).table(); !table.empty()) keys.push_back(table);
+  return keys;
+}
+
 }  // namespace
+
+std::size_t named_response(const TomlView& t, const EnsembleSpec& s) {
+  const std::string name = t.required_string("response");
+  for (std::size_t r = 0; r < s.responses.size(); ++r)
+    if (s.responses[r].name == name) return r;
+  t.fail("response", "\"" + name + "\" is not the name of an [[ensemble.response]]");
+}
 
 EnsembleSpec read_ensemble(const Job& job) {
   const TomlView root(root_table(job.document), "", job.file);
@@ -535,19 +479,16 @@ EnsembleSpec read_ensemble(const Job& job) {
     throw JobError(job.file, 0, 0, "ensemble",
                    "missing [ensemble] section: give at least samples = N (and seed, perturbations)");
   const TomlView& t = *section;
-  t.check_keys({"samples", "seed", "design", "quantiles", "histogram_bins", "pilot_samples", "block_size",
-                "perturbation", "per_sample", "response", "store_trajectories", "bootstrap_resamples", "stop", "subset",
-                "group", "correlation", "morris"});
+  t.check_keys(ensemble_keys());
   EnsembleSpec s;
   read_settings(t, s);
+  refuse_other_tables(t, s);
   for (const TomlView& p : t.table_array("perturbation")) s.perturbations.push_back(read_perturbation(p, job));
   read_groups(t, s);
   read_correlations(t, s);
-  count_runs(t, s);
   read_answers(t, job, s);
+  count_runs(t, s);
   read_stop(t, s);
-  read_subset(t, s);
-  if (s.design != Design::morris) read_morris(t, s, kMaxRuns);  // refuses a stray [ensemble.morris]
   read_stored_trajectories(t, job, s);
   check_memory(t, job, s);
   return s;

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "common/format.hpp"
+#include "designs/design_rules.hpp"
 #include "job/ensemble_spec.hpp"
 #include "job/readers.hpp"
 #include "job/toml_view.hpp"
@@ -110,7 +111,8 @@ void read_groups(const TomlView& t, EnsembleSpec& s) {
   const std::vector<TomlView> entries = t.table_array("group");
   const std::vector<std::string> names = s.input_names();
   std::vector<std::string> taken(s.perturbations.size());
-  if (entries.empty() && s.design == Design::morris) {  // a list input (a sea's phases) is one factor
+  const designs::DesignRules& rules = designs::rules_of(s.design);
+  if (entries.empty() && rules.list_input_is_one_factor()) {
     s.sobol_units = grouped_units(s, {}, taken);
     s.grouped = s.sobol_units.size() != names.size();
     return;
@@ -119,7 +121,7 @@ void read_groups(const TomlView& t, EnsembleSpec& s) {
     for (unsigned d = 0; d < names.size(); ++d) s.sobol_units.push_back({names[d], {d}});
     return;
   }
-  if (s.design != Design::saltelli && s.design != Design::morris)
+  if (!rules.takes_groups())
     entries.front().fail("name",
                          "[[ensemble.group]] sets which inputs Saltelli's or Morris' design moves together; it "
                          "is only for design = \"saltelli\" or \"morris\" (the rank measures are always per input)");
@@ -218,14 +220,7 @@ void check_positive_definite(const TomlView& c, const EnsembleSpec& s) {
 void read_correlations(const TomlView& t, EnsembleSpec& s) {
   const std::vector<TomlView> entries = t.table_array("correlation");
   if (entries.empty()) return;
-  const char* why = s.design == Design::morris
-                        ? "Morris' elementary effects move one input (or group) at a time: with correlated inputs a "
-                          "step in one moves the others, and the effects mix"
-                    : s.design == Design::saltelli
-                        ? "Saltelli's Sobol' indices assume independent inputs: a correlated design would give "
-                          "wrong indices"
-                        : nullptr;
-  if (why)
+  if (const std::string_view why = designs::rules_of(s.design).why_no_correlations(); !why.empty())
     entries.front().fail("inputs", std::string(why) +
                                        ". Use design = \"monte_carlo\", \"latin_hypercube\" or \"sobol\": the "
                                        "rank measures (Spearman, SRRC) in /sensitivity allow correlated inputs");

@@ -1,4 +1,4 @@
-// Section readers of the job file (internal to src/job).
+// Section readers of the job file (internal to src/job and the designs' readers in src/designs/).
 #pragma once
 
 #include <map>
@@ -58,5 +58,7 @@ struct EnsembleSpec;
 // perturbations and the design are read (read_input_relations.cpp).
 void read_groups(const TomlView& ensemble, EnsembleSpec& spec);
 void read_correlations(const TomlView& ensemble, EnsembleSpec& spec);
+// The index of the [[ensemble.response]] that `t`'s `response` names.
+std::size_t named_response(const TomlView& t, const EnsembleSpec& spec);
 
 }  // namespace treedyn::ensemble

@@ -74,12 +74,12 @@ void TomlView::fail_at(const toml::node* at, std::string_view key, const std::st
   throw JobError(file_, line_of(where), column_of(where), field(key), what);
 }
 
-void TomlView::check_keys(std::initializer_list<std::string_view> allowed) const {
+void TomlView::check_keys(std::span<const std::string_view> allowed) const {
   for (const auto& [key, value] : table_) {
     const std::string_view k = key.str();
     if (std::find(allowed.begin(), allowed.end(), k) != allowed.end()) continue;
     std::ostringstream what;
-    what << "unknown key '" << k << "'" << did_you_mean(k, std::span(allowed.begin(), allowed.size()));
+    what << "unknown key '" << k << "'" << did_you_mean(k, allowed);
     what << " Allowed here:";
     for (std::string_view a : allowed) what << " " << a;
     throw JobError(file_, line_of(value), column_of(value), field(k), what.str());

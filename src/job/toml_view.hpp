@@ -29,7 +29,10 @@ class TomlView {
   std::string field(std::string_view key) const;  // "body.mass"
 
   // Unknown keys are errors; the nearest allowed key is suggested.
-  void check_keys(std::initializer_list<std::string_view> allowed) const;
+  void check_keys(std::span<const std::string_view> allowed) const;
+  void check_keys(std::initializer_list<std::string_view> allowed) const {
+    check_keys(std::span<const std::string_view>(allowed.begin(), allowed.size()));
+  }
   bool has(std::string_view key) const { return table_.contains(key); }
 
   [[noreturn]] void fail(std::string_view key, const std::string& what) const;

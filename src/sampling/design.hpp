@@ -55,9 +55,6 @@ inline SaltelliPlace saltelli_place(std::uint64_t sample, unsigned units) {
                    : SaltelliRole::ab,
           r >= 2 ? static_cast<unsigned>(r - 2) : 0u};
 }
-// Whether the design's prefixes are nested (sample k does not depend on N):
-// what makes convergence by prefix meaningful. Latin hypercube is not.
-inline bool nested_prefixes(Design d) { return d != Design::latin_hypercube && d != Design::subset_simulation; }
 inline std::string_view name(Design d) { return name_in(kDesignNames, d); }
 inline bool parse_design(std::string_view text, Design& out) { return parse_in(kDesignNames, text, out); }
 

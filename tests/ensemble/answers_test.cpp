@@ -251,8 +251,6 @@ TEST(SaltelliDesign, BlocksHoldABAndTheMixedRows) {
     }
     for (unsigned d = 0; d < D; ++d) EXPECT_EQ(small.uniform(j * (D + 2) + 1, d), b[d]);
   }
-  EXPECT_FALSE(nested_prefixes(Design::latin_hypercube));
-  EXPECT_TRUE(nested_prefixes(Design::saltelli));
 }
 
 // With groups ([[ensemble.group]]): 5 inputs in 3 units {0, 3}, {1}, {2, 4}

@@ -8,10 +8,6 @@ namespace treedyn::ensemble {
 // The units (inputs, groups, a list input as one) are read_groups'.
 void read_morris(const TomlView& parent, EnsembleSpec& s, std::uint64_t max_runs) {
   const auto section = parent.subtable("morris");
-  if (s.design != Design::morris) {
-    if (section) section->fail("trajectories", "[ensemble.morris] is only for design = \"morris\"");
-    return;
-  }
   if (parent.has("samples"))
     parent.fail("samples",
                 "design = \"morris\" runs r trajectories of (G + 1) runs: give r as [ensemble.morris] "

@@ -8,9 +8,8 @@
 
 namespace treedyn::ensemble {
 
-// Reads [ensemble.morris] into s.morris and sets s.samples (runs) and
-// s.base_samples (trajectories); refuses the table for other designs.
-// Needs the units (read_groups) first. Throws JobError.
+// Reads [ensemble.morris] into s.morris and sets s.samples (trajectories)
+// and s.runs. Needs the units (read_groups) first. Throws JobError.
 void read_morris(const TomlView& ensemble, EnsembleSpec& s, std::uint64_t max_runs);
 
 }  // namespace treedyn::ensemble

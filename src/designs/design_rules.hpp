@@ -1,0 +1,99 @@
+// What the rest of the ensemble asks of a sampling design, answered by the
+// design itself: one class per design, in its folder (src/designs/<name>/),
+// listed once in registry.cpp. The job reader, the answers, the files and
+// the summaries ask these rules instead of switching on the design, so that
+// a design's words and counting rules live in one place.
+//
+// Still outside this interface, dispatched where they are used: each
+// design's points (sampling/design.cpp), its answers and their datasets
+// (analysis/answers.cpp, hdf5/answers_file.cpp) and subset simulation's
+// waves (analysis/wave_plans.cpp, mpi/parallel/wave_phases.cpp).
+#pragma once
+
+#include <cstdint>
+#include <ostream>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <variant>
+#include <vector>
+
+#include "sampling/design.hpp"
+
+namespace treedyn {
+class TomlView;
+}
+namespace treedyn::ensemble {
+struct EnsembleSpec;
+}
+
+namespace treedyn::designs {
+
+// A root attribute of the ensemble file that describes the design's runs.
+using DesignAttribute = std::pair<std::string, std::variant<long long, std::string>>;
+
+class DesignRules {
+ public:
+  virtual ~DesignRules() = default;
+  virtual ensemble::Design design() const = 0;
+
+  // --- its part of the job file ---
+  // Its own table, [ensemble.<table>]; empty: none. Any other design's job
+  // with that table is refused.
+  virtual std::string_view table() const { return {}; }
+  // Whether [ensemble] samples is its size (morris: trajectories, in its table).
+  virtual bool takes_samples() const { return true; }
+  // Reads its table and sets the runs it makes (s.runs; s.samples by
+  // default), at most `max_runs`, once the inputs, their units and the
+  // responses are read. Throws JobError.
+  virtual void read_runs(const TomlView& ensemble, ensemble::EnsembleSpec& s, std::uint64_t max_runs) const;
+  // The runs of its first wave, which holds the pilot (wave_plan.hpp).
+  virtual std::uint64_t first_wave_runs(const ensemble::EnsembleSpec& s) const;
+
+  // --- its runs ---
+  // Runs per step of the design (Saltelli's block, a Morris trajectory): a
+  // stopping rule checks, and convergence is told, in whole steps.
+  virtual std::uint64_t runs_per_step(const ensemble::EnsembleSpec&) const { return 1; }
+  // Whether run k is an independent draw of the inputs, and so counts for
+  // the mean, the standard error, the exceedance and the rank measures.
+  virtual bool independent_draw(const ensemble::EnsembleSpec&, std::uint64_t) const { return true; }
+  // Why a stopping rule cannot stop this design early (its first n runs are
+  // not a design of their own); empty when one can.
+  virtual std::string_view why_no_stopping_rule() const { return {}; }
+  // Whether [[ensemble.group]] means anything to it (which inputs move
+  // together), and whether a list input is then one factor without groups.
+  virtual bool takes_groups() const { return false; }
+  virtual bool list_input_is_one_factor() const { return false; }
+  // Why it cannot take correlated inputs; empty when it can.
+  virtual std::string_view why_no_correlations() const { return {}; }
+
+  // --- its words ---
+  // After "there are N samples, 0 .. N-1": how the runs are counted.
+  virtual std::string_view runs_note() const { return {}; }
+  // After "mean +- standard error (successful samples with finite values":
+  // which runs count.
+  virtual std::string_view counted_runs_note() const { return {}; }
+  // /samples' description, /stats' note and /sensitivity/<r>'s description.
+  virtual std::string_view samples_description() const { return "one row per sample, by sample index 0 .. samples-1"; }
+  virtual std::string_view statistics_note() const { return {}; }
+  virtual std::string_view sensitivity_description() const { return "rank measures over the successful samples"; }
+  // The root attributes that describe its runs.
+  virtual std::vector<DesignAttribute> attributes(const ensemble::EnsembleSpec&) const { return {}; }
+  // The summary's lines on how it makes its runs (--check, the run's start).
+  virtual void print_runs(std::ostream&, const ensemble::EnsembleSpec&) const {}
+};
+
+// A design that keeps every default rule (monte_carlo).
+class DefaultRules final : public DesignRules {
+ public:
+  explicit DefaultRules(ensemble::Design design) : design_(design) {}
+  ensemble::Design design() const override { return design_; }
+
+ private:
+  ensemble::Design design_;
+};
+
+// The rules of `design` (registry.cpp).
+const DesignRules& rules_of(ensemble::Design design);
+
+}  // namespace treedyn::designs

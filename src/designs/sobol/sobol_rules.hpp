@@ -1,0 +1,10 @@
+// design = "sobol": its DesignRules (designs/design_rules.hpp).
+#pragma once
+
+#include "designs/design_rules.hpp"
+
+namespace treedyn::designs {
+
+const DesignRules& sobol_rules();
+
+}  // namespace treedyn::designs

@@ -1,0 +1,105 @@
+// Each design's rules (src/designs/<name>/*_rules.cpp) against what its
+// points (sampling/design.cpp) actually are, so that a rule cannot drift
+// from the design it describes:
+//
+//  * the registry has rules for every design, and each is that design's;
+//  * a design that lets a stopping rule stop it early has nested prefixes:
+//    run k's inputs are the same whatever the run count (the premise of a
+//    stopping rule); latin_hypercube, which refuses one, does not;
+//  * independent_draw picks exactly Saltelli's A and B rows and each Morris
+//    trajectory's first run: checked on the points, by which rows share
+//    inputs with the row before them;
+//  * runs_per_step is the period of that pattern.
+#include "designs/design_rules.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <vector>
+
+#include "job/ensemble_spec.hpp"
+#include "sampling/design.hpp"
+
+namespace {
+
+using namespace treedyn::ensemble;
+using treedyn::designs::rules_of;
+
+constexpr unsigned kInputs = 3;
+
+EnsembleSpec spec_of(Design design, std::uint64_t runs) {
+  EnsembleSpec s;
+  s.design = design;
+  s.runs = runs;
+  for (unsigned d = 0; d < kInputs; ++d) s.sobol_units.push_back({"x" + std::to_string(d), {d}});
+  if (design == Design::morris) s.morris = MorrisSpec{};
+  return s;
+}
+
+SampleDesign points_of(const EnsembleSpec& s) { return SampleDesign(s.design, 11, s.runs, kInputs, {}, s.morris); }
+
+// How many of the inputs of run k equal those of run k - 1.
+unsigned shared_with_previous(const SampleDesign& points, std::uint64_t k) {
+  std::vector<double> a(kInputs), b(kInputs);
+  points.point(k - 1, a);
+  points.point(k, b);
+  unsigned same = 0;
+  for (unsigned d = 0; d < kInputs; ++d) same += a[d] == b[d] ? 1u : 0u;
+  return same;
+}
+
+TEST(DesignRules, EveryDesignHasItsOwnRules) {
+  for (const auto& [design, text] : kDesignNames) {
+    EXPECT_EQ(rules_of(design).design(), design) << text;
+    EXPECT_FALSE(rules_of(design).samples_description().empty()) << text;
+  }
+}
+
+TEST(DesignRules, ADesignAStoppingRuleMayStopHasNestedPrefixes) {
+  for (Design design : {Design::monte_carlo, Design::latin_hypercube, Design::sobol, Design::saltelli}) {
+    const std::uint64_t step = rules_of(design).runs_per_step(spec_of(design, 0));
+    const EnsembleSpec small = spec_of(design, 8 * step), large = spec_of(design, 32 * step);
+    const SampleDesign a = points_of(small), b = points_of(large);
+    bool nested = true;
+    std::vector<double> u(kInputs), v(kInputs);
+    for (std::uint64_t k = 0; k < small.runs; ++k) {
+      a.point(k, u);
+      b.point(k, v);
+      nested = nested && u == v;
+    }
+    EXPECT_EQ(rules_of(design).why_no_stopping_rule().empty(), nested) << name(design);
+  }
+  EXPECT_FALSE(rules_of(Design::subset_simulation).why_no_stopping_rule().empty());
+  EXPECT_FALSE(rules_of(Design::morris).why_no_stopping_rule().empty());
+}
+
+// A run that repeats some of the run before's inputs (Saltelli's AB rows
+// repeat A's but one; a Morris step keeps all but one unit) is not an
+// independent draw; the first of each step is, and so is B, which shares
+// none of A's.
+TEST(DesignRules, IndependentDrawsAreTheRunsThatShareNoInputsWithTheRunBefore) {
+  for (const auto& [design, text] : kDesignNames) {
+    if (design == Design::subset_simulation) continue;  // its later levels are chains, not points
+    const EnsembleSpec s = spec_of(design, 0);
+    const std::uint64_t step = rules_of(design).runs_per_step(s);
+    const EnsembleSpec sized = spec_of(design, 16 * step);
+    const SampleDesign points = points_of(sized);
+    std::uint64_t independent = 0;
+    for (std::uint64_t k = 1; k < sized.runs; ++k) {
+      const bool shares = shared_with_previous(points, k) > 0;
+      EXPECT_EQ(rules_of(design).independent_draw(sized, k), !shares) << text << " run " << k;
+      independent += rules_of(design).independent_draw(sized, k) ? 1 : 0;
+    }
+    const std::uint64_t per_step = design == Design::saltelli ? 2 : 1;  // A and B
+    EXPECT_EQ(independent + 1, 16 * per_step) << text;                  // run 0 is one
+  }
+}
+
+TEST(DesignRules, StepsAreSaltellisBlocksAndMorrisTrajectories) {
+  EXPECT_EQ(rules_of(Design::saltelli).runs_per_step(spec_of(Design::saltelli, 0)), kInputs + 2u);
+  EXPECT_EQ(rules_of(Design::morris).runs_per_step(spec_of(Design::morris, 0)), kInputs + 1u);
+  for (Design design : {Design::monte_carlo, Design::latin_hypercube, Design::sobol, Design::subset_simulation})
+    EXPECT_EQ(rules_of(design).runs_per_step(spec_of(design, 0)), 1u) << name(design);
+}
+
+}  // namespace
