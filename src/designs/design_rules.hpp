@@ -5,12 +5,13 @@
 // a design's words and counting rules live in one place.
 //
 // Still outside this interface, dispatched where they are used: each
-// design's points (sampling/design.cpp), its answers and their datasets
+// design's answers and their datasets
 // (analysis/answers.cpp, hdf5/answers_file.cpp) and subset simulation's
 // waves (analysis/wave_plans.cpp, mpi/parallel/wave_phases.cpp).
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <ostream>
 #include <string>
 #include <string_view>
@@ -25,7 +26,9 @@ class TomlView;
 }
 namespace treedyn::ensemble {
 struct EnsembleSpec;
-}
+struct PointsSpec;
+class RunPoints;
+}  // namespace treedyn::ensemble
 
 namespace treedyn::designs {
 
@@ -44,13 +47,18 @@ class DesignRules {
   // Whether [ensemble] samples is its size (morris: trajectories, in its table).
   virtual bool takes_samples() const { return true; }
   // Reads its table and sets the runs it makes (s.runs; s.samples by
-  // default), at most `max_runs`, once the inputs, their units and the
-  // responses are read. Throws JobError.
+  // default), once the inputs, their units and the responses are read. The
+  // job reader refuses more than `max_runs` runs afterwards; a design that
+  // multiplies s.samples must refuse first what would overflow. Throws
+  // JobError.
   virtual void read_runs(const TomlView& ensemble, ensemble::EnsembleSpec& s, std::uint64_t max_runs) const;
   // The runs of its first wave, which holds the pilot (wave_plan.hpp).
   virtual std::uint64_t first_wave_runs(const ensemble::EnsembleSpec& s) const;
 
   // --- its runs ---
+  // Its runs' inputs in the unit cube (sampling/run_points.hpp); may throw
+  // std::invalid_argument for a size its generator cannot make.
+  virtual std::unique_ptr<ensemble::RunPoints> points(const ensemble::PointsSpec& spec) const = 0;
   // Runs per step of the design (Saltelli's block, a Morris trajectory): a
   // stopping rule checks, and convergence is told, in whole steps.
   virtual std::uint64_t runs_per_step(const ensemble::EnsembleSpec&) const { return 1; }
@@ -81,16 +89,6 @@ class DesignRules {
   virtual std::vector<DesignAttribute> attributes(const ensemble::EnsembleSpec&) const { return {}; }
   // The summary's lines on how it makes its runs (--check, the run's start).
   virtual void print_runs(std::ostream&, const ensemble::EnsembleSpec&) const {}
-};
-
-// A design that keeps every default rule (monte_carlo).
-class DefaultRules final : public DesignRules {
- public:
-  explicit DefaultRules(ensemble::Design design) : design_(design) {}
-  ensemble::Design design() const override { return design_; }
-
- private:
-  ensemble::Design design_;
 };
 
 // The rules of `design` (registry.cpp).

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "designs/sample_design.hpp"
 #include "integrate/settings.hpp"
 #include "job/ensemble_spec.hpp"
 #include "job/job.hpp"

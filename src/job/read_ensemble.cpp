@@ -351,13 +351,7 @@ void refuse_other_tables(const TomlView& t, const EnsembleSpec& s) {
 // within what the exact sums hold.
 void count_runs(const TomlView& t, EnsembleSpec& s) {
   designs::rules_of(s.design).read_runs(t, s, kMaxRuns);
-  // The exact sums hold 2^26 extreme samples (d / S at its 2^20 limit, squared
-  // with 60 fraction bits: 2^100 each, 2^126 in all); 32-bit Sobol points and
-  // histogram counters would allow more.
-  if (s.runs > kMaxRuns)
-    t.fail("samples", std::to_string(s.runs) + " samples: at most " + std::to_string(kMaxRuns) +
-                          " (2^26, so that the exact 128-bit sums cannot overflow); split larger studies into "
-                          "several ensembles with different seeds");
+  refuse_more_runs_than(t, s.runs, kMaxRuns);
   s.pilot_samples = std::min(s.pilot_samples, designs::rules_of(s.design).first_wave_runs(s));
 }
 
@@ -464,6 +458,16 @@ std::vector<std::string_view> ensemble_keys() {
 }
 
 }  // namespace
+
+// The exact sums hold 2^26 extreme samples (d / S at its 2^20 limit, squared
+// with 60 fraction bits: 2^100 each, 2^126 in all); 32-bit Sobol points and
+// histogram counters would allow more.
+void refuse_more_runs_than(const TomlView& t, std::uint64_t runs, std::uint64_t max_runs) {
+  if (runs > max_runs)
+    t.fail("samples", std::to_string(runs) + " samples: at most " + std::to_string(max_runs) +
+                          " (2^26, so that the exact 128-bit sums cannot overflow); split larger studies into "
+                          "several ensembles with different seeds");
+}
 
 std::size_t named_response(const TomlView& t, const EnsembleSpec& s) {
   const std::string name = t.required_string("response");

@@ -1,6 +1,7 @@
 // Section readers of the job file (internal to src/job and the designs' readers in src/designs/).
 #pragma once
 
+#include <cstdint>
 #include <map>
 #include <optional>
 #include <string>
@@ -58,6 +59,8 @@ struct EnsembleSpec;
 // perturbations and the design are read (read_input_relations.cpp).
 void read_groups(const TomlView& ensemble, EnsembleSpec& spec);
 void read_correlations(const TomlView& ensemble, EnsembleSpec& spec);
+// Refuses more than `max_runs` runs (the exact sums' limit) at `t`'s samples.
+void refuse_more_runs_than(const TomlView& t, std::uint64_t runs, std::uint64_t max_runs);
 // The index of the [[ensemble.response]] that `t`'s `response` names.
 std::size_t named_response(const TomlView& t, const EnsembleSpec& spec);
 

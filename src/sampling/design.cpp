@@ -89,98 +89,45 @@ std::uint32_t sobol_bits(std::uint64_t k, unsigned dimension, unsigned dimension
   return value;
 }
 
-SampleDesign::SampleDesign(Design design, std::uint64_t seed, std::uint64_t samples, unsigned dimensions,
-                           std::vector<unsigned> unit_of_dimension, const std::optional<MorrisSpec>& morris)
-    : design_(design),
-      seed_(seed),
-      samples_(samples),
-      dimensions_(dimensions),
-      unit_of_dimension_(std::move(unit_of_dimension)),
-      units_(dimensions) {
-  if (unit_of_dimension_.empty())
-    for (unsigned d = 0; d < dimensions; ++d) unit_of_dimension_.push_back(d);
-  if (unit_of_dimension_.size() != dimensions)
-    throw std::invalid_argument("sample design: one Saltelli unit per input dimension");
-  units_ = dimensions == 0 ? 0 : *std::max_element(unit_of_dimension_.begin(), unit_of_dimension_.end()) + 1;
-  radial_ = design == Design::morris && (!morris || morris->radial);
-  if (design == Design::morris && !radial_) morris_.emplace(seed, morris->levels, unit_of_dimension_, units_);
-  const bool two_points = design == Design::saltelli || radial_;  // A and B from 2D Sobol' dimensions
-  const unsigned sobol_dimensions = two_points ? 2 * dimensions : dimensions;
-  const bool uses_sobol = design == Design::sobol || two_points;
-  if (uses_sobol && sobol_dimensions > boost::random::detail::qrng_tables::sobol::max_dimension)
-    throw std::invalid_argument(std::string(name(design)) + " design: at most " +
+void check_sobol_size(std::string_view design, unsigned sobol_dimensions, std::uint64_t points) {
+  if (sobol_dimensions > boost::random::detail::qrng_tables::sobol::max_dimension)
+    throw std::invalid_argument(std::string(design) + " design: at most " +
                                 std::to_string(boost::random::detail::qrng_tables::sobol::max_dimension) +
                                 " Sobol dimensions");
-  const std::uint64_t points = design == Design::saltelli ? samples / saltelli_block(units_)
-                               : radial_                  ? samples / (units_ + 1u)
-                                                          : samples;
-  if (uses_sobol && points > 0xffffffffULL)
-    throw std::invalid_argument(std::string(name(design)) + " design: at most 2^32 - 1 Sobol points");
+  if (points > 0xffffffffULL)
+    throw std::invalid_argument(std::string(design) + " design: at most 2^32 - 1 Sobol points");
 }
 
-void SampleDesign::sobol_point(std::uint64_t index, unsigned total, unsigned first, std::span<double> u) const {
+void scrambled_sobol_point(std::uint64_t seed, std::uint64_t index, unsigned total, unsigned first,
+                           std::span<double> u) {
   boost::random::sobol_engine<std::uint32_t, 32> engine(std::max(total, 1u));
   // Point 0 is all zeros; Boost's seed(j) yields point j + 1 (32-bit points).
   if (index > 0) engine.seed(static_cast<std::uint32_t>(index - 1));
   for (unsigned d = 0; d < first + u.size(); ++d) {
     const std::uint32_t bits = index > 0 ? engine() : 0u;
     if (d < first) continue;
-    const auto seed32 = static_cast<std::uint32_t>(mix(seed_ ^ mix(d + 1)));
+    const auto seed32 = static_cast<std::uint32_t>(mix(seed ^ mix(d + 1)));
     u[d - first] = (static_cast<double>(owen_scramble(bits, seed32)) + 0.5) * 0x1.0p-32;
   }
 }
 
-void SampleDesign::two_point(const SaltelliPlace& at, std::span<double> u) const {
-  const unsigned d = dimensions_;
-  sobol_point(at.base, 2 * d, at.role == SaltelliRole::b ? d : 0, u);
+double scrambled_sobol_uniform(std::uint64_t seed, std::uint64_t index, unsigned dimension, unsigned dimensions) {
+  const auto seed32 = static_cast<std::uint32_t>(mix(seed ^ mix(dimension + 1)));
+  const std::uint32_t bits = owen_scramble(sobol_bits(index, dimension, dimensions), seed32);
+  return (static_cast<double>(bits) + 0.5) * 0x1.0p-32;
+}
+
+void saltelli_point(std::uint64_t seed, std::span<const unsigned> unit_of_dimension, const SaltelliPlace& at,
+                    std::span<double> u) {
+  const auto d = static_cast<unsigned>(u.size());
+  scrambled_sobol_point(seed, at.base, 2 * d, at.role == SaltelliRole::b ? d : 0, u);
   if (at.role != SaltelliRole::ab) return;
   double from_b = 0.0;
   for (unsigned i = 0; i < d; ++i) {
-    if (unit_of_dimension_[i] != at.unit) continue;
-    sobol_point(at.base, 2 * d, d + i, std::span<double>(&from_b, 1));
+    if (unit_of_dimension[i] != at.unit) continue;
+    scrambled_sobol_point(seed, at.base, 2 * d, d + i, std::span<double>(&from_b, 1));
     u[i] = from_b;
   }
-}
-
-void SampleDesign::point(std::uint64_t sample, std::span<double> u) const {
-  if (design_ == Design::sobol) return sobol_point(sample, dimensions_, 0, u);
-  if (design_ == Design::saltelli) return two_point(saltelli_place(sample, units_), u);
-  if (radial_) {  // run s of trajectory t: A_t (s = 0), then A_t with unit s - 1 from B_t
-    const std::uint64_t t = sample / (units_ + 1u), s = sample % (units_ + 1u);
-    return two_point({t, s == 0 ? SaltelliRole::a : SaltelliRole::ab, s == 0 ? 0u : static_cast<unsigned>(s - 1)}, u);
-  }
-  if (design_ == Design::morris) return morris_->point(sample, u);
-  for (unsigned d = 0; d < u.size(); ++d) u[d] = uniform(sample, d);
-}
-
-double SampleDesign::uniform(std::uint64_t sample, unsigned dimension) const {
-  switch (design_) {
-    case Design::monte_carlo:
-    case Design::subset_simulation:  // level 0; later levels' points come from their chains
-      return counter_uniform(seed_, sample, dimension, 0);
-    case Design::latin_hypercube: {
-      // Stratum pi_d(k) of N, then a uniform position inside it.
-      const std::uint64_t stratum = permute_index(sample, samples_, seed_, dimension);
-      const double inside = counter_uniform(seed_, sample, dimension, 1);
-      const double n = static_cast<double>(samples_);
-      const double u = (static_cast<double>(stratum) + inside) / n;
-      // Rounding must not carry u into the next stratum (or to 1).
-      const double top = (static_cast<double>(stratum) + 1.0) / n;
-      return u < top ? u : std::nextafter(top, 0.0);
-    }
-    case Design::saltelli:
-    case Design::morris: {
-      std::vector<double> all(dimensions_);
-      point(sample, all);
-      return all[dimension];
-    }
-    case Design::sobol: {
-      const auto seed32 = static_cast<std::uint32_t>(mix(seed_ ^ mix(dimension + 1)));
-      const std::uint32_t bits = owen_scramble(sobol_bits(sample, dimension, dimensions_), seed32);
-      return (static_cast<double>(bits) + 0.5) * 0x1.0p-32;
-    }
-  }
-  return 0.5;
 }
 
 }  // namespace treedyn::ensemble

@@ -1,7 +1,7 @@
-// Sampling designs: the uniform number u in (0, 1) of input dimension d of
-// sample k is a pure function of (seed, k, d), so sample k is the same
-// whichever rank computes it and in whatever order. (Subset simulation's
-// chains, after its level 0, draw their own: rare_event/subset_simulation.hpp.)
+// Sampling designs: their names, Saltelli's blocks, and the generators
+// their points are made of (counter-based uniforms, keyed permutations,
+// scrambled Sobol' points). Each design's points are its own
+// (src/designs/<name>/, through sampling/run_points.hpp).
 #pragma once
 
 #include <cstdint>
@@ -11,8 +11,6 @@
 #include <vector>
 
 #include "common/enum_names.hpp"
-#include "designs/morris/morris_points.hpp"
-#include "designs/morris/morris_spec.hpp"
 
 namespace treedyn::ensemble {
 
@@ -58,40 +56,6 @@ inline SaltelliPlace saltelli_place(std::uint64_t sample, unsigned units) {
 inline std::string_view name(Design d) { return name_in(kDesignNames, d); }
 inline bool parse_design(std::string_view text, Design& out) { return parse_in(kDesignNames, text, out); }
 
-class SampleDesign {
- public:
-  // `unit_of_dimension` (saltelli, morris): the unit of each input
-  // dimension, 0 .. U-1; empty: every dimension is a unit of its own
-  // (U = D). `morris`: its variant and levels.
-  SampleDesign(Design design, std::uint64_t seed, std::uint64_t samples, unsigned dimensions,
-               std::vector<unsigned> unit_of_dimension = {}, const std::optional<MorrisSpec>& morris = {});
-
-  // u in the open interval (0, 1).
-  double uniform(std::uint64_t sample, unsigned dimension) const;
-  // All dimensions of one sample at once (u.size() == dimensions()).
-  void point(std::uint64_t sample, std::span<double> u) const;
-
-  Design design() const { return design_; }
-  unsigned dimensions() const { return dimensions_; }
-
- private:
-  // A and B of base point `at.base` over 2D Sobol' dimensions, with unit
-  // `at.unit`'s inputs from B for AB (saltelli, and morris' radial steps).
-  void two_point(const SaltelliPlace& at, std::span<double> u) const;
-  // Scrambled Sobol point `index` of `total` dimensions: dimensions
-  // first .. first + u.size() - 1 into u.
-  void sobol_point(std::uint64_t index, unsigned total, unsigned first, std::span<double> u) const;
-
-  Design design_;
-  std::uint64_t seed_;
-  std::uint64_t samples_;
-  unsigned dimensions_;
-  std::vector<unsigned> unit_of_dimension_;  // size D
-  unsigned units_;                           // U
-  std::optional<MorrisPoints> morris_;       // morris' trajectories (not radial)
-  bool radial_ = false;                      // morris, radial
-};
-
 // Independent uniform in (0, 1) from Philox4x64 keyed by seed, counter
 // (sample, dimension, stream).
 double counter_uniform(std::uint64_t seed, std::uint64_t sample, std::uint64_t dimension, std::uint64_t stream);
@@ -103,5 +67,22 @@ std::uint64_t permute_index(std::uint64_t index, std::uint64_t n, std::uint64_t 
 // The unscrambled Sobol sequence in Boost's (Joe-Kuo) tables, Gray-code order:
 // point k, dimension d, as a 32-bit fraction numerator (point = value / 2^32).
 std::uint32_t sobol_bits(std::uint64_t k, unsigned dimension, unsigned dimensions);
+
+// Owen-scrambled (by hashing, keyed by seed and dimension) Sobol point
+// `index` of `total` dimensions: dimensions first .. first + u.size() - 1
+// into u; and one dimension alone (the same bits).
+void scrambled_sobol_point(std::uint64_t seed, std::uint64_t index, unsigned total, unsigned first,
+                           std::span<double> u);
+double scrambled_sobol_uniform(std::uint64_t seed, std::uint64_t index, unsigned dimension, unsigned dimensions);
+
+// A_j or B_j of base point `at.base` over 2D scrambled Sobol' dimensions
+// (D = u.size()), and for AB, A_j with unit `at.unit`'s inputs from B_j
+// (saltelli, and morris' radial steps).
+void saltelli_point(std::uint64_t seed, std::span<const unsigned> unit_of_dimension, const SaltelliPlace& at,
+                    std::span<double> u);
+
+// A Sobol' design within Boost's tables (dimensions) and 32-bit points;
+// else std::invalid_argument naming `design`.
+void check_sobol_size(std::string_view design, unsigned sobol_dimensions, std::uint64_t points);
 
 }  // namespace treedyn::ensemble

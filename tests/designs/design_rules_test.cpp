@@ -15,8 +15,11 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <set>
+#include <string>
 #include <vector>
 
+#include "designs/sample_design.hpp"
 #include "job/ensemble_spec.hpp"
 #include "sampling/design.hpp"
 
@@ -48,11 +51,17 @@ unsigned shared_with_previous(const SampleDesign& points, std::uint64_t k) {
   return same;
 }
 
+// The registry: each design's own rules, and no two designs claiming one table.
 TEST(DesignRules, EveryDesignHasItsOwnRules) {
+  std::set<std::string_view> tables;
   for (const auto& [design, text] : kDesignNames) {
     EXPECT_EQ(rules_of(design).design(), design) << text;
-    EXPECT_FALSE(rules_of(design).samples_description().empty()) << text;
+    const std::string_view table = rules_of(design).table();
+    if (!table.empty()) {
+      EXPECT_TRUE(tables.insert(table).second) << text << " claims [ensemble." << table << "]";
+    }
   }
+  EXPECT_EQ(tables, (std::set<std::string_view>{"morris", "subset"}));
 }
 
 TEST(DesignRules, ADesignAStoppingRuleMayStopHasNestedPrefixes) {

@@ -21,6 +21,7 @@
 
 #include "designs/morris/morris_effects.hpp"
 #include "designs/morris/morris_points.hpp"
+#include "designs/sample_design.hpp"
 #include "job/ensemble_spec.hpp"
 #include "sampling/design.hpp"
 

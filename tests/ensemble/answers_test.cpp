@@ -14,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "designs/sample_design.hpp"
 #include "output/response.hpp"
 #include "sampling/design.hpp"
 

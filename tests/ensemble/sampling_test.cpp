@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "analysis/sensitivity.hpp"
+#include "designs/sample_design.hpp"
 #include "sampling/design.hpp"
 #include "sampling/distribution.hpp"
 #include "sampling/normal_copula.hpp"

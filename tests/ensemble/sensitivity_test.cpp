@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "designs/sample_design.hpp"
 #include "sampling/design.hpp"
 
 namespace {

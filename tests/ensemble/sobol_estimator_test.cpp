@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "analysis/sensitivity.hpp"
+#include "designs/sample_design.hpp"
 #include "sampling/design.hpp"
 
 namespace {

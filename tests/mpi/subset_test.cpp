@@ -198,7 +198,12 @@ TEST_F(Subset, JobsItCannotServeAreRefused) {
     std::string what, text, message;
   };
   const double b = ball_limit_for(1e-3);
+  // (2^64 + 2) / 3 samples per level make 2 runs in all once multiplied
+  // out modulo 2^64 (p0 = 1/2, 4 levels): refused for the samples alone.
+  std::string huge = isotropic_ball_job(b, 1000, kSubset + "\nlevel_probability = 0.5\nmax_levels = 4");
+  huge.replace(huge.find("samples = 1000"), 14, "samples = 6148914691236517206");
   const std::vector<Case> cases = {
+      {"huge", huge, "ensemble.samples: 6148914691236517206 samples: at most 67108864"},
       {"no table", isotropic_ball_job(b, 1000, "design = \"subset_simulation\""),
        "ensemble.design: subset_simulation needs an [ensemble.subset] table"},
       {"chains", isotropic_ball_job(b, 1005, kSubset), "samples must be a multiple of 10"},

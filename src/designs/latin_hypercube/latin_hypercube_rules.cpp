@@ -2,12 +2,17 @@
 // so run k depends on N and a prefix of the runs is not a design.
 #include "designs/latin_hypercube/latin_hypercube_rules.hpp"
 
+#include "designs/latin_hypercube/latin_hypercube_points.hpp"
+
 namespace treedyn::designs {
 
 namespace {
 class LatinHypercubeRules final : public DesignRules {
  public:
   ensemble::Design design() const override { return ensemble::Design::latin_hypercube; }
+  std::unique_ptr<ensemble::RunPoints> points(const ensemble::PointsSpec& spec) const override {
+    return ensemble::latin_hypercube_points(spec);
+  }
   std::string_view why_no_stopping_rule() const override {
     return "a stopping rule needs a design whose prefixes are designs (monte_carlo, sobol, saltelli); the first n "
            "samples of a latin_hypercube are not one";

@@ -1,10 +1,23 @@
-// design = "monte_carlo": independent uniforms per run; every default rule.
+// design = "monte_carlo": independent uniforms per run; every other rule
+// the default.
 #include "designs/monte_carlo/monte_carlo_rules.hpp"
+
+#include "designs/monte_carlo/monte_carlo_points.hpp"
 
 namespace treedyn::designs {
 
+namespace {
+class MonteCarloRules final : public DesignRules {
+ public:
+  ensemble::Design design() const override { return ensemble::Design::monte_carlo; }
+  std::unique_ptr<ensemble::RunPoints> points(const ensemble::PointsSpec& spec) const override {
+    return ensemble::monte_carlo_points(spec);
+  }
+};
+}  // namespace
+
 const DesignRules& monte_carlo_rules() {
-  static const DefaultRules rules(ensemble::Design::monte_carlo);
+  static const MonteCarloRules rules;
   return rules;
 }
 

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "designs/morris/morris_points.hpp"
+#include "designs/sample_design.hpp"
 #include "sampling/design.hpp"
 
 namespace treedyn::ensemble {

@@ -2,6 +2,7 @@
 // (an input or a group), for the elementary effects (morris_effects.hpp).
 #include "designs/morris/morris_rules.hpp"
 
+#include "designs/morris/morris_run_points.hpp"
 #include "designs/morris/read_morris.hpp"
 #include "job/ensemble_spec.hpp"
 
@@ -11,6 +12,9 @@ namespace {
 class MorrisRules final : public DesignRules {
  public:
   ensemble::Design design() const override { return ensemble::Design::morris; }
+  std::unique_ptr<ensemble::RunPoints> points(const ensemble::PointsSpec& spec) const override {
+    return ensemble::morris_run_points(spec);
+  }
   std::string_view table() const override { return "morris"; }
   bool takes_samples() const override { return false; }  // trajectories, in [ensemble.morris]
   void read_runs(const TomlView& ensemble, ensemble::EnsembleSpec& s, std::uint64_t max_runs) const override {

@@ -4,6 +4,7 @@
 
 #include <string>
 
+#include "designs/saltelli/saltelli_points.hpp"
 #include "job/ensemble_spec.hpp"
 #include "job/toml_view.hpp"
 
@@ -13,6 +14,9 @@ namespace {
 class SaltelliRules final : public DesignRules {
  public:
   ensemble::Design design() const override { return ensemble::Design::saltelli; }
+  std::unique_ptr<ensemble::RunPoints> points(const ensemble::PointsSpec& spec) const override {
+    return ensemble::saltelli_points(spec);
+  }
   void read_runs(const TomlView& ensemble, ensemble::EnsembleSpec& s, std::uint64_t max_runs) const override;
   std::uint64_t runs_per_step(const ensemble::EnsembleSpec& s) const override { return s.saltelli_block(); }
   // The AB_u rows repeat all of A_j's inputs but unit u's: each is

@@ -1,6 +1,7 @@
 // design = "sobol": scrambled Sobol' points, whose prefixes are designs too.
 #include "designs/sobol/sobol_rules.hpp"
 
+#include "designs/sobol/sobol_points.hpp"
 #include "job/ensemble_spec.hpp"
 #include "job/toml_view.hpp"
 
@@ -10,6 +11,9 @@ namespace {
 class SobolRules final : public DesignRules {
  public:
   ensemble::Design design() const override { return ensemble::Design::sobol; }
+  std::unique_ptr<ensemble::RunPoints> points(const ensemble::PointsSpec& spec) const override {
+    return ensemble::sobol_points(spec);
+  }
   void read_runs(const TomlView& t, ensemble::EnsembleSpec& s, std::uint64_t) const override {
     if (s.input_dimensions() > 1000) t.fail("perturbation", "sobol supports at most 1000 input dimensions");
     s.runs = s.samples;

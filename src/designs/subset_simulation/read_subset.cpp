@@ -1,3 +1,4 @@
+// [ensemble.subset] of design = "subset_simulation" (read_subset.hpp).
 #include "designs/subset_simulation/read_subset.hpp"
 
 #include <cmath>
@@ -11,6 +12,7 @@ namespace treedyn::ensemble {
 // limit is the failure, p0, the levels; `samples` is per level, and the
 // run count is the most the levels can make: N + max_levels N (1 - p0).
 void read_subset(const TomlView& parent, EnsembleSpec& s, std::uint64_t max_runs) {
+  refuse_more_runs_than(parent, s.samples, max_runs);  // before the levels multiply it
   const auto section = parent.subtable("subset");
   if (!section)
     parent.fail("design",

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "common/format.hpp"
+#include "designs/monte_carlo/monte_carlo_points.hpp"
 #include "designs/subset_simulation/read_subset.hpp"
 #include "job/ensemble_spec.hpp"
 
@@ -14,6 +15,10 @@ namespace {
 class SubsetSimulationRules final : public DesignRules {
  public:
   ensemble::Design design() const override { return ensemble::Design::subset_simulation; }
+  // Level 0; the later levels' runs come from their chains.
+  std::unique_ptr<ensemble::RunPoints> points(const ensemble::PointsSpec& spec) const override {
+    return ensemble::monte_carlo_points(spec);
+  }
   std::string_view table() const override { return "subset"; }
   void read_runs(const TomlView& ensemble, ensemble::EnsembleSpec& s, std::uint64_t max_runs) const override {
     ensemble::read_subset(ensemble, s, max_runs);

@@ -1,0 +1,36 @@
+#include "designs/latin_hypercube/latin_hypercube_points.hpp"
+
+#include <cmath>
+
+#include "sampling/design.hpp"
+
+namespace treedyn::ensemble {
+namespace {
+
+class StrataPoints final : public PerDimensionPoints {
+ public:
+  StrataPoints(std::uint64_t seed, std::uint64_t runs, unsigned dimensions)
+      : PerDimensionPoints(dimensions), seed_(seed), runs_(runs) {}
+  // Stratum pi_d(k) of N, then a uniform position inside it.
+  double uniform(std::uint64_t run, unsigned dimension) const override {
+    const std::uint64_t stratum = permute_index(run, runs_, seed_, dimension);
+    const double inside = counter_uniform(seed_, run, dimension, 1);
+    const double n = static_cast<double>(runs_);
+    const double u = (static_cast<double>(stratum) + inside) / n;
+    // Rounding must not carry u into the next stratum (or to 1).
+    const double top = (static_cast<double>(stratum) + 1.0) / n;
+    return u < top ? u : std::nextafter(top, 0.0);
+  }
+
+ private:
+  std::uint64_t seed_;
+  std::uint64_t runs_;  // N
+};
+
+}  // namespace
+
+std::unique_ptr<RunPoints> latin_hypercube_points(const PointsSpec& spec) {
+  return std::make_unique<StrataPoints>(spec.seed, spec.runs, spec.dimensions);
+}
+
+}  // namespace treedyn::ensemble

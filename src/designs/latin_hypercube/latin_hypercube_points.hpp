@@ -1,0 +1,14 @@
+// design = "latin_hypercube": every dimension split into N strata, each hit
+// exactly once: run k's stratum in dimension d is a keyed permutation
+// pi_d(k) of the N runs, and its place inside the stratum a uniform.
+#pragma once
+
+#include <memory>
+
+#include "sampling/run_points.hpp"
+
+namespace treedyn::ensemble {
+
+std::unique_ptr<RunPoints> latin_hypercube_points(const PointsSpec& spec);
+
+}  // namespace treedyn::ensemble

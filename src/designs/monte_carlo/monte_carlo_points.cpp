@@ -1,0 +1,25 @@
+#include "designs/monte_carlo/monte_carlo_points.hpp"
+
+#include "sampling/design.hpp"
+
+namespace treedyn::ensemble {
+namespace {
+
+class CounterPoints final : public PerDimensionPoints {
+ public:
+  CounterPoints(std::uint64_t seed, unsigned dimensions) : PerDimensionPoints(dimensions), seed_(seed) {}
+  double uniform(std::uint64_t run, unsigned dimension) const override {
+    return counter_uniform(seed_, run, dimension, 0);
+  }
+
+ private:
+  std::uint64_t seed_;
+};
+
+}  // namespace
+
+std::unique_ptr<RunPoints> monte_carlo_points(const PointsSpec& spec) {
+  return std::make_unique<CounterPoints>(spec.seed, spec.dimensions);
+}
+
+}  // namespace treedyn::ensemble

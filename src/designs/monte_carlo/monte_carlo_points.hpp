@@ -1,0 +1,13 @@
+// design = "monte_carlo" (and subset simulation's level 0): independent
+// uniforms from a counter-based generator, u_kd = Philox4x64(seed; k, d).
+#pragma once
+
+#include <memory>
+
+#include "sampling/run_points.hpp"
+
+namespace treedyn::ensemble {
+
+std::unique_ptr<RunPoints> monte_carlo_points(const PointsSpec& spec);
+
+}  // namespace treedyn::ensemble

@@ -1,0 +1,29 @@
+#include "designs/sobol/sobol_points.hpp"
+
+#include "sampling/design.hpp"
+
+namespace treedyn::ensemble {
+namespace {
+
+class SobolPoints final : public RunPoints {
+ public:
+  SobolPoints(std::uint64_t seed, unsigned dimensions) : RunPoints(dimensions), seed_(seed) {}
+  void point(std::uint64_t run, std::span<double> u) const override {
+    scrambled_sobol_point(seed_, run, dimensions(), 0, u);
+  }
+  double uniform(std::uint64_t run, unsigned dimension) const override {
+    return scrambled_sobol_uniform(seed_, run, dimension, dimensions());
+  }
+
+ private:
+  std::uint64_t seed_;
+};
+
+}  // namespace
+
+std::unique_ptr<RunPoints> sobol_points(const PointsSpec& spec) {
+  check_sobol_size("sobol", spec.dimensions, spec.runs);
+  return std::make_unique<SobolPoints>(spec.seed, spec.dimensions);
+}
+
+}  // namespace treedyn::ensemble
