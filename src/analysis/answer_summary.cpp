@@ -83,7 +83,8 @@ std::vector<bool> list_entries(const EnsembleSpec& spec) {
 // Morris' ranking by mu*, and which of the leading units act nonlinearly
 // or through interactions (sigma at least mu*: their effects change sign
 // or size across the grid).
-void print_morris(std::ostream& out, const EnsembleSpec& spec, const Response& response, const MorrisIndices& m) {
+void print_morris(std::ostream& out, const EnsembleSpec& spec, const Response& response,
+                  const designs::MorrisIndices& m) {
   const std::vector<std::string> names = spec.unit_names();
   out << "    drivers (" << (spec.grouped ? "groups, " : "") << "Morris mu* [95 %], " << response.units
       << " per unit of u, from " << m.trajectories << " trajectories): ";

@@ -153,8 +153,8 @@ ResponseAnswer answer_response(const EnsembleSpec& spec, const ResponseTable& ta
   if (table.input_count() > 0) a.ranks = ranks_of(spec, table, r);
   if (spec.design == Design::saltelli) answer_sobol(spec, table, r, a);
   if (spec.design == Design::morris)
-    a.morris =
-        morris_indices(elementary_effects(spec, table, r), spec.unit_count(), spec.bootstrap_resamples, spec.seed);
+    a.morris = designs::morris_indices(designs::elementary_effects(spec, table, r), spec.unit_count(),
+                                       spec.bootstrap_resamples, spec.seed);
   // Subset simulation's response has its failure region in its answer
   // (answer_rare_event): level 0 alone rarely reaches the limit.
   const bool subset_answer = spec.subset && spec.subset->response == r;

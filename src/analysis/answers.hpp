@@ -86,12 +86,12 @@ struct ResponseAnswer {
   double mean = 0.0, std = 0.0, sem = 0.0;  // std: n - 1; sem = std / sqrt(used)
   std::optional<Exceedance> exceedance;
   std::vector<ConvergencePoint> convergence;
-  RankSensitivity ranks;                        // needs inputs (empty without perturbations)
-  std::optional<SobolIndices> sobol;            // design = "saltelli" only
-  std::uint64_t sobol_blocks = 0;               // base points run; sobol->base_samples of them complete
-  std::vector<SobolPrefix> sobol_convergence;   // on 1, 2, 4, ... base points, and all
-  std::optional<FailureRegion> failure_region;  // with a limit and inputs: of the counted runs
-  std::optional<MorrisIndices> morris;          // design = "morris" only
+  RankSensitivity ranks;                         // needs inputs (empty without perturbations)
+  std::optional<SobolIndices> sobol;             // design = "saltelli" only
+  std::uint64_t sobol_blocks = 0;                // base points run; sobol->base_samples of them complete
+  std::vector<SobolPrefix> sobol_convergence;    // on 1, 2, 4, ... base points, and all
+  std::optional<FailureRegion> failure_region;   // with a limit and inputs: of the counted runs
+  std::optional<designs::MorrisIndices> morris;  // design = "morris" only
 };
 
 // The answers for response r from samples 0 .. prefix-1 of `table`; the

@@ -6,12 +6,12 @@
 
 #include "designs/design_rules.hpp"
 
-namespace treedyn::ensemble {
+namespace treedyn::designs {
 
-SampleDesign::SampleDesign(Design design, std::uint64_t seed, std::uint64_t runs, unsigned dimensions,
+SampleDesign::SampleDesign(ensemble::Design design, std::uint64_t seed, std::uint64_t runs, unsigned dimensions,
                            std::vector<unsigned> unit_of_dimension, const std::optional<MorrisSpec>& morris)
     : design_(design) {
-  PointsSpec spec{seed, runs, dimensions, std::move(unit_of_dimension), dimensions, morris};
+  ensemble::PointsSpec spec{seed, runs, dimensions, std::move(unit_of_dimension), dimensions, morris};
   if (spec.unit_of_dimension.empty())
     for (unsigned d = 0; d < dimensions; ++d) spec.unit_of_dimension.push_back(d);
   if (spec.unit_of_dimension.size() != dimensions)
@@ -21,4 +21,4 @@ SampleDesign::SampleDesign(Design design, std::uint64_t seed, std::uint64_t runs
   points_ = designs::rules_of(design).points(spec);
 }
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::designs

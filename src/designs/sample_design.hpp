@@ -12,14 +12,14 @@
 #include "sampling/design.hpp"
 #include "sampling/run_points.hpp"
 
-namespace treedyn::ensemble {
+namespace treedyn::designs {
 
 class SampleDesign {
  public:
   // `unit_of_dimension` (saltelli, morris): the unit of each input
   // dimension, 0 .. U-1; empty: every dimension is a unit of its own
   // (U = D). `morris`: its variant and levels.
-  SampleDesign(Design design, std::uint64_t seed, std::uint64_t runs, unsigned dimensions,
+  SampleDesign(ensemble::Design design, std::uint64_t seed, std::uint64_t runs, unsigned dimensions,
                std::vector<unsigned> unit_of_dimension = {}, const std::optional<MorrisSpec>& morris = {});
 
   // u in the open interval (0, 1).
@@ -27,12 +27,12 @@ class SampleDesign {
   // All dimensions of one run at once (u.size() == dimensions()).
   void point(std::uint64_t run, std::span<double> u) const { points_->point(run, u); }
 
-  Design design() const { return design_; }
+  ensemble::Design design() const { return design_; }
   unsigned dimensions() const { return points_->dimensions(); }
 
  private:
-  Design design_;
-  std::unique_ptr<const RunPoints> points_;
+  ensemble::Design design_;
+  std::unique_ptr<const ensemble::RunPoints> points_;
 };
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::designs

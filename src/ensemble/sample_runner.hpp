@@ -75,7 +75,7 @@ class SampleRunner {
 
   const Job& job_;
   const EnsembleSpec& spec_;
-  SampleDesign design_;
+  designs::SampleDesign design_;
   NormalCopula copula_;  // the correlated inputs ([[ensemble.correlation]])
   std::vector<double> uniforms_;
   std::vector<double> parameters_;  // this sample's parameter vector

@@ -231,7 +231,7 @@ void write_sensitivity(hid_t parent, const ensemble::EnsembleSpec& spec, const e
                         std::string("95 % bootstrap interval of each input's ") +
                             (a.ranks.ranked_by_srrc ? "|SRRC|" : "|Spearman|") + " (the rank ranking's measure)",
                         inputs, "input");
-  if (a.morris) write_morris(sg.id(), spec, *a.morris, response.units);
+  if (a.morris) designs::write_morris(sg.id(), spec, *a.morris, response.units);
   if (!a.sobol) return;
   write_sobol(sg.id(), spec, a);
   write_sobol_convergence(sg.id(), spec, a);

@@ -61,13 +61,13 @@ struct EnsembleSpec {
   std::vector<Reduction> per_sample{Reduction::final, Reduction::min, Reduction::max, Reduction::argmin_time,
                                     Reduction::argmax_time};
   std::vector<Response> responses;
-  std::uint64_t store_trajectories = 0;  // full trajectories of samples 0 .. M-1
-  int bootstrap_resamples = 1000;        // for the Sobol' index intervals
-  std::optional<StopRule> stop;          // `runs` is then the most the run makes
-  std::optional<SubsetSpec> subset;      // design = "subset_simulation": runs = the most it makes
-  std::optional<MorrisSpec> morris;      // design = "morris": runs = trajectories x (U + 1)
-  std::vector<SobolUnit> sobol_units;    // Saltelli's and Morris' units (read_ensemble fills them for every design)
-  bool grouped = false;                  // sobol_units are not the inputs ([[ensemble.group]], morris' lists)
+  std::uint64_t store_trajectories = 0;       // full trajectories of samples 0 .. M-1
+  int bootstrap_resamples = 1000;             // for the Sobol' index intervals
+  std::optional<StopRule> stop;               // `runs` is then the most the run makes
+  std::optional<SubsetSpec> subset;           // design = "subset_simulation": runs = the most it makes
+  std::optional<designs::MorrisSpec> morris;  // design = "morris": runs = trajectories x (U + 1)
+  std::vector<SobolUnit> sobol_units;  // Saltelli's and Morris' units (read_ensemble fills them for every design)
+  bool grouped = false;                // sobol_units are not the inputs ([[ensemble.group]], morris' lists)
   std::vector<InputCorrelation> correlations;
 
   unsigned input_dimensions() const;

@@ -4,6 +4,7 @@
 #include <boost/random/sobol.hpp>
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -120,6 +121,7 @@ double scrambled_sobol_uniform(std::uint64_t seed, std::uint64_t index, unsigned
 void saltelli_point(std::uint64_t seed, std::span<const unsigned> unit_of_dimension, const SaltelliPlace& at,
                     std::span<double> u) {
   const auto d = static_cast<unsigned>(u.size());
+  assert(unit_of_dimension.size() == d);
   scrambled_sobol_point(seed, at.base, 2 * d, at.role == SaltelliRole::b ? d : 0, u);
   if (at.role != SaltelliRole::ab) return;
   double from_b = 0.0;

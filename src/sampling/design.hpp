@@ -75,9 +75,9 @@ void scrambled_sobol_point(std::uint64_t seed, std::uint64_t index, unsigned tot
                            std::span<double> u);
 double scrambled_sobol_uniform(std::uint64_t seed, std::uint64_t index, unsigned dimension, unsigned dimensions);
 
-// A_j or B_j of base point `at.base` over 2D scrambled Sobol' dimensions
-// (D = u.size()), and for AB, A_j with unit `at.unit`'s inputs from B_j
-// (saltelli, and morris' radial steps).
+// A_j or B_j of base point `at.base` over 2D scrambled Sobol' dimensions,
+// and for AB, A_j with unit `at.unit`'s inputs from B_j (saltelli, and
+// morris' radial steps); u.size() == unit_of_dimension.size() == D.
 void saltelli_point(std::uint64_t seed, std::span<const unsigned> unit_of_dimension, const SaltelliPlace& at,
                     std::span<double> u);
 

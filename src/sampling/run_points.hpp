@@ -12,17 +12,18 @@
 #include <vector>
 
 #include "designs/morris/morris_spec.hpp"
+#include "sampling/design.hpp"
 
 namespace treedyn::ensemble {
 
 // What a design's points are made from.
 struct PointsSpec {
   std::uint64_t seed = 0;
-  std::uint64_t runs = 0;                   // N
-  unsigned dimensions = 0;                  // D
-  std::vector<unsigned> unit_of_dimension;  // size D: the unit 0 .. U-1 of each dimension
-  unsigned units = 0;                       // U
-  std::optional<MorrisSpec> morris;         // design = "morris": its variant and levels
+  std::uint64_t runs = 0;                     // N
+  unsigned dimensions = 0;                    // D
+  std::vector<unsigned> unit_of_dimension;    // size D: the unit 0 .. U-1 of each dimension
+  unsigned units = 0;                         // U
+  std::optional<designs::MorrisSpec> morris;  // design = "morris": its variant and levels
 };
 
 class RunPoints {
@@ -53,6 +54,26 @@ class PerDimensionPoints : public RunPoints {
   void point(std::uint64_t run, std::span<double> u) const final {
     for (unsigned d = 0; d < u.size(); ++d) u[d] = uniform(run, d);
   }
+};
+
+// A design whose runs are Saltelli's A, B and AB points (saltelli_point):
+// saltelli, and morris' radial steps; each says which run is which.
+class TwoPointRuns : public RunPoints {
+ public:
+  explicit TwoPointRuns(const PointsSpec& spec)
+      : RunPoints(spec.dimensions), seed_(spec.seed), unit_of_dimension_(spec.unit_of_dimension), units_(spec.units) {}
+  void point(std::uint64_t run, std::span<double> u) const final {
+    saltelli_point(seed_, unit_of_dimension_, place(run), u);
+  }
+
+ protected:
+  unsigned units() const { return units_; }  // U
+  virtual SaltelliPlace place(std::uint64_t run) const = 0;
+
+ private:
+  std::uint64_t seed_;
+  std::vector<unsigned> unit_of_dimension_;
+  unsigned units_;
 };
 
 }  // namespace treedyn::ensemble

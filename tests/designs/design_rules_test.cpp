@@ -1,5 +1,5 @@
 // Each design's rules (src/designs/<name>/*_rules.cpp) against what its
-// points (sampling/design.cpp) actually are, so that a rule cannot drift
+// points (the RunPoints its rules make) actually are, so that a rule cannot drift
 // from the design it describes:
 //
 //  * the registry has rules for every design, and each is that design's;
@@ -27,6 +27,7 @@ namespace {
 
 using namespace treedyn::ensemble;
 using treedyn::designs::rules_of;
+using treedyn::designs::SampleDesign;
 
 constexpr unsigned kInputs = 3;
 
@@ -35,7 +36,7 @@ EnsembleSpec spec_of(Design design, std::uint64_t runs) {
   s.design = design;
   s.runs = runs;
   for (unsigned d = 0; d < kInputs; ++d) s.sobol_units.push_back({"x" + std::to_string(d), {d}});
-  if (design == Design::morris) s.morris = MorrisSpec{};
+  if (design == Design::morris) s.morris = treedyn::designs::MorrisSpec{};  // radial steps
   return s;
 }
 

@@ -28,6 +28,7 @@
 namespace {
 
 using namespace treedyn::ensemble;
+using namespace treedyn::designs;
 
 // Three inputs in two units (0: inputs 0 and 2; 1: input 1), 6 levels.
 const std::vector<unsigned> kUnits{0, 1, 0};

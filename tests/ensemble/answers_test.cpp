@@ -21,6 +21,7 @@
 namespace {
 
 using namespace treedyn::ensemble;
+using treedyn::designs::SampleDesign;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 Response response(Response::Reduce reduce, double parameter = 0.0) {

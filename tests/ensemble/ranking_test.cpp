@@ -27,6 +27,7 @@
 namespace {
 
 using namespace treedyn::ensemble;
+using treedyn::designs::SampleDesign;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 

@@ -35,11 +35,11 @@
 
 namespace {
 
+using treedyn::designs::SampleDesign;
 using treedyn::ensemble::counter_uniform;
 using treedyn::ensemble::Design;
 using treedyn::ensemble::Distribution;
 using treedyn::ensemble::permute_index;
-using treedyn::ensemble::SampleDesign;
 using treedyn::ensemble::sobol_bits;
 
 constexpr Design kDesigns[] = {Design::monte_carlo, Design::latin_hypercube, Design::sobol};

@@ -29,6 +29,7 @@
 namespace {
 
 using namespace treedyn::ensemble;
+using treedyn::designs::SampleDesign;
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 

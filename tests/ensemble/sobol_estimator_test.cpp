@@ -33,6 +33,7 @@
 namespace {
 
 using namespace treedyn::ensemble;
+using treedyn::designs::SampleDesign;
 
 constexpr int kSeeds = 200;
 constexpr int kResamples = 1000;

@@ -4,17 +4,17 @@
 
 #include "sampling/design.hpp"
 
-namespace treedyn::ensemble {
+namespace treedyn::designs {
 namespace {
 
-class StrataPoints final : public PerDimensionPoints {
+class StrataPoints final : public ensemble::PerDimensionPoints {
  public:
   StrataPoints(std::uint64_t seed, std::uint64_t runs, unsigned dimensions)
-      : PerDimensionPoints(dimensions), seed_(seed), runs_(runs) {}
+      : ensemble::PerDimensionPoints(dimensions), seed_(seed), runs_(runs) {}
   // Stratum pi_d(k) of N, then a uniform position inside it.
   double uniform(std::uint64_t run, unsigned dimension) const override {
-    const std::uint64_t stratum = permute_index(run, runs_, seed_, dimension);
-    const double inside = counter_uniform(seed_, run, dimension, 1);
+    const std::uint64_t stratum = ensemble::permute_index(run, runs_, seed_, dimension);
+    const double inside = ensemble::counter_uniform(seed_, run, dimension, 1);
     const double n = static_cast<double>(runs_);
     const double u = (static_cast<double>(stratum) + inside) / n;
     // Rounding must not carry u into the next stratum (or to 1).
@@ -29,8 +29,8 @@ class StrataPoints final : public PerDimensionPoints {
 
 }  // namespace
 
-std::unique_ptr<RunPoints> latin_hypercube_points(const PointsSpec& spec) {
+std::unique_ptr<ensemble::RunPoints> latin_hypercube_points(const ensemble::PointsSpec& spec) {
   return std::make_unique<StrataPoints>(spec.seed, spec.runs, spec.dimensions);
 }
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::designs

@@ -7,8 +7,8 @@
 
 #include "sampling/run_points.hpp"
 
-namespace treedyn::ensemble {
+namespace treedyn::designs {
 
-std::unique_ptr<RunPoints> latin_hypercube_points(const PointsSpec& spec);
+std::unique_ptr<ensemble::RunPoints> latin_hypercube_points(const ensemble::PointsSpec& spec);
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::designs

@@ -11,7 +11,7 @@ class LatinHypercubeRules final : public DesignRules {
  public:
   ensemble::Design design() const override { return ensemble::Design::latin_hypercube; }
   std::unique_ptr<ensemble::RunPoints> points(const ensemble::PointsSpec& spec) const override {
-    return ensemble::latin_hypercube_points(spec);
+    return latin_hypercube_points(spec);
   }
   std::string_view why_no_stopping_rule() const override {
     return "a stopping rule needs a design whose prefixes are designs (monte_carlo, sobol, saltelli); the first n "

@@ -2,14 +2,14 @@
 
 #include "sampling/design.hpp"
 
-namespace treedyn::ensemble {
+namespace treedyn::designs {
 namespace {
 
-class CounterPoints final : public PerDimensionPoints {
+class CounterPoints final : public ensemble::PerDimensionPoints {
  public:
-  CounterPoints(std::uint64_t seed, unsigned dimensions) : PerDimensionPoints(dimensions), seed_(seed) {}
+  CounterPoints(std::uint64_t seed, unsigned dimensions) : ensemble::PerDimensionPoints(dimensions), seed_(seed) {}
   double uniform(std::uint64_t run, unsigned dimension) const override {
-    return counter_uniform(seed_, run, dimension, 0);
+    return ensemble::counter_uniform(seed_, run, dimension, 0);
   }
 
  private:
@@ -18,8 +18,8 @@ class CounterPoints final : public PerDimensionPoints {
 
 }  // namespace
 
-std::unique_ptr<RunPoints> monte_carlo_points(const PointsSpec& spec) {
+std::unique_ptr<ensemble::RunPoints> monte_carlo_points(const ensemble::PointsSpec& spec) {
   return std::make_unique<CounterPoints>(spec.seed, spec.dimensions);
 }
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::designs

@@ -6,8 +6,8 @@
 
 #include "sampling/run_points.hpp"
 
-namespace treedyn::ensemble {
+namespace treedyn::designs {
 
-std::unique_ptr<RunPoints> monte_carlo_points(const PointsSpec& spec);
+std::unique_ptr<ensemble::RunPoints> monte_carlo_points(const ensemble::PointsSpec& spec);
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::designs

@@ -11,7 +11,7 @@ class MonteCarloRules final : public DesignRules {
  public:
   ensemble::Design design() const override { return ensemble::Design::monte_carlo; }
   std::unique_ptr<ensemble::RunPoints> points(const ensemble::PointsSpec& spec) const override {
-    return ensemble::monte_carlo_points(spec);
+    return monte_carlo_points(spec);
   }
 };
 }  // namespace

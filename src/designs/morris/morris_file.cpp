@@ -6,9 +6,13 @@
 #include "hdf5/answer_datasets.hpp"
 #include "hdf5/described.hpp"
 
-namespace treedyn::answers_file {
+namespace treedyn::designs {
 
-void write_morris(hid_t sg, const ensemble::EnsembleSpec& spec, const ensemble::MorrisIndices& m,
+using answers_file::write_interval_matrix;  // the datasets every design's answers are written with
+using answers_file::write_per_input;
+using answers_file::write_ranking;
+
+void write_morris(hid_t sg, const ensemble::EnsembleSpec& spec, const MorrisIndices& m,
                   const std::string& response_units) {
   const std::vector<std::string> units = spec.unit_names();
   const std::string per =
@@ -39,4 +43,4 @@ void write_morris(hid_t sg, const ensemble::EnsembleSpec& spec, const ensemble::
   write_ranking(sg, "morris_ranking", m.ranking, "Morris mu*", units, "trajectories");
 }
 
-}  // namespace treedyn::answers_file
+}  // namespace treedyn::designs

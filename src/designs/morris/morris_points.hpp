@@ -24,7 +24,7 @@
 #include <span>
 #include <vector>
 
-namespace treedyn::ensemble {
+namespace treedyn::designs {
 
 // Delta in u: every step moves an input by half the unit interval.
 inline constexpr double kMorrisDelta = 0.5;
@@ -56,4 +56,4 @@ class MorrisPoints {
   unsigned units_;
 };
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::designs

@@ -13,12 +13,12 @@ class MorrisRules final : public DesignRules {
  public:
   ensemble::Design design() const override { return ensemble::Design::morris; }
   std::unique_ptr<ensemble::RunPoints> points(const ensemble::PointsSpec& spec) const override {
-    return ensemble::morris_run_points(spec);
+    return morris_run_points(spec);
   }
   std::string_view table() const override { return "morris"; }
   bool takes_samples() const override { return false; }  // trajectories, in [ensemble.morris]
   void read_runs(const TomlView& ensemble, ensemble::EnsembleSpec& s, std::uint64_t max_runs) const override {
-    ensemble::read_morris(ensemble, s, max_runs);
+    read_morris(ensemble, s, max_runs);
   }
   std::uint64_t runs_per_step(const ensemble::EnsembleSpec& s) const override { return s.unit_count() + 1u; }
   // A trajectory's first run; the others each move one unit from the run before.

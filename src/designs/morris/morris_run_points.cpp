@@ -3,29 +3,27 @@
 #include "designs/morris/morris_points.hpp"
 #include "sampling/design.hpp"
 
-namespace treedyn::ensemble {
+namespace treedyn::designs {
 namespace {
 
-class RadialPoints final : public RunPoints {
+// Run s of trajectory t: A_t (s = 0), then A_t with unit s - 1 from B_t.
+class RadialPoints final : public ensemble::TwoPointRuns {
  public:
-  explicit RadialPoints(const PointsSpec& spec)
-      : RunPoints(spec.dimensions), seed_(spec.seed), unit_of_dimension_(spec.unit_of_dimension), units_(spec.units) {}
-  void point(std::uint64_t run, std::span<double> u) const override {
-    const std::uint64_t t = run / (units_ + 1u), s = run % (units_ + 1u);
-    saltelli_point(seed_, unit_of_dimension_,
-                   {t, s == 0 ? SaltelliRole::a : SaltelliRole::ab, s == 0 ? 0u : static_cast<unsigned>(s - 1)}, u);
-  }
+  using TwoPointRuns::TwoPointRuns;
 
  private:
-  std::uint64_t seed_;
-  std::vector<unsigned> unit_of_dimension_;
-  unsigned units_;  // U
+  ensemble::SaltelliPlace place(std::uint64_t run) const override {
+    const std::uint64_t t = run / (units() + 1u), s = run % (units() + 1u);
+    return {t, s == 0 ? ensemble::SaltelliRole::a : ensemble::SaltelliRole::ab,
+            s == 0 ? 0u : static_cast<unsigned>(s - 1)};
+  }
 };
 
-class TrajectoryPoints final : public RunPoints {
+class TrajectoryPoints final : public ensemble::RunPoints {
  public:
-  explicit TrajectoryPoints(const PointsSpec& spec)
-      : RunPoints(spec.dimensions), points_(spec.seed, spec.morris->levels, spec.unit_of_dimension, spec.units) {}
+  explicit TrajectoryPoints(const ensemble::PointsSpec& spec)
+      : ensemble::RunPoints(spec.dimensions),
+        points_(spec.seed, spec.morris->levels, spec.unit_of_dimension, spec.units) {}
   void point(std::uint64_t run, std::span<double> u) const override { points_.point(run, u); }
 
  private:
@@ -34,10 +32,11 @@ class TrajectoryPoints final : public RunPoints {
 
 }  // namespace
 
-std::unique_ptr<RunPoints> morris_run_points(const PointsSpec& spec) {
+std::unique_ptr<ensemble::RunPoints> morris_run_points(const ensemble::PointsSpec& spec) {
   if (spec.morris && !spec.morris->radial) return std::make_unique<TrajectoryPoints>(spec);
-  check_sobol_size("morris", 2 * spec.dimensions, spec.runs / (spec.units + 1u));
+  ensemble::check_sobol_size(ensemble::name(ensemble::Design::morris), 2 * spec.dimensions,
+                             spec.runs / (spec.units + 1u));
   return std::make_unique<RadialPoints>(spec);
 }
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::designs

@@ -7,10 +7,10 @@
 
 #include "sampling/run_points.hpp"
 
-namespace treedyn::ensemble {
+namespace treedyn::designs {
 
 // Radial unless spec.morris says trajectories. Throws std::invalid_argument
 // beyond Boost's Sobol' tables or 2^32 - 1 radial trajectories.
-std::unique_ptr<RunPoints> morris_run_points(const PointsSpec& spec);
+std::unique_ptr<ensemble::RunPoints> morris_run_points(const ensemble::PointsSpec& spec);
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::designs

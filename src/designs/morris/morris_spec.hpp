@@ -3,7 +3,7 @@
 
 #include <cstdint>
 
-namespace treedyn::ensemble {
+namespace treedyn::designs {
 
 struct MorrisSpec {
   std::uint64_t trajectories = 0;  // r: runs are r (U + 1)
@@ -14,4 +14,4 @@ struct MorrisSpec {
   unsigned levels = 4;  // p, even (trajectories only): the levels (l + 1/2) / p of every input's u
 };
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::designs

@@ -2,28 +2,23 @@
 
 #include "sampling/design.hpp"
 
-namespace treedyn::ensemble {
+namespace treedyn::designs {
 namespace {
 
-class SaltelliPoints final : public RunPoints {
+class SaltelliPoints final : public ensemble::TwoPointRuns {
  public:
-  explicit SaltelliPoints(const PointsSpec& spec)
-      : RunPoints(spec.dimensions), seed_(spec.seed), unit_of_dimension_(spec.unit_of_dimension), units_(spec.units) {}
-  void point(std::uint64_t run, std::span<double> u) const override {
-    saltelli_point(seed_, unit_of_dimension_, saltelli_place(run, units_), u);
-  }
+  using TwoPointRuns::TwoPointRuns;
 
  private:
-  std::uint64_t seed_;
-  std::vector<unsigned> unit_of_dimension_;
-  unsigned units_;  // U
+  ensemble::SaltelliPlace place(std::uint64_t run) const override { return ensemble::saltelli_place(run, units()); }
 };
 
 }  // namespace
 
-std::unique_ptr<RunPoints> saltelli_points(const PointsSpec& spec) {
-  check_sobol_size("saltelli", 2 * spec.dimensions, spec.runs / saltelli_block(spec.units));
+std::unique_ptr<ensemble::RunPoints> saltelli_points(const ensemble::PointsSpec& spec) {
+  ensemble::check_sobol_size(ensemble::name(ensemble::Design::saltelli), 2 * spec.dimensions,
+                             spec.runs / ensemble::saltelli_block(spec.units));
   return std::make_unique<SaltelliPoints>(spec);
 }
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::designs

@@ -7,9 +7,9 @@
 
 #include "sampling/run_points.hpp"
 
-namespace treedyn::ensemble {
+namespace treedyn::designs {
 
 // Throws std::invalid_argument beyond Boost's tables or 2^32 - 1 base points.
-std::unique_ptr<RunPoints> saltelli_points(const PointsSpec& spec);
+std::unique_ptr<ensemble::RunPoints> saltelli_points(const ensemble::PointsSpec& spec);
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::designs

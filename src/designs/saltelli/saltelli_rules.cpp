@@ -15,7 +15,7 @@ class SaltelliRules final : public DesignRules {
  public:
   ensemble::Design design() const override { return ensemble::Design::saltelli; }
   std::unique_ptr<ensemble::RunPoints> points(const ensemble::PointsSpec& spec) const override {
-    return ensemble::saltelli_points(spec);
+    return saltelli_points(spec);
   }
   void read_runs(const TomlView& ensemble, ensemble::EnsembleSpec& s, std::uint64_t max_runs) const override;
   std::uint64_t runs_per_step(const ensemble::EnsembleSpec& s) const override { return s.saltelli_block(); }

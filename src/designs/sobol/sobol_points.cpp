@@ -2,17 +2,17 @@
 
 #include "sampling/design.hpp"
 
-namespace treedyn::ensemble {
+namespace treedyn::designs {
 namespace {
 
-class SobolPoints final : public RunPoints {
+class SobolPoints final : public ensemble::RunPoints {
  public:
-  SobolPoints(std::uint64_t seed, unsigned dimensions) : RunPoints(dimensions), seed_(seed) {}
+  SobolPoints(std::uint64_t seed, unsigned dimensions) : ensemble::RunPoints(dimensions), seed_(seed) {}
   void point(std::uint64_t run, std::span<double> u) const override {
-    scrambled_sobol_point(seed_, run, dimensions(), 0, u);
+    ensemble::scrambled_sobol_point(seed_, run, dimensions(), 0, u);
   }
   double uniform(std::uint64_t run, unsigned dimension) const override {
-    return scrambled_sobol_uniform(seed_, run, dimension, dimensions());
+    return ensemble::scrambled_sobol_uniform(seed_, run, dimension, dimensions());
   }
 
  private:
@@ -21,9 +21,9 @@ class SobolPoints final : public RunPoints {
 
 }  // namespace
 
-std::unique_ptr<RunPoints> sobol_points(const PointsSpec& spec) {
-  check_sobol_size("sobol", spec.dimensions, spec.runs);
+std::unique_ptr<ensemble::RunPoints> sobol_points(const ensemble::PointsSpec& spec) {
+  ensemble::check_sobol_size(ensemble::name(ensemble::Design::sobol), spec.dimensions, spec.runs);
   return std::make_unique<SobolPoints>(spec.seed, spec.dimensions);
 }
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::designs

@@ -6,9 +6,9 @@
 
 #include "sampling/run_points.hpp"
 
-namespace treedyn::ensemble {
+namespace treedyn::designs {
 
 // Throws std::invalid_argument beyond Boost's tables or 2^32 - 1 points.
-std::unique_ptr<RunPoints> sobol_points(const PointsSpec& spec);
+std::unique_ptr<ensemble::RunPoints> sobol_points(const ensemble::PointsSpec& spec);
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::designs

@@ -12,7 +12,7 @@ class SobolRules final : public DesignRules {
  public:
   ensemble::Design design() const override { return ensemble::Design::sobol; }
   std::unique_ptr<ensemble::RunPoints> points(const ensemble::PointsSpec& spec) const override {
-    return ensemble::sobol_points(spec);
+    return sobol_points(spec);
   }
   void read_runs(const TomlView& t, ensemble::EnsembleSpec& s, std::uint64_t) const override {
     if (s.input_dimensions() > 1000) t.fail("perturbation", "sobol supports at most 1000 input dimensions");

@@ -17,11 +17,11 @@ class SubsetSimulationRules final : public DesignRules {
   ensemble::Design design() const override { return ensemble::Design::subset_simulation; }
   // Level 0; the later levels' runs come from their chains.
   std::unique_ptr<ensemble::RunPoints> points(const ensemble::PointsSpec& spec) const override {
-    return ensemble::monte_carlo_points(spec);
+    return monte_carlo_points(spec);
   }
   std::string_view table() const override { return "subset"; }
   void read_runs(const TomlView& ensemble, ensemble::EnsembleSpec& s, std::uint64_t max_runs) const override {
-    ensemble::read_subset(ensemble, s, max_runs);
+    read_subset(ensemble, s, max_runs);
   }
   std::uint64_t first_wave_runs(const ensemble::EnsembleSpec& s) const override { return s.samples; }  // level 0
   std::string_view why_no_stopping_rule() const override {
