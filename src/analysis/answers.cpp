@@ -95,61 +95,59 @@ Interval wilson_interval(std::uint64_t k, std::uint64_t n, double z) {
   return {k == 0 ? 0.0 : std::max(0.0, centre - half), k == n ? 1.0 : std::min(1.0, centre + half)};
 }
 
-ResponseAnswer answer_response(const EnsembleSpec& spec, const ResponseTable& table, std::size_t r,
-                               std::uint64_t prefix, bool with_sensitivity) {
+namespace {
+
+// What the independent draws among runs 0 .. n-1 give response r.
+struct DrawCounts {
+  Running running;  // over the successful draws with a finite value
+  std::uint64_t successful = 0, exceeded = 0;
+};
+
+// The draws in run order, with the convergence points at 1, 2, 4, ...
+// steps of the design (saltelli: whole blocks, 2 independent draws each;
+// morris: trajectories, 1 each) and the failed and infinite ones in `a`.
+// The mean, the standard error, the exceedance (and their intervals), the
+// rank measures and the failure region use the independent draws only.
+DrawCounts count_draws(const EnsembleSpec& spec, const ResponseTable& table, std::size_t r, std::uint64_t n,
+                       ResponseAnswer& a) {
   const Response& response = spec.responses[r];
-  const std::uint64_t n = std::min(prefix, table.samples());
-  ResponseAnswer a;
-  Running running;
-  // Convergence at 1, 2, 4, ... steps of the design (saltelli: whole
-  // blocks, 2 independent draws each; morris: trajectories, 1 each). The
-  // mean, the standard error, the exceedance (and their intervals), the
-  // rank measures and the failure region use the independent draws only.
   const designs::DesignRules& rules = designs::rules_of(spec.design);
-  const std::uint64_t unit = rules.runs_per_step(spec);
-  std::uint64_t successful = 0, exceeded = 0, next_report = unit;
+  DrawCounts c;
+  std::uint64_t next_report = rules.runs_per_step(spec);
   for (std::uint64_t k = 0; k < n; ++k) {
     if (!rules.independent_draw(spec, k)) {
       // e.g. Saltelli's AB_i rows, which repeat all of A_j's inputs but one
     } else if (!table.ok(k)) {
       ++a.failed;
     } else {
-      ++successful;
+      ++c.successful;
       const double v = table.response(k, r);
       if (std::isfinite(v))
-        running.add(v);
+        c.running.add(v);
       else
         ++a.not_finite;
-      if (response.exceeds(v)) ++exceeded;
+      if (response.exceeds(v)) ++c.exceeded;
     }
     const std::uint64_t m = k + 1;
     if (m == next_report || m == n) {
       ConvergencePoint p;
       p.samples = m;
-      p.used = running.n;
-      p.mean = running.n > 0 ? running.mean : kNaN;
-      p.sem = running.sem();
-      p.probability = response.has_limit() ? ratio(exceeded, successful) : kNaN;
-      p.interval = response.has_limit() ? wilson_interval(exceeded, successful) : Interval{kNaN, kNaN};
+      p.used = c.running.n;
+      p.mean = c.running.n > 0 ? c.running.mean : kNaN;
+      p.sem = c.running.sem();
+      p.probability = response.has_limit() ? ratio(c.exceeded, c.successful) : kNaN;
+      p.interval = response.has_limit() ? wilson_interval(c.exceeded, c.successful) : Interval{kNaN, kNaN};
       a.convergence.push_back(p);
       while (next_report <= m) next_report *= 2;
     }
   }
-  a.used = running.n;
-  a.mean = running.n > 0 ? running.mean : kNaN;
-  a.std = running.std_dev();
-  a.sem = running.sem();
-  if (response.has_limit()) {
-    Exceedance e;
-    e.exceeded = exceeded;
-    e.successful = successful;
-    e.failed = a.failed;
-    e.probability = ratio(exceeded, successful);
-    e.interval = wilson_interval(exceeded, successful);
-    e.with_failed = with_failed(exceeded, successful, a.failed);
-    a.exceedance = e;
-  }
-  if (!with_sensitivity) return a;
+  return c;
+}
+
+// Which inputs drive response r: the rank measures, the design's own
+// indices (Saltelli's Sobol', Morris' effects) and the failure region.
+void answer_sensitivity(const EnsembleSpec& spec, const ResponseTable& table, std::size_t r, std::uint64_t n,
+                        ResponseAnswer& a) {
   if (table.input_count() > 0) a.ranks = ranks_of(spec, table, r);
   if (spec.design == Design::saltelli) answer_sobol(spec, table, r, a);
   if (spec.design == Design::morris)
@@ -158,9 +156,35 @@ ResponseAnswer answer_response(const EnsembleSpec& spec, const ResponseTable& ta
   // Subset simulation's response has its failure region in its answer
   // (answer_rare_event): level 0 alone rarely reaches the limit.
   const bool subset_answer = spec.subset && spec.subset->response == r;
-  if (response.has_limit() && table.input_count() > 0 && !subset_answer)
+  if (spec.responses[r].has_limit() && table.input_count() > 0 && !subset_answer) {
+    const designs::DesignRules& rules = designs::rules_of(spec.design);
     a.failure_region =
         failure_region(spec, table, r, [&](std::uint64_t k) { return k < n && rules.independent_draw(spec, k); });
+  }
+}
+
+}  // namespace
+
+ResponseAnswer answer_response(const EnsembleSpec& spec, const ResponseTable& table, std::size_t r,
+                               std::uint64_t prefix, bool with_sensitivity) {
+  const std::uint64_t n = std::min(prefix, table.samples());
+  ResponseAnswer a;
+  const DrawCounts c = count_draws(spec, table, r, n, a);
+  a.used = c.running.n;
+  a.mean = c.running.n > 0 ? c.running.mean : kNaN;
+  a.std = c.running.std_dev();
+  a.sem = c.running.sem();
+  if (spec.responses[r].has_limit()) {
+    Exceedance e;
+    e.exceeded = c.exceeded;
+    e.successful = c.successful;
+    e.failed = a.failed;
+    e.probability = ratio(c.exceeded, c.successful);
+    e.interval = wilson_interval(c.exceeded, c.successful);
+    e.with_failed = with_failed(c.exceeded, c.successful, a.failed);
+    a.exceedance = e;
+  }
+  if (with_sensitivity) answer_sensitivity(spec, table, r, n, a);
   return a;
 }
 
