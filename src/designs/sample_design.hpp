@@ -27,11 +27,7 @@ class SampleDesign {
   // All dimensions of one run at once (u.size() == dimensions()).
   void point(std::uint64_t run, std::span<double> u) const { points_->point(run, u); }
 
-  ensemble::Design design() const { return design_; }
-  unsigned dimensions() const { return points_->dimensions(); }
-
  private:
-  ensemble::Design design_;
   std::unique_ptr<const ensemble::RunPoints> points_;
 };
 

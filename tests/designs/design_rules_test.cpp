@@ -12,10 +12,13 @@
 //  * runs_per_step is the period of that pattern.
 #include "designs/design_rules.hpp"
 
+#include <boost/random/sobol.hpp>
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <optional>
 #include <set>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -103,6 +106,36 @@ TEST(DesignRules, IndependentDrawsAreTheRunsThatShareNoInputsWithTheRunBefore) {
     const std::uint64_t per_step = design == Design::saltelli ? 2 : 1;  // A and B
     EXPECT_EQ(independent + 1, 16 * per_step) << text;                  // run 0 is one
   }
+}
+
+// What the Sobol' generator cannot make is refused with the design's name,
+// only by the designs that use it: D dimensions (saltelli and radial morris:
+// 2D) within Boost's tables, at most 2^32 - 1 (base) points; and one unit per
+// input dimension for any design.
+TEST(DesignRules, PointsBeyondTheGeneratorAreRefusedNamingTheDesign) {
+  constexpr unsigned kMax = boost::random::detail::qrng_tables::sobol::max_dimension;
+  auto refusal = [](Design design, std::uint64_t runs, unsigned dimensions,
+                    const std::optional<treedyn::designs::MorrisSpec>& morris = {}) -> std::string {
+    try {
+      SampleDesign(design, 1, runs, dimensions, {}, morris);
+    } catch (const std::invalid_argument& e) {
+      return e.what();
+    }
+    return "";
+  };
+  EXPECT_EQ(refusal(Design::sobol, 8, kMax + 1), "sobol design: at most " + std::to_string(kMax) + " Sobol dimensions");
+  EXPECT_EQ(refusal(Design::sobol, 8, kMax), "");
+  EXPECT_EQ(refusal(Design::saltelli, 8 * (kMax / 2 + 3), kMax / 2 + 1).rfind("saltelli design: at most", 0), 0u);
+  EXPECT_EQ(refusal(Design::saltelli, 8 * (kMax / 2 + 2), kMax / 2), "");
+  EXPECT_EQ(refusal(Design::morris, 8 * (kMax / 2 + 2), kMax / 2 + 1).rfind("morris design: at most", 0), 0u);
+  const treedyn::designs::MorrisSpec grid{8, false, 4};  // no Sobol' points: no such limit
+  EXPECT_EQ(refusal(Design::morris, 8 * (kMax / 2 + 2), kMax / 2 + 1, grid), "");
+  EXPECT_EQ(refusal(Design::monte_carlo, 8, kMax + 1), "");
+  EXPECT_EQ(refusal(Design::sobol, std::uint64_t{1} << 32, 2), "sobol design: at most 2^32 - 1 Sobol points");
+  EXPECT_EQ(refusal(Design::sobol, (std::uint64_t{1} << 32) - 1, 2), "");
+  EXPECT_EQ(refusal(Design::saltelli, (std::uint64_t{1} << 32) * 4, 2),
+            "saltelli design: at most 2^32 - 1 Sobol points");
+  EXPECT_THROW(SampleDesign(Design::saltelli, 1, 8, 3, {0, 1}), std::invalid_argument);  // 2 units for 3 inputs
 }
 
 TEST(DesignRules, StepsAreSaltellisBlocksAndMorrisTrajectories) {
