@@ -36,15 +36,20 @@ trap 'rm -rf "$work"' EXIT
 declare -A samples=([spherical_pendulum]=4096 [double_pendulum]=1024 [chain10]=512 [y_tree]=512
                     [crane_payload]=2 [kapitza]=1024)
 
-# FILE -> "record_cpu_s sample_cpu_s other_cpu_s samples" from its root attributes (sums over the run).
+# FILE -> "record_cpu_s sample_cpu_s other_cpu_s samples unit_storing_cpu_s samples_in_units
+# stored_bytes_per_sample" from its root attributes (sums over the run) and its datasets.
 measure() {
   /usr/bin/python3 - "$1" <<'PY'
 import sys, h5py
 with h5py.File(sys.argv[1]) as f:
     a = f.attrs
     writing, busy, cpu = a["record_writing_cpu_seconds_per_rank"], a["busy_cpu_seconds_per_rank"], a["cpu_seconds_per_rank"]
+    sizes = []  # the per-sample numbers' stored bytes (deflated where that paid)
+    f["samples"].visititems(lambda name, o: sizes.append(o.id.get_storage_size())
+                            if isinstance(o, h5py.Dataset) and o.dtype.kind in "fiu" else None)
+    stored = sum(sizes)
     print(f"{writing[0]:.6f} {busy.sum():.6f} {cpu[0] - busy[0] - writing[0]:.6f} {int(a['samples_used'])} "
-          f"{a['unit_storing_cpu_seconds']:.6f} {int(a['samples_in_units'])}")
+          f"{a['unit_storing_cpu_seconds']:.6f} {int(a['samples_in_units'])} {stored / int(a['samples_used']):.0f}")
 PY
 }
 
@@ -57,8 +62,8 @@ edited() {
 # (the first chunks of each dataset are always deflated, to judge whether
 # deflate pays); the marginal cost, between N and 4 N samples, is what a
 # long run pays per record.
-echo "| example | record (bytes) | ranks | rank 0 CPU per record (us) | of which storing units (us per unit record) | sample CPU (ms) | scales to (ranks) |"
-echo "|---|---:|---:|---:|---:|---:|---:|"
+echo "| example | record (bytes) | row bytes | stored (bytes) | ranks | rank 0 CPU per record (us) | of which storing units (us per unit record) | writing here (ns/byte) | sample CPU (ms) | scales to (ranks) |"
+echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
 for name in ${EXAMPLES:-spherical_pendulum double_pendulum chain10 y_tree crane_payload kapitza}; do
   n=${SAMPLES:-${samples[$name]}}
   for p in "${ranks[@]}"; do
@@ -67,14 +72,21 @@ for name in ${EXAMPLES:-spherical_pendulum double_pendulum chain10 y_tree crane_
       mpirun -np "$p" --oversubscribe "$ensemble" "$work/$name.toml" -o "$work/run_$m.h5" -q --checkpoint-every 0 \
         ${UNIT_ROWS:+--test-unit-rows "$UNIT_ROWS"} > /dev/null 2>&1
     done
-    read -r w1 b1 _ r1 s1 u1 <<< "$(measure "$work/run_$n.h5")"
-    read -r w4 b4 _ r4 s4 u4 <<< "$(measure "$work/run_$((4 * n)).h5")"
-    bytes=$("$ensemble" --check "$work/$name.toml" | sed -n 's/.*(\([0-9]*\) bytes each.*/\1/p')
+    read -r w1 b1 _ r1 s1 u1 _ <<< "$(measure "$work/run_$n.h5")"
+    read -r w4 b4 _ r4 s4 u4 stored <<< "$(measure "$work/run_$((4 * n)).h5")"
+    # The record's size, its row bytes and what writing costs here, measured
+    # now in the runs' directory (ensemble/capacity.hpp's model has a part
+    # per row byte at that cost: BENCHMARKS.md, "Rank 0's storing is the
+    # page cache's").
+    check=$("$ensemble" --check "$work/$name.toml" -o "$work/check.h5")
+    bytes=$(sed -n 's/.*(\([0-9]*\) bytes each.*/\1/p' <<< "$check")
+    row_bytes=$(sed -n 's/.*; \([0-9]*\) row bytes a record, about.*/\1/p' <<< "$check")
+    write_ns=$(sed -n 's/.* \([0-9.]*\) ns a byte, measured now.*/\1/p' <<< "$check")
     /usr/bin/python3 -c "
 record = ($w4 - $w1) / ($r4 - $r1)
 sample = ($b4 - $b1) / ($r4 - $r1)
 storing = f'{($s4 - $s1) / ($u4 - $u1) * 1e6:.2f}' if $u4 > $u1 else '-'
-print(f'| $name | $bytes | $p | {record * 1e6:.2f} | {storing} | {sample * 1e3:.3f} | {int(sample / record)} |')"
+print(f'| $name | $bytes | $row_bytes | $stored | $p | {record * 1e6:.2f} | {storing} | $write_ns | {sample * 1e3:.3f} | {int(sample / record)} |')"
     rm -f "$work"/run_*.h5
   done
 done

@@ -17,18 +17,22 @@
 #include "job/sample_job.hpp"
 #include "parallel/driver.hpp"
 #include "parallel/mpi_handles.hpp"
+#include "process/atomic_file.hpp"
 #include "process/signals.hpp"
 
 namespace {
 
-// --check: validate the job and its [ensemble], print what would run, run nothing.
-int check(const std::string& job_path) {
+// --check: validate the job and its [ensemble], print what would run, run
+// nothing. Rank 0's capacity counts what writing costs where the output
+// would go (the output's directory, else the current one).
+int check(const std::string& job_path, const std::string& output_path) {
   try {
     const auto [job, spec] = treedyn::ensemble::read_ensemble_job(treedyn::JobDocument::read(job_path));
     treedyn::print_model_summary(std::cout, job);
     treedyn::ensemble::print_ensemble_summary(std::cout, job, spec);
-    treedyn::ensemble::print_capacity(std::cout, treedyn::ensemble::measure_capacity(job, spec), spec,
-                                      "sample 0, timed now");
+    treedyn::ensemble::Capacity capacity = treedyn::ensemble::measure_capacity(job, spec);
+    treedyn::ensemble::measure_writing(capacity, treedyn::process::directory_of(output_path));
+    treedyn::ensemble::print_capacity(std::cout, capacity, spec, "sample 0, timed now");
     std::cout << job_path << ": OK\n";
     return treedyn::kExitOk;
   } catch (const treedyn::JobError& e) {
@@ -88,12 +92,12 @@ void define_options(CLI::App& app, CommandLine& c) {
       "they are recorded in /samples/status. `treedyn-ensemble merge -o OUT.h5 PART ...` joins the parts of "
       "--samples runs.");
   app.add_option("JOB", c.options.job_path, "job file (TOML) with an [ensemble] section")->required();
-  auto* output = app.add_option("-o,--output", c.options.output_path,
+  app.add_option("-o,--output", c.options.output_path,
                                 "output file (HDF5), written atomically (required unless --check)");
   app.add_flag("--check", c.check_only,
                "validate the job and its [ensemble], print the model and the ensemble and how many ranks it can keep "
-               "busy (timing its nominal run and sample 0); write nothing")
-      ->excludes(output);
+               "busy (timing its nominal run and sample 0, and writing 16 MiB to a file removed at once in "
+               "--output's directory, or the current one); write nothing");
   app.add_flag("-q,--quiet", c.options.quiet, "no progress and no summary");
   c.sample_option =
       app.add_option("--sample", c.sample,
@@ -237,7 +241,7 @@ int main(int argc, char** argv) {
     const int code = session.rank() == 0 ? app.exit(e) : (e.get_exit_code() == 0 ? 0 : 1);
     return code == 0 ? kExitOk : kExitBadInput;
   }
-  if (c.check_only) return session.rank() == 0 ? check(c.options.job_path) : kExitOk;
+  if (c.check_only) return session.rank() == 0 ? check(c.options.job_path, c.options.output_path) : kExitOk;
   if (*c.samples_option && !read_sample_range(c.sample_range, c.options, session.rank())) return kExitBadInput;
   c.options.provenance = start_provenance(argc, argv, c.options.job_path);
   if (c.options.output_path.empty()) {

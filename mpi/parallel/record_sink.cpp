@@ -86,12 +86,6 @@ RecordSink::Writing::~Writing() {
   sink_.writing_cpu_seconds_ += thread_cpu_seconds() - start_cpu_;
 }
 
-double thread_cpu_seconds() {
-  timespec t{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
-}
-
 RecordWriter::RecordWriter(MPI_Comm comm, int ranks, EnsembleWriter* writer, ensemble::Progress& progress,
                            ensemble::ResponseTable* table, std::vector<ensemble::SampleRecord>* collected)
     : comm_(comm),

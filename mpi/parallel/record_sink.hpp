@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "common/buffer_pool.hpp"
+#include "common/host_time.hpp"
 #include "ensemble/progress.hpp"
 #include "ensemble/response_table.hpp"
 #include "hdf5/ensemble_file.hpp"
@@ -23,9 +24,6 @@
 #include "output/sample_record.hpp"
 
 namespace treedyn::parallel {
-
-// CPU time of the calling thread (CLOCK_THREAD_CPUTIME_ID), s.
-double thread_cpu_seconds();
 
 class RecordSink {
  public:

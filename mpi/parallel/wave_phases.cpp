@@ -11,6 +11,7 @@
 
 #include "analysis/subset_replay.hpp"
 #include "common/exit_codes.hpp"
+#include "common/host_time.hpp"
 #include "ensemble/capacity.hpp"
 #include "ensemble/sample_rows.hpp"
 #include "parallel/collectives.hpp"
@@ -128,9 +129,8 @@ void report_capacity(EnsembleRun& run, std::vector<double> pilot_cpu, double rec
   ensemble::Capacity c;
   c.record_bytes = static_cast<std::size_t>(largest[0]);
   c.record_seconds = ensemble::rank_zero_seconds_per_record(c.record_bytes);
-  const ensemble::SampleRows rows(run.spec, run.runner.layout(), run.runner.final_state_size());
-  c.datasets = rows.datasets().size();
-  c.most_unit_rows = ensemble::most_unit_rows(rows);
+  ensemble::count_rows(c, ensemble::SampleRows(run.spec, run.runner.layout(), run.runner.final_state_size()));
+  ensemble::measure_writing(c, process::directory_of(run.options.output_path));
   c.sample_seconds = pilot_cpu[pilot_cpu.size() / 2];
   ensemble::print_capacity(std::cerr, c, run.spec, "the pilot's");
   if (static_cast<double>(run.size) > c.ranks(run.unit_rows))

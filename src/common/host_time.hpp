@@ -9,5 +9,9 @@ namespace treedyn {
 std::string host_name();
 // Now, UTC, ISO 8601 to the second: 2026-12-01T12:00:00Z.
 std::string utc_now();
+// CPU time of the calling thread (CLOCK_THREAD_CPUTIME_ID), s: what rank 0's
+// own work costs, which oversubscribed ranks do not distort as they do
+// wall time.
+double thread_cpu_seconds();
 
 }  // namespace treedyn

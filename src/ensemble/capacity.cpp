@@ -1,7 +1,5 @@
 #include "ensemble/capacity.hpp"
 
-#include <time.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -9,18 +7,15 @@
 #include <string>
 #include <vector>
 
+#include "common/host_time.hpp"
 #include "ensemble/sample_rows.hpp"
 #include "ensemble/sample_runner.hpp"
 #include "persistence/record_codec.hpp"
+#include "process/atomic_file.hpp"
+#include "process/write_cost.hpp"
 
 namespace treedyn::ensemble {
 namespace {
-
-double thread_cpu() {
-  timespec t{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
-}
 
 struct OverBudget {};
 
@@ -33,12 +28,32 @@ double rank_zero_seconds_per_record(std::size_t bytes) {
   return kRankZeroFixedSeconds + kRankZeroSecondsPerByte * static_cast<double>(bytes);
 }
 
-double rank_zero_seconds_per_unit_record(std::size_t datasets, std::size_t rows) {
-  return kUnitRecordSeconds + kChunkWriteSeconds * static_cast<double>(datasets) / static_cast<double>(rows);
+double rank_zero_seconds_per_unit_record(std::size_t datasets, std::size_t rows, std::size_t row_bytes,
+                                         double write_seconds_per_byte) {
+  return kUnitRecordSeconds + write_seconds_per_byte * kStoredShare * static_cast<double>(row_bytes) +
+         kChunkWriteSeconds * static_cast<double>(datasets) / static_cast<double>(rows);
 }
 
 double Capacity::seconds_per_record(std::size_t unit_rows) const {
-  return unit_rows > 0 ? rank_zero_seconds_per_unit_record(datasets, unit_rows) : record_seconds;
+  return unit_rows > 0 ? rank_zero_seconds_per_unit_record(datasets, unit_rows, row_bytes, write_seconds_per_byte)
+                       : record_seconds;
+}
+
+void count_rows(Capacity& c, const SampleRows& rows) {
+  c.datasets = rows.datasets().size();
+  c.row_bytes = 0;
+  for (const SampleRows::Dataset& d : rows.datasets()) c.row_bytes += d.row_bytes;
+  c.most_unit_rows = most_unit_rows(rows);
+}
+
+void measure_writing(Capacity& c, const std::filesystem::path& dir) {
+  try {
+    c.write_seconds_per_byte = process::measure_write_seconds_per_byte(dir);
+    c.write_measured_in = dir.string();
+  } catch (const process::FileError& e) {
+    c.write_seconds_per_byte = kDevelopmentWriteSecondsPerByte;
+    c.write_not_measured = e.what();
+  }
 }
 
 // Rank 0's cost per record grows with P (smaller units, then records): the
@@ -87,39 +102,37 @@ std::size_t typical_record_bytes(const SampleRecord& record) {
 Capacity measure_capacity(const Job& job, const EnsembleSpec& spec, double budget) {
   SampleRunner runner(job, spec);
   std::vector<double> trajectory;
-  const double start = thread_cpu();
+  const double start = thread_cpu_seconds();
   runner.run(0, true, trajectory);
   Capacity c;
   c.sample_seconds = std::numeric_limits<double>::infinity();
   // The fastest of up to 3 runs of sample 0 within the budget: the first
   // runs touch memory for the first time and run slower.
-  for (int k = 0; k < 3 && (k == 0 || thread_cpu() - start < budget); ++k) {
-    const double from = thread_cpu();
+  for (int k = 0; k < 3 && (k == 0 || thread_cpu_seconds() - start < budget); ++k) {
+    const double from = thread_cpu_seconds();
     SampleRecord record;
     try {
       record = runner.run(0, false, trajectory, [&] {
-        if (thread_cpu() - start > budget) throw OverBudget{};
+        if (thread_cpu_seconds() - start > budget) throw OverBudget{};
       });
     } catch (const OverBudget&) {
       c.sample_cut = k == 0;
       record = runner.failed_record(0, SampleStatus::integration_failed, "");
     }
-    if (k == 0 || !c.sample_cut) c.sample_seconds = std::min(c.sample_seconds, thread_cpu() - from);
+    if (k == 0 || !c.sample_cut) c.sample_seconds = std::min(c.sample_seconds, thread_cpu_seconds() - from);
     c.record_bytes = std::max(c.record_bytes, typical_record_bytes(record));
     if (c.sample_cut) break;
   }
   c.record_seconds = rank_zero_seconds_per_record(c.record_bytes);
-  const SampleRows rows(spec, runner.layout(), runner.final_state_size());
-  c.datasets = rows.datasets().size();
-  c.most_unit_rows = most_unit_rows(rows);
+  count_rows(c, SampleRows(spec, runner.layout(), runner.final_state_size()));
   return c;
 }
 
 namespace {
 
 std::string formatted(const char* format, auto... values) {
-  char text[400];
-  std::snprintf(text, sizeof text, format, values...);
+  std::string text(static_cast<std::size_t>(std::snprintf(nullptr, 0, format, values...)), '\0');
+  std::snprintf(text.data(), text.size() + 1, format, values...);
   return text;
 }
 
@@ -130,10 +143,15 @@ void print_capacity(std::ostream& out, const Capacity& c, const EnsembleSpec& sp
   const char* more = c.sample_cut ? "more than " : "";
   out << formatted(
              "rank 0's capacity: it takes in about %.0f records/s of this job's size as records (%zu bytes "
-             "each), %.0f/s in units of %zu rows (%zu chunks each; measured on the development machine: "
-             "BENCHMARKS.md); ",
+             "each), %.0f/s in units of %zu rows (%zu chunks each; %zu row bytes a record, about %.0f stored, ",
              1.0 / c.record_seconds, c.record_bytes, 1.0 / c.seconds_per_record(c.most_unit_rows), c.most_unit_rows,
-             c.datasets)
+             c.datasets, c.row_bytes, kStoredShare * static_cast<double>(c.row_bytes))
+      << (c.write_measured_in.empty()
+              ? formatted("at the development machine's %.2f ns a byte, not measured here: %s",
+                          c.write_seconds_per_byte * 1e9, c.write_not_measured.c_str())
+              : formatted("at %.2f ns a byte, measured now in %s", c.write_seconds_per_byte * 1e9,
+                          c.write_measured_in.c_str()))
+      << "; the rest measured on the development machine: BENCHMARKS.md); "
       << formatted(
              "at %s%.3g ms per sample (%s) this job's %llu runs scale to %sabout %llu ranks before rank 0 "
              "limits them",

@@ -12,7 +12,9 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <filesystem>
 #include <ostream>
+#include <string>
 
 #include "ensemble/sample_rows.hpp"
 #include "job/ensemble_spec.hpp"
@@ -58,22 +60,38 @@ inline constexpr std::size_t kMaxChunkBytes = std::size_t{1} << 20, kMaxUnitByte
 std::size_t most_unit_rows(const SampleRows& rows);
 
 // Rank 0's CPU time per record that came in a unit of `rows` rows, each
-// row in `datasets` chunks, s: a part per record (receiving the unit's
-// message, decoding the stripped record, a failed one's reason, the response
-// table) and a direct chunk write per dataset per unit, fitted to the
-// 64-rank measurements (BENCHMARKS.md, "Rank 0's receiving": the fit and
-// its spread).
-inline constexpr double kUnitRecordSeconds = 3.4e-6;
-inline constexpr double kChunkWriteSeconds = 21e-6;
-double rank_zero_seconds_per_unit_record(std::size_t datasets, std::size_t rows);
+// record `row_bytes` bytes of rows in `datasets` chunks, s: a part per
+// record (receiving the unit's message, decoding the stripped record, a
+// failed one's reason, the response table), the bytes it stores at
+// `write_seconds_per_byte` (the machine's and the file system's:
+// process/write_cost.hpp), and a direct chunk write per dataset per unit.
+// The bytes stored are the row bytes less what deflate saves:
+// kStoredShare of them, the largest share of the six examples (0.37-0.65).
+// The rest is fitted to the 64-rank measurements (BENCHMARKS.md, "Rank 0's
+// storing is the page cache's": the fit and its spread).
+inline constexpr double kUnitRecordSeconds = 1.2e-6;
+inline constexpr double kStoredShare = 0.65;
+inline constexpr double kChunkWriteSeconds = 5e-6;
+double rank_zero_seconds_per_unit_record(std::size_t datasets, std::size_t rows, std::size_t row_bytes,
+                                         double write_seconds_per_byte);
+// The development machine's write cost, where it cannot be measured: a
+// new file's bytes there go into pages the virtual machine's host must
+// first provide (BENCHMARKS.md, as above).
+inline constexpr double kDevelopmentWriteSecondsPerByte = 1.9e-9;
 
 struct Capacity {
   std::size_t record_bytes = 0;               // one sample's encoded record
   std::size_t datasets = 0;                   // its per-sample datasets of numbers: a unit's chunks
+  std::size_t row_bytes = 0;                  // its rows' bytes in them, before deflate
   std::size_t most_unit_rows = kMaxUnitRows;  // most_unit_rows() of its rows
   double record_seconds = 0.0;                // rank 0's CPU per record sent as a record
   double sample_seconds = 0.0;                // one sample's CPU (at least, when `sample_cut`)
   bool sample_cut = false;                    // the timed sample ran past the budget and was stopped
+  // Writing into the output's file system, s per byte: measured in
+  // `write_measured_in` (measure_writing), or the development machine's
+  // with `write_not_measured` saying why.
+  double write_seconds_per_byte = kDevelopmentWriteSecondsPerByte;
+  std::string write_measured_in, write_not_measured;
   // Rank 0's CPU per record when units have `unit_rows` rows (0: records).
   double seconds_per_record(std::size_t unit_rows) const;
   // The ranks rank 0 keeps up with when its records come so.
@@ -89,6 +107,14 @@ struct Scale {
   std::size_t unit_rows = 0;
 };
 Scale scales_to(const Capacity& c, const EnsembleSpec& spec);
+
+// The datasets, row bytes and most unit rows of a job's per-sample rows.
+void count_rows(Capacity& c, const SampleRows& rows);
+
+// The write cost per byte measured in `dir`, with a file removed at once
+// (process/write_cost.hpp); where that fails, the development machine's
+// stays and write_not_measured says why.
+void measure_writing(Capacity& c, const std::filesystem::path& dir);
 
 // Times sample 0 on this thread's CPU, up to 3 times within `budget`
 // seconds (the nominal run included), the fastest, and models rank 0's

@@ -19,20 +19,6 @@ namespace {
 
 std::string why() { return std::strerror(errno); }
 
-// Every byte, through short writes and interruptions. False with errno set.
-bool write_all(int fd, std::span<const char> bytes) {
-  const char* data = bytes.data();
-  std::size_t size = bytes.size();
-  while (size > 0) {
-    const ssize_t n = ::write(fd, data, size);
-    if (n < 0 && errno == EINTR) continue;
-    if (n < 0) return false;
-    data += n;
-    size -= static_cast<std::size_t>(n);
-  }
-  return true;
-}
-
 // The directory's own fsync: what makes a rename survive a power cut (the
 // new name is an entry in the directory, not in the file). False with
 // errno set when the disk failed; true where a directory cannot be opened
@@ -50,6 +36,19 @@ bool sync_directory(const fs::path& dir) {
 }
 
 }  // namespace
+
+bool write_all(int fd, std::span<const char> bytes) {
+  const char* data = bytes.data();
+  std::size_t size = bytes.size();
+  while (size > 0) {
+    const ssize_t n = ::write(fd, data, size);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) return false;
+    data += n;
+    size -= static_cast<std::size_t>(n);
+  }
+  return true;
+}
 
 fs::path directory_of(const fs::path& path) { return path.has_parent_path() ? path.parent_path() : fs::path("."); }
 

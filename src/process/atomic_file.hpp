@@ -72,6 +72,10 @@ inline void write_file_atomically(const std::filesystem::path& path, const std::
 void append_to_file(const std::filesystem::path& path, std::span<const char> bytes,
                     AtomicFile::Sync sync = AtomicFile::Sync::yes);
 
+// Every byte of `bytes` to the open file `fd`, through short writes and
+// interruptions (EINTR). False with errno set.
+bool write_all(int fd, std::span<const char> bytes);
+
 // The directory a path's name lives in ("." for a bare name).
 std::filesystem::path directory_of(const std::filesystem::path& path);
 

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <span>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -13,11 +15,13 @@
 #include "ensemble/sample_runner.hpp"
 #include "job/sample_job.hpp"
 #include "persistence/record_codec.hpp"
+#include "support/command.hpp"
 
 namespace {
 
 using namespace treedyn;
 using namespace treedyn::ensemble;
+namespace fs = std::filesystem;
 
 EnsembleJob spherical() {
   return read_ensemble_job(JobDocument::read(std::string(TREEDYN_JOBS_DIR) + "/spherical_pendulum.toml"));
@@ -145,6 +149,60 @@ TEST(Capacity, TheRecordModelledHasNoStoredTrajectory) {
   const Capacity c = measure_capacity(job, spec);
   EXPECT_EQ(c.record_bytes, typical);
   EXPECT_LT(c.record_bytes * 10, with_trajectory);
+}
+
+// A unit record's cost has a part per byte stored at the write cost (the
+// row bytes less deflate's saving), and the row bytes are those the file's
+// rows take before deflate (SampleRows::append of one record, every
+// dataset).
+TEST(Capacity, AUnitRecordCostsItsRowBytesAtTheWriteCost) {
+  const auto [job, spec] = spherical();
+  SampleRunner runner(job, spec);
+  std::vector<double> trajectory;
+  const SampleRecord record = runner.run(0, false, trajectory);
+  const SampleRows rows(spec, runner.layout(), runner.final_state_size());
+  std::vector<unsigned char> bytes;
+  for (std::size_t i = 0; i < rows.datasets().size(); ++i) rows.append(i, std::span(&record, 1), bytes);
+  Capacity c;
+  count_rows(c, rows);
+  EXPECT_EQ(c.row_bytes, bytes.size());
+  EXPECT_EQ(c.datasets, rows.datasets().size());
+  const double cheap = c.seconds_per_record(4096);
+  c.write_seconds_per_byte += 1e-9;
+  EXPECT_NEAR(c.seconds_per_record(4096) - cheap, 1e-9 * kStoredShare * static_cast<double>(bytes.size()), 1e-15);
+}
+
+// --check and a run measure the write cost where the output goes; where
+// they cannot, the development machine's is used and the line says why.
+TEST(Capacity, WritingIsMeasuredWhereTheOutputGoesOrSaidNotToBe) {
+  const auto [job, spec] = spherical();
+  treedyn::testing::TempDir dir{"capacity_writing"};
+  Capacity c = measure_capacity(job, spec);
+  measure_writing(c, dir.path());
+  EXPECT_EQ(c.write_measured_in, dir.path().string());
+  EXPECT_GT(c.write_seconds_per_byte, 0.0);
+  EXPECT_TRUE(fs::is_empty(dir.path()));
+  std::ostringstream out;
+  print_capacity(out, c, spec, "sample 0, timed now");
+  EXPECT_NE(out.str().find("; " + std::to_string(c.row_bytes) + " row bytes a record, about "), std::string::npos)
+      << out.str();
+  EXPECT_NE(out.str().find(" ns a byte, measured now in " + dir.path().string() + "; the rest measured on the "
+                           "development machine"),
+            std::string::npos)
+      << out.str();
+
+  const fs::path missing = dir.path() / "missing";
+  Capacity d = measure_capacity(job, spec);
+  measure_writing(d, missing);
+  EXPECT_EQ(d.write_seconds_per_byte, kDevelopmentWriteSecondsPerByte);
+  EXPECT_TRUE(d.write_measured_in.empty());
+  out.str("");
+  print_capacity(out, d, spec, "sample 0, timed now");
+  EXPECT_NE(out.str().find(" stored, at the development machine's 1.90 ns a byte, not measured here: " +
+                           missing.string() + ": cannot measure what writing costs here: cannot create a file "
+                           "(No such file or directory); the rest"),
+            std::string::npos)
+      << out.str();
 }
 
 // A budget of nothing: the sample is stopped at its first output time and

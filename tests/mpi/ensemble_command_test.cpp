@@ -34,9 +34,33 @@ TEST(EnsembleCommand, CheckPrintsTheModelAndTheEnsembleAndRunsNothing) {
       << r.out;
   EXPECT_NE(r.out.find("body.rod.orientation: normal(mean=0, std=2)"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find(job + ": OK"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(" ns a byte, measured now in .;"), std::string::npos) << r.out;
   std::size_t files = 0;
   for ([[maybe_unused]] const auto& entry : fs::directory_iterator(dir.path())) ++files;
   EXPECT_EQ(files, 0u) << "--check must not write anything";
+}
+
+// With -o, --check measures writing in the output's directory (and leaves
+// it empty); a directory it cannot write to is said, not an error: --check
+// judges the job, and a run would refuse the output itself (exit 4).
+TEST(EnsembleCommand, CheckMeasuresWritingWhereTheOutputGoes) {
+  TempDir dir("ensemble_command_test");
+  const std::string job = std::string(TREEDYN_JOBS_DIR) + "/spherical_pendulum.toml";
+  fs::create_directory(dir.path() / "out");
+  const std::string output = (dir.path() / "out" / "result.h5").string();
+  CommandResult r = ensemble({"--check", job, "-o", output}, dir);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find(" ns a byte, measured now in " + (dir.path() / "out").string() + ";"), std::string::npos)
+      << r.out;
+  EXPECT_TRUE(fs::is_empty(dir.path() / "out"));
+  const fs::path missing = dir.path() / "missing";
+  r = ensemble({"--check", job, "-o", (missing / "result.h5").string()}, dir);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("not measured here: " + missing.string() +
+                       ": cannot measure what writing costs here: cannot create a file (No such file or directory)"),
+            std::string::npos)
+      << r.out;
+  EXPECT_FALSE(fs::exists(missing));
 }
 
 TEST(EnsembleCommand, CheckRefusesABadEnsembleWithTheFieldAndExit2) {
