@@ -14,8 +14,8 @@ from drivers import RELIABLE_SHARE, drivers_section, reliable, unreliable_words
 from failure_region import exceeded, failure_region_section
 from page import legend_outside, subplot_grid
 from rankings import has_sobol, primary_ranking, rank_ranking, visible_units
-from rare_event import rare_event_answer, rare_event_levels
-from read import (column_units, counted_rows, fail_side, folded_note, held_rows, morris_design, shown_inputs,
+from designs import counted_rows, design_of
+from read import (column_units, fail_side, folded_note, held_rows, morris_design, shown_inputs,
                   strings, subset_response, text)
 
 MEAN_PRECISION = 0.05         # "N is enough" for a mean: 95 % half-width within 5 % of |mean|
@@ -33,7 +33,7 @@ def answers_section(f, page, file_name):
     page.heading("Answers")
     rows, counted = counted_rows(f)
     failure_banner(f, page)
-    rare_event_answer(f, page)
+    design_of(f).answer(f, page)
     if "samples/responses" not in f:
         page.paragraph("No [[ensemble.response]] in this job: name one (quantity, column, reduce, and a limit "
                        "for a probability) to get means, probabilities and drivers here.")
@@ -46,7 +46,7 @@ def answers_section(f, page, file_name):
         page.note(warning)
     drivers_section(f, page, rows)
     failure_region_section(f, page, rows, counted)
-    rare_event_levels(f, page)
+    design_of(f).after_failure_region(f, page)
     scatter_figures(f, page, rows)
     extreme_samples(f, page, file_name)
 
@@ -137,26 +137,6 @@ def probability_verdict(count, n, p, low, high):
             f"runs would do")
 
 
-def counted_runs_meaning(f):
-    """What a number of counted runs means for the job's `samples`, said once under the table."""
-    design = text(f.attrs.get("design", ""))
-    if design == "saltelli" and "saltelli_block" in f.attrs:
-        block = int(f.attrs["saltelli_block"])
-        return (f"For this Saltelli design K counted runs are samples = K / 2 base points, that is K / 2 x {block} "
-                f"model runs.")
-    if morris_design(f):
-        where = (f"on the inputs' {int(f.attrs['morris_levels'])}-level grid" if "morris_levels" in f.attrs
-                 else "a scrambled Sobol' point")
-        return (f"For this Morris design the mean and the probability use each trajectory's first run (an "
-                f"independent draw, {where}: a screen, not an estimate of a small probability); K counted runs "
-                f"are K trajectories, that is K x "
-                f"{int(f.attrs['morris_block'])} model runs.")
-    if design in ("sobol", "latin_hypercube"):
-        return (f"The verdicts take the runs as independent; the {design} design's stratification usually makes "
-                f"the estimates better than that.")
-    return ""
-
-
 def response_table(f, page):
     values = f["samples/responses"]
     names, units = strings(values.attrs["columns"]), column_units(values)
@@ -173,8 +153,9 @@ def response_table(f, page):
                 f"is N enough for P (±{PROBABILITY_PRECISION:.0%})?"] +
                ([f"is N enough for the Sobol' indices (intervals within {INDEX_INTERVAL})?"] if indices else []) +
                (["is the integration accurate enough?"] if accuracy else []), table)
-    if counted_runs_meaning(f):
-        page.paragraph(counted_runs_meaning(f))
+    meaning = design_of(f).counted_runs_meaning(f)
+    if meaning:
+        page.paragraph(meaning)
     for r, verdict in enumerate(accuracy):
         if verdict.startswith("too loose"):
             page.note(f"{names[r]}: the integration is {verdict}.", "alarm")

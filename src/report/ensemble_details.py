@@ -5,20 +5,11 @@ import numpy as np
 import matplotlib.pyplot as plt
 
 from page import subplot_grid
-from read import column_units, folded_note, held_rows, morris_design, shown_inputs, strings, subset_response, text
+from designs import design_of
+from read import column_units, folded_note, held_rows, shown_inputs, strings, subset_response, text
 
 MAX_FAILED_ROWS = 50
 MAX_BINS = 60
-
-
-def other_runs_words(f, others):
-    """What the runs outside the counted ones are, for a caption."""
-    if "samples/level" in f:
-        return f"the {others} runs of levels 1 and up (chains beyond each level's threshold, not draws of the inputs)"
-    if morris_design(f):
-        return (f"the {others} other runs of the Morris trajectories (each steps one factor from the run before: "
-                "not independent draws)")
-    return f"the {others} AB runs (A's inputs with one from B: real samples, not independent draws)"
 
 
 def response_figures(f, page, rows, counted):
@@ -33,7 +24,7 @@ def response_figures(f, page, rows, counted):
         response_histogram(ax, data[rows, r], data[others, r], f"{names[r]} ({units[r]})")
         if np.isfinite(values.attrs["limit"][r]):
             ax.axvline(values.attrs["limit"][r], color="tab:red", ls="--", lw=1)
-    outlined = f"; outlined, {other_runs_words(f, int(others.sum()))}" if others.any() else ""
+    outlined = f"; outlined, {design_of(f).other_runs_words(f, int(others.sum()))}" if others.any() else ""
     page.figure(fig, f"histograms of the responses' finite values: filled, {counted}{outlined} (dashed: the limit)",
                 "responses_histograms")
     if "responses" in f:

@@ -1,5 +1,5 @@
-"""Reading treedyn's files: strings, units, and which runs a statistic counts."""
-import numpy as np
+"""Reading treedyn's files: strings, units, the rows a file holds and the inputs a page shows (which runs a
+statistic counts is the design's: designs/)."""
 
 
 def text(v):
@@ -41,27 +41,6 @@ def subset_response(f):
 
 def morris_design(f):
     return text(f.attrs.get("design", "")) == "morris" and "morris_block" in f.attrs
-
-
-def counted_rows(f):
-    """The rows of /samples that are independent draws, and the words saying which: for Saltelli the A and B
-    runs (the AB runs repeat A's inputs but one), for Morris each trajectory's first run (the others step one
-    factor at a time from it), for subset simulation level 0 (its Monte-Carlo sample)."""
-    status = f["samples/status"][:]
-    n, held = status.size, status != 3  # 3: not in this file (a merge of some parts)
-    note = "" if held.all() else f", of the {int(held.sum())} this merged file holds"
-    if "samples/level" in f:
-        rows = f["samples/level"][:] == 0
-        return rows, f"level 0 of the subset simulation, its Monte-Carlo sample ({int(rows.sum())} runs)"
-    if text(f.attrs.get("design", "")) == "saltelli" and "saltelli_block" in f.attrs:
-        rows = (np.arange(n) % int(f.attrs["saltelli_block"]) < 2) & held
-        return rows, (f"the {int(rows.sum())} independent runs of the {n} (the A and B runs of the Saltelli "
-                      f"design; its AB runs repeat A's inputs but one){note}")
-    if morris_design(f):
-        rows = (np.arange(n) % int(f.attrs["morris_block"]) == 0) & held
-        return rows, (f"the {int(rows.sum())} independent runs of the {n} (each Morris trajectory's first run; "
-                      f"the trajectory's other runs step one factor at a time from it){note}")
-    return held, f"all {int(held.sum())} samples{note}"
 
 
 LIST_COLUMNS = 4  # a target with this many input columns or more is a list (a sea state's phases)

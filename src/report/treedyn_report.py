@@ -4,9 +4,11 @@
 Started by `treedyn report`, which has already checked the file and written
 the text summary (DIR/summary.txt) with the same code as the end-of-run
 summary of treedyn-ensemble. The page answers first (answers.py, with
-drivers.py, failure_region.py and rare_event.py), then shows the evidence
-(ensemble_details.py, index_figures.py, morris_figures.py) and, folded, every recorded
-quantity over time (history.py); a trajectory file's page is trajectory.py's.
+drivers.py and failure_region.py), then shows the evidence
+(ensemble_details.py) and, folded, every recorded quantity over time
+(history.py); a trajectory file's page is trajectory.py's. What a sampling
+design adds (its counted runs, its answer, its figures) is its module in
+designs/, found by the file's design name.
 Reads only what one figure needs at a time.
 
 Exit codes: 0 ok, 2 the file or the options were refused (one line on
@@ -45,12 +47,11 @@ except ImportError:
     fail("treedyn report needs matplotlib: apt-get install python3-matplotlib")
 
 from answers import answers_section  # noqa: E402
+from designs import counted_rows, design_of  # noqa: E402
 from ensemble_details import failed_table, response_figures, sensitivity_figures  # noqa: E402
 from history import ensemble_quantity_figures, final_value_histograms  # noqa: E402
-from index_figures import index_figures  # noqa: E402
-from morris_figures import morris_figures  # noqa: E402
 from page import Page  # noqa: E402
-from read import counted_rows, strings, text  # noqa: E402
+from read import strings, text  # noqa: E402
 from trajectory import trajectory_report  # noqa: E402
 from view3d import view_section  # noqa: E402
 from xdmf import write_xdmf  # noqa: E402
@@ -93,8 +94,7 @@ def ensemble_report(f, page, file_name, quantities, out_dir):
     summary_text(page, out_dir)
     page.heading("The evidence behind the answers")
     response_figures(f, page, rows, counted)
-    index_figures(f, page)
-    morris_figures(f, page)
+    design_of(f).evidence(f, page)
     sensitivity_figures(f, page)
     failed_table(f, page)
     page.heading("Recorded quantities over time")

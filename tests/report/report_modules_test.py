@@ -9,7 +9,7 @@ import unittest
 import h5py
 import numpy as np
 
-from answers import (counted_runs_meaning, extreme_samples, integration_verdicts, failure_effects, index_verdict,
+from answers import (extreme_samples, integration_verdicts, failure_effects, index_verdict,
                      last_time_warnings, mean_verdict, outside_range_warnings, probability_verdict, response_row,
                      scatter_figures)
 from drivers import (asked_pair, disagreement_note, drivers_section, first_order_cell, index_notes,
@@ -17,10 +17,10 @@ from drivers import (asked_pair, disagreement_note, drivers_section, first_order
 from ensemble_details import response_figures, sensitivity_figures
 from failure_region import failure_region_section
 from history import constant_columns, rotation_angle_degrees, valid_range
-from index_figures import index_figures
-from morris_figures import morris_figures
+from designs import counted_rows, design_of
+from designs.morris import morris_figures
+from designs.saltelli import index_figures
 from rankings import Ranking, chain, driven_by, primary_ranking, visible_units
-from read import counted_rows
 from trajectory import advice, lines
 from view3d import bounds_of, grid_step, length_words, script_json
 from xdmf import write_xdmf
@@ -114,6 +114,22 @@ class FromFiles(unittest.TestCase):
             warnings = last_time_warnings(f, np.ones(10, dtype=bool))
         self.assertEqual(len(warnings), 1)  # 'early' reaches it in 1 of 10 runs, not more than 10 %
         self.assertTrue(warnings[0].startswith("late: in 10 of 10 runs the maximum"))
+
+    def test_a_design_is_found_by_its_name(self):
+        """Every name treedyn writes (sampling/design.hpp) has its module or base.py's; so do a name this report
+        does not know and one that is not a module name."""
+        for name, module in (("saltelli", "designs.saltelli"), ("morris", "designs.morris"),
+                             ("subset_simulation", "designs.subset_simulation"), ("sobol", "designs.sobol"),
+                             ("latin_hypercube", "designs.latin_hypercube"), ("monte_carlo", "designs.base"),
+                             ("importance_sampling", "designs.base"), ("../answers", "designs.base"),
+                             ("base", "designs.base")):
+            with h5py.File(self.path, "w") as f:
+                f.attrs["design"] = name
+                self.assertEqual(design_of(f).module.__name__, module, name)
+                # a hook the module does not define is base.py's
+                self.assertTrue(callable(design_of(f).after_failure_region), name)
+        with h5py.File(self.path, "w") as f:
+            self.assertEqual(design_of(f).module.__name__, "designs.base")  # no design attribute
 
     def test_rows_a_merge_does_not_hold_are_not_counted(self):
         def build(f):
@@ -555,7 +571,7 @@ class FromAnswerFiles(unittest.TestCase):
     def test_a_subset_simulation_page_does_not_give_level_0_as_the_answer(self):
         def build(f):
             saltelli_file(f)
-            del f.attrs["design"]
+            f.attrs["design"] = "subset_simulation"
             f["samples/level"] = np.repeat([0, 1, 2, 3], 4)
             for key, v in (("mean", 22.0), ("sem", 0.4), ("used", 4), ("failed", 0), ("not_finite", 0)):
                 f[f"responses/y/{key}"] = v
@@ -679,7 +695,7 @@ class FromAnswerFiles(unittest.TestCase):
     def test_subset_scatter_plots_are_coloured_by_level(self):
         def build(f):
             saltelli_file(f)
-            del f.attrs["design"]
+            f.attrs["design"] = "subset_simulation"
             f["samples/level"] = np.repeat([0, 1, 2, 3], 4)
             sensitivity_group(f, "y", [0.2, 0.8], [[0.1, 0.3], [0.6, 1.1]], [1, 0], [1], [np.nan])
         write(self.path, build)
@@ -807,7 +823,7 @@ class Morris(unittest.TestCase):
         write(self.path, morris_file)
         with h5py.File(self.path) as f:
             rows, words = counted_rows(f)
-            meaning = counted_runs_meaning(f)
+            meaning = design_of(f).counted_runs_meaning(f)
         self.assertEqual(list(np.flatnonzero(rows)), [0, 4, 8, 12])
         self.assertTrue(words.startswith("the 4 independent runs of the 16 (each Morris trajectory's first run"), words)
         self.assertIn("each trajectory's first run (an independent draw, on the inputs' 4-level grid: a screen, not "
@@ -871,7 +887,7 @@ class Morris(unittest.TestCase):
             self.assertNotIn("morris", " ".join(page.words()).lower())
             self.assertFalse([name for _, _, name in page.figures if name.startswith("morris")])
             with h5py.File(self.path) as f:
-                self.assertNotIn("Morris", counted_runs_meaning(f) + counted_rows(f)[1])
+                self.assertNotIn("Morris", design_of(f).counted_runs_meaning(f) + counted_rows(f)[1])
 
 
 def strings_of(v):

@@ -1,17 +1,46 @@
-"""Morris' screen drawn per response: each factor's mu* (the mean size of its elementary effects) against sigma
-(their spread), with their 95 % bootstrap intervals where finite, and the line sigma = mu*: above it a factor acts
-nonlinearly or through interactions, near the x-axis linearly. Sizes in the response's units per unit of u, drawn
-as they are (no share of variance: nothing to clip)."""
+"""Morris' screen: trajectories of U + 1 runs, each stepping one factor from the run before, of which the first
+is an independent draw; drawn per response, each factor's mu* (the mean size of its elementary effects) against
+sigma (their spread), with their 95 % bootstrap intervals where finite, and the line sigma = mu*: above it a factor
+acts nonlinearly or through interactions, near the x-axis linearly. Sizes in the response's units per unit of u,
+drawn as they are (no share of variance: nothing to clip)."""
 import numpy as np
 
 import matplotlib.pyplot as plt
 
+from designs import base
 from drivers import morris_units, trajectories_words
 from rankings import has_morris, morris_ranking, visible_units
 from read import strings
 
 MAX_LABELS = 12  # factors named beside their point, largest mu* first
 MARGIN = 1.15    # the axes reach this far beyond the largest interval
+
+
+def counted_rows(f, held, note):
+    if "morris_block" not in f.attrs:
+        return base.counted_rows(f, held, note)
+    rows = (np.arange(held.size) % int(f.attrs["morris_block"]) == 0) & held
+    return rows, (f"the {int(rows.sum())} independent runs of the {held.size} (each Morris trajectory's first run; "
+                  f"the trajectory's other runs step one factor at a time from it){note}")
+
+
+def counted_runs_meaning(f):
+    if "morris_block" not in f.attrs:
+        return ""
+    where = (f"on the inputs' {int(f.attrs['morris_levels'])}-level grid" if "morris_levels" in f.attrs
+             else "a scrambled Sobol' point")
+    return (f"For this Morris design the mean and the probability use each trajectory's first run (an "
+            f"independent draw, {where}: a screen, not an estimate of a small probability); K counted runs "
+            f"are K trajectories, that is K x {int(f.attrs['morris_block'])} model runs.")
+
+
+def other_runs_words(f, others):
+    return (f"the {others} other runs of the Morris trajectories (each steps one factor from the run before: "
+            "not independent draws)")
+
+
+def evidence(f, page):
+    morris_figures(f, page)
 
 
 def morris_figures(f, page):

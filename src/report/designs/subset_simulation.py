@@ -1,11 +1,32 @@
-"""Subset simulation's answer: the probability, its cov and interval, the runs beside crude Monte Carlo's
-(first, in the answers), and the levels with the exceedance curve they trace (P(g > b_j) = p0^(j+1) at each
-level's threshold), after what makes the response exceed its limit."""
+"""Subset simulation: level 0 is a Monte-Carlo sample (its runs are the counted ones), the levels after it are
+chains beyond each level's threshold. Its answer: the probability, its cov and interval, the runs beside crude
+Monte Carlo's (first, in the answers), and the levels with the exceedance curve they trace (P(g > b_j) =
+p0^(j+1) at each level's threshold), after what makes the response exceed its limit."""
 import numpy as np
 
 import matplotlib.pyplot as plt
 
+from designs import base
 from read import text
+
+
+def counted_rows(f, held, note):
+    if "samples/level" not in f:
+        return base.counted_rows(f, held, note)
+    rows = f["samples/level"][:] == 0
+    return rows, f"level 0 of the subset simulation, its Monte-Carlo sample ({int(rows.sum())} runs)"
+
+
+def other_runs_words(f, others):
+    return f"the {others} runs of levels 1 and up (chains beyond each level's threshold, not draws of the inputs)"
+
+
+def answer(f, page):
+    rare_event_answer(f, page)
+
+
+def after_failure_region(f, page):
+    rare_event_levels(f, page)
 
 
 def rare_event_answer(f, page):

@@ -1,10 +1,13 @@
-"""The Sobol' indices drawn per response: bars of the first-order and total indices with their 95 % intervals
-(a group as one bar), and the indices of the first m base points against m (/sensitivity/<r>/sobol_convergence)
-with their interval bands. Estimates and intervals are drawn within [0, 1]: an index is a share of variance."""
+"""Saltelli's design: blocks of U + 2 runs (A, B and one AB run per unit), of which A and B are independent
+draws, and its Sobol' indices drawn per response: bars of the first-order and total indices with their 95 %
+intervals (a group as one bar), and the indices of the first m base points against m
+(/sensitivity/<r>/sobol_convergence) with their interval bands. Estimates and intervals are drawn within [0, 1]:
+an index is a share of variance."""
 import numpy as np
 
 import matplotlib.pyplot as plt
 
+from designs import base
 from drivers import sobol_first
 from rankings import has_sobol, sobol_ranking, visible_units
 from read import folded_note, shown_inputs, strings
@@ -12,6 +15,30 @@ from read import folded_note, shown_inputs, strings
 MAX_BARS = 12
 MAX_LINES = 5
 COLOURS = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+
+
+def counted_rows(f, held, note):
+    if "saltelli_block" not in f.attrs:
+        return base.counted_rows(f, held, note)
+    rows = (np.arange(held.size) % int(f.attrs["saltelli_block"]) < 2) & held
+    return rows, (f"the {int(rows.sum())} independent runs of the {held.size} (the A and B runs of the Saltelli "
+                  f"design; its AB runs repeat A's inputs but one){note}")
+
+
+def counted_runs_meaning(f):
+    if "saltelli_block" not in f.attrs:
+        return ""
+    block = int(f.attrs["saltelli_block"])
+    return (f"For this Saltelli design K counted runs are samples = K / 2 base points, that is K / 2 x {block} "
+            f"model runs.")
+
+
+def other_runs_words(f, others):
+    return f"the {others} AB runs (A's inputs with one from B: real samples, not independent draws)"
+
+
+def evidence(f, page):
+    index_figures(f, page)
 
 
 def index_figures(f, page):

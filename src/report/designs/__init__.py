@@ -1,0 +1,46 @@
+"""Each sampling design's part of the page, in designs/<name>.py, found by the file's root attribute `design`;
+a design without a module of its own gets base.py's. A design module defines the hooks it changes:
+
+    counted_rows(f, held, note) -> (rows, words)  which runs are independent draws, and the words for them
+    counted_runs_meaning(f) -> str                what K counted runs mean for the job's samples ('': nothing)
+    other_runs_words(f, others) -> str            the runs outside the counted ones, for a caption
+    answer(f, page)                               the design's own answer, first among the answers
+    after_failure_region(f, page)                 its tables after what makes a response exceed its limit
+    evidence(f, page)                             its figures among the evidence behind the answers
+
+A new design adds its module here and nothing else in the report."""
+import importlib
+
+from designs import base
+from read import text
+
+
+class Design:
+    """A design module's hooks, base.py's where it defines none."""
+
+    def __init__(self, module):
+        self.module = module
+
+    def __getattr__(self, hook):
+        return getattr(self.module, hook, getattr(base, hook))
+
+
+def design_of(f):
+    name = text(f.attrs.get("design", ""))
+    if not name.isidentifier() or name == "base":
+        return Design(base)
+    try:
+        return Design(importlib.import_module(f"designs.{name}"))
+    except ModuleNotFoundError as e:
+        if e.name != f"designs.{name}":  # the module exists but something it imports does not
+            raise
+        return Design(base)
+
+
+def counted_rows(f):
+    """The rows of /samples that are independent draws, and the words saying which (the design's), among the
+    rows this file holds (a merge of some parts leaves the others at status 3)."""
+    status = f["samples/status"][:]
+    held = status != 3
+    note = "" if held.all() else f", of the {int(held.sum())} this merged file holds"
+    return design_of(f).counted_rows(f, held, note)
