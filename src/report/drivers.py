@@ -1,6 +1,7 @@
 """Which inputs drive each response: one sentence per response from the design's own ranking (the total
 Sobol' index where the design gives one, Morris' mu* for a Morris screen, else |SRRC| or |Spearman|) that orders
-two inputs only where the bootstrap tells them apart, the measures with their intervals, and one note where the
+two inputs only where the bootstrap tells them apart, the measures with their intervals (the design's own table,
+Sobol' indices or Morris' mu*, from its module in designs/; else the rank measures'), and one note where the
 rank measures and the design's own measure rank differently."""
 import math
 import re
@@ -9,12 +10,12 @@ import numpy as np
 
 from rankings import (clipped, driven_by, has_morris, has_sobol, primary_ranking, rank_ranking, top_unit,
                       value_text, visible_units)
+from designs import design_of
 from read import folded_note, shown_inputs, strings, text
 
 CORRELATED_INPUTS = 0.2  # |Spearman| between two inputs above which their rank measures mix
 RELIABLE_SHARE = 0.8     # the file's sobol_reliable: at least this share of the base points complete
 TABLE_ROWS = 20
-SAME_SIGN = 0.99         # |mu| this close to mu*: the elementary effects all have one sign
 SOBOL_WORDS = "The total Sobol' index is the share of the response's variance that goes with an input, its " \
               "interactions included;"
 MORRIS_WORDS = ("Morris mu* is the mean size of a factor's elementary effects: the change of the response when "
@@ -60,7 +61,7 @@ def drivers_section(f, page, rows):
     no_regression = set()
     for name in [r for r in strings(f["samples/responses"].attrs["columns"]) if r in f["sensitivity"]]:
         no_regression.add(response_drivers(page, name, f["sensitivity"][name], inputs, correlations, asked,
-                                           "level 0's " if "samples/level" in f else ""))
+                                           "level 0's " if "samples/level" in f else "", design_of(f)))
     for line in sorted(no_regression - {""}):  # said once: it is about the design, not a response
         page.paragraph(line)
     if correlations[0] and morris:
@@ -105,7 +106,7 @@ def reliable(s):
     return int(s.attrs.get("sobol_reliable", 1)) != 0
 
 
-def response_drivers(page, name, s, inputs, correlations, asked, runs_of):
+def response_drivers(page, name, s, inputs, correlations, asked, runs_of, design):
     """The sentence, the table and the notes of one response; returns why there is no rank regression ('' when
     there is one)."""
     names = strings(inputs.attrs["columns"])
@@ -117,11 +118,7 @@ def response_drivers(page, name, s, inputs, correlations, asked, runs_of):
     else:
         page.note(words, "good")
     ranks = rank_ranking(s, names)
-    if has_sobol(s):
-        sobol_table(page, s, primary, visible, ranks, (correlations, asked))
-    elif has_morris(s):
-        morris_table(page, name, s, primary, visible, names)
-    else:
+    if not design.ranking_table(page, name, s, primary, visible, ranks, (correlations, asked)):
         rank_table(page, s, ranks, visible, (correlations, asked))
     if has_sobol(s) or has_morris(s):
         disagreement = disagreement_note(name, primary, visible, ranks, visible_units(ranks, inputs))
@@ -133,70 +130,10 @@ def response_drivers(page, name, s, inputs, correlations, asked, runs_of):
     return no_regression_line(s, len(names))
 
 
-def first_order_cell(first, first_ci, total, total_ci):
-    """A first-order index above its total one (they estimate the same share where nothing interacts) is
-    within noise where the intervals overlap."""
-    cell = interval_text(first, first_ci)
-    if np.isfinite(first) and np.isfinite(total) and first > total:
-        overlap = first_ci[0] <= total_ci[1]
-        cell += ": within noise of the total" if overlap else ": above the total beyond the intervals"
-    return cell
-
-
 def interval_text(v, ci):
     if not np.isfinite(v):
         return "n/a"
     return f"{v:.3g}" + (f" [{clipped(ci[0]):.3g}, {clipped(ci[1]):.3g}]" if np.isfinite(ci[0]) else "")
-
-
-def sobol_first(s):
-    key = "group_first_order" if "group_total_order" in s else "first_order"
-    return s[key][:], s[key + "_ci"][:]
-
-
-def sobol_table(page, s, sobol, visible, ranks, correlations):
-    grouped = "group_total_order" in s
-    first, first_ci = sobol_first(s)
-    header = ["input or group" if grouped else "input"] + (["its inputs"] if grouped else []) + \
-             ["total Sobol' [95 %]", "first order [95 %]", f"{ranks.measure} [95 %]", "Spearman", "note"]
-    table = []
-    for u in [int(u) for u in sobol.order if int(u) in set(visible)][:TABLE_ROWS]:
-        members = sobol.members[u]
-        row = [sobol.units[u]] + ([folded_members(members, ranks.units)] if grouped else [])
-        row += [interval_text(sobol.value[u], sobol.ci[u]),
-                first_order_cell(first[u], first_ci[u], sobol.value[u], sobol.ci[u])]
-        if len(members) == 1:
-            i = members[0]
-            row += [interval_text(ranks.value[i], ranks.ci[i]), f"{s['spearman'][i]:.3f}",
-                    correlation_note(i, ranks.units, correlations)]
-        else:
-            row += ["(a group: its inputs one by one are not ranked)", "", ""]
-        table.append(row)
-    page.table(header, table)
-    for words in index_notes(sobol, visible, first, first_ci):
-        page.paragraph(words)
-
-
-def index_notes(sobol, visible, first, first_ci):
-    """Why a first-order index above its total one, or an estimate outside [0, 1], is read as noise."""
-    out = []
-    above = [u for u in visible if np.isfinite(first[u]) and first[u] > sobol.value[u]]
-    noise = [sobol.units[u] for u in above if first_ci[u][0] <= sobol.ci[u][1]]
-    beyond = [sobol.units[u] for u in above if first_ci[u][0] > sobol.ci[u][1]]
-    if noise:
-        out.append(f"First order above total ({', '.join(noise)}): within noise. Where an input does not interact, "
-                   "both estimate the same share of variance, and here their difference lies within their "
-                   "intervals: read both as about the total index.")
-    if beyond:
-        out.append(f"First order above total beyond their intervals ({', '.join(beyond)}): the estimates disagree "
-                   "more than the bootstrap allows; more base points are needed before reading these first-order "
-                   "indices.")
-    outside = [f"{sobol.units[u]} {sobol.value[u]:.2g}" for u in visible
-               if np.isfinite(sobol.value[u]) and not 0 <= sobol.value[u] <= 1]
-    if outside:
-        out.append(f"An estimate outside [0, 1] ({', '.join(outside)}) is estimation noise: an index is a share of "
-                   "variance; its interval, clipped to [0, 1], is what the data say.")
-    return out
 
 
 def disagreement_note(name, primary, visible, ranks, rank_visible):
@@ -212,66 +149,6 @@ def disagreement_note(name, primary, visible, ranks, rank_visible):
             f"{ranks.measure}, {value_text(primary, top)} by {by}. They measure different things: "
             f"{ranks.measure} how monotonically the response's ranks follow one input's, {runs}; {by} {meaning}."
             + group + f" The ranking above is the {which} one.")
-
-
-def morris_table(page, name, s, morris, visible, input_names):
-    """mu* with its interval, mu and sigma per factor (largest mu* first), in the response's units per unit of
-    u, and what mu and sigma say of each; then the factors that act nonlinearly or through interactions."""
-    grouped = any(len(morris.members[u]) > 1 for u in visible)
-    unit = morris_units(s)
-    shown = [int(u) for u in morris.order if int(u) in set(visible)]
-    header = ["factor"] + (["its inputs"] if grouped else []) + \
-             [f"mu* [95 %] ({unit} per unit of u)", f"mu [95 %] ({unit} per unit of u)",
-              f"sigma [95 %] ({unit} per unit of u)", "elementary effects", "reading"]
-    page.table(header, [morris_row(name, s, morris, u, input_names if grouped else None) for u in shown[:TABLE_ROWS]])
-    line = nonlinear_line(name, morris, s["morris_sigma"][:], shown)
-    if line:
-        page.paragraph(line)
-
-
-def morris_row(name, s, morris, u, input_names):
-    """One factor's row; its inputs folded where `input_names` is given (a table with groups)."""
-    mu, sigma = s["morris_mu"][u], s["morris_sigma"][u]
-    effects = float(s["morris_effects"][u]) if "morris_effects" in s else float("nan")
-    return [morris.units[u]] + ([folded_members(morris.members[u], input_names)] if input_names else []) + \
-        [size_text(morris.value[u], morris.ci[u]), size_text(mu, s["morris_mu_ci"][u]),
-         size_text(sigma, s["morris_sigma_ci"][u]), f"{effects:.0f}" if np.isfinite(effects) else "n/a",
-         morris_reading(name, morris.value[u], mu, sigma)]
-
-
-def nonlinear_line(name, morris, sigma, shown):
-    """The factors with sigma >= mu*, as the text summary names them ('' where there are none)."""
-    nonlinear = [f"{morris.units[u]} (sigma {sigma[u]:.3g}, mu* {morris.value[u]:.3g})" for u in shown
-                 if nonlinear_factor(morris.value[u], sigma[u])]
-    if not nonlinear:
-        return ""
-    return (f"{name}: sigma >= mu*, nonlinear or interacting: {', '.join(nonlinear)}. Their effect depends on where "
-            "they step (or on the other factors): mu* orders them, but a Saltelli design's Sobol' "
-            "indices say how much of the variance goes with them.")
-
-
-def size_text(v, ci):
-    """A size in the response's units with its interval, not clipped (mu, mu*, sigma)."""
-    if not np.isfinite(v):
-        return "n/a"
-    return f"{v:.3g}" + (f" [{ci[0]:.3g}, {ci[1]:.3g}]" if np.isfinite(ci[0]) and np.isfinite(ci[1]) else "")
-
-
-def nonlinear_factor(mu_star, sigma):
-    """The summary's rule: sigma at least mu* (and an effect at all)."""
-    return bool(np.isfinite(sigma) and np.isfinite(mu_star) and mu_star > 0 and sigma >= mu_star)
-
-
-def morris_reading(name, mu_star, mu, sigma):
-    """What mu and sigma say of one factor: its direction where its effects (nearly) all have one sign
-    (|mu| = mu*), else that they change sign; nonlinear or interacting where sigma >= mu*."""
-    if not (np.isfinite(mu_star) and np.isfinite(mu)) or mu_star == 0:
-        return "no effect seen" if mu_star == 0 else ""
-    words = [(f"raises {name}" if mu > 0 else f"lowers {name}") if abs(mu) >= SAME_SIGN * mu_star else
-             "its effects change sign (|mu| < mu*): non-monotone"]
-    if nonlinear_factor(mu_star, sigma):
-        words.append("nonlinear or interacting (sigma >= mu*)")
-    return "; ".join(words)
 
 
 def rank_table(page, s, ranks, visible, correlations):

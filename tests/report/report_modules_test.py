@@ -12,14 +12,13 @@ import numpy as np
 from answers import (extreme_samples, integration_verdicts, failure_effects, index_verdict,
                      last_time_warnings, mean_verdict, outside_range_warnings, probability_verdict, response_row,
                      scatter_figures)
-from drivers import (asked_pair, disagreement_note, drivers_section, first_order_cell, index_notes,
-                     input_correlations)
+from drivers import asked_pair, disagreement_note, drivers_section, input_correlations
 from ensemble_details import response_figures, sensitivity_figures
 from failure_region import failure_region_section
 from history import constant_columns, rotation_angle_degrees, valid_range
 from designs import counted_rows, design_of
 from designs.morris import morris_figures
-from designs.saltelli import index_figures
+from designs.saltelli import first_order_cell, index_figures, index_notes
 from rankings import Ranking, chain, driven_by, primary_ranking, visible_units
 from trajectory import advice, lines
 from view3d import bounds_of, grid_step, length_words, script_json

@@ -26,6 +26,11 @@ def evidence(f, page):
     pass
 
 
+def ranking_table(page, name, s, ranking, visible, ranks, correlations):
+    """A table by the design's own ranking for one response; False: the rank measures' table is drawn."""
+    return False
+
+
 def stratified_runs_meaning(design):
     """For the designs that spread their points (sobol, latin_hypercube): the verdicts below are a bound."""
     return (f"The verdicts take the runs as independent; the {design} design's stratification usually makes "

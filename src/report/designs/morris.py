@@ -8,12 +8,13 @@ import numpy as np
 import matplotlib.pyplot as plt
 
 from designs import base
-from drivers import morris_units, trajectories_words
+from drivers import TABLE_ROWS, folded_members, morris_units, trajectories_words
 from rankings import has_morris, morris_ranking, visible_units
 from read import strings
 
 MAX_LABELS = 12  # factors named beside their point, largest mu* first
 MARGIN = 1.15    # the axes reach this far beyond the largest interval
+SAME_SIGN = 0.99  # |mu| this close to mu*: the elementary effects all have one sign
 
 
 def counted_rows(f, held, note):
@@ -41,6 +42,74 @@ def other_runs_words(f, others):
 
 def evidence(f, page):
     morris_figures(f, page)
+
+
+def ranking_table(page, name, s, morris, visible, ranks, correlations):
+    """mu*, mu and sigma per factor (a response without them gets the rank measures' table)."""
+    if not has_morris(s):
+        return False
+    morris_table(page, name, s, morris, visible, ranks.units)
+    return True
+
+
+def morris_table(page, name, s, morris, visible, input_names):
+    """mu* with its interval, mu and sigma per factor (largest mu* first), in the response's units per unit of
+    u, and what mu and sigma say of each; then the factors that act nonlinearly or through interactions."""
+    grouped = any(len(morris.members[u]) > 1 for u in visible)
+    unit = morris_units(s)
+    shown = [int(u) for u in morris.order if int(u) in set(visible)]
+    header = ["factor"] + (["its inputs"] if grouped else []) + \
+             [f"mu* [95 %] ({unit} per unit of u)", f"mu [95 %] ({unit} per unit of u)",
+              f"sigma [95 %] ({unit} per unit of u)", "elementary effects", "reading"]
+    page.table(header, [morris_row(name, s, morris, u, input_names if grouped else None) for u in shown[:TABLE_ROWS]])
+    line = nonlinear_line(name, morris, s["morris_sigma"][:], shown)
+    if line:
+        page.paragraph(line)
+
+
+def morris_row(name, s, morris, u, input_names):
+    """One factor's row; its inputs folded where `input_names` is given (a table with groups)."""
+    mu, sigma = s["morris_mu"][u], s["morris_sigma"][u]
+    effects = float(s["morris_effects"][u]) if "morris_effects" in s else float("nan")
+    return [morris.units[u]] + ([folded_members(morris.members[u], input_names)] if input_names else []) + \
+        [size_text(morris.value[u], morris.ci[u]), size_text(mu, s["morris_mu_ci"][u]),
+         size_text(sigma, s["morris_sigma_ci"][u]), f"{effects:.0f}" if np.isfinite(effects) else "n/a",
+         morris_reading(name, morris.value[u], mu, sigma)]
+
+
+def nonlinear_line(name, morris, sigma, shown):
+    """The factors with sigma >= mu*, as the text summary names them ('' where there are none)."""
+    nonlinear = [f"{morris.units[u]} (sigma {sigma[u]:.3g}, mu* {morris.value[u]:.3g})" for u in shown
+                 if nonlinear_factor(morris.value[u], sigma[u])]
+    if not nonlinear:
+        return ""
+    return (f"{name}: sigma >= mu*, nonlinear or interacting: {', '.join(nonlinear)}. Their effect depends on where "
+            "they step (or on the other factors): mu* orders them, but a Saltelli design's Sobol' "
+            "indices say how much of the variance goes with them.")
+
+
+def size_text(v, ci):
+    """A size in the response's units with its interval, not clipped (mu, mu*, sigma)."""
+    if not np.isfinite(v):
+        return "n/a"
+    return f"{v:.3g}" + (f" [{ci[0]:.3g}, {ci[1]:.3g}]" if np.isfinite(ci[0]) and np.isfinite(ci[1]) else "")
+
+
+def nonlinear_factor(mu_star, sigma):
+    """The summary's rule: sigma at least mu* (and an effect at all)."""
+    return bool(np.isfinite(sigma) and np.isfinite(mu_star) and mu_star > 0 and sigma >= mu_star)
+
+
+def morris_reading(name, mu_star, mu, sigma):
+    """What mu and sigma say of one factor: its direction where its effects (nearly) all have one sign
+    (|mu| = mu*), else that they change sign; nonlinear or interacting where sigma >= mu*."""
+    if not (np.isfinite(mu_star) and np.isfinite(mu)) or mu_star == 0:
+        return "no effect seen" if mu_star == 0 else ""
+    words = [(f"raises {name}" if mu > 0 else f"lowers {name}") if abs(mu) >= SAME_SIGN * mu_star else
+             "its effects change sign (|mu| < mu*): non-monotone"]
+    if nonlinear_factor(mu_star, sigma):
+        words.append("nonlinear or interacting (sigma >= mu*)")
+    return "; ".join(words)
 
 
 def morris_figures(f, page):

@@ -8,7 +8,7 @@ import numpy as np
 import matplotlib.pyplot as plt
 
 from designs import base
-from drivers import sobol_first
+from drivers import TABLE_ROWS, correlation_note, folded_members, interval_text
 from rankings import has_sobol, sobol_ranking, visible_units
 from read import folded_note, shown_inputs, strings
 
@@ -39,6 +39,75 @@ def other_runs_words(f, others):
 
 def evidence(f, page):
     index_figures(f, page)
+
+
+def ranking_table(page, name, s, sobol, visible, ranks, correlations):
+    """The total and first-order indices per input or group, beside the rank measures (a response whose indices
+    this file does not hold gets the rank measures' table)."""
+    if not has_sobol(s):
+        return False
+    sobol_table(page, s, sobol, visible, ranks, correlations)
+    return True
+
+
+def sobol_table(page, s, sobol, visible, ranks, correlations):
+    grouped = "group_total_order" in s
+    first, first_ci = sobol_first(s)
+    header = ["input or group" if grouped else "input"] + (["its inputs"] if grouped else []) + \
+             ["total Sobol' [95 %]", "first order [95 %]", f"{ranks.measure} [95 %]", "Spearman", "note"]
+    table = []
+    for u in [int(u) for u in sobol.order if int(u) in set(visible)][:TABLE_ROWS]:
+        members = sobol.members[u]
+        row = [sobol.units[u]] + ([folded_members(members, ranks.units)] if grouped else [])
+        row += [interval_text(sobol.value[u], sobol.ci[u]),
+                first_order_cell(first[u], first_ci[u], sobol.value[u], sobol.ci[u])]
+        if len(members) == 1:
+            i = members[0]
+            row += [interval_text(ranks.value[i], ranks.ci[i]), f"{s['spearman'][i]:.3f}",
+                    correlation_note(i, ranks.units, correlations)]
+        else:
+            row += ["(a group: its inputs one by one are not ranked)", "", ""]
+        table.append(row)
+    page.table(header, table)
+    for words in index_notes(sobol, visible, first, first_ci):
+        page.paragraph(words)
+
+
+def index_notes(sobol, visible, first, first_ci):
+    """Why a first-order index above its total one, or an estimate outside [0, 1], is read as noise."""
+    out = []
+    above = [u for u in visible if np.isfinite(first[u]) and first[u] > sobol.value[u]]
+    noise = [sobol.units[u] for u in above if first_ci[u][0] <= sobol.ci[u][1]]
+    beyond = [sobol.units[u] for u in above if first_ci[u][0] > sobol.ci[u][1]]
+    if noise:
+        out.append(f"First order above total ({', '.join(noise)}): within noise. Where an input does not interact, "
+                   "both estimate the same share of variance, and here their difference lies within their "
+                   "intervals: read both as about the total index.")
+    if beyond:
+        out.append(f"First order above total beyond their intervals ({', '.join(beyond)}): the estimates disagree "
+                   "more than the bootstrap allows; more base points are needed before reading these first-order "
+                   "indices.")
+    outside = [f"{sobol.units[u]} {sobol.value[u]:.2g}" for u in visible
+               if np.isfinite(sobol.value[u]) and not 0 <= sobol.value[u] <= 1]
+    if outside:
+        out.append(f"An estimate outside [0, 1] ({', '.join(outside)}) is estimation noise: an index is a share of "
+                   "variance; its interval, clipped to [0, 1], is what the data say.")
+    return out
+
+
+def first_order_cell(first, first_ci, total, total_ci):
+    """A first-order index above its total one (they estimate the same share where nothing interacts) is
+    within noise where the intervals overlap."""
+    cell = interval_text(first, first_ci)
+    if np.isfinite(first) and np.isfinite(total) and first > total:
+        overlap = first_ci[0] <= total_ci[1]
+        cell += ": within noise of the total" if overlap else ": above the total beyond the intervals"
+    return cell
+
+
+def sobol_first(s):
+    key = "group_first_order" if "group_total_order" in s else "first_order"
+    return s[key][:], s[key + "_ci"][:]
 
 
 def index_figures(f, page):
