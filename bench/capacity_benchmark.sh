@@ -81,7 +81,7 @@ for name in ${EXAMPLES:-spherical_pendulum double_pendulum chain10 y_tree crane_
     check=$("$ensemble" --check "$work/$name.toml" -o "$work/check.h5")
     bytes=$(sed -n 's/.*(\([0-9]*\) bytes each.*/\1/p' <<< "$check")
     row_bytes=$(sed -n 's/.*; \([0-9]*\) row bytes a record, about.*/\1/p' <<< "$check")
-    write_ns=$(sed -n 's/.* \([0-9.]*\) ns a byte, measured now.*/\1/p' <<< "$check")
+    write_ns=$(sed -n 's/.* \([0-9.]*\) ns a byte of page-cache CPU measured now.*/\1/p' <<< "$check")
     /usr/bin/python3 -c "
 record = ($w4 - $w1) / ($r4 - $r1)
 sample = ($b4 - $b1) / ($r4 - $r1)

@@ -96,8 +96,8 @@ void define_options(CLI::App& app, CommandLine& c) {
                                 "output file (HDF5), written atomically (required unless --check)");
   app.add_flag("--check", c.check_only,
                "validate the job and its [ensemble], print the model and the ensemble and how many ranks it can keep "
-               "busy (timing its nominal run and sample 0, and writing 16 MiB to a file removed at once in "
-               "--output's directory, or the current one); write nothing");
+               "busy (timing its nominal run and sample 0, and writing 16 MiB to a file without a name in "
+               "--output's directory, or the current one); leaves nothing behind");
   app.add_flag("-q,--quiet", c.options.quiet, "no progress and no summary");
   c.sample_option =
       app.add_option("--sample", c.sample,

@@ -149,8 +149,9 @@ void print_capacity(std::ostream& out, const Capacity& c, const EnsembleSpec& sp
       << (c.write_measured_in.empty()
               ? formatted("at the development machine's %.2f ns a byte, not measured here: %s",
                           c.write_seconds_per_byte * 1e9, c.write_not_measured.c_str())
-              : formatted("at %.2f ns a byte, measured now in %s", c.write_seconds_per_byte * 1e9,
-                          c.write_measured_in.c_str()))
+              : formatted("at %.2f ns a byte of page-cache CPU measured now in %s (a lower bound: "
+                          "BENCHMARKS.md, \"Rank 0's storing\")",
+                          c.write_seconds_per_byte * 1e9, c.write_measured_in.c_str()))
       << "; the rest measured on the development machine: BENCHMARKS.md); "
       << formatted(
              "at %s%.3g ms per sample (%s) this job's %llu runs scale to %sabout %llu ranks before rank 0 "

@@ -68,7 +68,9 @@ std::size_t most_unit_rows(const SampleRows& rows);
 // The bytes stored are the row bytes less what deflate saves:
 // kStoredShare of them, the largest share of the six examples (0.37-0.65).
 // The rest is fitted to the 64-rank measurements (BENCHMARKS.md, "Rank 0's
-// storing is the page cache's": the fit and its spread).
+// storing is the page cache's": the fit and its spread): the median of
+// eight runs, not a bound (at 1.9 ns a byte it gives 4.3 us a record for
+// the spherical pendulum, which measured 2.5-6.1).
 inline constexpr double kUnitRecordSeconds = 1.2e-6;
 inline constexpr double kStoredShare = 0.65;
 inline constexpr double kChunkWriteSeconds = 5e-6;

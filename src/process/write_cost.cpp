@@ -1,11 +1,15 @@
 #include "process/write_cost.hpp"
 
+#include <fcntl.h>
+#include <sys/statvfs.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -36,24 +40,45 @@ struct Descriptor {
   }
 };
 
+FileError failed(const std::filesystem::path& dir, const std::string& what, int error) {
+  return FileError(dir.string() + ": cannot measure what writing costs here: " + what + " (" + std::strerror(error) +
+                   ")");
+}
+
+// A file without a name in `dir` (O_TMPFILE: nothing to leave behind even
+// when the process is killed), or, where the file system has no such
+// files, a named one unlinked at once.
+Descriptor unnamed_file(const std::filesystem::path& dir) {
+  Descriptor file;
+  file.fd = ::open(dir.c_str(), O_TMPFILE | O_WRONLY | O_CLOEXEC, 0600);
+  if (file.fd >= 0 || (errno != EOPNOTSUPP && errno != EISDIR && errno != EINVAL)) {
+    if (file.fd < 0) throw failed(dir, "cannot create a file", errno);
+    return file;
+  }
+  std::string name = (dir / ".treedyn-write-probe-XXXXXX").string();
+  file.fd = ::mkostemp(name.data(), O_CLOEXEC);
+  if (file.fd < 0) throw failed(dir, "cannot create a file", errno);
+  ::unlink(name.c_str());
+  return file;
+}
+
 }  // namespace
 
 double measure_write_seconds_per_byte(const std::filesystem::path& dir, std::size_t bytes, std::size_t piece) {
+  if (bytes == 0) throw std::invalid_argument("measure_write_seconds_per_byte: no bytes to write");
+  struct statvfs space {};
+  if (::statvfs(dir.c_str(), &space) == 0 && space.f_bavail * space.f_frsize < kSpareBytesToMeasure + bytes)
+    throw FileError(dir.string() + ": cannot measure what writing costs here: " +
+                    std::to_string(space.f_bavail * space.f_frsize >> 20) + " MiB free, fewer than " +
+                    std::to_string((kSpareBytesToMeasure + bytes) >> 20) + " MiB (not filled to measure)");
   piece = std::max<std::size_t>(1, std::min(piece, bytes));
-  const auto failed = [&](const char* what) {
-    return FileError(dir.string() + ": cannot measure what writing costs here: " + what + " (" +
-                     std::strerror(errno) + ")");
-  };
-  std::string name = (dir / ".treedyn-write-probe-XXXXXX").string();
-  Descriptor file;
-  file.fd = ::mkstemp(name.data());
-  if (file.fd < 0) throw failed("cannot create a file");
-  ::unlink(name.c_str());  // from here on, nothing to leave behind
+  const Descriptor file = unnamed_file(dir);
   const std::vector<char> data = incompressible(piece);
   const double start = thread_cpu_seconds();
   for (std::size_t written = 0; written < bytes; written += piece)
-    if (!write_all(file.fd, std::span(data.data(), std::min(piece, bytes - written)))) throw failed("cannot write");
-  return (thread_cpu_seconds() - start) / static_cast<double>(std::max<std::size_t>(bytes, 1));
+    if (!write_all(file.fd, std::span(data.data(), std::min(piece, bytes - written))))
+      throw failed(dir, "cannot write", errno);
+  return (thread_cpu_seconds() - start) / static_cast<double>(bytes);
 }
 
 }  // namespace treedyn::process

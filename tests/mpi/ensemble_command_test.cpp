@@ -6,7 +6,9 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <string>
 #include <utility>
+#include <vector>
 
 #include "support/command.hpp"
 #include "support/ensemble_run.hpp"
@@ -34,7 +36,7 @@ TEST(EnsembleCommand, CheckPrintsTheModelAndTheEnsembleAndRunsNothing) {
       << r.out;
   EXPECT_NE(r.out.find("body.rod.orientation: normal(mean=0, std=2)"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find(job + ": OK"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find(" ns a byte, measured now in .;"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(" ns a byte of page-cache CPU measured now in . (a lower bound"), std::string::npos) << r.out;
   std::size_t files = 0;
   for ([[maybe_unused]] const auto& entry : fs::directory_iterator(dir.path())) ++files;
   EXPECT_EQ(files, 0u) << "--check must not write anything";
@@ -50,7 +52,8 @@ TEST(EnsembleCommand, CheckMeasuresWritingWhereTheOutputGoes) {
   const std::string output = (dir.path() / "out" / "result.h5").string();
   CommandResult r = ensemble({"--check", job, "-o", output}, dir);
   EXPECT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.out.find(" ns a byte, measured now in " + (dir.path() / "out").string() + ";"), std::string::npos)
+  EXPECT_NE(r.out.find(" ns a byte of page-cache CPU measured now in " + (dir.path() / "out").string() + " ("),
+            std::string::npos)
       << r.out;
   EXPECT_TRUE(fs::is_empty(dir.path() / "out"));
   const fs::path missing = dir.path() / "missing";
@@ -61,6 +64,24 @@ TEST(EnsembleCommand, CheckMeasuresWritingWhereTheOutputGoes) {
             std::string::npos)
       << r.out;
   EXPECT_FALSE(fs::exists(missing));
+}
+
+// A run says its capacity at the pilot's end, with writing measured beside
+// its output, and leaves only the output there.
+TEST(EnsembleCommand, ARunMeasuresWritingBesideItsOutput) {
+  TempDir dir("ensemble_command_test");
+  fs::create_directory(dir.path() / "out");
+  const std::string output = (dir.path() / "out" / "result.h5").string();
+  const CommandResult r = ensemble(
+      {std::string(TREEDYN_JOBS_DIR) + "/spherical_pendulum.toml", "-o", output, "--checkpoint-every", "0"}, dir);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("rank 0's capacity: "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(" ns a byte of page-cache CPU measured now in " + (dir.path() / "out").string() + " ("),
+            std::string::npos)
+      << r.err;
+  std::vector<std::string> left;
+  for (const auto& entry : fs::directory_iterator(dir.path() / "out")) left.push_back(entry.path().filename());
+  EXPECT_EQ(left, std::vector<std::string>{"result.h5"});
 }
 
 TEST(EnsembleCommand, CheckRefusesABadEnsembleWithTheFieldAndExit2) {

@@ -121,7 +121,7 @@ class FromFiles(unittest.TestCase):
                              ("subset_simulation", "designs.subset_simulation"), ("sobol", "designs.sobol"),
                              ("latin_hypercube", "designs.latin_hypercube"), ("monte_carlo", "designs.base"),
                              ("importance_sampling", "designs.base"), ("../answers", "designs.base"),
-                             ("base", "designs.base")):
+                             ("base", "designs.base"), ("__init__", "designs.base"), ("Saltelli", "designs.base")):
             with h5py.File(self.path, "w") as f:
                 f.attrs["design"] = name
                 self.assertEqual(design_of(f).module.__name__, module, name)
@@ -129,6 +129,8 @@ class FromFiles(unittest.TestCase):
                 self.assertTrue(callable(design_of(f).after_failure_region), name)
         with h5py.File(self.path, "w") as f:
             self.assertEqual(design_of(f).module.__name__, "designs.base")  # no design attribute
+            f["samples/level"] = np.zeros(4, dtype=np.int32)  # ... but levels: read as subset simulation
+            self.assertEqual(design_of(f).module.__name__, "designs.subset_simulation")
 
     def test_rows_a_merge_does_not_hold_are_not_counted(self):
         def build(f):
@@ -570,7 +572,7 @@ class FromAnswerFiles(unittest.TestCase):
     def test_a_subset_simulation_page_does_not_give_level_0_as_the_answer(self):
         def build(f):
             saltelli_file(f)
-            f.attrs["design"] = "subset_simulation"
+            del f.attrs["design"]  # a file without it: its levels say subset simulation
             f["samples/level"] = np.repeat([0, 1, 2, 3], 4)
             for key, v in (("mean", 22.0), ("sem", 0.4), ("used", 4), ("failed", 0), ("not_finite", 0)):
                 f[f"responses/y/{key}"] = v

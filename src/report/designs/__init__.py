@@ -10,6 +10,7 @@ a design without a module of its own gets base.py's. A design module defines the
 
 A new design adds its module here and nothing else in the report."""
 import importlib
+import re
 
 from designs import base
 from read import text
@@ -22,12 +23,21 @@ class Design:
         self.module = module
 
     def __getattr__(self, hook):
-        return getattr(self.module, hook, getattr(base, hook))
+        own = getattr(self.module, hook, None)
+        return own if own is not None else getattr(base, hook)
+
+
+def design_name(f):
+    """The file's design; a file without the attribute (none treedyn writes) is read as subset simulation where
+    it has levels, as the page read such files before its designs had modules."""
+    if "design" in f.attrs:
+        return text(f.attrs["design"])
+    return "subset_simulation" if "samples/level" in f else ""
 
 
 def design_of(f):
-    name = text(f.attrs.get("design", ""))
-    if not name.isidentifier() or name == "base":
+    name = design_name(f)
+    if not re.fullmatch(r"[a-z][a-z0-9_]*", name) or name == "base":
         return Design(base)
     try:
         return Design(importlib.import_module(f"designs.{name}"))
