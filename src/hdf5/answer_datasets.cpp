@@ -1,6 +1,8 @@
 #include "hdf5/answer_datasets.hpp"
 
 #include <limits>
+#include <string>
+#include <vector>
 
 #include "hdf5/described.hpp"
 
@@ -63,6 +65,62 @@ void write_interval_matrix(hid_t g, const char* name, const std::vector<double>&
   describe(set.id(), units, what + ": " + row_word + " x (low, high); rows follow the '" + row_word + "s' attribute",
            {"low", "high"});
   h5::write_attribute(set.id(), std::string(row_word) + "s", rows);
+}
+
+std::string fail_if_name(const ensemble::Response& r) {
+  return r.fail_if == ensemble::Response::FailIf::above ? "above" : "below";
+}
+
+void write_pair(hid_t g, const char* name, double low, double high, const std::string& what) {
+  const double values[2] = {low, high};
+  const hsize_t two[1] = {2};
+  h5::Handle set = h5::write_array(g, name, H5T_NATIVE_DOUBLE, values, two);
+  describe(set.id(), "1", what, {"low", "high"});
+}
+
+void write_failure_region(hid_t parent, const ensemble::EnsembleSpec& spec, const ensemble::FailureRegion& region,
+                          const std::string& which_runs) {
+  h5::Handle g = h5::create_group(parent, "failure_region");
+  h5::write_attribute(g.id(), "description",
+                      "the inputs of " + which_runs +
+                          ", in independent standard normal space (u = Phi^-1(F(x)), "
+                          "through the normal copula's inverse for correlated inputs), per input");
+  h5::write_attribute(g.id(), "runs", static_cast<long long>(region.runs));
+  if (region.runs == 0 || region.mean_u.empty()) return;  // nothing beyond the limit: no numbers to show
+  const std::vector<std::string> inputs = spec.input_names();
+  write_per_input(g.id(), "mean_u", region.mean_u, "1", "mean of u: the design point where the region is one-sided",
+                  inputs);
+  write_per_input(g.id(), "mean_u2", region.mean_u2, "1", "mean of u^2: 1 for an input the failure does not select on",
+                  inputs);
+  write_per_input(g.id(), "divergence", region.divergence, "1",
+                  "relative entropy of the failing runs' u (as a normal of their mean m and variance s^2) against "
+                  "N(0, 1), (s^2 + m^2 - 1 - ln s^2) / 2; attribute 'chance': what it averages to for an input the "
+                  "failure does not select on",
+                  inputs);
+  h5::write_attribute(g.id(), "chance", region.chance);
+  h5::write_attribute(g.id(), "effective_runs", region.effective_runs);
+  write_per_input(g.id(), "importance", region.importance, "1",
+                  "max(divergence - chance, 0) as a share of its sum over the inputs", inputs);
+  std::vector<std::string> unit_names, unit_inputs;
+  for (const ensemble::InputUnit& u : region.units) {
+    unit_names.push_back(u.name);
+    std::string listed;
+    for (unsigned d : u.inputs) listed += (listed.empty() ? "" : ", ") + inputs[d];
+    unit_inputs.push_back(listed);
+  }
+  write_per_input(g.id(), "unit_importance", region.unit_importance, "1",
+                  "per unit (a group, a list such as a sea state's phases, or one input; attribute 'unit_inputs'): "
+                  "max(sum of its inputs' divergence - their count x chance, 0) as a share of its sum over the units",
+                  unit_names);
+  h5::write_attribute(g.id(), "unit_inputs", unit_inputs);
+  write_per_input(g.id(), "near_bound", region.near_bound, "1",
+                  "share of the failing runs within 1 % of the distribution's range of one of its bounds (NaN: "
+                  "unbounded, or a full turn of an angle)",
+                  inputs);
+  h5::Handle b = h5::write_vector(g.id(), "bound", region.bound);
+  describe(b.id(), "SI (per column: /samples/inputs column_units)", "the bound most of those runs are near", inputs);
+  h5::Handle x = h5::write_vector(g.id(), "design_point", region.design_point);
+  describe(x.id(), "SI (per column: /samples/inputs column_units)", "the inputs at u = mean_u", inputs);
 }
 
 }  // namespace treedyn::answers_file

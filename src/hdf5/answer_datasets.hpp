@@ -1,12 +1,13 @@
 // The datasets every design's answers are written with: per-input (or
-// per-unit) values, intervals, and a ranking with what tells its
-// neighbours apart. answers_file.cpp and each design's writer (designs/)
-// share them.
+// per-unit) values, intervals, a ranking with what tells its neighbours
+// apart, and a failure region. answers_file.cpp and each design's writer
+// (designs/) share them.
 #pragma once
 
 #include <string>
 #include <vector>
 
+#include "analysis/failure_region.hpp"
 #include "analysis/ranking.hpp"
 #include "hdf5/hdf5.hpp"
 #include "job/ensemble_spec.hpp"
@@ -32,5 +33,17 @@ std::vector<double> per_input_values(const ensemble::EnsembleSpec& spec, const s
 // `units`: the values' (an index's "1").
 void write_interval_matrix(hid_t g, const char* name, const std::vector<double>& v, const std::string& what,
                            const std::vector<std::string>& rows, const char* row_word, const std::string& units = "1");
+
+// "above" or "below": the side of the limit a response fails on.
+std::string fail_if_name(const ensemble::Response& r);
+
+// A (low, high) pair of probabilities, described.
+void write_pair(hid_t g, const char* name, double low, double high, const std::string& what);
+
+// <parent>/failure_region: what the inputs of `which_runs` say
+// (analysis/failure_region.hpp), a response's exceedance's or a subset
+// simulation's.
+void write_failure_region(hid_t parent, const ensemble::EnsembleSpec& spec, const ensemble::FailureRegion& region,
+                          const std::string& which_runs);
 
 }  // namespace treedyn::answers_file

@@ -17,65 +17,6 @@ namespace {
 using h5::describe;
 using h5::write_described_scalar;
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-std::string fail_if_name(const ensemble::Response& r) {
-  return r.fail_if == ensemble::Response::FailIf::above ? "above" : "below";
-}
-
-void write_pair(hid_t g, const char* name, double low, double high, const std::string& what) {
-  const double values[2] = {low, high};
-  const hsize_t two[1] = {2};
-  h5::Handle set = h5::write_array(g, name, H5T_NATIVE_DOUBLE, values, two);
-  describe(set.id(), "1", what, {"low", "high"});
-}
-
-// <parent>/failure_region: what the failing runs' inputs say (analysis/failure_region.hpp).
-void write_failure_region(hid_t parent, const ensemble::EnsembleSpec& spec, const ensemble::FailureRegion& region,
-                          const std::string& which_runs) {
-  h5::Handle g = h5::create_group(parent, "failure_region");
-  h5::write_attribute(g.id(), "description",
-                      "the inputs of " + which_runs +
-                          ", in independent standard normal space (u = Phi^-1(F(x)), "
-                          "through the normal copula's inverse for correlated inputs), per input");
-  h5::write_attribute(g.id(), "runs", static_cast<long long>(region.runs));
-  if (region.runs == 0 || region.mean_u.empty()) return;  // nothing beyond the limit: no numbers to show
-  const std::vector<std::string> inputs = spec.input_names();
-  write_per_input(g.id(), "mean_u", region.mean_u, "1", "mean of u: the design point where the region is one-sided",
-                  inputs);
-  write_per_input(g.id(), "mean_u2", region.mean_u2, "1", "mean of u^2: 1 for an input the failure does not select on",
-                  inputs);
-  write_per_input(g.id(), "divergence", region.divergence, "1",
-                  "relative entropy of the failing runs' u (as a normal of their mean m and variance s^2) against "
-                  "N(0, 1), (s^2 + m^2 - 1 - ln s^2) / 2; attribute 'chance': what it averages to for an input the "
-                  "failure does not select on",
-                  inputs);
-  h5::write_attribute(g.id(), "chance", region.chance);
-  h5::write_attribute(g.id(), "effective_runs", region.effective_runs);
-  write_per_input(g.id(), "importance", region.importance, "1",
-                  "max(divergence - chance, 0) as a share of its sum over the inputs", inputs);
-  std::vector<std::string> unit_names, unit_inputs;
-  for (const ensemble::InputUnit& u : region.units) {
-    unit_names.push_back(u.name);
-    std::string listed;
-    for (unsigned d : u.inputs) listed += (listed.empty() ? "" : ", ") + inputs[d];
-    unit_inputs.push_back(listed);
-  }
-  write_per_input(g.id(), "unit_importance", region.unit_importance, "1",
-                  "per unit (a group, a list such as a sea state's phases, or one input; attribute 'unit_inputs'): "
-                  "max(sum of its inputs' divergence - their count x chance, 0) as a share of its sum over the units",
-                  unit_names);
-  h5::write_attribute(g.id(), "unit_inputs", unit_inputs);
-  write_per_input(g.id(), "near_bound", region.near_bound, "1",
-                  "share of the failing runs within 1 % of the distribution's range of one of its bounds (NaN: "
-                  "unbounded, or a full turn of an angle)",
-                  inputs);
-  h5::Handle b = h5::write_vector(g.id(), "bound", region.bound);
-  describe(b.id(), "SI (per column: /samples/inputs column_units)", "the bound most of those runs are near", inputs);
-  h5::Handle x = h5::write_vector(g.id(), "design_point", region.design_point);
-  describe(x.id(), "SI (per column: /samples/inputs column_units)", "the inputs at u = mean_u", inputs);
-}
-
 // /responses/<name>/exceedance: the limit state's probability, its interval,
 // what the failed samples can change, and the failure region.
 void write_exceedance(hid_t g, const ensemble::EnsembleSpec& spec, const ensemble::Response& response,
@@ -237,29 +178,6 @@ void write_sensitivity(hid_t parent, const ensemble::EnsembleSpec& spec, const e
   write_sobol_convergence(sg.id(), spec, a);
 }
 
-void write_levels(hid_t g, const rare_event::SubsetResult& result, double sign, const std::string& units) {
-  std::vector<double> thresholds, conditional, gamma, acceptance, runs, failed;
-  for (const rare_event::LevelSummary& level : result.levels) {
-    thresholds.push_back(sign * level.threshold);
-    conditional.push_back(level.conditional_probability);
-    gamma.push_back(level.gamma);
-    acceptance.push_back(level.acceptance_rate);
-    runs.push_back(static_cast<double>(level.runs));
-    failed.push_back(static_cast<double>(level.failed_runs));
-  }
-  describe(h5::write_vector(g, "thresholds", thresholds).id(), units,
-           "per level: the response's threshold (the last: the limit itself)", {});
-  describe(h5::write_vector(g, "conditional_probability", conditional).id(), "1",
-           "per level: the fraction of its states beyond its threshold (p0 but at the last)", {});
-  describe(h5::write_vector(g, "gamma", gamma).id(), "1",
-           "per level: the chains' correlation factor in delta_j^2 = (1 - p) / (N p) (1 + gamma)", {});
-  describe(h5::write_vector(g, "acceptance_rate", acceptance).id(), "1",
-           "per level: accepted proposals / proposals (level 0: 1)", {});
-  describe(h5::write_vector(g, "runs_per_level", runs).id(), "1", "per level: the runs it made", {});
-  describe(h5::write_vector(g, "failed_per_level", failed).id(), "1",
-           "per level: its runs that failed (never beyond a threshold; rejected proposals)", {});
-}
-
 }  // namespace
 
 void write_answers(hid_t file, const ensemble::EnsembleSpec& spec,
@@ -281,41 +199,6 @@ void write_answers(hid_t file, const ensemble::EnsembleSpec& spec,
     write_response_answer(responses.id(), spec, spec.responses[r], answers[r]);
     if (sensitivity) write_sensitivity(sensitivity->id(), spec, spec.responses[r], answers[r]);
   }
-}
-
-void write_rare_event(hid_t file, const ensemble::EnsembleSpec& spec, const rare_event::SubsetSettings& settings,
-                      const ensemble::RareEventAnswer& answer) {
-  const rare_event::SubsetResult& result = answer.result;
-  const ensemble::Response& response = spec.responses[spec.subset->response];
-  const double sign = response.fail_if == ensemble::Response::FailIf::below ? -1.0 : 1.0;
-  h5::Handle group = h5::create_group(file, "rare_event");
-  h5::write_attribute(group.id(), "description",
-                      std::string("subset simulation (Au and Beck 2001) in standard normal space: levels of "
-                                  "conditional samples, conditional sampling after Papaioannou et al. 2015"));
-  h5::Handle g = h5::create_group(group.id(), response.name);
-  h5::write_attribute(g.id(), "limit", response.limit);
-  h5::write_attribute(g.id(), "fail_if", fail_if_name(response));
-  h5::write_attribute(g.id(), "units", response.units);
-  h5::write_attribute(g.id(), "level_probability", settings.level_probability);
-  h5::write_attribute(g.id(), "samples_per_level", static_cast<long long>(settings.samples));
-  h5::write_attribute(g.id(), "reached_limit", static_cast<long long>(result.reached_limit ? 1 : 0));
-  h5::write_attribute(g.id(), "no_threshold", static_cast<long long>(result.no_threshold ? 1 : 0));
-  write_described_scalar(g.id(), "probability", result.probability, "1",
-                         "P(limit exceeded) = product of the levels' conditional probabilities");
-  write_described_scalar(g.id(), "cov", result.cov, "1",
-                         "coefficient of variation: sqrt(sum of the levels' delta_j^2), the levels taken as "
-                         "uncorrelated (the usual estimate; it understates a little)");
-  write_pair(g.id(), "interval", result.interval_low, result.interval_high,
-             "95 % interval: the estimate taken as lognormal with that cov, P exp(-+1.96 sqrt(ln(1 + cov^2))); "
-             "with no exceedance at the last level, [0, the rule of three there]");
-  write_described_scalar(g.id(), "runs", result.runs, "1", "model runs made: every proposal is a run, accepted or not");
-  write_described_scalar(g.id(), "crude_monte_carlo_runs",
-                         result.probability > 0.0 && result.cov > 0.0
-                             ? (1.0 - result.probability) / (result.probability * result.cov * result.cov)
-                             : kNaN,
-                         "1", "runs crude Monte Carlo would need for the same cov: (1 - P) / (P cov^2)");
-  write_levels(g.id(), result, sign, response.units);
-  write_failure_region(g.id(), spec, answer.region, "every run beyond the limit (any level)");
 }
 
 void write_tolerance_check(hid_t file, const ensemble::EnsembleSpec& spec, const ensemble::ToleranceCheck& check) {

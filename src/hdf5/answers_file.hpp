@@ -2,8 +2,8 @@
 // /responses (each response's mean, exceedance, what the failed samples can
 // change and the failure region, convergence), /sensitivity (rank measures,
 // Sobol' indices, the rankings with what tells their neighbours apart, the
-// indices' convergence) and /rare_event (subset simulation's levels and its
-// failure region).
+// indices' convergence). Subset simulation's /rare_event is its own
+// (designs/subset_simulation/subset_file.hpp).
 #pragma once
 
 #include <vector>
@@ -11,7 +11,6 @@
 #include "analysis/answers.hpp"
 #include "hdf5/hdf5.hpp"
 #include "job/ensemble_spec.hpp"
-#include "rare_event/subset_simulation.hpp"
 #include "statistics/tolerance_check.hpp"
 
 namespace treedyn::answers_file {
@@ -19,12 +18,6 @@ namespace treedyn::answers_file {
 // /responses and, with sampled inputs, /sensitivity: one group per response.
 void write_answers(hid_t file, const ensemble::EnsembleSpec& spec,
                    const std::vector<ensemble::ResponseAnswer>& answers);
-
-// /rare_event/<response>: the estimate, its cov and interval, each level's
-// threshold, conditional probability, gamma, acceptance rate and runs, and
-// the failure region.
-void write_rare_event(hid_t file, const ensemble::EnsembleSpec& spec, const rare_event::SubsetSettings& settings,
-                      const ensemble::RareEventAnswer& answer);
 
 // /integration_check: the pilot's tolerance check (nothing without responses).
 void write_tolerance_check(hid_t file, const ensemble::EnsembleSpec& spec, const ensemble::ToleranceCheck& check);

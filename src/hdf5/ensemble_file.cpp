@@ -7,6 +7,7 @@
 
 #include "common/format.hpp"
 #include "designs/design_rules.hpp"
+#include "designs/subset_simulation/subset_file.hpp"
 #include "hdf5/answers_file.hpp"
 #include "hdf5/described.hpp"
 #include "hdf5/statistics_file.hpp"
@@ -331,7 +332,7 @@ void EnsembleWriter::write_merge_origin(const std::vector<std::string>& parts,
 void EnsembleWriter::write_rare_event(const rare_event::SubsetSettings& settings,
                                       const ensemble::RareEventAnswer& answer, std::size_t rows) {
   write_run_places(settings, rows);
-  answers_file::write_rare_event(file_.id(), spec_, settings, answer);
+  designs::write_rare_event(file_.id(), spec_, settings, answer);
 }
 
 void EnsembleWriter::write_run_places(const rare_event::SubsetSettings& settings, std::size_t rows) {
