@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
 # Are two builds' ensemble files the same? Runs every shipped example (and
 # the benchmark jobs) with both builds' treedyn-ensemble on 1, 2 and 3 ranks,
-# and compares /stats, /samples, /responses and /sensitivity with h5diff (bit
-# for bit, every dataset's values: no tolerance; attributes are not
-# compared), plus one sample rerun alone (--sample K): its /final_state and
-# /sample/inputs. For a refactoring, the older build is the commit before it:
+# and compares every dataset's values under /stats, /samples, /responses,
+# /sensitivity, /rare_event, /integration_check, /nominal and /trajectories
+# bit for bit (no tolerance; attributes are not compared), plus one sample
+# rerun alone (--sample K): its /final_state and /sample/inputs. For a refactoring, the older build is the commit before it:
 #
 #   git worktree add /tmp/before HEAD~1 && cmake -S /tmp/before -B /tmp/before/build \
 #     -DTREEDYN_BUILD_BENCHMARKS=OFF && cmake --build /tmp/before/build -j2 --target treedyn-ensemble
@@ -62,8 +62,9 @@ for job in "${jobs[@]}"; do
   for ranks in 1 2 3; do
     out="$work/$name.new$ranks.h5"
     if ! run "$new" "$ranks" "$job" "$out"; then echo "$name, $ranks ranks: the new build failed: $(cat "$out.err")"; status=1; continue; fi
-    if why=$(same "$work/$name.old.h5" "$out" /stats /samples /responses /sensitivity /nominal /trajectories); then
-      echo "$name, $ranks rank(s): every dataset of /stats /samples /responses /sensitivity /nominal /trajectories bitwise equal"
+    groups=(/stats /samples /responses /sensitivity /rare_event /integration_check /nominal /trajectories)
+    if why=$(same "$work/$name.old.h5" "$out" "${groups[@]}"); then
+      echo "$name, $ranks rank(s): every dataset of ${groups[*]} bitwise equal (where present)"
     else
       echo "$name, $ranks rank(s): $why"; status=1
     fi
