@@ -4,7 +4,8 @@
 # and compares every dataset's values under /stats, /samples, /responses,
 # /sensitivity, /rare_event, /integration_check, /nominal and /trajectories
 # bit for bit (no tolerance; attributes are not compared), plus one sample
-# rerun alone (--sample K): its /final_state and /sample/inputs. For a refactoring, the older build is the commit before it:
+# rerun alone (--sample K): its /final_state and /sample/inputs. For a
+# refactoring, the older build is the commit before it:
 #
 #   git worktree add /tmp/before HEAD~1 && cmake -S /tmp/before -B /tmp/before/build \
 #     -DTREEDYN_BUILD_BENCHMARKS=OFF && cmake --build /tmp/before/build -j2 --target treedyn-ensemble

@@ -66,11 +66,10 @@ std::size_t most_unit_rows(const SampleRows& rows);
 // `write_seconds_per_byte` (the machine's and the file system's:
 // process/write_cost.hpp), and a direct chunk write per dataset per unit.
 // The bytes stored are the row bytes less what deflate saves:
-// kStoredShare of them, the largest share of the six examples (0.37-0.65).
-// The rest is fitted to the 64-rank measurements (BENCHMARKS.md, "Rank 0's
-// storing is the page cache's": the fit and its spread): the median of
-// eight runs, not a bound (at 1.9 ns a byte it gives 4.3 us a record for
-// the spherical pendulum, which measured 2.5-6.1).
+// kStoredShare of them, the largest share among the examples. The rest is
+// fitted to the 64-rank measurements: a median, not a bound, since those
+// vary about twofold from run to run (BENCHMARKS.md, "Rank 0's storing is
+// the page cache's": the fit, its spread and the shares).
 inline constexpr double kUnitRecordSeconds = 1.2e-6;
 inline constexpr double kStoredShare = 0.65;
 inline constexpr double kChunkWriteSeconds = 5e-6;
@@ -113,7 +112,7 @@ Scale scales_to(const Capacity& c, const EnsembleSpec& spec);
 // The datasets, row bytes and most unit rows of a job's per-sample rows.
 void count_rows(Capacity& c, const SampleRows& rows);
 
-// The write cost per byte measured in `dir`, with a file removed at once
+// The write cost per byte measured in `dir`, with a file without a name
 // (process/write_cost.hpp); where that fails, the development machine's
 // stays and write_not_measured says why.
 void measure_writing(Capacity& c, const std::filesystem::path& dir);

@@ -11,6 +11,7 @@
 #include <cstring>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "support/command.hpp"
 #include "support/ensemble_run.hpp"
@@ -101,6 +102,32 @@ TEST_F(FullDisk, CheckpointsOnAFullDiskWarnAndTheRunStillEndsCleanly) {
   const fs::path checkpoint = disk_ / "kapitza.h5.checkpoint";
   EXPECT_TRUE(fs::is_empty(disk_) || fs::exists(checkpoint / "common.state"))
       << "a checkpoint directory that nothing could resume from was left";
+}
+
+// A disk with room for the output but not for the write-cost probe (the
+// probe plus 64 MiB, process/write_cost.hpp): the run is not hurt; its
+// capacity line says why writing was not measured, and the disk holds only
+// the output.
+class SmallDisk : public FullDisk {
+  std::string size() const override { return "16m"; }
+};
+
+TEST_F(SmallDisk, ARunWhoseDiskCannotSpareTheProbeSaysSoAndSucceeds) {
+  const std::vector<std::string> launch = {"timeout", "-k", "10", std::to_string(kTimeoutSeconds),
+                                           TREEDYN_MPIEXEC, "--oversubscribe", "-np", "2"};
+  const auto r = run_command(
+      TREEDYN_ENSEMBLE_BINARY,
+      {(fs::path(TREEDYN_JOBS_DIR) / "spherical_pendulum.toml").string(), "-o", (disk_ / "out.h5").string(),
+       "--checkpoint-every", "0"},
+      dir_.path() / "capture", launch);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("not measured here: " + disk_.string() + ": cannot measure what writing costs here: "),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find(" MiB free, fewer than 80 MiB (not filled to measure)"), std::string::npos) << r.err;
+  std::vector<std::string> left;
+  for (const auto& e : fs::directory_iterator(disk_)) left.push_back(e.path().filename());
+  EXPECT_EQ(left, std::vector<std::string>{"out.h5"});
 }
 
 }  // namespace
