@@ -246,6 +246,7 @@ void EnsembleWriter::write_records(std::vector<SampleRecord> records) {
     run.push_back(std::move(r));
   }
   if (!run.empty()) write_run(run);
+  file_.drop_written_pages();
 }
 
 void EnsembleWriter::write_run(const std::vector<SampleRecord>& run) {
@@ -269,6 +270,7 @@ void EnsembleWriter::write_unit(const h5::Unit& unit) {
   write_reasons(unit.records, unit.first);
   for (std::size_t i = 0; i < sample_sets_.size(); ++i)
     sample_sets_[i]->write_chunk_whole(unit.first / unit_rows_, unit.chunks[i].bytes, unit.chunks[i].deflated);
+  file_.drop_written_pages();
 }
 
 // Only a failed sample has a reason: the others' rows are left unwritten

@@ -152,6 +152,21 @@ File::File(std::filesystem::path final_path) : target_(std::move(final_path), pr
     throw IoError("output " + target_.path().string() + ": cannot create the file (HDF5 refused " +
                   target_.temporary().string() + ")");
   handle_ = Handle(id, H5Fclose, "creating " + target_.temporary().string());
+  // Only the default driver's handle is a descriptor (HDF5_DRIVER may
+  // choose another).
+  Handle used(H5Fget_access_plist(id), H5Pclose, "getting the file's access properties");
+  void* descriptor = nullptr;
+  if (H5Pget_driver(used.id()) == H5FD_SEC2 && H5Fget_vfd_handle(id, H5P_DEFAULT, &descriptor) >= 0 && descriptor)
+    drop_behind_.emplace(*static_cast<int*>(descriptor), "output " + target_.path().string());
+}
+
+void File::drop_written_pages() {
+  if (!drop_behind_) return;
+  try {
+    drop_behind_->after_writes();
+  } catch (const process::FileError& e) {
+    throw IoError(e.what());
+  }
 }
 
 File::~File() { handle_.reset(); }  // before target_ removes the temporary

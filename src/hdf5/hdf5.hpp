@@ -6,12 +6,14 @@
 
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <span>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "process/atomic_file.hpp"
+#include "process/drop_behind.hpp"
 
 namespace treedyn::h5 {
 
@@ -55,11 +57,16 @@ class File {
   File(const File&) = delete;
   File& operator=(const File&) = delete;
   hid_t id() const { return handle_.id(); }
+  // After a batch of rows: lets the kernel drop what is already on the disk
+  // of a file written front to back (process/drop_behind.hpp). Throws
+  // IoError when the disk reports a failed write.
+  void drop_written_pages();
   void commit();
 
  private:
   process::AtomicFile target_;
   Handle handle_;
+  std::optional<process::DropBehind> drop_behind_;  // none where HDF5 gives no descriptor
 };
 
 // HDF5 prints no error stack of its own (treedyn reports errors itself);

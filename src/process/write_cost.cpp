@@ -15,6 +15,7 @@
 
 #include "common/host_time.hpp"
 #include "process/atomic_file.hpp"
+#include "process/drop_behind.hpp"
 
 namespace treedyn::process {
 namespace {
@@ -66,18 +67,28 @@ Descriptor unnamed_file(const std::filesystem::path& dir) {
 
 double measure_write_seconds_per_byte(const std::filesystem::path& dir, std::size_t bytes, std::size_t piece) {
   if (bytes == 0) throw std::invalid_argument("measure_write_seconds_per_byte: no bytes to write");
+  const std::size_t total = kProbeLeadBytes + bytes;
   struct statvfs space {};
-  if (::statvfs(dir.c_str(), &space) == 0 && space.f_bavail * space.f_frsize < kSpareBytesToMeasure + bytes)
+  if (::statvfs(dir.c_str(), &space) == 0 && space.f_bavail * space.f_frsize < kSpareBytesToMeasure + total)
     throw FileError(dir.string() + ": cannot measure what writing costs here: " +
                     std::to_string(space.f_bavail * space.f_frsize >> 20) + " MiB free, fewer than " +
-                    std::to_string((kSpareBytesToMeasure + bytes) >> 20) + " MiB (not filled to measure)");
+                    std::to_string((kSpareBytesToMeasure + total) >> 20) + " MiB (not filled to measure)");
   piece = std::max<std::size_t>(1, std::min(piece, bytes));
   const Descriptor file = unnamed_file(dir);
+  DropBehind drop(file.fd, dir.string() + ": cannot measure what writing costs here", kProbeWindowBytes,
+                  kProbeLeadBytes - kProbeWindowBytes);
   const std::vector<char> data = incompressible(piece);
+  std::size_t written = 0;
+  const auto write_up_to = [&](std::size_t end) {
+    for (; written < end; written += std::min(piece, end - written)) {
+      if (!write_all(file.fd, std::span(data.data(), std::min(piece, end - written))))
+        throw failed(dir, "cannot write", errno);
+      drop.written_up_to(written + std::min(piece, end - written));
+    }
+  };
+  write_up_to(kProbeLeadBytes);
   const double start = thread_cpu_seconds();
-  for (std::size_t written = 0; written < bytes; written += piece)
-    if (!write_all(file.fd, std::span(data.data(), std::min(piece, bytes - written))))
-      throw failed(dir, "cannot write", errno);
+  write_up_to(total);
   return (thread_cpu_seconds() - start) / static_cast<double>(bytes);
 }
 

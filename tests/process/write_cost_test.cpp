@@ -63,7 +63,7 @@ TEST(WriteCost, ASmallDiskIsNotFilledToMeasure) {
   struct statvfs space {};
   statvfs(disk.c_str(), &space);
   umount(disk.c_str());
-  EXPECT_EQ(error, disk.string() + ": cannot measure what writing costs here: 8 MiB free, fewer than 65 MiB (not "
+  EXPECT_EQ(error, disk.string() + ": cannot measure what writing costs here: 8 MiB free, fewer than 70 MiB (not "
                                    "filled to measure)");
   EXPECT_EQ(space.f_bfree, space.f_blocks) << "the probe wrote";
 }

@@ -1,0 +1,177 @@
+// Dropping what a writer has put on the disk (process/drop_behind.*): the
+// pages more than the lag behind the end leave the page cache (mincore), the
+// file reads back as written, a file that cannot be synced is left to the
+// kernel, and a write the disk refuses is reported, not swallowed (root: a
+// loop device whose backing file lies on a small tmpfs, as thin-provisioned
+// storage that runs out).
+#include "process/drop_behind.hpp"
+
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <linux/loop.h>
+#include <linux/magic.h>
+#include <sys/ioctl.h>
+#include <sys/mman.h>
+#include <sys/mount.h>
+#include <sys/vfs.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "process/atomic_file.hpp"
+#include "support/command.hpp"
+
+namespace treedyn {
+namespace {
+
+namespace fs = std::filesystem;
+constexpr std::uint64_t kMiB = std::uint64_t{1} << 20;
+
+std::vector<char> piece_of(std::uint64_t seed) {
+  std::vector<char> bytes(256 << 10);
+  std::uint64_t x = 0x9E3779B97F4A7C15u ^ seed;
+  for (char& b : bytes) {
+    x ^= x << 13;
+    x ^= x >> 7;
+    x ^= x << 17;
+    b = static_cast<char>(x >> 56);
+  }
+  return bytes;
+}
+
+// Pages of [from, to) of `fd`'s file in the page cache.
+std::size_t resident_pages(int fd, std::uint64_t from, std::uint64_t to) {
+  const std::size_t page = static_cast<std::size_t>(sysconf(_SC_PAGESIZE));
+  void* map = mmap(nullptr, to - from, PROT_READ, MAP_SHARED, fd, static_cast<off_t>(from));
+  if (map == MAP_FAILED) throw std::runtime_error(std::string("mmap: ") + std::strerror(errno));
+  std::vector<unsigned char> in((to - from + page - 1) / page);
+  const int status = mincore(map, to - from, in.data());
+  munmap(map, to - from);
+  if (status != 0) throw std::runtime_error(std::string("mincore: ") + std::strerror(errno));
+  std::size_t n = 0;
+  for (unsigned char c : in) n += c & 1u;
+  return n;
+}
+
+TEST(DropBehind, PagesBehindTheLagLeaveTheCacheAndTheFileIsIntact) {
+  testing::TempDir dir{"drop_behind"};
+  struct statfs kind {};
+  ASSERT_EQ(statfs(dir.path().c_str(), &kind), 0);
+  if (kind.f_type == TMPFS_MAGIC) GTEST_SKIP() << "a tmpfs keeps its pages: nothing to drop";
+  const fs::path path = dir.path() / "stream";
+  const int fd = open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0600);
+  ASSERT_GE(fd, 0);
+  process::DropBehind drop(fd, path.string(), kMiB, 8 * kMiB);
+  const std::uint64_t pieces = 192;  // 48 MiB
+  std::uint64_t end = 0;
+  for (std::uint64_t k = 0; k < pieces; ++k) {
+    const std::vector<char> piece = piece_of(k);
+    ASSERT_EQ(pwrite(fd, piece.data(), piece.size(), static_cast<off_t>(end)), static_cast<ssize_t>(piece.size()));
+    end += piece.size();
+    drop.written_up_to(end);
+  }
+  ASSERT_TRUE(drop.active());
+  // Dropped in whole windows, up to a window and the lag behind the end.
+  EXPECT_GE(drop.dropped_below(), end - 9 * kMiB);
+  EXPECT_LE(drop.dropped_below(), end - 8 * kMiB);
+  const std::size_t page = static_cast<std::size_t>(sysconf(_SC_PAGESIZE));
+  const std::size_t behind = drop.dropped_below() / page;
+  // All but a few of the dropped pages are gone; the lag's, still written
+  // back or dirty, stay: mincore sees pages at all.
+  EXPECT_LE(resident_pages(fd, 0, drop.dropped_below()), behind / 100) << "of " << behind;
+  EXPECT_GE(resident_pages(fd, end - 4 * kMiB, end), 4 * kMiB / page * 9 / 10);
+  std::vector<char> back(256 << 10);
+  for (std::uint64_t k = 0; k < pieces; ++k) {
+    ASSERT_EQ(pread(fd, back.data(), back.size(), static_cast<off_t>(k * back.size())),
+              static_cast<ssize_t>(back.size()));
+    ASSERT_EQ(back, piece_of(k)) << "piece " << k;
+  }
+  close(fd);
+}
+
+// A pipe has no page cache to sync (ESPIPE): nothing is thrown, and the
+// rest is left to the kernel.
+TEST(DropBehind, AFileThatCannotBeSyncedIsLeftToTheKernel) {
+  int ends[2];
+  ASSERT_EQ(pipe(ends), 0);
+  process::DropBehind drop(ends[1], "a pipe", kMiB, 2 * kMiB);
+  EXPECT_NO_THROW(drop.written_up_to(16 * kMiB));
+  EXPECT_FALSE(drop.active());
+  EXPECT_EQ(drop.dropped_below(), 0u);
+  close(ends[0]);
+  close(ends[1]);
+}
+
+// A loop device over a 32 MiB sparse file on a 4 MiB tmpfs: its page cache
+// takes 16 MiB, its disk fails from about the fourth MiB. The failure the
+// kernel reports to sync_file_range must come out as a FileError: had it
+// been ignored, the output's fsync would not see it again and a truncated
+// file would be renamed into place.
+struct LoopOverSmallTmpfs {
+  fs::path backing;
+  int loop = -1;
+  std::string device;
+  std::string skipped;
+
+  explicit LoopOverSmallTmpfs(const fs::path& dir) : backing(dir / "backing") {
+    fs::create_directory(backing);
+    if (mount("tmpfs", backing.c_str(), "tmpfs", 0, "size=4m") != 0) {
+      skipped = std::string("cannot mount a tmpfs here (") + std::strerror(errno) + ")";
+      return;
+    }
+    const fs::path image = backing / "image";
+    const int file = open(image.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0600);
+    const int control = open("/dev/loop-control", O_RDWR | O_CLOEXEC);
+    const int number = control >= 0 ? ioctl(control, LOOP_CTL_GET_FREE) : -1;
+    if (control >= 0) close(control);
+    if (file < 0 || ftruncate(file, 32 * kMiB) != 0 || number < 0) {
+      skipped = std::string("no loop device here (") + std::strerror(errno) + ")";
+      if (file >= 0) close(file);
+      return;
+    }
+    device = "/dev/loop" + std::to_string(number);
+    loop = open(device.c_str(), O_RDWR | O_CLOEXEC);
+    if (loop < 0 || ioctl(loop, LOOP_SET_FD, file) != 0) skipped = "cannot attach " + device + " here";
+    close(file);
+  }
+  ~LoopOverSmallTmpfs() {
+    if (loop >= 0) {
+      ioctl(loop, LOOP_CLR_FD, 0);
+      close(loop);
+    }
+    umount2(backing.c_str(), MNT_DETACH);
+  }
+};
+
+TEST(DropBehind, AWriteTheDiskRefusesIsReportedNotSwallowed) {
+  if (geteuid() != 0) GTEST_SKIP() << "needs root for a tmpfs and a loop device";
+  testing::TempDir dir{"drop_behind_disk"};
+  LoopOverSmallTmpfs disk(dir.path());
+  if (!disk.skipped.empty()) GTEST_SKIP() << disk.skipped;
+  const int fd = open(disk.device.c_str(), O_WRONLY | O_CLOEXEC);
+  ASSERT_GE(fd, 0);
+  process::DropBehind drop(fd, "output " + disk.device, kMiB, 2 * kMiB);
+  std::string error = "(no error)";
+  std::uint64_t end = 0;
+  try {
+    for (std::uint64_t k = 0; k < 64; ++k) {  // 16 MiB
+      const std::vector<char> piece = piece_of(k);
+      ASSERT_EQ(pwrite(fd, piece.data(), piece.size(), static_cast<off_t>(end)), static_cast<ssize_t>(piece.size()));
+      end += piece.size();
+      drop.written_up_to(end);
+    }
+  } catch (const process::FileError& e) {
+    error = e.what();
+  }
+  close(fd);
+  EXPECT_EQ(error, "output " + disk.device + ": writing to the disk failed (Input/output error)");
+  EXPECT_LT(end, 16 * kMiB) << "reported only at the end";
+}
+
+}  // namespace
+}  // namespace treedyn
