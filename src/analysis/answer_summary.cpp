@@ -4,73 +4,13 @@
 #include <string>
 
 #include "analysis/answers.hpp"
+#include "analysis/ranking_text.hpp"
 #include "designs/design_rules.hpp"
 
 namespace treedyn::ensemble {
 namespace {
 
-std::string number(double v, const char* format = "%.6g") {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, format, v);
-  return buffer;
-}
-
-constexpr std::size_t kRankedShown = 5;   // units on a drivers line
 constexpr std::size_t kFailureShown = 3;  // inputs on a "what makes it exceed" line
-
-std::string clipped(double v) { return number(std::clamp(v, 0.0, 1.0), "%.2g"); }
-
-// "name 0.84 [0.61, 0.97]": an index with its interval, shown within [0, 1]
-// (`index`), or a measure with its interval as it is.
-std::string index_text(const std::string& name, double v, const double* ci, bool index) {
-  std::string t = name + " " + number(v, index ? "%.2g" : "%.3g");
-  if (ci && std::isfinite(ci[0]))
-    t += " [" + (index ? clipped(ci[0]) : number(ci[0], "%.3g")) + ", " +
-         (index ? clipped(ci[1]) : number(ci[1], "%.3g")) + "]";
-  return t;
-}
-
-// The units in ranked order, ">" where the bootstrap tells neighbours apart
-// and "~" where it does not yet, then how many samples would tell the first
-// such pair apart.
-// The ranked units `hidden` does not hide (a list's entries, one by one:
-// noise to a reader), ">" between two shown neighbours where some pair
-// between them in the full order is told apart, "~" where none is yet.
-void print_ranking(std::ostream& out, const std::vector<std::string>& names, const Ranking& ranking,
-                   const std::vector<double>& measure, const std::vector<double>* ci, const char* samples_word,
-                   const std::vector<bool>& hidden = {}, bool indices = true) {
-  std::vector<std::size_t> places;  // places in ranking.order of the units shown
-  for (std::size_t k = 0; k < ranking.order.size(); ++k)
-    if (hidden.empty() || !hidden[ranking.order[k]]) places.push_back(k);
-  const std::size_t shown = std::min(places.size(), kRankedShown);
-  std::string pending;
-  for (std::size_t s = 0; s < shown; ++s) {
-    const std::size_t u = ranking.order[places[s]];
-    if (s > 0) {
-      bool apart = false;
-      for (std::size_t k = places[s - 1]; k < places[s]; ++k) apart = apart || ranking.told_apart(k);
-      out << (apart ? " > " : " ~ ");
-      if (!apart && pending.empty() && places[s] == places[s - 1] + 1 && std::isfinite(ranking.needed[places[s - 1]]))
-        pending = "about " + number(ranking.needed[places[s - 1]], "%.0f") + " " + samples_word + " would tell " +
-                  names[ranking.order[places[s - 1]]] + " from " + names[u];
-    }
-    out << index_text(names[u], measure[u], ci ? ci->data() + 2 * u : nullptr, indices);
-  }
-  if (places.size() > shown) out << " (and " << places.size() - shown << " more)";
-  if (places.size() < ranking.order.size())
-    out << " (not shown: " << ranking.order.size() - places.size() << " entries of lists, one by one)";
-  out << "\n";
-  if (ranking.resamples == 0)
-    out << "      no bootstrap intervals: the order above is the point estimates' alone\n";
-  else if (!pending.empty())
-    out << "      ~: not told apart yet (95 % bootstrap interval of the difference holds 0); " << pending << "\n";
-  if (ci && indices &&
-      std::any_of(places.begin(), places.begin() + static_cast<std::ptrdiff_t>(shown), [&](std::size_t k) {
-        const double v = measure[ranking.order[k]];
-        return v < 0.0 || v > 1.0;
-      }))
-    out << "      an index estimated outside [0, 1] is noise of a small sample; its interval is shown within [0, 1]\n";
-}
 
 // Inputs that are entries of a list target (a sea state's phases).
 std::vector<bool> list_entries(const EnsembleSpec& spec) {
@@ -80,49 +20,10 @@ std::vector<bool> list_entries(const EnsembleSpec& spec) {
   return hidden;
 }
 
-// Morris' ranking by mu*, and which of the leading units act nonlinearly
-// or through interactions (sigma at least mu*: their effects change sign
-// or size across the grid).
-void print_morris(std::ostream& out, const EnsembleSpec& spec, const Response& response,
-                  const designs::MorrisIndices& m) {
-  const std::vector<std::string> names = spec.unit_names();
-  out << "    drivers (" << (spec.grouped ? "groups, " : "") << "Morris mu* [95 %], " << response.units
-      << " per unit of u, from " << m.trajectories << " trajectories): ";
-  print_ranking(out, names, m.ranking, m.mu_star, &m.mu_star_ci, "trajectories", {}, false);
-  std::string nonlinear;
-  for (std::size_t k = 0; k < std::min(m.ranking.order.size(), kRankedShown); ++k) {
-    const std::size_t u = m.ranking.order[k];
-    if (m.sigma[u] >= m.mu_star[u] && m.mu_star[u] > 0.0)
-      nonlinear += (nonlinear.empty() ? "" : ", ") + names[u] + " (sigma " + number(m.sigma[u], "%.3g") + ")";
-  }
-  if (!nonlinear.empty()) out << "      sigma >= mu*, nonlinear or interacting: " << nonlinear << "\n";
-}
-
-// The Sobol' ranking (saltelli), with the blocks it rests on and the
-// verdict on N; Morris' (morris); else the ranking by |SRRC| or |Spearman|.
+// The design's own ranking (Saltelli's Sobol' indices, Morris' mu*), or
+// else the ranking by |SRRC| or |Spearman|.
 void print_drivers(std::ostream& out, const EnsembleSpec& spec, const Response& response, const ResponseAnswer& a) {
-  if (a.morris) return print_morris(out, spec, response, *a.morris);
-  if (a.sobol) {
-    const SobolIndices& s = *a.sobol;
-    if (s.total.empty()) return;
-    out << "    drivers (" << (spec.grouped ? "groups, " : "") << "total Sobol' index [95 %], from " << s.base_samples
-        << " of " << a.sobol_blocks << " base points): ";
-    print_ranking(out, spec.unit_names(), s.ranking, s.total, &s.total_ci, "base points");
-    if (a.sobol_blocks > 0 &&
-        static_cast<double>(s.base_samples) < kReliableBlockShare * static_cast<double>(a.sobol_blocks))
-      out << "      unreliable: failed runs left " << s.base_samples << " of " << a.sobol_blocks
-          << " base points complete; failures that depend on the inputs bias what remains\n";
-    const IndexVerdict v = index_verdict(s);
-    if (std::isfinite(v.widest))
-      out << "      is N enough for the indices? " << (v.enough ? "yes" : "no")
-          << ": the widest interval of a total index "
-          << "that matters is " << number(v.widest, "%.2g") << " (" << spec.unit_names()[v.unit] << ")"
-          << (v.enough ? ""
-                       : "; about " + number(v.needed, "%.0f") + " base points would make it " +
-                             number(kIndexIntervalWidth, "%.1f"))
-          << "\n";
-    return;
-  }
+  if (a.design) return a.design->print(out, spec, response);
   const RankSensitivity& r = a.ranks;
   if (r.spearman.empty()) return;
   std::vector<double> measure(r.spearman.size());

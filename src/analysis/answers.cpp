@@ -45,37 +45,6 @@ RankSensitivity ranks_of(const EnsembleSpec& spec, const ResponseTable& table, s
   return rank_sensitivity(x, d, y, spec.bootstrap_resamples, spec.seed);
 }
 
-// Indices per Saltelli unit (an input, or a group of them), from the
-// complete blocks among the first `base_points`: a block counts only when
-// all its U + 2 runs succeeded with finite values.
-SobolIndices sobol_of(const EnsembleSpec& spec, const ResponseTable& table, std::size_t r, std::uint64_t base_points) {
-  const std::size_t d = spec.unit_count(), block = spec.saltelli_block();
-  std::vector<double> f_a, f_b, f_ab;
-  for (std::uint64_t j = 0; j < base_points; ++j) {
-    bool complete = true;
-    for (std::size_t m = 0; m < block; ++m) {
-      const std::uint64_t k = j * block + m;
-      complete = complete && table.ok(k) && std::isfinite(table.response(k, r));
-    }
-    if (!complete) continue;
-    f_a.push_back(table.response(j * block, r));
-    f_b.push_back(table.response(j * block + 1, r));
-    for (std::size_t i = 0; i < d; ++i) f_ab.push_back(table.response(j * block + 2 + i, r));
-  }
-  return saltelli_indices(f_a, f_b, f_ab, d, spec.bootstrap_resamples, spec.seed);
-}
-
-// The indices, and their convergence on the first 1, 2, 4, ... base points
-// (a prefix of whole blocks is a Saltelli design of its own).
-void answer_sobol(const EnsembleSpec& spec, const ResponseTable& table, std::size_t r, ResponseAnswer& a) {
-  const std::uint64_t blocks = table.samples() / spec.saltelli_block();
-  a.sobol_blocks = blocks;
-  a.sobol = sobol_of(spec, table, r, blocks);
-  // From 4 base points: with 1 or 2 the bootstrap has nothing to resample.
-  for (std::uint64_t m = 4; m < blocks; m *= 2) a.sobol_convergence.push_back({m, sobol_of(spec, table, r, m)});
-  if (blocks > 0) a.sobol_convergence.push_back({blocks, *a.sobol});
-}
-
 // P over successful + failed samples, every failed one counted as not
 // exceeding and as exceeding.
 Interval with_failed(std::uint64_t exceeded, std::uint64_t successful, std::uint64_t failed) {
@@ -104,8 +73,8 @@ struct DrawCounts {
 };
 
 // The draws in run order, with the convergence points at 1, 2, 4, ...
-// steps of the design (saltelli: whole blocks, 2 independent draws each;
-// morris: trajectories, 1 each) and the failed and infinite ones in `a`.
+// steps of the design (DesignRules::runs_per_step) and the failed and
+// infinite ones in `a`.
 // The mean, the standard error, the exceedance (and their intervals), the
 // rank measures and the failure region use the independent draws only.
 DrawCounts count_draws(const EnsembleSpec& spec, const ResponseTable& table, std::size_t r, std::uint64_t n,
@@ -149,10 +118,7 @@ DrawCounts count_draws(const EnsembleSpec& spec, const ResponseTable& table, std
 void answer_sensitivity(const EnsembleSpec& spec, const ResponseTable& table, std::size_t r, std::uint64_t n,
                         ResponseAnswer& a) {
   if (table.input_count() > 0) a.ranks = ranks_of(spec, table, r);
-  if (spec.design == Design::saltelli) answer_sobol(spec, table, r, a);
-  if (spec.design == Design::morris)
-    a.morris = designs::morris_indices(designs::elementary_effects(spec, table, r), spec.unit_count(),
-                                       spec.bootstrap_resamples, spec.seed);
+  a.design = designs::design_answer(spec, table, r);
   // Subset simulation's response has its failure region in its answer
   // (answer_rare_event): level 0 alone rarely reaches the limit.
   const bool subset_answer = spec.subset && spec.subset->response == r;
@@ -186,27 +152,6 @@ ResponseAnswer answer_response(const EnsembleSpec& spec, const ResponseTable& ta
   }
   if (with_sensitivity) answer_sensitivity(spec, table, r, n, a);
   return a;
-}
-
-IndexVerdict index_verdict(const SobolIndices& s) {
-  IndexVerdict v;
-  v.widest = std::numeric_limits<double>::quiet_NaN();
-  v.needed = v.widest;
-  const std::vector<std::size_t>& order = s.ranking.order;
-  for (std::size_t k = 0; k < order.size(); ++k) {
-    const std::size_t u = order[k];
-    if (k > 0 && !(s.total[u] >= kIndexMatters)) break;
-    // Within [0, 1], as shown: an index cannot leave it, so the part of an
-    // interval beyond it says nothing.
-    const double width = std::min(s.total_ci[2 * u + 1], 1.0) - std::max(s.total_ci[2 * u], 0.0);
-    if (std::isnan(width)) return v;  // no intervals: no verdict
-    if (k == 0 || width > v.widest) v.widest = width, v.unit = u;
-  }
-  if (std::isnan(v.widest)) return v;
-  v.enough = v.widest <= kIndexIntervalWidth;
-  const double ratio = v.widest / kIndexIntervalWidth;
-  v.needed = std::ceil(static_cast<double>(s.base_samples) * ratio * ratio);
-  return v;
 }
 
 RareEventAnswer answer_rare_event(const EnsembleSpec& spec, const ResponseTable& table) {

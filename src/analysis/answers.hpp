@@ -6,13 +6,14 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <ostream>
 #include <vector>
 
 #include "analysis/failure_region.hpp"
 #include "analysis/sensitivity.hpp"
-#include "designs/morris/morris_effects.hpp"
+#include "designs/design_answer.hpp"
 #include "ensemble/response_table.hpp"
 #include "job/ensemble_spec.hpp"
 #include "rare_event/subset_simulation.hpp"
@@ -39,8 +40,9 @@ struct Exceedance {
   Interval with_failed;
 };
 
-// One row per sample count m = 1, 2, 4, ..., and N (saltelli: m = (U + 2)
-// times 1, 2, 4, ... blocks, and N): the answers from samples 0 .. m-1.
+// One row per sample count m = 1, 2, 4, ..., and N, in the design's steps
+// (DesignRules::runs_per_step: e.g. Saltelli's blocks of U + 2): the
+// answers from samples 0 .. m-1.
 struct ConvergencePoint {
   std::uint64_t samples = 0;  // m
   std::uint64_t used = 0;     // successful with a finite value
@@ -49,36 +51,9 @@ struct ConvergencePoint {
   Interval interval;
 };
 
-// The Sobol' indices of the first `base_points` base points (their complete
-// blocks: indices.base_samples of them).
-struct SobolPrefix {
-  std::uint64_t base_points = 0;
-  SobolIndices indices;
-};
-
-// "Is N enough for the indices?": the widest 95 % interval (within [0, 1])
-// of a total index among the units that matter (total index >= kIndexMatters, and at least
-// the largest), enough when within kIndexIntervalWidth; `needed` is about
-// the base points that would make it so, N (widest / kIndexIntervalWidth)^2.
-inline constexpr double kIndexMatters = 0.05;
-inline constexpr double kIndexIntervalWidth = 0.1;
-// Indices resting on fewer than this share of the blocks run are unreliable:
-// the failed runs' blocks are left out, and failures that depend on the
-// inputs bias what remains.
-inline constexpr double kReliableBlockShare = 0.8;
-struct IndexVerdict {
-  double widest = 0.0;   // NaN without intervals
-  std::size_t unit = 0;  // whose interval it is
-  double needed = 0.0;   // base points
-  bool enough = false;
-};
-IndexVerdict index_verdict(const SobolIndices& s);
-
-// For design = "saltelli" the counts, mean, standard error and exceedance
-// use the A and B runs only (the AB_i rows are not independent draws); the
-// Sobol' indices use every run. For design = "morris" they use each
-// trajectory's first run (independent draws of the inputs' level grid);
-// the effects use every run.
+// The counts, mean, standard error and exceedance use the design's
+// independent draws only (DesignRules::independent_draw: e.g. Saltelli's A
+// and B runs, not its AB_i rows); the design's own answer uses every run.
 struct ResponseAnswer {
   std::uint64_t used = 0;        // successful samples with a finite value (in mean, std, sem)
   std::uint64_t not_finite = 0;  // successful samples with +-inf (e.g. a level never crossed)
@@ -86,13 +61,19 @@ struct ResponseAnswer {
   double mean = 0.0, std = 0.0, sem = 0.0;  // std: n - 1; sem = std / sqrt(used)
   std::optional<Exceedance> exceedance;
   std::vector<ConvergencePoint> convergence;
-  RankSensitivity ranks;                         // needs inputs (empty without perturbations)
-  std::optional<SobolIndices> sobol;             // design = "saltelli" only
-  std::uint64_t sobol_blocks = 0;                // base points run; sobol->base_samples of them complete
-  std::vector<SobolPrefix> sobol_convergence;    // on 1, 2, 4, ... base points, and all
-  std::optional<FailureRegion> failure_region;   // with a limit and inputs: of the counted runs
-  std::optional<designs::MorrisIndices> morris;  // design = "morris" only
+  RankSensitivity ranks;                        // needs inputs (empty without perturbations)
+  std::optional<FailureRegion> failure_region;  // with a limit and inputs: of the counted runs
+  // The design's own answer (designs/design_answer.hpp: Saltelli's Sobol'
+  // indices, Morris' effects), or none.
+  std::shared_ptr<const designs::DesignAnswer> design;
 };
+
+// The design's own answer as what it is (e.g. designs::SaltelliAnswer), or
+// null when it is none or another design's.
+template <class Answer>
+const Answer* design_answer_as(const ResponseAnswer& a) {
+  return dynamic_cast<const Answer*>(a.design.get());
+}
 
 // The answers for response r from samples 0 .. prefix-1 of `table`; the
 // rank measures and Sobol' indices only `with_sensitivity`.

@@ -48,17 +48,6 @@ void write_ranking(hid_t sg, const char* name, const ensemble::Ranking& ranking,
            {});
 }
 
-std::vector<double> per_input_values(const ensemble::EnsembleSpec& spec, const std::vector<double>& unit_values,
-                                     std::size_t width) {
-  std::vector<double> out(spec.input_dimensions() * width, std::numeric_limits<double>::quiet_NaN());
-  for (std::size_t u = 0; u < spec.sobol_units.size(); ++u) {
-    if (spec.sobol_units[u].inputs.size() != 1) continue;
-    const std::size_t d = spec.sobol_units[u].inputs.front();
-    for (std::size_t w = 0; w < width; ++w) out[d * width + w] = unit_values[u * width + w];
-  }
-  return out;
-}
-
 void write_interval_matrix(hid_t g, const char* name, const std::vector<double>& v, const std::string& what,
                            const std::vector<std::string>& rows, const char* row_word, const std::string& units) {
   h5::Handle set = h5::write_matrix(g, name, v, rows.size(), 2);

@@ -23,12 +23,6 @@ void write_per_input(hid_t g, const char* name, const std::vector<double>& value
 void write_ranking(hid_t sg, const char* name, const ensemble::Ranking& ranking, const std::string& measure,
                    const std::vector<std::string>& units, const char* samples_word);
 
-// Per-unit values spread to the inputs: an input alone in its unit gets the
-// unit's value (`width` per unit: 1, or 2 for an interval), an input of a
-// larger group NaN (its own index is not estimated).
-std::vector<double> per_input_values(const ensemble::EnsembleSpec& spec, const std::vector<double>& unit_values,
-                                     std::size_t width);
-
 // Rows x (low, high), the rows named in the attribute '<row_word>s'.
 // `units`: the values' (an index's "1").
 void write_interval_matrix(hid_t g, const char* name, const std::vector<double>& v, const std::string& what,

@@ -5,9 +5,8 @@
 #include <string>
 
 #include "designs/design_rules.hpp"
-#include "designs/morris/morris_file.hpp"
-#include "designs/saltelli/saltelli_file.hpp"
 #include "hdf5/answer_datasets.hpp"
+#include "hdf5/answer_group_writer.hpp"
 #include "hdf5/described.hpp"
 
 namespace treedyn::answers_file {
@@ -90,8 +89,10 @@ void write_sensitivity(hid_t parent, const ensemble::EnsembleSpec& spec, const e
                         std::string("95 % bootstrap interval of each input's ") +
                             (a.ranks.ranked_by_srrc ? "|SRRC|" : "|Spearman|") + " (the rank ranking's measure)",
                         inputs, "input");
-  if (a.morris) designs::write_morris(sg.id(), spec, *a.morris, response.units);
-  if (a.sobol) designs::write_sobol(sg.id(), spec, a);
+  if (a.design) {
+    GroupAnswerWriter writer(sg.id());
+    a.design->write(writer, spec, response);
+  }
 }
 
 }  // namespace

@@ -31,8 +31,8 @@ void DropBehind::written_up_to(std::uint64_t end) {
   // Everything below `end - lag` was sent a lag ago: wait for what is still
   // in flight, then drop it (fadvise drops only clean pages).
   const std::uint64_t below = end - lag_;
-  active_ = sync_range(dropped_, below,
-                       SYNC_FILE_RANGE_WAIT_BEFORE | SYNC_FILE_RANGE_WRITE | SYNC_FILE_RANGE_WAIT_AFTER);
+  active_ =
+      sync_range(dropped_, below, SYNC_FILE_RANGE_WAIT_BEFORE | SYNC_FILE_RANGE_WRITE | SYNC_FILE_RANGE_WAIT_AFTER);
   if (active_)
     ::posix_fadvise(fd_, static_cast<off_t>(dropped_), static_cast<off_t>(below - dropped_), POSIX_FADV_DONTNEED);
   dropped_ = below;

@@ -5,6 +5,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "designs/morris/morris_answer.hpp"
 #include "designs/morris/morris_points.hpp"
 #include "designs/sample_design.hpp"
 #include "sampling/design.hpp"
@@ -135,6 +136,14 @@ std::vector<double> elementary_effects(const ensemble::EnsembleSpec& spec, const
     }
   }
   return effects;
+}
+
+std::shared_ptr<const MorrisAnswer> answer_morris(const ensemble::EnsembleSpec& spec,
+                                                  const ensemble::ResponseTable& table, std::size_t r) {
+  auto a = std::make_shared<MorrisAnswer>();
+  a->indices =
+      morris_indices(elementary_effects(spec, table, r), spec.unit_count(), spec.bootstrap_resamples, spec.seed);
+  return a;
 }
 
 }  // namespace treedyn::designs

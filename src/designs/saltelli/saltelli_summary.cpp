@@ -1,0 +1,33 @@
+// Saltelli's lines in the end-of-run summary: the Sobol' ranking, the
+// blocks it rests on and the verdict on N.
+#include <cmath>
+#include <string>
+
+#include "analysis/ranking_text.hpp"
+#include "designs/saltelli/saltelli_answer.hpp"
+
+namespace treedyn::designs {
+
+using ensemble::number;
+
+void SaltelliAnswer::print(std::ostream& out, const ensemble::EnsembleSpec& spec, const ensemble::Response&) const {
+  const ensemble::SobolIndices& s = indices;
+  if (s.total.empty()) return;
+  out << "    drivers (" << (spec.grouped ? "groups, " : "") << "total Sobol' index [95 %], from " << s.base_samples
+      << " of " << blocks << " base points): ";
+  ensemble::print_ranking(out, spec.unit_names(), s.ranking, s.total, &s.total_ci, "base points");
+  if (unreliable())
+    out << "      unreliable: failed runs left " << s.base_samples << " of " << blocks
+        << " base points complete; failures that depend on the inputs bias what remains\n";
+  const IndexVerdict v = index_verdict(s);
+  if (std::isfinite(v.widest))
+    out << "      is N enough for the indices? " << (v.enough ? "yes" : "no")
+        << ": the widest interval of a total index "
+        << "that matters is " << number(v.widest, "%.2g") << " (" << spec.unit_names()[v.unit] << ")"
+        << (v.enough ? ""
+                     : "; about " + number(v.needed, "%.0f") + " base points would make it " +
+                           number(kIndexIntervalWidth, "%.1f"))
+        << "\n";
+}
+
+}  // namespace treedyn::designs

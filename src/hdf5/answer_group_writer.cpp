@@ -1,0 +1,46 @@
+#include "hdf5/answer_group_writer.hpp"
+
+#include "hdf5/answer_datasets.hpp"
+#include "hdf5/described.hpp"
+
+namespace treedyn::answers_file {
+
+void GroupAnswerWriter::per_unit(const char* name, const std::vector<double>& values, const std::string& units,
+                                 const std::string& what, const std::vector<std::string>& labels) {
+  write_per_input(group_, name, values, units, what, labels);
+}
+
+void GroupAnswerWriter::intervals(const char* name, const std::vector<double>& values, const std::string& what,
+                                  const std::vector<std::string>& rows, const char* row_word,
+                                  const std::string& units) {
+  write_interval_matrix(group_, name, values, what, rows, row_word, units);
+}
+
+void GroupAnswerWriter::ranking(const char* name, const ensemble::Ranking& ranking, const std::string& measure,
+                                const std::vector<std::string>& units, const char* samples_word) {
+  write_ranking(group_, name, ranking, measure, units, samples_word);
+}
+
+void GroupAnswerWriter::array(const char* name, const std::vector<double>& values,
+                              const std::vector<std::size_t>& shape, const std::string& units, const std::string& what,
+                              const std::vector<std::string>& labels) {
+  const std::vector<hsize_t> dims(shape.begin(), shape.end());
+  h5::describe(h5::write_array(group_, name, H5T_NATIVE_DOUBLE, values.data(), dims).id(), units, what, labels);
+}
+
+void GroupAnswerWriter::attribute(const char* name, const std::string& value) {
+  h5::write_attribute(group_, name, value);
+}
+void GroupAnswerWriter::attribute(const char* name, double value) { h5::write_attribute(group_, name, value); }
+void GroupAnswerWriter::attribute(const char* name, long long value) { h5::write_attribute(group_, name, value); }
+void GroupAnswerWriter::attribute(const char* name, const std::vector<std::string>& values) {
+  h5::write_attribute(group_, name, values);
+}
+
+std::unique_ptr<designs::AnswerWriter> GroupAnswerWriter::group(const char* name, const std::string& description) {
+  h5::Handle g = h5::create_group(group_, name);
+  h5::write_attribute(g.id(), "description", description);
+  return std::unique_ptr<designs::AnswerWriter>(new GroupAnswerWriter(std::move(g)));
+}
+
+}  // namespace treedyn::answers_file

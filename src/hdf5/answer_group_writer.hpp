@@ -1,0 +1,39 @@
+// The HDF5 side of a design's answer (designs/design_answer.hpp): an
+// AnswerWriter into one group, with the datasets every answer is written
+// with (answer_datasets.hpp).
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "designs/design_answer.hpp"
+#include "hdf5/hdf5.hpp"
+
+namespace treedyn::answers_file {
+
+class GroupAnswerWriter final : public designs::AnswerWriter {
+ public:
+  explicit GroupAnswerWriter(hid_t group) : group_(group) {}
+  void per_unit(const char* name, const std::vector<double>& values, const std::string& units, const std::string& what,
+                const std::vector<std::string>& labels) override;
+  void intervals(const char* name, const std::vector<double>& values, const std::string& what,
+                 const std::vector<std::string>& rows, const char* row_word, const std::string& units) override;
+  void ranking(const char* name, const ensemble::Ranking& ranking, const std::string& measure,
+               const std::vector<std::string>& units, const char* samples_word) override;
+  void array(const char* name, const std::vector<double>& values, const std::vector<std::size_t>& shape,
+             const std::string& units, const std::string& what, const std::vector<std::string>& labels) override;
+  void attribute(const char* name, const std::string& value) override;
+  void attribute(const char* name, double value) override;
+  void attribute(const char* name, long long value) override;
+  void attribute(const char* name, const std::vector<std::string>& values) override;
+  std::unique_ptr<designs::AnswerWriter> group(const char* name, const std::string& description) override;
+
+ private:
+  explicit GroupAnswerWriter(h5::Handle owned) : group_(owned.id()), owned_(std::move(owned)) {}
+  hid_t group_;
+  h5::Handle owned_;  // a group this writer made (group()), closed with it
+};
+
+}  // namespace treedyn::answers_file
