@@ -21,13 +21,16 @@
 #include <vector>
 
 #include "analysis/sensitivity.hpp"
+#include "designs/saltelli/sobol_indices.hpp"
 #include "designs/sample_design.hpp"
 #include "sampling/design.hpp"
 
 namespace {
 
 using namespace treedyn::ensemble;
+using treedyn::designs::saltelli_indices;
 using treedyn::designs::SampleDesign;
+using treedyn::designs::SobolIndices;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 

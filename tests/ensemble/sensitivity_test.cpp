@@ -23,13 +23,16 @@
 #include <string>
 #include <vector>
 
+#include "designs/saltelli/sobol_indices.hpp"
 #include "designs/sample_design.hpp"
 #include "sampling/design.hpp"
 
 namespace {
 
 using namespace treedyn::ensemble;
+using treedyn::designs::saltelli_indices;
 using treedyn::designs::SampleDesign;
+using treedyn::designs::SobolIndices;
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 

@@ -12,8 +12,8 @@ namespace {
 // Indices per Saltelli unit (an input, or a group of them), from the
 // complete blocks among the first `base_points`: a block counts only when
 // all its U + 2 runs succeeded with finite values.
-ensemble::SobolIndices sobol_of(const ensemble::EnsembleSpec& spec, const ensemble::ResponseTable& table, std::size_t r,
-                                std::uint64_t base_points) {
+SobolIndices sobol_of(const ensemble::EnsembleSpec& spec, const ensemble::ResponseTable& table, std::size_t r,
+                      std::uint64_t base_points) {
   const std::size_t d = spec.unit_count(), block = spec.saltelli_block();
   std::vector<double> f_a, f_b, f_ab;
   for (std::uint64_t j = 0; j < base_points; ++j) {
@@ -27,7 +27,7 @@ ensemble::SobolIndices sobol_of(const ensemble::EnsembleSpec& spec, const ensemb
     f_b.push_back(table.response(j * block + 1, r));
     for (std::size_t i = 0; i < d; ++i) f_ab.push_back(table.response(j * block + 2 + i, r));
   }
-  return ensemble::saltelli_indices(f_a, f_b, f_ab, d, spec.bootstrap_resamples, spec.seed);
+  return saltelli_indices(f_a, f_b, f_ab, d, spec.bootstrap_resamples, spec.seed);
 }
 
 }  // namespace
@@ -49,7 +49,7 @@ bool SaltelliAnswer::unreliable() const {
   return blocks > 0 && static_cast<double>(indices.base_samples) < kReliableBlockShare * static_cast<double>(blocks);
 }
 
-IndexVerdict index_verdict(const ensemble::SobolIndices& s) {
+IndexVerdict index_verdict(const SobolIndices& s) {
   IndexVerdict v;
   v.widest = std::numeric_limits<double>::quiet_NaN();
   v.needed = v.widest;

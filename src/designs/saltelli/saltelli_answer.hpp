@@ -8,8 +8,8 @@
 #include <memory>
 #include <vector>
 
-#include "analysis/sensitivity.hpp"
 #include "designs/design_answer.hpp"
+#include "designs/saltelli/sobol_indices.hpp"
 
 namespace treedyn::designs {
 
@@ -17,7 +17,7 @@ namespace treedyn::designs {
 // blocks: indices.base_samples of them).
 struct SobolPrefix {
   std::uint64_t base_points = 0;
-  ensemble::SobolIndices indices;
+  SobolIndices indices;
 };
 
 // "Is N enough for the indices?": the widest 95 % interval (within [0, 1])
@@ -36,11 +36,11 @@ struct IndexVerdict {
   double needed = 0.0;   // base points
   bool enough = false;
 };
-IndexVerdict index_verdict(const ensemble::SobolIndices& s);
+IndexVerdict index_verdict(const SobolIndices& s);
 
 class SaltelliAnswer final : public DesignAnswer {
  public:
-  ensemble::SobolIndices indices;        // of every complete block
+  SobolIndices indices;                  // of every complete block
   std::uint64_t blocks = 0;              // base points run; indices.base_samples of them complete
   std::vector<SobolPrefix> convergence;  // on 4, 8, 16, ... base points, and all
 

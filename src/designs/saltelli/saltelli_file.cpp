@@ -27,7 +27,7 @@ std::vector<double> per_input_values(const ensemble::EnsembleSpec& spec, const s
 }
 
 // The groups' indices of a grouped design, and the group list.
-void write_group_indices(AnswerWriter& sg, const ensemble::EnsembleSpec& spec, const ensemble::SobolIndices& s) {
+void write_group_indices(AnswerWriter& sg, const ensemble::EnsembleSpec& spec, const SobolIndices& s) {
   const std::vector<std::string> groups = spec.unit_names(), members = spec.unit_inputs();
   sg.per_unit("group_first_order", s.first, "1", "first-order Sobol' index of each group (its inputs together)",
               groups);
@@ -52,7 +52,7 @@ void write_index_verdict(AnswerWriter& sg, const ensemble::EnsembleSpec& spec, c
 }
 
 void write_indices(AnswerWriter& sg, const ensemble::EnsembleSpec& spec, const SaltelliAnswer& a) {
-  const ensemble::SobolIndices& s = a.indices;
+  const SobolIndices& s = a.indices;
   const std::vector<std::string> inputs = spec.input_names();
   auto spread = [&](const std::vector<double>& v, std::size_t width) {
     return spec.grouped ? per_input_values(spec, v, width) : v;

@@ -11,7 +11,7 @@ namespace treedyn::designs {
 using ensemble::number;
 
 void SaltelliAnswer::print(std::ostream& out, const ensemble::EnsembleSpec& spec, const ensemble::Response&) const {
-  const ensemble::SobolIndices& s = indices;
+  const SobolIndices& s = indices;
   if (s.total.empty()) return;
   out << "    drivers (" << (spec.grouped ? "groups, " : "") << "total Sobol' index [95 %], from " << s.base_samples
       << " of " << blocks << " base points): ";
