@@ -10,8 +10,9 @@
 #include <iostream>
 
 #include "analysis/digest.hpp"
-#include "analysis/subset_replay.hpp"
 #include "common/exit_codes.hpp"
+#include "designs/subset_simulation/subset_answer.hpp"
+#include "designs/subset_simulation/subset_replay.hpp"
 #include "parallel/collectives.hpp"
 #include "parallel/driver.hpp"
 #include "parallel/statistics_reduce.hpp"
@@ -111,7 +112,7 @@ int write_part(EnsembleRun& run, const ensemble::EnsembleStatistics& stats) {
 }
 
 // Why the run ended where it did, for the file and the summary.
-std::string stop_reason_of(const EnsembleRun& run, const rare_event::SubsetResult* rare) {
+std::string stop_reason_of(const EnsembleRun& run, const designs::SubsetResult* rare) {
   if (rare) {
     const std::string levels = std::to_string(rare->levels.size() - 1);
     if (rare->no_threshold)
@@ -141,15 +142,15 @@ int write_ensemble(EnsembleRun& run, const ensemble::EnsembleStatistics& stats, 
   summary.samples_in_units = run.records->done_in_units();
   summary.unit_storing_cpu_seconds = run.records->unit_storing_cpu_seconds();
   if (run.samples_used < run.spec.runs && run.table) run.table->truncate(run.samples_used);
-  std::optional<ensemble::RareEventAnswer> rare;
-  if (run.spec.subset && run.table) rare = ensemble::answer_rare_event(run.spec, *run.table);
+  std::optional<designs::RareEventAnswer> rare;
+  if (run.spec.subset && run.table) rare = designs::answer_rare_event(run.spec, *run.table);
   summary.stop_reason = stop_reason_of(run, rare ? &rare->result : nullptr);
   const std::vector<ensemble::ResponseAnswer> answers =
       run.table ? ensemble::answer_responses(run.spec, *run.table) : std::vector<ensemble::ResponseAnswer>{};
   try {
     if (!run.records->io_error().empty()) throw process::FileError(run.records->io_error());
     if (run.samples_used < run.spec.runs) run.writer->keep_samples(run.samples_used);
-    if (rare) run.writer->write_rare_event(ensemble::subset_settings(run.spec), *rare, run.samples_used);
+    if (rare) run.writer->write_rare_event(designs::subset_settings(run.spec), *rare, run.samples_used);
     summary =
         run.writer->complete(run.nominal, stats, answers, run.tolerance, std::move(summary), provenance, run.start);
   } catch (const process::FileError& e) {
@@ -159,7 +160,7 @@ int write_ensemble(EnsembleRun& run, const ensemble::EnsembleStatistics& stats, 
   if (!run.options.quiet) {
     ensemble::print_digest(std::cout, ensemble::digest_of(run.job, run.spec, stats, summary));
     ensemble::print_response_summary(std::cout, run.spec, answers, run.tolerance);
-    if (rare) ensemble::print_rare_event(std::cout, run.spec, *rare);
+    if (rare) designs::print_rare_event(std::cout, run.spec, *rare);
     if (run.spec.stop)
       std::cout << "stopped after " << run.samples_used << " of at most " << run.spec.runs
                 << " samples: " << summary.stop_reason << "\n";

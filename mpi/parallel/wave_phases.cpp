@@ -9,9 +9,10 @@
 #include <limits>
 #include <thread>
 
-#include "analysis/subset_replay.hpp"
 #include "common/exit_codes.hpp"
 #include "common/host_time.hpp"
+#include "designs/subset_simulation/subset_replay.hpp"
+#include "designs/subset_simulation/subset_simulation.hpp"
 #include "ensemble/capacity.hpp"
 #include "ensemble/sample_rows.hpp"
 #include "parallel/collectives.hpp"
@@ -19,7 +20,6 @@
 #include "parallel/work_queue.hpp"
 #include "process/atomic_file.hpp"
 #include "process/signals.hpp"
-#include "rare_event/subset_simulation.hpp"
 
 namespace treedyn::parallel {
 namespace {
@@ -343,28 +343,28 @@ struct ChainStopped {};
 // Chain c of a subset-simulation level: each proposal run here, in order.
 // A run a resumed run already has is run again (the chain needs its
 // response to go on; the same bits) but not kept twice.
-void run_chain(EnsembleRun& run, WorkQueue& queue, const rare_event::LevelStart& start, std::uint64_t c,
+void run_chain(EnsembleRun& run, WorkQueue& queue, const designs::LevelStart& start, std::uint64_t c,
                std::vector<double>& trajectory) {
   const unsigned D = run.spec.input_dimensions();
   std::vector<double> uniforms(D);
   const auto response = [&](std::uint64_t k, std::span<const double> u) {
     if (!may_go_on(queue)) throw ChainStopped{};
-    for (unsigned i = 0; i < D; ++i) uniforms[i] = rare_event::to_uniform(u[i]);
+    for (unsigned i = 0; i < D; ++i) uniforms[i] = designs::to_uniform(u[i]);
     std::optional<SampleRecord> r = run_sample(run, k, trajectory, uniforms);
     if (!r) throw ChainStopped{};
-    const double g = ensemble::subset_response(run.spec, *r);
+    const double g = designs::subset_response(run.spec, *r);
     if (!run.finished.contains(k))
       keep_after_pilot(run, std::move(*r), nullptr);  // not into /stats: level 0 alone is one
     return g;
   };
-  rare_event::run_chain(ensemble::subset_settings(run.spec), start.level, c, start.threshold, start.spread,
-                        std::span<const double>(start.seed_u.data() + c * D, D), start.seed_g[c], response);
+  designs::run_chain(designs::subset_settings(run.spec), start.level, c, start.threshold, start.spread,
+                     std::span<const double>(start.seed_u.data() + c * D, D), start.seed_g[c], response);
 }
 
 // A wave of chains: the queue hands out whole chains. Returns whether a
 // stop cut it short.
 bool run_chain_wave(EnsembleRun& run, const ensemble::Wave& wave) {
-  const rare_event::LevelStart start = rare_event::unpack_level_start(wave.start, run.spec.input_dimensions());
+  const designs::LevelStart start = designs::unpack_level_start(wave.start, run.spec.input_dimensions());
   WorkQueue queue(run.comm, wave.first, wave.end, wave.chain_length);
   std::uint64_t begin = 0, end = 0;
   std::vector<double> trajectory;

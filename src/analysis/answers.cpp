@@ -5,8 +5,8 @@
 #include <limits>
 #include <stdexcept>
 
-#include "analysis/subset_replay.hpp"
 #include "designs/design_rules.hpp"
+#include "designs/registry_analysis.hpp"
 
 namespace treedyn::ensemble {
 namespace {
@@ -120,7 +120,8 @@ void answer_sensitivity(const EnsembleSpec& spec, const ResponseTable& table, st
   if (table.input_count() > 0) a.ranks = ranks_of(spec, table, r);
   a.design = designs::design_answer(spec, table, r);
   // Subset simulation's response has its failure region in its answer
-  // (answer_rare_event): level 0 alone rarely reaches the limit.
+  // (designs/subset_simulation/subset_answer.hpp): level 0 alone rarely
+  // reaches the limit.
   const bool subset_answer = spec.subset && spec.subset->response == r;
   if (spec.responses[r].has_limit() && table.input_count() > 0 && !subset_answer) {
     const designs::DesignRules& rules = designs::rules_of(spec.design);
@@ -152,15 +153,6 @@ ResponseAnswer answer_response(const EnsembleSpec& spec, const ResponseTable& ta
   }
   if (with_sensitivity) answer_sensitivity(spec, table, r, n, a);
   return a;
-}
-
-RareEventAnswer answer_rare_event(const EnsembleSpec& spec, const ResponseTable& table) {
-  RareEventAnswer answer{replay_subset(spec, table, spec.subset->max_levels).result(), {}};
-  // The runs beyond the limit are mostly the last level's chain states.
-  const double gamma = answer.result.levels.empty() ? 0.0 : answer.result.levels.back().gamma;
-  answer.region = failure_region(
-      spec, table, spec.subset->response, [](std::uint64_t) { return true; }, std::isfinite(gamma) ? gamma : 0.0);
-  return answer;
 }
 
 std::vector<ResponseAnswer> answer_responses(const EnsembleSpec& spec, const ResponseTable& table) {

@@ -16,7 +16,6 @@
 #include "designs/design_answer.hpp"
 #include "ensemble/response_table.hpp"
 #include "job/ensemble_spec.hpp"
-#include "rare_event/subset_simulation.hpp"
 #include "statistics/tolerance_check.hpp"
 
 namespace treedyn::ensemble {
@@ -90,20 +89,5 @@ std::vector<ResponseAnswer> answer_responses(const EnsembleSpec& spec, const Res
 // With `tolerance`, each response's line on the integration's accuracy.
 void print_response_summary(std::ostream& out, const EnsembleSpec& spec, const std::vector<ResponseAnswer>& answers,
                             const ToleranceCheck& tolerance = {});
-
-// Subset simulation's answer: its levels' result, and the failure region of
-// every run beyond the limit (any level: each is a draw of the inputs given
-// the failure).
-struct RareEventAnswer {
-  rare_event::SubsetResult result;
-  FailureRegion region;
-};
-RareEventAnswer answer_rare_event(const EnsembleSpec& spec, const ResponseTable& table);
-
-// Subset simulation's answer: P(limit exceeded) with its coefficient of
-// variation and interval, each level's threshold, the runs made, what
-// crude Monte Carlo would have needed for the same coefficient of
-// variation, and what makes it fail.
-void print_rare_event(std::ostream& out, const EnsembleSpec& spec, const RareEventAnswer& answer);
 
 }  // namespace treedyn::ensemble

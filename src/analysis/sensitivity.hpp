@@ -1,8 +1,8 @@
 // Sensitivity of a response to the sampled inputs, from per-sample values
-// alone (no model): rank measures for any design (a design's own measures
-// are in its folder: designs/saltelli/sobol_indices.hpp,
-// designs/morris/morris_effects.hpp). Pure functions of their arguments, so the same records
-// give the same bits on any number of ranks.
+// alone (no model): the rank measures every design has (a design's own
+// measures are in its folder: designs/saltelli/sobol_indices.hpp,
+// designs/morris/morris_effects.hpp). Pure functions of their arguments,
+// so the same records give the same bits on any number of ranks.
 #pragma once
 
 #include <cstddef>

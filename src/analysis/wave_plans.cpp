@@ -5,8 +5,8 @@
 #include <cstdio>
 
 #include "analysis/answers.hpp"
-#include "analysis/subset_replay.hpp"
 #include "common/format.hpp"
+#include "designs/registry_analysis.hpp"
 
 namespace treedyn::ensemble {
 namespace {
@@ -54,21 +54,8 @@ std::optional<Wave> StoppingPlan::next_wave(const Wave& done, const ResponseTabl
   return wave_from(done.end);
 }
 
-Wave SubsetPlan::first_wave() const { return {0, spec_.samples, "level 0", 0, {}}; }
-
-std::optional<Wave> SubsetPlan::next_wave(const Wave& done, const ResponseTable* so_far) const {
-  if (!so_far) return std::nullopt;
-  const rare_event::SubsetSettings settings = subset_settings(spec_);
-  const int level = rare_event::run_place(settings, done.first).level;
-  const rare_event::SubsetLevels levels = replay_subset(spec_, *so_far, level);
-  if (levels.finished()) return std::nullopt;
-  const int next = level + 1;
-  return Wave{rare_event::runs_before(settings, next), rare_event::runs_before(settings, next + 1),
-              "level " + std::to_string(next), settings.states() - 1, rare_event::pack(levels.next_start())};
-}
-
 std::unique_ptr<WavePlan> make_wave_plan(const EnsembleSpec& spec) {
-  if (spec.subset) return std::make_unique<SubsetPlan>(spec);
+  if (std::unique_ptr<WavePlan> own = designs::design_wave_plan(spec)) return own;
   if (spec.stop) return std::make_unique<StoppingPlan>(spec);
   return std::make_unique<FixedDesignPlan>(spec.runs);
 }

@@ -1,5 +1,7 @@
-// The wave plan of a job: one wave for a fixed design; with [ensemble.stop],
-// waves of `every` samples until a target holds on the samples so far.
+// The wave plan of a job: the design's own where it has one (subset
+// simulation's levels: designs/registry_analysis.cpp); else one wave for a
+// fixed design, or with [ensemble.stop] waves of `every` samples until a
+// target holds on the samples so far.
 #pragma once
 
 #include <memory>
@@ -25,19 +27,6 @@ class StoppingPlan final : public WavePlan {
 
  private:
   Wave wave_from(std::uint64_t first) const;
-  const EnsembleSpec& spec_;
-};
-
-// Subset simulation: level 0 (samples 0 .. N-1), then each level's chains,
-// decided from the levels replayed so far; over when a level's threshold
-// reaches the limit or max_levels is reached.
-class SubsetPlan final : public WavePlan {
- public:
-  explicit SubsetPlan(const EnsembleSpec& spec) : spec_(spec) {}
-  Wave first_wave() const override;
-  std::optional<Wave> next_wave(const Wave& done, const ResponseTable* so_far) const override;
-
- private:
   const EnsembleSpec& spec_;
 };
 

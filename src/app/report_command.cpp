@@ -15,8 +15,9 @@
 
 #include "analysis/answers.hpp"
 #include "analysis/digest.hpp"
-#include "analysis/subset_replay.hpp"
 #include "common/exit_codes.hpp"
+#include "designs/subset_simulation/subset_answer.hpp"
+#include "designs/subset_simulation/subset_replay.hpp"
 #include "hdf5/read_file.hpp"
 #include "job/ensemble_spec.hpp"
 #include "job/job_error.hpp"
@@ -104,7 +105,7 @@ void ensemble_summary(std::ostream& out, const h5::ReadFile& f, const std::strin
   try {
     const ensemble::ResponseTable table = h5::response_table(f, spec.input_dimensions(), spec.responses.size());
     ensemble::print_response_summary(out, spec, ensemble::answer_responses(spec, table), h5::tolerance_check(f));
-    if (spec.subset) ensemble::print_rare_event(out, spec, ensemble::answer_rare_event(spec, table));
+    if (spec.subset) designs::print_rare_event(out, spec, designs::answer_rare_event(spec, table));
   } catch (const h5::IoError& e) {
     throw Refused{file + ": " + e.what()};
   }

@@ -4,12 +4,12 @@
 #include <iostream>
 #include <optional>
 
-#include "analysis/subset_replay.hpp"
 #include "app/command_errors.hpp"
 #include "app/run_trajectory.hpp"
 #include "common/error.hpp"
 #include "common/exit_codes.hpp"
 #include "designs/design_rules.hpp"
+#include "designs/subset_simulation/subset_replay.hpp"
 #include "ensemble/sample_runner.hpp"
 #include "hdf5/read_file.hpp"
 #include "job/ensemble_spec.hpp"
@@ -50,7 +50,7 @@ std::vector<double> inputs_of(const Job& job, const ensemble::EnsembleSpec& spec
     if (!file.has_attribute("/", "job_text") || file.string_attribute("/", "job_text") != job.text)
       refuse("--from " + from + ": not an ensemble file of " + job.file + " (its job_text differs)");
     table = h5::response_table(file, spec.input_dimensions(), spec.responses.size());
-    inputs = runner.inputs_at(ensemble::subset_uniforms(spec, *table, k));
+    inputs = runner.inputs_at(designs::subset_uniforms(spec, *table, k));
   } catch (const h5::IoError& e) {
     refuse("--from " + from + ": " + e.what());
   } catch (const std::invalid_argument& e) {

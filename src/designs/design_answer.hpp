@@ -1,7 +1,7 @@
 // A design's own answer for one response, beyond what every design answers
 // (the mean, the exceedance, the rank measures, the failure region):
 // Saltelli's Sobol' indices, Morris' elementary effects. The design computes
-// it on one rank from the response table (design_answers.cpp lists which
+// it on one rank from the response table (registry_analysis.hpp lists which
 // designs have one), prints its lines in the end-of-run summary, and writes
 // it into /sensitivity/<response> through an AnswerWriter, which knows
 // nothing of what it writes: the HDF5 layer implements the writer
@@ -16,10 +16,6 @@
 
 #include "analysis/ranking.hpp"
 #include "job/ensemble_spec.hpp"
-
-namespace treedyn::ensemble {
-class ResponseTable;
-}
 
 namespace treedyn::designs {
 
@@ -60,11 +56,5 @@ class DesignAnswer {
   virtual void write(AnswerWriter& sensitivity, const ensemble::EnsembleSpec& spec,
                      const ensemble::Response& response) const = 0;
 };
-
-// spec.design's own answer for response r from `table`, or none: the
-// designs' registry of answers (design_answers.cpp), one line for each
-// design that has one.
-std::shared_ptr<const DesignAnswer> design_answer(const ensemble::EnsembleSpec& spec,
-                                                  const ensemble::ResponseTable& table, std::size_t r);
 
 }  // namespace treedyn::designs

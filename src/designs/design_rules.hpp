@@ -4,10 +4,13 @@
 // the summaries ask these rules instead of switching on the design, so that
 // a design's words and counting rules live in one place.
 //
-// Still outside this interface, dispatched where they are used: each
-// design's answers and their datasets
-// (analysis/answers.cpp, hdf5/answers_file.cpp) and subset simulation's
-// waves (analysis/wave_plans.cpp, mpi/parallel/wave_phases.cpp).
+// A design's own answer for each response (Saltelli's Sobol' indices,
+// Morris' effects), its summary lines and its datasets are its
+// DesignAnswer (design_answer.hpp), and a design that plans its waves from
+// the answers so far (subset simulation's levels) has its WavePlan: both
+// listed in registry_analysis.cpp. Subset simulation's answer is its job's,
+// not a response's: its folder computes, prints and writes it, and the run's
+// end (mpi/parallel/finish_run.cpp) asks for it where spec.subset is set.
 #pragma once
 
 #include <cstdint>

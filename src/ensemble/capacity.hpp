@@ -75,9 +75,10 @@ inline constexpr double kStoredShare = 0.65;
 inline constexpr double kChunkWriteSeconds = 5e-6;
 double rank_zero_seconds_per_unit_record(std::size_t datasets, std::size_t rows, std::size_t row_bytes,
                                          double write_seconds_per_byte);
-// The development machine's write cost, where it cannot be measured: a
-// new file's bytes there go into pages the virtual machine's host must
-// first provide (BENCHMARKS.md, as above).
+// The write cost used where it cannot be measured: the development VM's for
+// pages new to it (what a file system that keeps its pages, such as a
+// tmpfs, costs there; with rank 0 dropping what is on the disk, a disk's
+// costs about a seventh of it): on the safe side (BENCHMARKS.md, as above).
 inline constexpr double kDevelopmentWriteSecondsPerByte = 1.9e-9;
 
 struct Capacity {

@@ -46,7 +46,7 @@ struct Wave {
   // first + (c + 1) L) for chain c; one rank runs a chain, in order, since
   // each run's inputs follow from the one before (subset simulation).
   std::uint64_t chain_length = 0;
-  std::vector<double> start;  // what the chains start from (rare_event::LevelStart, packed)
+  std::vector<double> start;  // what the chains start from (designs::LevelStart, packed)
 };
 
 class WavePlan {

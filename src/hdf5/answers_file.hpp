@@ -1,8 +1,8 @@
 // The answers of an ensemble file, whoever computed them (a run, a merge):
 // /responses (each response's mean, exceedance, what the failed samples can
 // change and the failure region, convergence), /sensitivity (rank measures
-// and their ranking, with the design's own indices from its folder:
-// designs/saltelli/saltelli_file.hpp, designs/morris/morris_file.hpp).
+// and their ranking, then the design's own answer, which writes itself
+// through answer_group_writer.hpp: designs/design_answer.hpp).
 // Subset simulation's /rare_event is its own
 // (designs/subset_simulation/subset_file.hpp).
 #pragma once

@@ -331,17 +331,17 @@ void EnsembleWriter::write_merge_origin(const std::vector<std::string>& parts,
   h5::write_attribute(root, "held_samples", std::span<const long long>(flat));
 }
 
-void EnsembleWriter::write_rare_event(const rare_event::SubsetSettings& settings,
-                                      const ensemble::RareEventAnswer& answer, std::size_t rows) {
+void EnsembleWriter::write_rare_event(const designs::SubsetSettings& settings, const designs::RareEventAnswer& answer,
+                                      std::size_t rows) {
   write_run_places(settings, rows);
   designs::write_rare_event(file_.id(), spec_, settings, answer);
 }
 
-void EnsembleWriter::write_run_places(const rare_event::SubsetSettings& settings, std::size_t rows) {
+void EnsembleWriter::write_run_places(const designs::SubsetSettings& settings, std::size_t rows) {
   std::vector<std::int32_t> levels(rows);
   std::vector<std::int64_t> chains(rows), states(rows);
   for (std::size_t k = 0; k < rows; ++k) {
-    const rare_event::RunPlace p = rare_event::run_place(settings, k);
+    const designs::RunPlace p = designs::run_place(settings, k);
     levels[k] = p.level;
     chains[k] = static_cast<std::int64_t>(p.chain);
     states[k] = static_cast<std::int64_t>(p.state);

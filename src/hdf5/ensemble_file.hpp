@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "analysis/answers.hpp"
+#include "designs/subset_simulation/subset_answer.hpp"
 #include "ensemble/run_summary.hpp"
 #include "ensemble/sample_rows.hpp"
 #include "hdf5/hdf5.hpp"
@@ -18,7 +19,6 @@
 #include "job/ensemble_spec.hpp"
 #include "output/quantities.hpp"
 #include "output/sample_record.hpp"
-#include "rare_event/subset_simulation.hpp"
 #include "statistics/ensemble_statistics.hpp"
 
 namespace treedyn {
@@ -51,7 +51,7 @@ class EnsembleWriter {
   // design = "subset_simulation": /rare_event/<response> (answers_file.hpp)
   // and every run's place, /samples/level, chain, state (rows 0 .. rows-1);
   // before complete().
-  void write_rare_event(const rare_event::SubsetSettings& settings, const ensemble::RareEventAnswer& answer,
+  void write_rare_event(const designs::SubsetSettings& settings, const designs::RareEventAnswer& answer,
                         std::size_t rows);
   // The end of every ensemble file, whoever wrote its records (a run, a
   // merge): the per-sample datasets' last chunks, the nominal run, /stats,
@@ -77,7 +77,7 @@ class EnsembleWriter {
   std::vector<h5::RowDataset*> row_datasets();
   void write_nominal(const std::vector<double>& trajectory);
   void finish(const EnsembleSummary& summary, const RunProvenance& run);
-  void write_run_places(const rare_event::SubsetSettings& settings, std::size_t rows);
+  void write_run_places(const designs::SubsetSettings& settings, std::size_t rows);
 
   const Job& job_;
   const ensemble::EnsembleSpec& spec_;

@@ -19,7 +19,7 @@ enum class Design {
   latin_hypercube,    // every dimension split into N strata, each hit exactly once
   sobol,              // Sobol points (Joe-Kuo direction numbers), Owen-scrambled by hashing
   saltelli,           // Saltelli's A, B, AB_i from one scrambled Sobol sequence over 2D dimensions
-  subset_simulation,  // level 0 as monte_carlo, then Markov chains towards a limit (rare_event/)
+  subset_simulation,  // level 0 as monte_carlo, then Markov chains towards a limit (designs/subset_simulation/)
   morris,             // Morris' trajectories of elementary effects (designs/morris/)
 };
 

@@ -3,7 +3,7 @@
 // it and in whatever order. Each design makes its own (src/designs/<name>/,
 // through its DesignRules::points); SampleDesign (designs/sample_design.hpp)
 // is what the rest of the ensemble holds. (Subset simulation's chains,
-// after its level 0, draw their own: rare_event/subset_simulation.hpp.)
+// after its level 0, draw their own: designs/subset_simulation/subset_simulation.hpp.)
 #pragma once
 
 #include <cstdint>

@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <string>
 
-#include "analysis/ranking_text.hpp"
+#include "analysis/summary_text.hpp"
 #include "designs/morris/morris_answer.hpp"
 
 namespace treedyn::designs {

@@ -1,6 +1,6 @@
 // Saltelli's own answer for one response: the Sobol' indices of every unit
 // (an input, or a group), from the complete blocks of U + 2 runs, their
-// convergence on the first 1, 2, 4, ... base points, and whether N is
+// convergence on the first 4, 8, 16, ... base points, and whether N is
 // enough. Printed by saltelli_summary.cpp, written by saltelli_file.cpp.
 #pragma once
 
@@ -10,6 +10,7 @@
 
 #include "designs/design_answer.hpp"
 #include "designs/saltelli/sobol_indices.hpp"
+#include "ensemble/response_table.hpp"
 
 namespace treedyn::designs {
 

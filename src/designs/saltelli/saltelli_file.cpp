@@ -89,7 +89,7 @@ void write_sobol_convergence(AnswerWriter& sg, const ensemble::EnsembleSpec& spe
   const std::unique_ptr<AnswerWriter> g =
       sg.group("sobol_convergence",
                "the Sobol' indices of the first m base points (their complete blocks) for "
-               "m = 1, 2, 4, ... and N: a prefix of whole blocks is a Saltelli design");
+               "m = 4, 8, 16, ... and N: a prefix of whole blocks is a Saltelli design");
   g->array("base_points", base_points, {k}, "1", "m", {});
   g->array("used", used, {k}, "1", "complete blocks among the first m", {});
   g->array("first_order", first, {k, u}, "1", "first-order index per prefix", units);

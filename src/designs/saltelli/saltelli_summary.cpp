@@ -3,7 +3,7 @@
 #include <cmath>
 #include <string>
 
-#include "analysis/ranking_text.hpp"
+#include "analysis/summary_text.hpp"
 #include "designs/saltelli/saltelli_answer.hpp"
 
 namespace treedyn::designs {

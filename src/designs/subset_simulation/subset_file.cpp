@@ -18,9 +18,9 @@ using h5::write_described_scalar;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-void write_levels(hid_t g, const rare_event::SubsetResult& result, double sign, const std::string& units) {
+void write_levels(hid_t g, const designs::SubsetResult& result, double sign, const std::string& units) {
   std::vector<double> thresholds, conditional, gamma, acceptance, runs, failed;
-  for (const rare_event::LevelSummary& level : result.levels) {
+  for (const designs::LevelSummary& level : result.levels) {
     thresholds.push_back(sign * level.threshold);
     conditional.push_back(level.conditional_probability);
     gamma.push_back(level.gamma);
@@ -43,9 +43,9 @@ void write_levels(hid_t g, const rare_event::SubsetResult& result, double sign, 
 
 }  // namespace
 
-void write_rare_event(hid_t file, const ensemble::EnsembleSpec& spec, const rare_event::SubsetSettings& settings,
-                      const ensemble::RareEventAnswer& answer) {
-  const rare_event::SubsetResult& result = answer.result;
+void write_rare_event(hid_t file, const ensemble::EnsembleSpec& spec, const designs::SubsetSettings& settings,
+                      const RareEventAnswer& answer) {
+  const designs::SubsetResult& result = answer.result;
   const ensemble::Response& response = spec.responses[spec.subset->response];
   const double sign = response.fail_if == ensemble::Response::FailIf::below ? -1.0 : 1.0;
   h5::Handle group = h5::create_group(file, "rare_event");

@@ -1,5 +1,5 @@
 // design = "subset_simulation": level 0 is a Monte-Carlo sample; the later
-// levels' runs are Markov chains conditioned on the failure (rare_event/).
+// levels' runs are Markov chains conditioned on the failure (subset_simulation.hpp).
 #include "designs/subset_simulation/subset_simulation_rules.hpp"
 
 #include <cmath>

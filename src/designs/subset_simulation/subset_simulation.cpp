@@ -1,4 +1,4 @@
-#include "rare_event/subset_simulation.hpp"
+#include "designs/subset_simulation/subset_simulation.hpp"
 
 #include <boost/math/distributions/normal.hpp>
 
@@ -10,7 +10,7 @@
 
 #include "sampling/design.hpp"
 
-namespace treedyn::rare_event {
+namespace treedyn::designs {
 namespace {
 
 // Level 0 draws from the Monte-Carlo design's own stream (0), so that it is
@@ -356,4 +356,4 @@ SubsetResult subset_simulation(const SubsetSettings& s, unsigned D, const Respon
   return levels.result();
 }
 
-}  // namespace treedyn::rare_event
+}  // namespace treedyn::designs

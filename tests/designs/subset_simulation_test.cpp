@@ -11,7 +11,7 @@
 // check sharper. At beta = 4.75, 400 seeds put the mean 2 % above the exact
 // value, with a spread of 0.43 against a reported cov of 0.37 (the reported
 // one treats the levels as uncorrelated).
-#include "rare_event/subset_simulation.hpp"
+#include "designs/subset_simulation/subset_simulation.hpp"
 
 #include <boost/math/distributions/normal.hpp>
 #include <gtest/gtest.h>
@@ -20,7 +20,7 @@
 #include <limits>
 #include <numeric>
 
-namespace treedyn::rare_event {
+namespace treedyn::designs {
 namespace {
 
 constexpr int kSeeds = 100;
@@ -155,9 +155,9 @@ TEST(SubsetSimulation, SettingsThatCannotFormChainsAreRefused) {
 }
 
 }  // namespace
-}  // namespace treedyn::rare_event
+}  // namespace treedyn::designs
 
-namespace treedyn::rare_event {
+namespace treedyn::designs {
 namespace {
 
 // Failed runs (NaN responses) are never beyond a threshold; when N (1 - p0)
@@ -200,9 +200,9 @@ TEST(SubsetSimulation, ExactlyNTimesOneMinusP0FailedRunsLeaveNoThreshold) {
 }
 
 }  // namespace
-}  // namespace treedyn::rare_event
+}  // namespace treedyn::designs
 
-namespace treedyn::rare_event {
+namespace treedyn::designs {
 namespace {
 
 // A response that piles up at one value: g = u_0 where u_0 > 1.5, else
@@ -230,4 +230,4 @@ TEST(SubsetSimulation, APileUpOfResponsesCountsWhatLiesBeyondIt) {
 }
 
 }  // namespace
-}  // namespace treedyn::rare_event
+}  // namespace treedyn::designs

@@ -1,6 +1,6 @@
-// A ranking as the end-of-run summary prints it ("drivers" lines): the
-// answers' summary (answer_summary.cpp) and each design's own
-// (designs/<name>/<name>_summary.cpp) share it.
+// The pieces of text the end-of-run summary (answer_summary.cpp) and the
+// designs' own lines (designs/<name>/<name>_summary.cpp) share: a number, a
+// ranking ("drivers" lines), a failure region.
 #pragma once
 
 #include <cstddef>
@@ -8,7 +8,9 @@
 #include <string>
 #include <vector>
 
+#include "analysis/failure_region.hpp"
 #include "analysis/ranking.hpp"
+#include "job/ensemble_spec.hpp"
 
 namespace treedyn::ensemble {
 
@@ -26,5 +28,10 @@ std::string number(double v, const char* format = "%.6g");
 void print_ranking(std::ostream& out, const std::vector<std::string>& names, const Ranking& ranking,
                    const std::vector<double>& measure, const std::vector<double>* ci, const char* samples_word,
                    const std::vector<bool>& hidden = {}, bool indices = true);
+
+// The inputs the failing runs (`region.runs` of them, `what`) select on, by
+// importance, and a warning for every input whose truncation bound holds
+// most of them.
+void print_failure_region(std::ostream& out, const EnsembleSpec& spec, const FailureRegion& region, const char* what);
 
 }  // namespace treedyn::ensemble

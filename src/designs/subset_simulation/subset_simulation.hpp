@@ -18,7 +18,7 @@
 #include <string>
 #include <vector>
 
-namespace treedyn::rare_event {
+namespace treedyn::designs {
 
 struct SubsetSettings {
   std::uint64_t samples = 0;       // N: states per level (runs at level 0)
@@ -189,4 +189,4 @@ class SubsetLevels {
 // The whole algorithm, serially.
 SubsetResult subset_simulation(const SubsetSettings& settings, unsigned dimensions, const Response& response);
 
-}  // namespace treedyn::rare_event
+}  // namespace treedyn::designs

@@ -1,8 +1,10 @@
-#include "analysis/ranking_text.hpp"
+#include "analysis/summary_text.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+
+#include "analysis/failure_region.hpp"
 
 namespace treedyn::ensemble {
 
@@ -24,6 +26,18 @@ std::string index_text(const std::string& name, double v, const double* ci, bool
     t += " [" + (index ? clipped(ci[0]) : number(ci[0], "%.3g")) + ", " +
          (index ? clipped(ci[1]) : number(ci[1], "%.3g")) + "]";
   return t;
+}
+
+constexpr std::size_t kFailureShown = 3;  // inputs on a "what makes it exceed" line
+
+// One unit of the failure region: its importance and, for a single input,
+// where the failing runs put it (mean u, the design point).
+std::string failure_unit_text(const EnsembleSpec& spec, const FailureRegion& region, std::size_t u) {
+  std::string t = region.units[u].name + " " + number(region.unit_importance[u], "%.2f");
+  if (region.units[u].inputs.size() != 1) return t + " (" + std::to_string(region.units[u].inputs.size()) + " inputs)";
+  const unsigned i = region.units[u].inputs.front();
+  return t + " (mean u " + number(region.mean_u[i], "%.2f") + ", design point " +
+         number(region.design_point[i], "%.4g") + " " + spec.input_units()[i] + ")";
 }
 
 }  // namespace
@@ -62,6 +76,38 @@ void print_ranking(std::ostream& out, const std::vector<std::string>& names, con
         return v < 0.0 || v > 1.0;
       }))
     out << "      an index estimated outside [0, 1] is noise of a small sample; its interval is shown within [0, 1]\n";
+}
+
+// The inputs the failing runs select on, by importance, and a warning for
+// every input whose truncation bound holds most of them.
+void print_failure_region(std::ostream& out, const EnsembleSpec& spec, const FailureRegion& region, const char* what) {
+  if (region.runs == 0 || region.unit_importance.empty()) return;
+  const std::size_t inputs = region.mean_u.size();
+  out << "    what makes it exceed (" << region.runs << " " << what << "; importance):";
+  if (std::none_of(region.unit_importance.begin(), region.unit_importance.end(),
+                   [](double v) { return std::isfinite(v); }))
+    out << " no input departs from its own distribution beyond chance";
+  const Ranking order = rank_units(region.unit_importance, {}, region.runs);
+  for (std::size_t k = 0; k < std::min(order.order.size(), kFailureShown); ++k) {
+    if (!(region.unit_importance[order.order[k]] > 0.0)) break;
+    out << (k ? "; " : " ") << failure_unit_text(spec, region, order.order[k]);
+  }
+  out << "\n";
+  const double enough = static_cast<double>(std::max<std::uint64_t>(kFailureRegionRuns, inputs));
+  if (region.effective_runs < enough)
+    out << "      rough: " << region.runs << " runs beyond the limit"
+        << (region.effective_runs < static_cast<double>(region.runs)
+                ? " (as " + number(region.effective_runs, "%.0f") + " independent ones: chain states)"
+                : std::string())
+        << " for " << inputs << " inputs (chance alone moves each input's share; at least " << number(enough, "%.0f")
+        << " would tell)\n";
+  const std::vector<std::string> names = spec.input_names(), units = spec.input_units();
+  for (std::size_t i = 0; i < inputs; ++i)
+    if (region.near_bound[i] >= kBoundSetsProbability)
+      out << "      warning: " << number(100.0 * region.near_bound[i], "%.0f") << " % of them have " << names[i]
+          << " within " << number(100.0 * kNearBoundShare, "%.0f") << " % of its range of its bound "
+          << number(region.bound[i], "%.6g") << " " << units[i]
+          << ": P depends on where that distribution is cut off, not only on the dynamics\n";
 }
 
 }  // namespace treedyn::ensemble
