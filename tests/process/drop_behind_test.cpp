@@ -20,6 +20,7 @@
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -32,14 +33,14 @@ namespace {
 namespace fs = std::filesystem;
 constexpr std::uint64_t kMiB = std::uint64_t{1} << 20;
 
-std::vector<char> piece_of(std::uint64_t seed) {
+// 256 KiB that differ from piece to piece, so a piece read back from the
+// wrong place shows.
+std::vector<char> piece_of(std::uint64_t k) {
   std::vector<char> bytes(256 << 10);
-  std::uint64_t x = 0x9E3779B97F4A7C15u ^ seed;
-  for (char& b : bytes) {
-    x ^= x << 13;
-    x ^= x >> 7;
-    x ^= x << 17;
-    b = static_cast<char>(x >> 56);
+  std::mt19937_64 draws(k);
+  for (std::size_t i = 0; i < bytes.size(); i += 8) {
+    const std::uint64_t v = draws();
+    std::memcpy(bytes.data() + i, &v, 8);
   }
   return bytes;
 }
