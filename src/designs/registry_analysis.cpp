@@ -24,8 +24,8 @@ std::shared_ptr<const DesignAnswer> design_answer(const ensemble::EnsembleSpec& 
 
 std::unique_ptr<ensemble::WavePlan> design_wave_plan(const ensemble::EnsembleSpec& spec) {
   switch (spec.design) {
-    case ensemble::Design::subset_simulation:
-      return std::make_unique<SubsetPlan>(spec);
+    case ensemble::Design::subset_simulation:  // with its [ensemble.subset], as the job reader makes sure
+      return spec.subset ? std::make_unique<SubsetPlan>(spec) : nullptr;
     default:
       return nullptr;
   }

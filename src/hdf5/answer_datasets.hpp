@@ -1,7 +1,8 @@
 // The datasets every design's answers are written with: per-input (or
 // per-unit) values, intervals, a ranking with what tells its neighbours
-// apart, and a failure region. answers_file.cpp and each design's writer
-// (designs/) share them.
+// apart, and a failure region. answers_file.cpp, the writer a design's
+// answer writes through (answer_group_writer.hpp) and subset simulation's
+// /rare_event (designs/subset_simulation/subset_file.cpp) share them.
 #pragma once
 
 #include <string>

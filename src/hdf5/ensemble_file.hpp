@@ -48,7 +48,7 @@ class EnsembleWriter {
   // Keeps the rows of samples 0 .. rows-1 only (a run a stopping rule or
   // subset simulation's last level ended early); before complete().
   void keep_samples(std::size_t rows);
-  // design = "subset_simulation": /rare_event/<response> (answers_file.hpp)
+  // design = "subset_simulation": /rare_event/<response> (designs/subset_simulation/subset_file.hpp)
   // and every run's place, /samples/level, chain, state (rows 0 .. rows-1);
   // before complete().
   void write_rare_event(const designs::SubsetSettings& settings, const designs::RareEventAnswer& answer,

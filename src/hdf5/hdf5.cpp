@@ -175,6 +175,7 @@ void File::commit() {
   const std::string path = target_.path().string();
   if (H5Fflush(handle_.id(), H5F_SCOPE_GLOBAL) < 0)
     throw IoError("output " + path + ": writing the file to disk failed (is the disk full?)");
+  drop_behind_.reset();  // its descriptor is closed below
   // Every object must be closed by now, or closing the file would be deferred
   // past the rename.
   if (H5Fget_obj_count(handle_.id(), H5F_OBJ_ALL) > 1)

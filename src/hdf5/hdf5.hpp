@@ -59,7 +59,7 @@ class File {
   hid_t id() const { return handle_.id(); }
   // After a batch of rows: lets the kernel drop what is already on the disk
   // of a file written front to back (process/drop_behind.hpp). Throws
-  // IoError when the disk reports a failed write.
+  // IoError when starting the writeback fails.
   void drop_written_pages();
   void commit();
 

@@ -15,8 +15,9 @@ namespace treedyn::process {
 // `piece` into a file in `dir` without a name (O_TMPFILE, else one
 // unlinked as soon as it is made), through a DropBehind as rank 0 writes
 // its output: after an untimed lead of kProbeLeadBytes, so that the timed
-// bytes reuse pages the probe dropped, as a long run's do. Not in it: a
-// file system's writeback and a network's transfer after the start. Throws
+// bytes reuse pages the probe dropped, as a long run's do where the disk
+// keeps up. Not in it: a file system's writeback and a network's transfer
+// after the start: a lower bound. Throws
 // FileError (the directory and the system's words) when the file cannot be
 // created or written (a missing or read-only directory, a full disk), and
 // without writing when the file system has less than the lead, `bytes` and

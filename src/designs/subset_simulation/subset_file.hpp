@@ -1,7 +1,6 @@
 // Subset simulation's answer in the ensemble file: /rare_event/<response>.
 #pragma once
 
-#include "analysis/answers.hpp"
 #include "designs/subset_simulation/subset_answer.hpp"
 #include "hdf5/hdf5.hpp"
 #include "job/ensemble_spec.hpp"
