@@ -93,7 +93,7 @@ void define_options(CLI::App& app, CommandLine& c) {
       "--samples runs.");
   app.add_option("JOB", c.options.job_path, "job file (TOML) with an [ensemble] section")->required();
   app.add_option("-o,--output", c.options.output_path,
-                                "output file (HDF5), written atomically (required unless --check)");
+                 "output file (HDF5), written atomically (required unless --check)");
   app.add_flag("--check", c.check_only,
                "validate the job and its [ensemble], print the model and the ensemble and how many ranks it can keep "
                "busy (timing its nominal run and sample 0, and writing 16 MiB to a file without a name in "
@@ -110,8 +110,8 @@ void define_options(CLI::App& app, CommandLine& c) {
   for (auto* o : {c.sample_option, c.write_job_option}) o->check(CLI::NonNegativeNumber)->excludes("--check");
   c.sample_option->excludes(c.write_job_option);
   app.add_option("--from", c.from,
-                 "with --sample or --write-job: the job's ensemble file (HDF5); needed for a run of a "
-                 "subset simulation's level after 0, whose inputs follow from the runs before it")
+                 "with --sample or --write-job: the job's ensemble file (HDF5); needed for a run whose "
+                 "inputs follow from the runs before it (a subset simulation's level after 0)")
       ->excludes("--check");
   app.add_option("--checkpoint-every", c.options.checkpoint_every,
                  "seconds between each rank's checkpoint in OUTPUT.checkpoint/ (0: no checkpoints); "

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "common/exit_codes.hpp"
+#include "designs/design_rules.hpp"
 #include "ensemble/capacity.hpp"
 #include "job/job_error.hpp"
 #include "job/sample_job.hpp"
@@ -34,7 +35,9 @@ RunSetup::RunSetup(MPI_Comm c, const EnsembleOptions& o, const Job& j, const ens
 
 EnsembleRun::EnsembleRun(MPI_Comm c, const EnsembleOptions& o, const Job& j, const ensemble::EnsembleSpec& s)
     : RunSetup(c, o, j, s), DesignState(s), RankState(j, s) {
-  if (options.part() || spec.subset) return;
+  // A part's records go into its part file; an adaptive design's arrive as
+  // its waves make them (chain by chain), not in units.
+  if (options.part() || designs::rules_of(spec.design).adaptive(spec)) return;
   const ensemble::SampleRows rows(spec, runner.layout(), runner.final_state_size());
   unit_rows = options.test.unit_rows.value_or(ensemble::unit_rows(spec, size, ensemble::most_unit_rows(rows)));
 }
@@ -120,9 +123,10 @@ int on_rank_zero(EnsembleRun& run, const std::function<int()>& work) {
 }
 
 int check_range(EnsembleRun& run) {
-  if (run.options.part() && (run.spec.stop || run.spec.subset)) {
+  const bool adaptive = designs::rules_of(run.spec.design).adaptive(run.spec);
+  if (run.options.part() && (run.spec.stop || adaptive)) {
     if (run.rank == 0)
-      std::cerr << "error: --samples: " << (run.spec.stop ? "[ensemble.stop]" : "subset_simulation")
+      std::cerr << "error: --samples: " << (run.spec.stop ? "[ensemble.stop]" : ensemble::name(run.spec.design))
                 << " decides from every sample before each check point, so its ensemble runs as one job (any "
                    "number of ranks), not in parts\n";
     return kExitBadInput;

@@ -11,8 +11,7 @@
 
 #include "analysis/digest.hpp"
 #include "common/exit_codes.hpp"
-#include "designs/subset_simulation/subset_answer.hpp"
-#include "designs/subset_simulation/subset_replay.hpp"
+#include "designs/registry_analysis.hpp"
 #include "parallel/collectives.hpp"
 #include "parallel/driver.hpp"
 #include "parallel/statistics_reduce.hpp"
@@ -112,18 +111,8 @@ int write_part(EnsembleRun& run, const ensemble::EnsembleStatistics& stats) {
 }
 
 // Why the run ended where it did, for the file and the summary.
-std::string stop_reason_of(const EnsembleRun& run, const designs::SubsetResult* rare) {
-  if (rare) {
-    const std::string levels = std::to_string(rare->levels.size() - 1);
-    if (rare->no_threshold)
-      return "subset simulation: level " + levels +
-             " has no threshold (N (1 - p0) or more of its runs failed, "
-             "or its responses pile up at one value); the estimate counts that level's exceedances";
-    return rare->reached_limit ? "subset simulation: the threshold reached the limit at level " + levels
-                               : "subset simulation: max_levels (" + levels +
-                                     ") reached before the limit; the "
-                                     "estimate counts the last level's exceedances";
-  }
+std::string stop_reason_of(const EnsembleRun& run, const designs::RunAnswer* design) {
+  if (design) return design->stop_reason();
   if (!run.spec.stop) return "no stopping rule: every sample of the design was run";
   if (run.table)
     if (auto reason = ensemble::stop_reason(run.spec, *run.table, run.samples_used)) return *reason;
@@ -142,15 +131,15 @@ int write_ensemble(EnsembleRun& run, const ensemble::EnsembleStatistics& stats, 
   summary.samples_in_units = run.records->done_in_units();
   summary.unit_storing_cpu_seconds = run.records->unit_storing_cpu_seconds();
   if (run.samples_used < run.spec.runs && run.table) run.table->truncate(run.samples_used);
-  std::optional<designs::RareEventAnswer> rare;
-  if (run.spec.subset && run.table) rare = designs::answer_rare_event(run.spec, *run.table);
-  summary.stop_reason = stop_reason_of(run, rare ? &rare->result : nullptr);
+  const std::unique_ptr<const designs::RunAnswer> design =
+      run.table ? designs::run_answer(run.spec, *run.table) : nullptr;
+  summary.stop_reason = stop_reason_of(run, design.get());
   const std::vector<ensemble::ResponseAnswer> answers =
       run.table ? ensemble::answer_responses(run.spec, *run.table) : std::vector<ensemble::ResponseAnswer>{};
   try {
     if (!run.records->io_error().empty()) throw process::FileError(run.records->io_error());
     if (run.samples_used < run.spec.runs) run.writer->keep_samples(run.samples_used);
-    if (rare) run.writer->write_rare_event(designs::subset_settings(run.spec), *rare, run.samples_used);
+    if (design) run.writer->write_run_answer(*design, run.samples_used);
     summary =
         run.writer->complete(run.nominal, stats, answers, run.tolerance, std::move(summary), provenance, run.start);
   } catch (const process::FileError& e) {
@@ -160,7 +149,7 @@ int write_ensemble(EnsembleRun& run, const ensemble::EnsembleStatistics& stats, 
   if (!run.options.quiet) {
     ensemble::print_digest(std::cout, ensemble::digest_of(run.job, run.spec, stats, summary));
     ensemble::print_response_summary(std::cout, run.spec, answers, run.tolerance);
-    if (rare) designs::print_rare_event(std::cout, run.spec, *rare);
+    if (design) design->print(std::cout, run.spec);
     if (run.spec.stop)
       std::cout << "stopped after " << run.samples_used << " of at most " << run.spec.runs
                 << " samples: " << summary.stop_reason << "\n";

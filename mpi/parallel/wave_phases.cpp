@@ -11,8 +11,7 @@
 
 #include "common/exit_codes.hpp"
 #include "common/host_time.hpp"
-#include "designs/subset_simulation/subset_replay.hpp"
-#include "designs/subset_simulation/subset_simulation.hpp"
+#include "designs/design_rules.hpp"
 #include "ensemble/capacity.hpp"
 #include "ensemble/sample_rows.hpp"
 #include "parallel/collectives.hpp"
@@ -340,31 +339,26 @@ bool run_wave(EnsembleRun& run, std::uint64_t from, std::uint64_t to) {
 // it again from its seed.
 struct ChainStopped {};
 
-// Chain c of a subset-simulation level: each proposal run here, in order.
-// A run a resumed run already has is run again (the chain needs its
-// response to go on; the same bits) but not kept twice.
-void run_chain(EnsembleRun& run, WorkQueue& queue, const designs::LevelStart& start, std::uint64_t c,
+// Chain c of a wave of chains (ensemble/wave_plan.hpp): each of its runs
+// run here, in order. A run a resumed run already has is run again (the
+// chain needs it to go on; the same bits) but not kept twice.
+void run_chain(EnsembleRun& run, WorkQueue& queue, const ensemble::ChainWave& chains, std::uint64_t c,
                std::vector<double>& trajectory) {
-  const unsigned D = run.spec.input_dimensions();
-  std::vector<double> uniforms(D);
-  const auto response = [&](std::uint64_t k, std::span<const double> u) {
+  chains.run(c, [&](std::uint64_t k, std::span<const double> u) {
     if (!may_go_on(queue)) throw ChainStopped{};
-    for (unsigned i = 0; i < D; ++i) uniforms[i] = designs::to_uniform(u[i]);
-    std::optional<SampleRecord> r = run_sample(run, k, trajectory, uniforms);
+    std::optional<SampleRecord> r = run_sample(run, k, trajectory, u);
     if (!r) throw ChainStopped{};
-    const double g = designs::subset_response(run.spec, *r);
+    const double value = chains.value(*r);
     if (!run.finished.contains(k))
-      keep_after_pilot(run, std::move(*r), nullptr);  // not into /stats: level 0 alone is one
-    return g;
-  };
-  designs::run_chain(designs::subset_settings(run.spec), start.level, c, start.threshold, start.spread,
-                     std::span<const double>(start.seed_u.data() + c * D, D), start.seed_g[c], response);
+      keep_after_pilot(run, std::move(*r), nullptr);  // not into /stats: the chains' runs are not draws
+    return value;
+  });
 }
 
 // A wave of chains: the queue hands out whole chains. Returns whether a
 // stop cut it short.
 bool run_chain_wave(EnsembleRun& run, const ensemble::Wave& wave) {
-  const designs::LevelStart start = designs::unpack_level_start(wave.start, run.spec.input_dimensions());
+  const std::unique_ptr<const ensemble::ChainWave> chains = run.plan->chains(wave);
   WorkQueue queue(run.comm, wave.first, wave.end, wave.chain_length);
   std::uint64_t begin = 0, end = 0;
   std::vector<double> trajectory;
@@ -376,7 +370,7 @@ bool run_chain_wave(EnsembleRun& run, const ensemble::Wave& wave) {
     for (std::uint64_t k = begin; k < end && finished; ++k) finished = run.finished.contains(k);
     if (finished) continue;
     try {
-      run_chain(run, queue, start, (begin - wave.first) / wave.chain_length, trajectory);
+      run_chain(run, queue, *chains, (begin - wave.first) / wave.chain_length, trajectory);
     } catch (const ChainStopped&) {
       stopped = true;
     }
@@ -447,7 +441,7 @@ int run_waves(EnsembleRun& run) {
     from = pilot_end;
   }
   for (;;) {
-    if (run.rank == 0 && run.spec.subset) run.progress->wave(wave.end, wave.name);
+    if (run.rank == 0 && designs::rules_of(run.spec.design).adaptive(run.spec)) run.progress->wave(wave.end, wave.name);
     const std::uint64_t first = std::max({wave.first, from, run.first});
     const bool interrupted = wave.chain_length > 0 ? run_chain_wave(run, wave)
                                                    : run_wave(run, first, std::max(first, std::min(wave.end, run.end)));

@@ -50,10 +50,9 @@ void print_response_summary(std::ostream& out, const EnsembleSpec& spec, const s
     if (a.failed > 0) out << ", " << a.failed << " failed";
     out << "]\n";
     if (r < tolerance.change.size()) out << "    integration: " << describe_verdict(tolerance, r) << "\n";
-    const bool subset_answer = spec.subset && spec.subset->response == r;
-    if (subset_answer && a.exceedance) {
-      out << "    P: subset simulation's answer, below (level 0, its Monte-Carlo sample, has " << a.exceedance->exceeded
-          << " of " << a.exceedance->successful << " beyond the limit)\n";
+    if (designs::rules_of(spec.design).answers_probability(spec, r) && a.exceedance) {
+      out << "    P: " << name(spec.design) << "'s answer, below (the runs counted above have "
+          << a.exceedance->exceeded << " of " << a.exceedance->successful << " beyond the limit)\n";
       print_drivers(out, spec, response, a);
       continue;
     }

@@ -119,12 +119,8 @@ void answer_sensitivity(const EnsembleSpec& spec, const ResponseTable& table, st
                         ResponseAnswer& a) {
   if (table.input_count() > 0) a.ranks = ranks_of(spec, table, r);
   a.design = designs::design_answer(spec, table, r);
-  // Subset simulation's response has its failure region in its answer
-  // (designs/subset_simulation/subset_answer.hpp): level 0 alone rarely
-  // reaches the limit.
-  const bool subset_answer = spec.subset && spec.subset->response == r;
-  if (spec.responses[r].has_limit() && table.input_count() > 0 && !subset_answer) {
-    const designs::DesignRules& rules = designs::rules_of(spec.design);
+  const designs::DesignRules& rules = designs::rules_of(spec.design);
+  if (spec.responses[r].has_limit() && table.input_count() > 0 && !rules.answers_probability(spec, r)) {
     a.failure_region =
         failure_region(spec, table, r, [&](std::uint64_t k) { return k < n && rules.independent_draw(spec, k); });
   }
@@ -156,10 +152,11 @@ ResponseAnswer answer_response(const EnsembleSpec& spec, const ResponseTable& ta
 }
 
 std::vector<ResponseAnswer> answer_responses(const EnsembleSpec& spec, const ResponseTable& table) {
-  if (spec.subset && table.samples() > spec.samples) {
-    ResponseTable level_zero = table;
-    level_zero.truncate(spec.samples);
-    return answer_responses(spec, level_zero);
+  if (const std::uint64_t n = designs::rules_of(spec.design).answered_runs(spec, table.samples());
+      n < table.samples()) {
+    ResponseTable answered = table;
+    answered.truncate(n);
+    return answer_responses(spec, answered);
   }
   if (table.input_count() != spec.input_dimensions())
     throw std::invalid_argument("answers: the table's inputs are not the ensemble's");

@@ -151,8 +151,11 @@ void print_perturbation(std::ostream& out, const Job& job, const Perturbation& p
 }  // namespace
 
 void print_ensemble_summary(std::ostream& out, const Job& job, const EnsembleSpec& s) {
-  out << "ensemble: " << (s.subset ? "at most " : "") << s.runs
-      << (s.subset ? " runs (below: how many for which P)" : " samples") << ", seed " << s.seed << ", design "
+  // An adaptive design makes as many runs as its answers need: `runs` is
+  // the most (its print_runs says how many).
+  const bool at_most = designs::rules_of(s.design).adaptive(s);
+  out << "ensemble: " << (at_most ? "at most " : "") << s.runs
+      << (at_most ? " runs (below: how many for which P)" : " samples") << ", seed " << s.seed << ", design "
       << name(s.design) << ", " << s.perturbations.size() << " perturbation" << (s.perturbations.size() == 1 ? "" : "s")
       << " (" << s.input_dimensions() << " sampled inputs)\n";
   designs::rules_of(s.design).print_runs(out, s);

@@ -16,8 +16,7 @@
 #include "analysis/answers.hpp"
 #include "analysis/digest.hpp"
 #include "common/exit_codes.hpp"
-#include "designs/subset_simulation/subset_answer.hpp"
-#include "designs/subset_simulation/subset_replay.hpp"
+#include "designs/registry_analysis.hpp"
 #include "hdf5/read_file.hpp"
 #include "job/ensemble_spec.hpp"
 #include "job/job_error.hpp"
@@ -66,7 +65,7 @@ void ensemble_summary(std::ostream& out, const h5::ReadFile& f, const std::strin
   const ColumnLayout layout = column_layout(job.model, job.output);
   ensemble::EnsembleDigest d;
   // The runs the file holds: fewer than `samples` (the most) when a stopping
-  // rule or subset simulation's last level ended the run.
+  // rule or the design (subset simulation's last level) ended the run.
   d.samples = static_cast<std::uint64_t>(
       f.number_attribute("/", f.has_attribute("/", "samples_used") ? "samples_used" : "samples"));
   d.ok = static_cast<std::uint64_t>(f.number_attribute("/", "samples_ok"));
@@ -105,7 +104,7 @@ void ensemble_summary(std::ostream& out, const h5::ReadFile& f, const std::strin
   try {
     const ensemble::ResponseTable table = h5::response_table(f, spec.input_dimensions(), spec.responses.size());
     ensemble::print_response_summary(out, spec, ensemble::answer_responses(spec, table), h5::tolerance_check(f));
-    if (spec.subset) designs::print_rare_event(out, spec, designs::answer_rare_event(spec, table));
+    if (const auto design = designs::run_answer(spec, table)) design->print(out, spec);
   } catch (const h5::IoError& e) {
     throw Refused{file + ": " + e.what()};
   }

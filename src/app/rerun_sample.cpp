@@ -9,7 +9,7 @@
 #include "common/error.hpp"
 #include "common/exit_codes.hpp"
 #include "designs/design_rules.hpp"
-#include "designs/subset_simulation/subset_replay.hpp"
+#include "designs/registry_analysis.hpp"
 #include "ensemble/sample_runner.hpp"
 #include "hdf5/read_file.hpp"
 #include "job/ensemble_spec.hpp"
@@ -29,20 +29,21 @@ void require_sample(const Job& job, const ensemble::EnsembleSpec& spec, std::uin
                        std::string(designs::rules_of(spec.design).runs_note()));
 }
 
-// Refused with what to do instead: a subset simulation's run k after level
-// 0 needs the ensemble file, whose records replay the levels to its inputs.
+// Refused with what to do instead: a run that follows from the records
+// before it needs the ensemble file, whose records replay it.
 [[noreturn]] void refuse(const std::string& what) { throw CommandRefused(what); }
 
-// Sample k's inputs: the design's, or, for a run of a subset simulation's
-// later level, those its chain made, replayed from the ensemble file `from`
-// (and checked against the inputs the file recorded for it).
+// Sample k's inputs: the design's, or, for a run that follows from the runs
+// before it (a subset simulation's later level), those the design made,
+// replayed from the ensemble file `from` (and checked against the inputs the
+// file recorded for it).
 std::vector<double> inputs_of(const Job& job, const ensemble::EnsembleSpec& spec, ensemble::SampleRunner& runner,
                               std::uint64_t k, const std::string& from) {
-  if (!spec.subset || k < spec.samples) return runner.sample_inputs(k);
+  if (!designs::rules_of(spec.design).follows_records(spec, k)) return runner.sample_inputs(k);
   if (from.empty())
-    refuse("run " + std::to_string(k) +
-           " is in a level after level 0 of this subset simulation: its inputs follow "
-           "from the runs before it; give the ensemble's output file with --from FILE.h5");
+    refuse("run " + std::to_string(k) + " of this " + std::string(ensemble::name(spec.design)) +
+           " follows from the runs before it, not from the seed alone; give the ensemble's output file with "
+           "--from FILE.h5");
   std::vector<double> inputs;
   std::optional<ensemble::ResponseTable> table;
   try {
@@ -50,7 +51,7 @@ std::vector<double> inputs_of(const Job& job, const ensemble::EnsembleSpec& spec
     if (!file.has_attribute("/", "job_text") || file.string_attribute("/", "job_text") != job.text)
       refuse("--from " + from + ": not an ensemble file of " + job.file + " (its job_text differs)");
     table = h5::response_table(file, spec.input_dimensions(), spec.responses.size());
-    inputs = runner.inputs_at(designs::subset_uniforms(spec, *table, k));
+    inputs = runner.inputs_at(*designs::replayed_point(spec, *table, k));
   } catch (const h5::IoError& e) {
     refuse("--from " + from + ": " + e.what());
   } catch (const std::invalid_argument& e) {

@@ -1,19 +1,22 @@
-// A design's own answer for one response, beyond what every design answers
-// (the mean, the exceedance, the rank measures, the failure region):
-// Saltelli's Sobol' indices, Morris' elementary effects. The design computes
-// it on one rank from the response table (registry_analysis.hpp lists which
-// designs have one), prints its lines in the end-of-run summary, and writes
-// it into /sensitivity/<response> through an AnswerWriter, which knows
-// nothing of what it writes: the HDF5 layer implements the writer
+// A design's own answers, beyond what every design answers (the mean, the
+// exceedance, the rank measures, the failure region): for one response
+// (DesignAnswer: Saltelli's Sobol' indices, Morris' elementary effects), and
+// for the whole run (RunAnswer: subset simulation's P and its levels). The
+// design computes them on one rank from the response table
+// (registry_analysis.hpp lists which designs have them), prints their lines
+// in the end-of-run summary, and writes them through an AnswerWriter, which
+// knows nothing of what it writes: the HDF5 layer implements the writer
 // (hdf5/answer_group_writer.hpp), the design owns its datasets.
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <ostream>
 #include <string>
 #include <vector>
 
+#include "analysis/failure_region.hpp"
 #include "analysis/ranking.hpp"
 #include "job/ensemble_spec.hpp"
 
@@ -37,11 +40,22 @@ class AnswerWriter {
   // Doubles of `shape` (row-major), described; `labels` name the columns.
   virtual void array(const char* name, const std::vector<double>& values, const std::vector<std::size_t>& shape,
                      const std::string& units, const std::string& what, const std::vector<std::string>& labels) = 0;
+  // A scalar, described; a count's units are "1".
+  virtual void value(const char* name, double value, const std::string& units, const std::string& what) = 0;
+  virtual void count(const char* name, std::uint64_t value, const std::string& what) = 0;
+  // A (low, high) pair of probabilities, described.
+  virtual void pair(const char* name, double low, double high, const std::string& what) = 0;
+  // Integers per run (a run's place in the design), described; units "1".
+  virtual void column(const char* name, const std::vector<std::int32_t>& values, const std::string& what) = 0;
+  virtual void column(const char* name, const std::vector<std::int64_t>& values, const std::string& what) = 0;
+  // Its failure_region group: what the inputs of `which_runs` say.
+  virtual void failure_region(const ensemble::EnsembleSpec& spec, const ensemble::FailureRegion& region,
+                              const std::string& which_runs) = 0;
   virtual void attribute(const char* name, const std::string& value) = 0;
   virtual void attribute(const char* name, double value) = 0;
   virtual void attribute(const char* name, long long value) = 0;
   virtual void attribute(const char* name, const std::vector<std::string>& values) = 0;
-  // A group inside this one, with its description.
+  // A group inside this one, with its description (none when empty).
   virtual std::unique_ptr<AnswerWriter> group(const char* name, const std::string& description) = 0;
 };
 
@@ -55,6 +69,21 @@ class DesignAnswer {
   // Into the response's /sensitivity group, after the rank measures.
   virtual void write(AnswerWriter& sensitivity, const ensemble::EnsembleSpec& spec,
                      const ensemble::Response& response) const = 0;
+};
+
+// The design's answer for the whole run: why the run ended where it did, its
+// lines after the responses' in the summary, its groups at the file's root
+// and each run's place in the design as columns of /samples.
+class RunAnswer {
+ public:
+  virtual ~RunAnswer() = default;
+  // The file's stop_reason and the summary's.
+  virtual std::string stop_reason() const = 0;
+  virtual void print(std::ostream& out, const ensemble::EnsembleSpec& spec) const = 0;
+  // `root`: the file's root group; `samples`: /samples, whose rows
+  // 0 .. rows-1 are the runs kept.
+  virtual void write(AnswerWriter& root, AnswerWriter& samples, const ensemble::EnsembleSpec& spec,
+                     std::size_t rows) const = 0;
 };
 
 }  // namespace treedyn::designs

@@ -6,13 +6,14 @@
 //
 // A design's own answer for each response (Saltelli's Sobol' indices,
 // Morris' effects), its summary lines and its datasets are its
-// DesignAnswer (design_answer.hpp), and a design that plans its waves from
-// the answers so far (subset simulation's levels) has its WavePlan: both
-// listed in registry_analysis.cpp. Subset simulation's answer is its job's,
-// not a response's: its folder computes, prints and writes it, and the run's
-// end (mpi/parallel/finish_run.cpp) asks for it where spec.subset is set.
+// DesignAnswer, its answer for the whole run (subset simulation's P) its
+// RunAnswer (both design_answer.hpp), and a design that plans its waves from
+// the answers so far (subset simulation's levels) has its WavePlan: all
+// listed in registry_analysis.cpp, with the replay of runs that follow from
+// earlier records.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <ostream>
@@ -68,6 +69,27 @@ class DesignRules {
   // Whether run k is an independent draw of the inputs, and so counts for
   // the mean, the standard error, the exceedance and the rank measures.
   virtual bool independent_draw(const ensemble::EnsembleSpec&, std::uint64_t) const { return true; }
+  // Whether run k's inputs follow from the records of the runs before it
+  // (subset simulation's levels after level 0), not from the seed alone:
+  // rerunning it alone needs the ensemble file, whose records replay it
+  // (registry_analysis.hpp: replayed_point). Such a design's `runs` is the
+  // most it makes.
+  virtual bool follows_records(const ensemble::EnsembleSpec&, std::uint64_t) const { return false; }
+  // Whether any of its runs does: its runs are decided wave by wave, so its
+  // ensemble runs as one job, not in parts, and its records arrive as its
+  // waves make them, not in units.
+  bool adaptive(const ensemble::EnsembleSpec& s) const;
+  // The first runs the responses' answers count, of the `runs` made
+  // (subset simulation: level 0, its Monte-Carlo sample).
+  virtual std::uint64_t answered_runs(const ensemble::EnsembleSpec&, std::uint64_t runs) const { return runs; }
+  // Whether its RunAnswer answers P(limit exceeded) of response r, in place
+  // of the counted runs' exceedance and failure region (subset simulation's
+  // response: level 0 alone rarely reaches the limit).
+  virtual bool answers_probability(const ensemble::EnsembleSpec&, std::size_t) const { return false; }
+  // Whether the first runs its answers count, in index order, are a design
+  // of their own (a response's convergence table is then one; not a Latin
+  // hypercube's).
+  virtual bool nested_prefixes() const { return true; }
   // Why a stopping rule cannot stop this design early (its first n runs are
   // not a design of their own); empty when one can.
   virtual std::string_view why_no_stopping_rule() const { return {}; }

@@ -1,12 +1,16 @@
 // The designs' parts in treedyn_analysis (their rules, in treedyn_job, are
 // listed in registry.cpp): which designs answer more than every design
-// does, and which plan their waves from the answers so far. A design with
-// either adds one line here.
+// does, which plan their waves from the answers so far, and how their runs
+// that follow from earlier records are replayed. A design with any of these
+// adds one line here.
 #include "designs/registry_analysis.hpp"
 
+#include "designs/design_rules.hpp"
 #include "designs/morris/morris_answer.hpp"
 #include "designs/saltelli/saltelli_answer.hpp"
+#include "designs/subset_simulation/subset_answer.hpp"
 #include "designs/subset_simulation/subset_plan.hpp"
+#include "designs/subset_simulation/subset_replay.hpp"
 
 namespace treedyn::designs {
 
@@ -19,6 +23,26 @@ std::shared_ptr<const DesignAnswer> design_answer(const ensemble::EnsembleSpec& 
       return answer_morris(spec, table, r);
     default:
       return nullptr;
+  }
+}
+
+std::unique_ptr<const RunAnswer> run_answer(const ensemble::EnsembleSpec& spec, const ensemble::ResponseTable& table) {
+  switch (spec.design) {
+    case ensemble::Design::subset_simulation:
+      return spec.subset ? answer_rare_event(spec, table) : nullptr;
+    default:
+      return nullptr;
+  }
+}
+
+std::optional<std::vector<double>> replayed_point(const ensemble::EnsembleSpec& spec,
+                                                  const ensemble::ResponseTable& table, std::uint64_t k) {
+  switch (spec.design) {
+    case ensemble::Design::subset_simulation:
+      if (spec.subset && rules_of(spec.design).follows_records(spec, k)) return subset_uniforms(spec, table, k);
+      return std::nullopt;
+    default:
+      return std::nullopt;
   }
 }
 

@@ -19,23 +19,27 @@
 // that decide from the answers so far live beside the answers.
 //
 // A run's inputs are a pure function of (seed, index) for the fixed designs
-// and subset simulation's level 0; a chain's runs are not: each starts from
+// and subset simulation's level 0; a chain's runs are not: each follows from
 // the wave's `start` (decided by rank 0 from earlier waves) and the chain's
-// own earlier states, and runs through SampleRunner::run_at. So a design
-// whose runs depend on earlier waves provides a WavePlan (first_wave,
-// next_wave) and its own runs, as wave_phases.cpp has for chains; what
-// every design tells the rest of the ensemble is its DesignRules
-// (designs/design_rules.hpp).
+// own earlier runs. So a design whose runs depend on earlier waves provides
+// a WavePlan (first_wave, next_wave and, for waves of chains, chains(): the
+// chain's next point from its runs so far); the engine runs each point it
+// is given (SampleRunner::run_at). What every design tells the rest of the
+// ensemble is its DesignRules (designs/design_rules.hpp).
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
+#include <span>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "ensemble/response_table.hpp"
 #include "job/ensemble_spec.hpp"
+#include "output/sample_record.hpp"
 
 namespace treedyn::ensemble {
 
@@ -49,6 +53,22 @@ struct Wave {
   std::vector<double> start;  // what the chains start from (designs::LevelStart, packed)
 };
 
+// The chains of one wave of chains: where each chain goes from its runs so
+// far. Chain c's runs are the wave's [first + c L, first + (c + 1) L).
+class ChainWave {
+ public:
+  virtual ~ChainWave() = default;
+  // What a chain decides on from one of its runs' records (subset
+  // simulation: the response, signed so that failure is above; NaN when the
+  // run failed).
+  virtual double value(const SampleRecord& record) const = 0;
+  // Runs chain c, in order: run(k, u) runs run k at the point u in the unit
+  // cube (open) and returns value() of its record; it throws to stop the
+  // chain where it is (a resumed run runs the chain again from its start).
+  using Run = std::function<double(std::uint64_t k, std::span<const double> u)>;
+  virtual void run(std::uint64_t c, const Run& run) const = 0;
+};
+
 class WavePlan {
  public:
   virtual ~WavePlan() = default;
@@ -57,6 +77,11 @@ class WavePlan {
   // the next wave, or nullopt when the ensemble is complete. A function of
   // its arguments only.
   virtual std::optional<Wave> next_wave(const Wave& done, const ResponseTable* so_far) const = 0;
+  // The chains of `wave`, one of this plan's waves of chains
+  // (chain_length > 0); every rank calls it with the wave it was sent.
+  virtual std::unique_ptr<const ChainWave> chains(const Wave&) const {
+    throw std::logic_error("a wave of chains from a plan that makes none (ensemble/wave_plan.hpp)");
+  }
 };
 
 // Monte Carlo, Latin hypercube, Sobol and Saltelli: every sample's inputs

@@ -56,10 +56,6 @@ void write_interval_matrix(hid_t g, const char* name, const std::vector<double>&
   h5::write_attribute(set.id(), std::string(row_word) + "s", rows);
 }
 
-std::string fail_if_name(const ensemble::Response& r) {
-  return r.fail_if == ensemble::Response::FailIf::above ? "above" : "below";
-}
-
 void write_pair(hid_t g, const char* name, double low, double high, const std::string& what) {
   const double values[2] = {low, high};
   const hsize_t two[1] = {2};

@@ -1,8 +1,7 @@
 // The datasets every design's answers are written with: per-input (or
 // per-unit) values, intervals, a ranking with what tells its neighbours
-// apart, and a failure region. answers_file.cpp, the writer a design's
-// answer writes through (answer_group_writer.hpp) and subset simulation's
-// /rare_event (designs/subset_simulation/subset_file.cpp) share them.
+// apart, and a failure region. answers_file.cpp and the writer a design's
+// answers write through (answer_group_writer.hpp) share them.
 #pragma once
 
 #include <string>
@@ -28,9 +27,6 @@ void write_ranking(hid_t sg, const char* name, const ensemble::Ranking& ranking,
 // `units`: the values' (an index's "1").
 void write_interval_matrix(hid_t g, const char* name, const std::vector<double>& v, const std::string& what,
                            const std::vector<std::string>& rows, const char* row_word, const std::string& units = "1");
-
-// "above" or "below": the side of the limit a response fails on.
-std::string fail_if_name(const ensemble::Response& r);
 
 // A (low, high) pair of probabilities, described.
 void write_pair(hid_t g, const char* name, double low, double high, const std::string& what);

@@ -3,6 +3,7 @@
 // with (answer_datasets.hpp).
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
@@ -24,6 +25,13 @@ class GroupAnswerWriter final : public designs::AnswerWriter {
                const std::vector<std::string>& units, const char* samples_word) override;
   void array(const char* name, const std::vector<double>& values, const std::vector<std::size_t>& shape,
              const std::string& units, const std::string& what, const std::vector<std::string>& labels) override;
+  void value(const char* name, double value, const std::string& units, const std::string& what) override;
+  void count(const char* name, std::uint64_t value, const std::string& what) override;
+  void pair(const char* name, double low, double high, const std::string& what) override;
+  void column(const char* name, const std::vector<std::int32_t>& values, const std::string& what) override;
+  void column(const char* name, const std::vector<std::int64_t>& values, const std::string& what) override;
+  void failure_region(const ensemble::EnsembleSpec& spec, const ensemble::FailureRegion& region,
+                      const std::string& which_runs) override;
   void attribute(const char* name, const std::string& value) override;
   void attribute(const char* name, double value) override;
   void attribute(const char* name, long long value) override;

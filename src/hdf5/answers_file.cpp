@@ -22,11 +22,11 @@ void write_exceedance(hid_t g, const ensemble::EnsembleSpec& spec, const ensembl
   const ensemble::Exceedance& e = *a.exceedance;
   h5::Handle x = h5::create_group(g, "exceedance");
   h5::write_attribute(x.id(), "description",
-                      "limit state: value " + fail_if_name(response) +
+                      "limit state: value " + std::string(ensemble::name(response.fail_if)) +
                           " the limit, over the successful samples; failed samples are counted "
                           "beside it (survivor bias)");
   h5::write_attribute(x.id(), "limit", response.limit);
-  h5::write_attribute(x.id(), "fail_if", fail_if_name(response));
+  h5::write_attribute(x.id(), "fail_if", std::string(ensemble::name(response.fail_if)));
   write_described_scalar(x.id(), "probability", e.probability, "1", "exceeded / successful");
   write_described_scalar(x.id(), "count", e.exceeded, "1", "successful samples beyond the limit");
   write_described_scalar(x.id(), "successful", e.successful, "1", "successful samples (the denominator)");
@@ -40,18 +40,28 @@ void write_exceedance(hid_t g, const ensemble::EnsembleSpec& spec, const ensembl
 }
 
 // /responses/<name>/convergence: the answers of the prefixes.
-void write_convergence(hid_t g, const ensemble::Response& response, const ensemble::ResponseAnswer& a) {
+void write_convergence(hid_t g, const ensemble::EnsembleSpec& spec, const ensemble::Response& response,
+                       const ensemble::ResponseAnswer& a) {
   std::vector<double> table;
   for (const ensemble::ConvergencePoint& p : a.convergence)
     table.insert(table.end(), {static_cast<double>(p.samples), static_cast<double>(p.used), p.mean, p.sem,
                                p.probability, p.interval.low, p.interval.high});
   h5::Handle c = h5::write_matrix(g, "convergence", table, a.convergence.size(), 7);
   describe(c.id(), "per column: the 'column_units' attribute",
-           "answers from samples 0 .. m-1 for m = 1, 2, 4, ... and N, in sample-index order "
-           "(meaningful as convergence for nested designs: monte_carlo, sobol, saltelli, morris)",
+           std::string("answers from samples 0 .. m-1 for m = 1, 2, 4, ... and N, in sample-index order ") +
+               (designs::rules_of(spec.design).nested_prefixes()
+                    ? "(this design's first runs are a design of their own: a convergence)"
+                    : "(this design's first runs are not a design of their own: the last row is its answer, the "
+                      "others a rough guide)"),
            {"samples", "used", "mean", "sem", "exceedance_probability", "wilson_low", "wilson_high"});
   h5::write_attribute(c.id(), "column_units",
                       std::vector<std::string>{"1", "1", response.units, response.units, "1", "1", "1"});
+}
+
+// " (saltelli: the A and B runs)": which runs the answers count, where not all.
+std::string counted_runs(const ensemble::EnsembleSpec& spec) {
+  const std::string_view note = designs::rules_of(spec.design).counted_runs_note();  // "; <design>: ..."
+  return note.size() > 2 ? " (" + std::string(note.substr(2)) + ")" : "";
 }
 
 void write_response_answer(hid_t parent, const ensemble::EnsembleSpec& spec, const ensemble::Response& response,
@@ -69,7 +79,7 @@ void write_response_answer(hid_t parent, const ensemble::EnsembleSpec& spec, con
                          "successful samples with +-inf (a level never crossed)");
   write_described_scalar(g.id(), "failed", a.failed, "1", "samples that failed (left out)");
   if (a.exceedance) write_exceedance(g.id(), spec, response, a);
-  write_convergence(g.id(), response, a);
+  write_convergence(g.id(), spec, response, a);
 }
 
 void write_sensitivity(hid_t parent, const ensemble::EnsembleSpec& spec, const ensemble::Response& response,
@@ -102,9 +112,9 @@ void write_answers(hid_t file, const ensemble::EnsembleSpec& spec,
   if (answers.empty()) return;
   h5::Handle responses = h5::create_group(file, "responses");
   h5::write_attribute(responses.id(), "description",
-                      std::string("per named response ([[ensemble.response]]): mean and standard "
-                                  "error over the successful samples with finite values (saltelli: "
-                                  "the A and B runs), the exceedance of its limit, and their convergence"));
+                      "per named response ([[ensemble.response]]): mean and standard error over the successful "
+                      "samples with finite values" +
+                          counted_runs(spec) + ", the exceedance of its limit, and their convergence");
   std::optional<h5::Handle> sensitivity;
   if (spec.input_dimensions() > 0) {
     sensitivity = h5::create_group(file, "sensitivity");

@@ -7,7 +7,7 @@
 
 #include "common/format.hpp"
 #include "designs/design_rules.hpp"
-#include "designs/subset_simulation/subset_file.hpp"
+#include "hdf5/answer_group_writer.hpp"
 #include "hdf5/answers_file.hpp"
 #include "hdf5/described.hpp"
 #include "hdf5/statistics_file.hpp"
@@ -76,9 +76,7 @@ void describe_responses(hid_t set, const std::vector<ensemble::Response>& respon
     quantity.push_back(r.quantity);
     column.push_back(r.column);
     reduce.emplace_back(ensemble::name(r.reduce));
-    fail_if.push_back(r.fail_if == ensemble::Response::FailIf::above   ? "above"
-                      : r.fail_if == ensemble::Response::FailIf::below ? "below"
-                                                                       : "");
+    fail_if.emplace_back(ensemble::name(r.fail_if));
     limit.push_back(r.has_limit() ? r.limit : std::numeric_limits<double>::quiet_NaN());
     parameter.push_back(r.reduce == ensemble::Response::Reduce::at_time ? r.time
                         : r.reduce == ensemble::Response::Reduce::first_time_above ||
@@ -331,31 +329,9 @@ void EnsembleWriter::write_merge_origin(const std::vector<std::string>& parts,
   h5::write_attribute(root, "held_samples", std::span<const long long>(flat));
 }
 
-void EnsembleWriter::write_rare_event(const designs::SubsetSettings& settings, const designs::RareEventAnswer& answer,
-                                      std::size_t rows) {
-  write_run_places(settings, rows);
-  designs::write_rare_event(file_.id(), spec_, settings, answer);
-}
-
-void EnsembleWriter::write_run_places(const designs::SubsetSettings& settings, std::size_t rows) {
-  std::vector<std::int32_t> levels(rows);
-  std::vector<std::int64_t> chains(rows), states(rows);
-  for (std::size_t k = 0; k < rows; ++k) {
-    const designs::RunPlace p = designs::run_place(settings, k);
-    levels[k] = p.level;
-    chains[k] = static_cast<std::int64_t>(p.chain);
-    states[k] = static_cast<std::int64_t>(p.state);
-  }
-  const hsize_t n[1] = {rows};
-  h5::Handle l = h5::write_array(samples_.id(), "level", H5T_NATIVE_INT32, levels.data(), n);
-  describe(l.id(), "1", "subset-simulation level of the run (0: the Monte-Carlo level)", {});
-  h5::Handle c = h5::write_array(samples_.id(), "chain", H5T_NATIVE_INT64, chains.data(), n);
-  describe(c.id(), "1", "the run's Markov chain in its level (level 0: the sample)", {});
-  h5::Handle s = h5::write_array(samples_.id(), "state", H5T_NATIVE_INT64, states.data(), n);
-  describe(s.id(), "1",
-           "the run's state in its chain, 1 .. 1/p0 - 1 (state 0, the seed, is a run of the level "
-           "before; level 0: 0)",
-           {});
+void EnsembleWriter::write_run_answer(const designs::RunAnswer& answer, std::size_t rows) {
+  answers_file::GroupAnswerWriter root(file_.id()), samples(samples_.id());
+  answer.write(root, samples, spec_, rows);
 }
 
 EnsembleSummary EnsembleWriter::complete(const std::vector<double>& nominal, const ensemble::EnsembleStatistics& stats,

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "analysis/answers.hpp"
-#include "designs/subset_simulation/subset_answer.hpp"
+#include "designs/design_answer.hpp"
 #include "ensemble/run_summary.hpp"
 #include "ensemble/sample_rows.hpp"
 #include "hdf5/hdf5.hpp"
@@ -48,11 +48,10 @@ class EnsembleWriter {
   // Keeps the rows of samples 0 .. rows-1 only (a run a stopping rule or
   // subset simulation's last level ended early); before complete().
   void keep_samples(std::size_t rows);
-  // design = "subset_simulation": /rare_event/<response> (designs/subset_simulation/subset_file.hpp)
-  // and every run's place, /samples/level, chain, state (rows 0 .. rows-1);
-  // before complete().
-  void write_rare_event(const designs::SubsetSettings& settings, const designs::RareEventAnswer& answer,
-                        std::size_t rows);
+  // The design's answer for the whole run (designs/design_answer.hpp:
+  // subset simulation's /rare_event and /samples/level, chain, state), rows
+  // 0 .. rows-1 kept; before complete().
+  void write_run_answer(const designs::RunAnswer& answer, std::size_t rows);
   // The end of every ensemble file, whoever wrote its records (a run, a
   // merge): the per-sample datasets' last chunks, the nominal run, /stats,
   // /responses and /sensitivity (one per response; none when `answers` is
@@ -77,7 +76,6 @@ class EnsembleWriter {
   std::vector<h5::RowDataset*> row_datasets();
   void write_nominal(const std::vector<double>& trajectory);
   void finish(const EnsembleSummary& summary, const RunProvenance& run);
-  void write_run_places(const designs::SubsetSettings& settings, std::size_t rows);
 
   const Job& job_;
   const ensemble::EnsembleSpec& spec_;

@@ -73,6 +73,11 @@ inline constexpr NameTable<Response::Reduce, 8> kResponseReduceNames{
      {Response::Reduce::first_time_below, "first_time_below"}}};
 inline std::string_view name(Response::Reduce r) { return name_in(kResponseReduceNames, r); }
 
+// The side of the limit a response fails on, as the job and the files say it.
+inline constexpr NameTable<Response::FailIf, 3> kFailIfNames{
+    {{Response::FailIf::none, ""}, {Response::FailIf::above, "above"}, {Response::FailIf::below, "below"}}};
+inline std::string_view name(Response::FailIf f) { return name_in(kFailIfNames, f); }
+
 // The response's value on one trajectory:
 //   final, min, max       the column's value at the last output time, its extremes;
 //   mean, rms             the mean and root mean square over the output times

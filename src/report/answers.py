@@ -1,5 +1,5 @@
 """The answers an analyst came for, first on the page: what the failed runs change, each response's mean and
-probability of exceeding its limit with a verdict on N (and the Sobol' indices' verdict), the ranked drivers
+probability of exceeding its limit with a verdict on N (and the design's own verdict), the ranked drivers
 (drivers.py), what makes each response exceed its limit (failure_region.py), the warnings that matter,
 input-vs-response scatter plots over every run, and the extreme and failed samples with the commands that
 rerun them."""
@@ -10,17 +10,15 @@ import numpy as np
 
 import matplotlib.pyplot as plt
 
-from drivers import RELIABLE_SHARE, drivers_section, reliable, unreliable_words
+from drivers import drivers_section
 from failure_region import exceeded, failure_region_section
 from page import legend_outside, subplot_grid
-from rankings import has_sobol, primary_ranking, rank_ranking, visible_units
+from rankings import primary_ranking, rank_ranking, visible_units
 from designs import counted_rows, design_of
-from read import (column_units, fail_side, folded_note, held_rows, morris_design, shown_inputs,
-                  strings, subset_response, text)
+from read import column_units, fail_side, folded_note, held_rows, shown_inputs, strings, text
 
 MEAN_PRECISION = 0.05         # "N is enough" for a mean: 95 % half-width within 5 % of |mean|
 PROBABILITY_PRECISION = 0.20  # ... for P(exceeded): 95 % half-width within 20 % of P
-INDEX_INTERVAL = 0.1          # ... for the indices: the widest total-index interval of a unit that matters
 LAST_TIME_SHARE = 0.1         # an extremum at the last output time in more runs than this: too short
 SCATTER_DRIVERS = 4
 EXTREME_ROWS = 5
@@ -72,38 +70,23 @@ def failure_banner(f, page):
 
 def failure_effects(f):
     """What the failed runs change: each P with the failed counted runs taken either way (the file's
-    with_failed), and the base points the Sobol' indices rest on, of those run."""
+    with_failed), and the design's own answers (the base points Saltelli's indices rest on)."""
     if "samples/responses" not in f or "responses" not in f:
         return []
     values = f["samples/responses"]
     names, units = strings(values.attrs["columns"]), column_units(values)
+    design = design_of(f)
     out = []
     for r, name in enumerate(names):
         e = f["responses"][name].get("exceedance")
-        if e is None or name == subset_response(f) or int(e["failed"][()]) == 0 or "with_failed" not in e:
+        if e is None or design.own_probability(f, name) is not None or int(e["failed"][()]) == 0 or \
+                "with_failed" not in e:
             continue
         n, failed = int(e["successful"][()]), int(e["failed"][()])
         out.append(f"{probability_name(values, r, name, units[r])} = {e['probability'][()]:.4g} rests on {n} of "
                    f"{n + failed} counted runs; with the {failed} failed ones counted as not exceeding or as "
                    f"exceeding it would be {e['with_failed'][0]:.4g} to {e['with_failed'][1]:.4g}.")
-    return out + block_effects(f, names)
-
-
-def block_effects(f, names):
-    """The base points the Sobol' indices rest on, said once when every response's are the same."""
-    said = {}
-    for name in names:
-        s = f["sensitivity"][name] if "sensitivity" in f and name in f["sensitivity"] else None
-        if s is None or "sobol_blocks" not in s.attrs:
-            continue
-        base, blocks = int(s.attrs["sobol_base_samples"]), int(s.attrs["sobol_blocks"])
-        if base < blocks:
-            said.setdefault((base, blocks, reliable(s)), []).append(name)
-    block = int(f.attrs.get("saltelli_block", 0))
-    return ["The Sobol' indices" + (f" of {', '.join(who)}" if len(said) > 1 else "") +
-            f" rest on {base} of {blocks} base points (a base point counts when all its {block} runs succeeded)"
-            + (f"; unreliable: fewer than {100 * RELIABLE_SHARE:.0f} %." if not ok else ".")
-            for (base, blocks, ok), who in said.items()]
+    return out + design.failure_effects(f, names)
 
 
 def probability_name(values, r, name, unit):
@@ -144,14 +127,13 @@ def response_table(f, page):
         page.paragraph("No /responses: the file holds only some of the samples (root attribute held_samples).")
         return
     sensitivity = [f["sensitivity"][n] if "sensitivity" in f and n in f["sensitivity"] else None for n in names]
-    indices = any(s is not None and has_sobol(s) for s in sensitivity)
+    own = design_of(f).verdict_column(f, sensitivity)  # (header, verdict of a response's /sensitivity group)
     accuracy = integration_verdicts(f)
-    table = [response_row(f, values, r, name, units[r]) + ([index_verdict(sensitivity[r])] if indices else []) +
+    table = [response_row(f, values, r, name, units[r]) + ([own[1](sensitivity[r])] if own else []) +
              ([accuracy[r]] if accuracy else []) for r, name in enumerate(names)]
     page.table(["response", "mean ± standard error", "runs used", f"is N enough for the mean "
                 f"(±{MEAN_PRECISION:.0%})?", "probability of exceeding the limit (Wilson interval)",
-                f"is N enough for P (±{PROBABILITY_PRECISION:.0%})?"] +
-               ([f"is N enough for the Sobol' indices (intervals within {INDEX_INTERVAL})?"] if indices else []) +
+                f"is N enough for P (±{PROBABILITY_PRECISION:.0%})?"] + ([own[0]] if own else []) +
                (["is the integration accurate enough?"] if accuracy else []), table)
     meaning = design_of(f).counted_runs_meaning(f)
     if meaning:
@@ -177,11 +159,12 @@ def response_row(f, values, r, name, unit):
     row = [name, f"{mean:.6g} ± {sem:.3g} {unit}" + (" (over the finite ones)" if infinite else ""), runs,
            mean_verdict(mean, sem, used, (used + infinite) / used if used else 1.0), "", ""]
     e = g.get("exceedance")
-    if e is not None and name == subset_response(f):  # level 0's P is not the answer
-        rare = f["rare_event"][name]
-        row[4] = (f"{probability_name(values, r, name, unit)} = {rare['probability'][()]:.4g}: the subset "
-                  "simulation's, above (level 0 alone is not the answer)")
-        row[5] = f"cov {rare['cov'][()]:.3g}, 95 % [{rare['interval'][0]:.3g}, {rare['interval'][1]:.3g}]"
+    design = design_of(f)
+    own = design.own_probability(f, name) if e is not None else None
+    if own is not None:  # the design's P is the answer, not the counted runs' exceedance
+        row[4] = (f"{probability_name(values, r, name, unit)} = {own['probability'][()]:.4g}: "
+                  f"{design.own_probability_words(f)}")
+        row[5] = f"cov {own['cov'][()]:.3g}, 95 % [{own['interval'][0]:.3g}, {own['interval'][1]:.3g}]"
     elif e is not None:
         p, count, n = e["probability"][()], int(e["count"][()]), int(e["successful"][()])
         low, high = e["interval"][0], e["interval"][1]
@@ -200,24 +183,6 @@ def integration_verdicts(f):
     if "integration_check" not in f:
         return []
     return strings(f["integration_check"].attrs["verdicts"])
-
-
-def index_verdict(s):
-    """Whether N is enough for the Sobol' indices, as the file's attributes say (the text summary's verdict)."""
-    if s is None or "sobol_blocks" not in s.attrs:
-        return ""
-    widest, unit = float(s.attrs["index_widest_interval"]), text(s.attrs.get("index_widest_unit", ""))
-    blocks = f" (from {int(s.attrs['sobol_base_samples'])} of {int(s.attrs['sobol_blocks'])} base points)"
-    if not np.isfinite(widest):
-        words = "no interval of a total index that matters (no bootstrap, or no complete block)" + blocks
-        return f"no: unreliable, {unreliable_words(s)}; {words}" if not reliable(s) else f"no verdict: {words}"
-    words = f"the widest total-index interval of an input that matters is {widest:.2g} ({unit})"
-    more = f"; about {float(s.attrs['index_base_points_needed']):.0f} base points would do"
-    if not reliable(s):
-        return f"no: unreliable, {unreliable_words(s)}; {words}" + ("" if int(s.attrs["indices_enough"]) else more)
-    if int(s.attrs["indices_enough"]):
-        return f"yes: {words}" + blocks
-    return f"not for {INDEX_INTERVAL}: {words}{more}" + blocks
 
 
 def last_time_warnings(f, rows):
@@ -324,10 +289,7 @@ def scatter_caption(f, name, count, sets, failed):
 
 def other_runs(f):
     """The runs beside the counted ones, for a caption and for a legend label."""
-    if morris_design(f):
-        return ("other runs of the Morris trajectories (+: each steps one factor from the run before, in the "
-                "extremes table too)", ", trajectory step")
-    return "AB runs (+: A's inputs with one from B, in the extremes table too)", ", AB run"
+    return design_of(f).other_runs_legend(f)
 
 
 def drawn_range(y, ok):
@@ -387,9 +349,7 @@ def extreme_samples(f, page, file_name):
     status = f["samples/status"][:]
     level = f["samples/level"][:] if "samples/level" in f else None
     page.heading("Extreme and failed samples", 3)
-    page.paragraph("Every run counts here (" + ("every step of the Morris trajectories too" if morris_design(f) else
-                                            "for Saltelli designs the AB runs too, for subset simulation every level")
-                   + ": each is a real sample). The commands rerun one sample alone, bit for bit, or write it as a "
+    page.paragraph("Every run counts here (" + design_of(f).every_run_words(f) + ": each is a real sample). The commands rerun one sample alone, bit for bit, or write it as a "
                    "standalone job.")
     table = []
     for r, name in enumerate(names):

@@ -1,51 +1,31 @@
-"""Which inputs drive each response: one sentence per response from the design's own ranking (the total
-Sobol' index where the design gives one, Morris' mu* for a Morris screen, else |SRRC| or |Spearman|) that orders
-two inputs only where the bootstrap tells them apart, the measures with their intervals (the design's own table,
-Sobol' indices or Morris' mu*, from its module in designs/; else the rank measures'), and one note where the
-rank measures and the design's own measure rank differently."""
+"""Which inputs drive each response: one sentence per response from the design's own ranking where it has one
+(else |SRRC| or |Spearman|) that orders two inputs only where the bootstrap tells them apart, the measures with
+their intervals (the design's own table, else the rank measures'), and one note where the rank measures and the
+design's own measure rank differently. What the design's measure is, and its words, come from its module in
+designs/."""
 import math
 import re
 
 import numpy as np
 
-from rankings import (clipped, driven_by, has_morris, has_sobol, primary_ranking, rank_ranking, top_unit,
-                      value_text, visible_units)
+from rankings import clipped, driven_by, primary_ranking, rank_ranking, top_unit, value_text, visible_units
 from designs import design_of
-from read import folded_note, shown_inputs, strings, text
+from read import folded_note, shown_inputs, strings
 
 CORRELATED_INPUTS = 0.2  # |Spearman| between two inputs above which their rank measures mix
-RELIABLE_SHARE = 0.8     # the file's sobol_reliable: at least this share of the base points complete
 TABLE_ROWS = 20
-SOBOL_WORDS = "The total Sobol' index is the share of the response's variance that goes with an input, its " \
-              "interactions included;"
-MORRIS_WORDS = ("Morris mu* is the mean size of a factor's elementary effects: the change of the response when "
-                "the factor (an input, or a group of inputs moved together) alone steps, divided by the step in "
-                "its inputs' probability u, so in the response's units per unit of u; mu is their "
-                "mean with its sign (the direction), sigma their spread (large: the effect changes with where "
-                "the step is taken, a nonlinear or interacting factor). A screen: it orders the "
-                "factors with few runs; it is no share of variance.")
-# What the design's own measure says, where it and the rank measures rank differently: the words for it, the
-# runs the rank measures stand on, what it measures, and the ranking's name.
-PRIMARY_WORDS = {
-    "total Sobol' index": ("the total Sobol' index", "over the A and B runs", "the share of the response's "
-                           "variance that goes with the input, its interactions and non-monotone effects "
-                           "included", "its Sobol' index", "Sobol'"),
-    "Morris mu*": ("Morris mu*", "over each trajectory's first run", "the mean size of the response's change "
-                   "when the input alone steps on its grid, its interactions and non-monotone effects included",
-                   "its Morris mu*", "Morris"),
-}
 
 
 def drivers_section(f, page, rows):
     if "sensitivity" not in f or "samples/inputs" not in f or "samples/responses" not in f:
         return
     inputs = f["samples/inputs"]
+    design = design_of(f)
     page.heading("Which inputs drive each response", 3)
-    morris = any(has_morris(f["sensitivity"][n]) for n in f["sensitivity"])
-    page.paragraph("An order (A > B) is stated only where the 95 % bootstrap interval of the difference excludes "
-                   "0; A ~ B: not told apart yet. " + (MORRIS_WORDS if morris else SOBOL_WORDS) + " |SRRC| and "
-                   "|Spearman| measure how monotonically the response's ranks follow the input's (SRRC: the others "
-                   "held fixed).")
+    page.paragraph(" ".join(w for w in (
+        "An order (A > B) is stated only where the 95 % bootstrap interval of the difference excludes 0; A ~ B: not "
+        "told apart yet.", design.measure_words(f), "|SRRC| and |Spearman| measure how monotonically the response's "
+        "ranks follow the input's (SRRC: the others held fixed).") if w))
     asked = asked_correlations(f)
     if asked:
         page.note("Inputs correlated on purpose by the job ([[ensemble.correlation]], a normal copula on each "
@@ -53,57 +33,25 @@ def drivers_section(f, page, rows):
                   "each other's effects; the SRRC separate them.")
     _, folded = shown_inputs(inputs) if "column_targets" in inputs.attrs else ([], {})
     if folded:
-        page.paragraph(folded_note(folded) + (" Their effect together is their factor's Morris mu*: a list's "
-                                              "entries step together." if morris else
-                                              " Their effect together is a group's Sobol' index where the job "
-                                              "groups them ([[ensemble.group]])."))
+        page.paragraph(folded_note(folded) + design.folded_words(f))
     correlations = input_correlations(f, rows)
     no_regression = set()
     for name in [r for r in strings(f["samples/responses"].attrs["columns"]) if r in f["sensitivity"]]:
         no_regression.add(response_drivers(page, name, f["sensitivity"][name], inputs, correlations, asked,
-                                           "level 0's " if "samples/level" in f else "", design_of(f)))
+                                           design.ranked_runs_words(f), design))
     for line in sorted(no_regression - {""}):  # said once: it is about the design, not a response
         page.paragraph(line)
-    if correlations[0] and morris:
-        page.note(f"Some inputs are correlated in the {correlations[1]} counted runs (|rho| >= {CORRELATED_INPUTS}): "
-                  "their Spearman coefficients mix each other's effects; Morris mu* does not (each elementary "
-                  "effect steps one factor alone).")
-    elif correlations[0]:
-        page.note(f"Some inputs are correlated in the sample (|rho| >= {CORRELATED_INPUTS}, see the notes): their "
-                  "Spearman coefficients mix each other's effects; read the SRRC or the Sobol' indices instead.")
+    if correlations[0]:
+        page.note(f"Some inputs are correlated in the {correlations[1]} counted runs (|rho| >= {CORRELATED_INPUTS}, "
+                  "see the notes): their Spearman coefficients mix each other's effects; "
+                  + design.correlated_inputs_words(f))
 
 
-def where_words(s, ranking, runs_of=""):
-    """Which runs a ranking rests on: `runs_of` names them where they are not all (a subset simulation's
-    level 0)."""
-    if ranking.word == "base points":
-        return f"from {int(s.attrs.get('sobol_base_samples', 0))} of {int(s.attrs.get('sobol_blocks', 0))} base points"
-    if ranking.word == "trajectories":
-        return f"{morris_units(s)} per unit of u, {trajectories_words(s)}"
-    return f"over {runs_of}{int(s.attrs.get('rank_samples', 0))} runs"
-
-
-def morris_units(s):
-    return text(s["morris_mu_star"].attrs.get("units", ""))
-
-
-def trajectories_words(s):
-    """'from 10 trajectories', and how many elementary effects a factor rests on where failed runs cost some."""
-    trajectories = int(s.attrs.get("morris_trajectories", 0))
-    effects = s["morris_effects"][:] if "morris_effects" in s else np.full(1, float(trajectories))
-    if np.nanmin(effects) >= trajectories:
-        return f"from {trajectories} trajectories"
-    return (f"from {trajectories} trajectories; failed runs left {np.nanmin(effects):.0f} to {np.nanmax(effects):.0f} "
-            "elementary effects per factor")
-
-
-def unreliable_words(s):
-    return (f"failed runs left {int(s.attrs['sobol_base_samples'])} of {int(s.attrs['sobol_blocks'])} base points "
-            f"complete (fewer than {100 * RELIABLE_SHARE:.0f} %); failures that depend on the inputs bias what remains")
-
-
-def reliable(s):
-    return int(s.attrs.get("sobol_reliable", 1)) != 0
+def where_words(s, ranking, design, runs_of=""):
+    """Which runs a ranking rests on: the design's words for its own ranking; for the rank measures', `runs_of`
+    names them where they are not all (a subset simulation's level 0)."""
+    own = design.own_ranking_words(s, ranking) if ranking.word != "runs" else ""
+    return own or f"over {runs_of}{int(s.attrs.get('rank_samples', 0))} runs"
 
 
 def response_drivers(page, name, s, inputs, correlations, asked, runs_of, design):
@@ -112,19 +60,22 @@ def response_drivers(page, name, s, inputs, correlations, asked, runs_of, design
     names = strings(inputs.attrs["columns"])
     primary = primary_ranking(s, names)
     visible = visible_units(primary, inputs)
-    words = driven_by(name, primary, visible, where_words(s, primary, runs_of))
-    if has_sobol(s) and not reliable(s):
-        page.note(f"Unreliable: {unreliable_words(s)}. {words}", "alarm")
+    words = driven_by(name, primary, visible, where_words(s, primary, design, runs_of))
+    unreliable = design.unreliable_words(s)
+    if unreliable:
+        page.note(f"Unreliable: {unreliable}. {words}", "alarm")
     else:
         page.note(words, "good")
     ranks = rank_ranking(s, names)
     if not design.ranking_table(page, name, s, primary, visible, ranks, (correlations, asked)):
         rank_table(page, s, ranks, visible, (correlations, asked))
-    if has_sobol(s) or has_morris(s):
-        disagreement = disagreement_note(name, primary, visible, ranks, visible_units(ranks, inputs))
+    own = design.has_own_ranking(s)
+    if own:
+        disagreement = disagreement_note(name, primary, visible, ranks, visible_units(ranks, inputs),
+                                         design.own_measure_words())
         if disagreement:
             page.note(disagreement)
-    line = rank_regression_line(name, s, has_sobol(s) or has_morris(s))
+    line = rank_regression_line(name, s, own)
     if line:
         page.paragraph(line)
     return no_regression_line(s, len(names))
@@ -136,13 +87,13 @@ def interval_text(v, ci):
     return f"{v:.3g}" + (f" [{clipped(ci[0]):.3g}, {clipped(ci[1]):.3g}]" if np.isfinite(ci[0]) else "")
 
 
-def disagreement_note(name, primary, visible, ranks, rank_visible):
-    """One note where the two rankings (the design's own, Sobol' or Morris, and the rank measure's) put a
-    different unit first, saying what each measures."""
+def disagreement_note(name, primary, visible, ranks, rank_visible, own_words):
+    """One note where the two rankings (the design's own and the rank measure's) put a different unit first,
+    saying what each measures (`own_words`: the design's, designs/base.py: own_measure_words)."""
     top, rank_top = top_unit(primary, visible), top_unit(ranks, rank_visible)
     if top is None or rank_top is None or primary.members[top] == [rank_top]:
         return ""
-    by, runs, meaning, its, which = PRIMARY_WORDS[primary.measure]
+    by, runs, meaning, its, which = own_words
     group = (f" {primary.units[top]} is a group: its inputs one by one show little in a rank measure, its effect "
              f"together only in {its}." if len(primary.members[top]) > 1 else "")
     return (f"{name}: the rank measures put another input first: {value_text(ranks, rank_top)} by "
@@ -167,10 +118,11 @@ def no_regression_line(s, inputs):
             "input or the response is constant; the rank measure is then Spearman's.")
 
 
-def rank_regression_line(name, s, sobol):
-    """How far the rank regression can be trusted ('' where there is none, or Sobol' indices rank)."""
+def rank_regression_line(name, s, own):
+    """How far the rank regression can be trusted ('' where there is none, or the design's own measure
+    ranks)."""
     r2, used = s.attrs.get("rank_r_squared", float("nan")), int(s.attrs.get("rank_samples", 0))
-    if sobol or not np.isfinite(r2):
+    if own or not np.isfinite(r2):
         return ""
     line = (f"{name}: rank R² = {r2:.2f} over {used} runs (how much of the response's rank variance the SRRC "
             "explain; near 1 the ranking by SRRC is trustworthy).")

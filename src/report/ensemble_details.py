@@ -6,7 +6,7 @@ import matplotlib.pyplot as plt
 
 from page import subplot_grid
 from designs import design_of
-from read import column_units, folded_note, held_rows, shown_inputs, strings, subset_response, text
+from read import column_units, folded_note, held_rows, shown_inputs, strings, text
 
 MAX_FAILED_ROWS = 50
 MAX_BINS = 60
@@ -52,10 +52,18 @@ def response_histogram(ax, counted, others, label):
 
 
 def probability_panels(f, names):
-    """The responses whose P the convergence figure draws: with a limit, and not a subset simulation's
-    (its level 0 alone is not the answer)."""
-    subset = subset_response(f)
-    return [np.isfinite(f["responses"][n]["convergence"][:, 4]).any() and n != subset for n in names]
+    """The responses whose P the convergence figure draws: with a limit, and not one whose P the design answers
+    itself (a subset simulation's: its level 0 alone is not the answer)."""
+    design = design_of(f)
+    return [np.isfinite(f["responses"][n]["convergence"][:, 4]).any() and design.own_probability(f, n) is None
+            for n in names]
+
+
+def own_probability_words(f, names):
+    """Where the P the design answers itself is, for the convergence figure's caption."""
+    design = design_of(f)
+    own = [n for n in names if design.own_probability(f, n) is not None]
+    return f" ({', '.join(own)}: the P in the answers is the design's own, not the counted runs')" if own else ""
 
 
 def convergence_figure(f, page, names, units):
@@ -84,8 +92,7 @@ def convergence_figure(f, page, names, units):
     page.figure(fig, "convergence: each response's mean ± 2 standard errors" +
                 (" (left) and the probability that it exceeds its limit with its 95 % Wilson interval (right)"
                  if columns == 2 else "") + " against the number of samples: the first m in index order, of "
-                "which the counted runs count" + (" (level 0: the subset simulation's P is in the answers)"
-                                                  if subset_response(f) else ""), "responses_convergence")
+                "which the counted runs count" + own_probability_words(f, names), "responses_convergence")
 
 
 def sensitivity_figures(f, page):

@@ -8,7 +8,8 @@ from collections import namedtuple
 import numpy as np
 
 from page import legend_outside, subplot_grid
-from read import column_units, fail_side, held_rows, strings, subset_response
+from designs import design_of
+from read import column_units, fail_side, held_rows, strings
 
 BOUND_SETS_P = 0.5   # a share of the failing runs at a bound from which P depends on the cut-off
 NEAR_BOUND = 0.01    # "near": within this share of the distribution's range (the file's near_bound)
@@ -51,14 +52,13 @@ def region_of(f, name, rows, counted):
     r = strings(values.attrs["columns"]).index(name)
     status = f["samples/status"][:]
     beyond = exceeded(values, r, values[:, r]) & (status == 0)
-    if name == subset_response(f):  # level 0 alone is not the answer: every level's runs beyond the limit
-        g = f["rare_event"][name].get("failure_region")
-        level0 = f["samples/level"][:] == 0
-        failed = int(round(float(np.nansum(f["rare_event"][name]["failed_per_level"][:])))) \
-            if "failed_per_level" in f["rare_event"][name] else 0
-        return None if g is None else Region(name, g, "runs beyond the limit, any level of the subset simulation",
-                                             failed, beyond & held_rows(f), level0,
-                                             f"level 0, the Monte-Carlo sample, {int(level0.sum())} runs")
+    design = design_of(f)
+    if design.own_probability(f, name) is not None:  # the design's P is the answer: its failure region
+        own = design.own_failure_region(f, name)
+        if own is None:
+            return None
+        g, which, failed, drawn, drawn_words = own
+        return Region(name, g, which, failed, beyond & held_rows(f), drawn, drawn_words)
     e = f["responses"][name].get("exceedance") if "responses" in f and name in f["responses"] else None
     if e is None or "failure_region" not in e:
         return None

@@ -33,16 +33,6 @@ def held_rows(f):
     return f["samples/status"][:] != 3
 
 
-def subset_response(f):
-    """The response a subset simulation estimates P for ('' for other designs): its level 0 alone is not
-    the answer."""
-    return next(iter(f["rare_event"].keys()), "") if "rare_event" in f else ""
-
-
-def morris_design(f):
-    return text(f.attrs.get("design", "")) == "morris" and "morris_block" in f.attrs
-
-
 LIST_COLUMNS = 4  # a target with this many input columns or more is a list (a sea state's phases)
 
 

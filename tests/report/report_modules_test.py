@@ -9,7 +9,7 @@ import unittest
 import h5py
 import numpy as np
 
-from answers import (extreme_samples, integration_verdicts, failure_effects, index_verdict,
+from answers import (extreme_samples, integration_verdicts, failure_effects,
                      last_time_warnings, mean_verdict, outside_range_warnings, probability_verdict, response_row,
                      scatter_figures)
 from drivers import asked_pair, disagreement_note, drivers_section, input_correlations
@@ -18,7 +18,7 @@ from failure_region import failure_region_section
 from history import constant_columns, rotation_angle_degrees, valid_range
 from designs import counted_rows, design_of
 from designs.morris import morris_figures
-from designs.saltelli import first_order_cell, index_figures, index_notes
+from designs.saltelli import first_order_cell, index_figures, index_notes, index_verdict, own_measure_words
 from rankings import Ranking, chain, driven_by, primary_ranking, visible_units
 from trajectory import advice, lines
 from view3d import bounds_of, grid_step, length_words, script_json
@@ -429,13 +429,13 @@ class Rankings(unittest.TestCase):
         ranks = ranking([0.35, 0.09, 0.1, 0.1, 0.1, 0.1], np.tile([0.0, 1.0], (6, 1)), [0, 2, 1, 3, 4, 5],
                         [0] * 5, [np.nan] * 5, units=["Hs", "mass", "p1", "p2", "p3", "p4"])
         ranks = ranks._replace(measure="|Spearman|", word="runs")
-        note = disagreement_note("swing", sobol, [0, 1, 2], ranks, [0, 1])
+        note = disagreement_note("swing", sobol, [0, 1, 2], ranks, [0, 1], own_measure_words())
         self.assertTrue(note.startswith("swing: the rank measures put another input first: Hs 0.35 [0, 1] by "
                                         "|Spearman|, sea phases 0.1 [0.06, 0.2] by the total Sobol' index. They "
                                         "measure different things: |Spearman| how monotonically"), note)
         self.assertIn("sea phases is a group", note)
         same = sobol._replace(order=np.array([0, 1, 2]))
-        self.assertEqual(disagreement_note("swing", same, [0, 1, 2], ranks, [0, 1]), "")
+        self.assertEqual(disagreement_note("swing", same, [0, 1, 2], ranks, [0, 1], own_measure_words()), "")
 
 
 def sensitivity_group(f, name, total, ci, order, told, needed, **attrs):
@@ -659,6 +659,7 @@ class FromAnswerFiles(unittest.TestCase):
     def test_subset_simulation_uses_every_level_s_failure_region(self):
         def build(f):
             self.region_file(f, runs=0)  # level 0 alone: none beyond the limit
+            f.attrs["design"] = "subset_simulation"
             f["samples/level"] = np.repeat([0, 1, 2, 3], 4)
             f["samples/responses"][12:, 0] = 30.0
             r = f.create_group("rare_event/y")

@@ -13,6 +13,7 @@ class LatinHypercubeRules final : public DesignRules {
   std::unique_ptr<ensemble::RunPoints> points(const ensemble::PointsSpec& spec) const override {
     return latin_hypercube_points(spec);
   }
+  bool nested_prefixes() const override { return false; }
   std::string_view why_no_stopping_rule() const override {
     return "a stopping rule needs a design whose prefixes are designs (monte_carlo, sobol, saltelli); the first n "
            "samples of a latin_hypercube are not one";

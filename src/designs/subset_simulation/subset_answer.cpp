@@ -6,13 +6,26 @@
 
 namespace treedyn::designs {
 
-RareEventAnswer answer_rare_event(const ensemble::EnsembleSpec& spec, const ensemble::ResponseTable& table) {
-  RareEventAnswer answer{replay_subset(spec, table, spec.subset->max_levels).result(), {}};
+std::unique_ptr<const RareEventAnswer> answer_rare_event(const ensemble::EnsembleSpec& spec,
+                                                         const ensemble::ResponseTable& table) {
+  SubsetResult result = replay_subset(spec, table, spec.subset->max_levels).result();
   // The runs beyond the limit are mostly the last level's chain states.
-  const double gamma = answer.result.levels.empty() ? 0.0 : answer.result.levels.back().gamma;
-  answer.region = ensemble::failure_region(
+  const double gamma = result.levels.empty() ? 0.0 : result.levels.back().gamma;
+  ensemble::FailureRegion region = ensemble::failure_region(
       spec, table, spec.subset->response, [](std::uint64_t) { return true; }, std::isfinite(gamma) ? gamma : 0.0);
-  return answer;
+  return std::make_unique<const RareEventAnswer>(std::move(result), std::move(region));
+}
+
+std::string RareEventAnswer::stop_reason() const {
+  const std::string levels = std::to_string(result.levels.size() - 1);
+  if (result.no_threshold)
+    return "subset simulation: level " + levels +
+           " has no threshold (N (1 - p0) or more of its runs failed, "
+           "or its responses pile up at one value); the estimate counts that level's exceedances";
+  return result.reached_limit ? "subset simulation: the threshold reached the limit at level " + levels
+                              : "subset simulation: max_levels (" + levels +
+                                    ") reached before the limit; the "
+                                    "estimate counts the last level's exceedances";
 }
 
 }  // namespace treedyn::designs

@@ -3,6 +3,7 @@
 // the same decisions from its restored records).
 #pragma once
 
+#include <memory>
 #include <optional>
 
 #include "ensemble/wave_plan.hpp"
@@ -19,6 +20,8 @@ class SubsetPlan final : public ensemble::WavePlan {
   ensemble::Wave first_wave() const override;
   std::optional<ensemble::Wave> next_wave(const ensemble::Wave& done,
                                           const ensemble::ResponseTable* so_far) const override;
+  // A level's Markov chains, from the seeds and spreads its wave carries.
+  std::unique_ptr<const ensemble::ChainWave> chains(const ensemble::Wave& wave) const override;
 
  private:
   const ensemble::EnsembleSpec& spec_;

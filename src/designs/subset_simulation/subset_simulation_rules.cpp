@@ -2,6 +2,7 @@
 // levels' runs are Markov chains conditioned on the failure (subset_simulation.hpp).
 #include "designs/subset_simulation/subset_simulation_rules.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "common/format.hpp"
@@ -24,9 +25,19 @@ class SubsetSimulationRules final : public DesignRules {
     read_subset(ensemble, s, max_runs);
   }
   std::uint64_t first_wave_runs(const ensemble::EnsembleSpec& s) const override { return s.samples; }  // level 0
+  bool follows_records(const ensemble::EnsembleSpec& s, std::uint64_t k) const override { return k >= s.samples; }
+  std::uint64_t answered_runs(const ensemble::EnsembleSpec& s, std::uint64_t runs) const override {
+    return std::min(runs, s.samples);
+  }
+  bool answers_probability(const ensemble::EnsembleSpec& s, std::size_t r) const override {
+    return s.subset && s.subset->response == r;
+  }
   std::string_view why_no_stopping_rule() const override {
     return "a stopping rule needs a design whose prefixes are designs (monte_carlo, sobol, saltelli); "
            "subset_simulation sets its own runs (samples per level, levels)";
+  }
+  std::string_view runs_note() const override {
+    return " (subset_simulation: at most; level 0, then the later levels' chains until a threshold reaches the limit)";
   }
   std::string_view counted_runs_note() const override { return "; subset_simulation: level 0, the Monte-Carlo level"; }
   std::string_view statistics_note() const override {

@@ -6,8 +6,7 @@ namespace treedyn::designs {
 
 using ensemble::number;
 
-void print_rare_event(std::ostream& out, const ensemble::EnsembleSpec& spec, const RareEventAnswer& answer) {
-  const SubsetResult& result = answer.result;
+void RareEventAnswer::print(std::ostream& out, const ensemble::EnsembleSpec& spec) const {
   const ensemble::Response& response = spec.responses[spec.subset->response];
   const double sign = response.fail_if == ensemble::Response::FailIf::below ? -1.0 : 1.0;
   const char* side = response.fail_if == ensemble::Response::FailIf::above ? " > " : " < ";
@@ -31,7 +30,7 @@ void print_rare_event(std::ostream& out, const ensemble::EnsembleSpec& spec, con
   else if (!result.reached_limit)
     out << "  warning: max_levels ran out before a level's threshold reached the limit: the estimate counts "
            "the last level's exceedances (raise max_levels)\n";
-  ensemble::print_failure_region(out, spec, answer.region, "runs beyond the limit, any level");
+  ensemble::print_failure_region(out, spec, region, "runs beyond the limit, any level");
 }
 
 }  // namespace treedyn::designs

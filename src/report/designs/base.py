@@ -26,6 +26,87 @@ def evidence(f, page):
     pass
 
 
+def other_runs_legend(f):
+    """The runs beside the counted ones in a scatter's caption, and their legend label's suffix."""
+    return "other runs of the design (+: not independent draws, in the extremes table too)", ", other run"
+
+
+def every_run_words(f):
+    """What 'every run counts here' takes in beside the counted runs (the extremes table)."""
+    return "every run of the design"
+
+
+def measure_words(f):
+    """The sentence on what the design's own measure of the drivers means ('' where the rank measures alone
+    rank)."""
+    return ""
+
+
+def folded_words(f):
+    """After the note on a list's entries shown as one name: where their effect together shows."""
+    return ""
+
+
+def correlated_inputs_words(f):
+    """What to read where the counted runs' inputs are correlated: their Spearman coefficients mix."""
+    return "read the SRRC instead."
+
+
+def ranked_runs_words(f):
+    """Which runs the rank measures stand on, before 'N runs' ('' where the counted ones are all there are)."""
+    return ""
+
+
+def has_own_ranking(s):
+    """Whether /sensitivity/<r> `s` holds the design's own ranking (it then ranks, the rank measures beside it:
+    rankings.py reads it)."""
+    return False
+
+
+def own_ranking_words(s, ranking):
+    """Where the design's own ranking comes from, in its sentence ('' for the rank measures')."""
+    return ""
+
+
+def own_measure_words():
+    """For the note where its own ranking and the rank measures' put different inputs first: its name, the runs
+    the rank measures stand on, what it measures, 'its <measure>', the ranking's name."""
+    return None
+
+
+def unreliable_words(s):
+    """Why the design's own measure of `s` is unreliable ('' where it is not)."""
+    return ""
+
+
+def failure_effects(f, names):
+    """What the failed runs change of the design's own answers, as sentences."""
+    return []
+
+
+def verdict_column(f, sensitivity):
+    """A column of the answers table on the design's own answer: (its header, verdict of a response's
+    /sensitivity group or None), or None."""
+    return None
+
+
+def own_probability(f, name):
+    """The group of the design's own P of response `name` (probability, cov, interval), where that is the
+    answer and not the counted runs' exceedance; else None."""
+    return None
+
+
+def own_probability_words(f):
+    """Whose that P is, in the answers table."""
+    return ""
+
+
+def own_failure_region(f, name):
+    """The failure region of the design's own P of `name`: (its group, which runs it rests on, the failed runs,
+    the runs it draws as counted, their words), or None."""
+    return None
+
+
 def ranking_table(page, name, s, ranking, visible, ranks, correlations):
     """A table by the design's own ranking for one response; False: the rank measures' table is drawn."""
     return False

@@ -8,9 +8,9 @@ import numpy as np
 import matplotlib.pyplot as plt
 
 from designs import base
-from drivers import TABLE_ROWS, folded_members, morris_units, trajectories_words
+from drivers import TABLE_ROWS, folded_members
 from rankings import has_morris, morris_ranking, visible_units
-from read import strings
+from read import strings, text
 
 MAX_LABELS = 12  # factors named beside their point, largest mu* first
 MARGIN = 1.15    # the axes reach this far beyond the largest interval
@@ -42,6 +42,61 @@ def other_runs_words(f, others):
 
 def evidence(f, page):
     morris_figures(f, page)
+
+
+def other_runs_legend(f):
+    if "morris_block" not in f.attrs:
+        return base.other_runs_legend(f)
+    return ("other runs of the Morris trajectories (+: each steps one factor from the run before, in the extremes "
+            "table too)", ", trajectory step")
+
+
+def every_run_words(f):
+    return "every step of the Morris trajectories too"
+
+
+def measure_words(f):
+    return ("Morris mu* is the mean size of a factor's elementary effects: the change of the response when the "
+            "factor (an input, or a group of inputs moved together) alone steps, divided by the step in its "
+            "inputs' probability u, so in the response's units per unit of u; mu is their mean with its sign (the "
+            "direction), sigma their spread (large: the effect changes with where the step is taken, a nonlinear "
+            "or interacting factor). A screen: it orders the factors with few runs; it is no share of variance.")
+
+
+def folded_words(f):
+    return " Their effect together is their factor's Morris mu*: a list's entries step together."
+
+
+def correlated_inputs_words(f):
+    return "Morris mu* does not (each elementary effect steps one factor alone)."
+
+
+def has_own_ranking(s):
+    return has_morris(s)
+
+
+def own_ranking_words(s, ranking):
+    return f"{morris_units(s)} per unit of u, {trajectories_words(s)}"
+
+
+def own_measure_words():
+    return ("Morris mu*", "over each trajectory's first run", "the mean size of the response's change when the "
+            "input alone steps on its grid, its interactions and non-monotone effects included", "its Morris mu*",
+            "Morris")
+
+
+def morris_units(s):
+    return text(s["morris_mu_star"].attrs.get("units", ""))
+
+
+def trajectories_words(s):
+    """'from 10 trajectories', and how many elementary effects a factor rests on where failed runs cost some."""
+    trajectories = int(s.attrs.get("morris_trajectories", 0))
+    effects = s["morris_effects"][:] if "morris_effects" in s else np.full(1, float(trajectories))
+    if np.nanmin(effects) >= trajectories:
+        return f"from {trajectories} trajectories"
+    return (f"from {trajectories} trajectories; failed runs left {np.nanmin(effects):.0f} to {np.nanmax(effects):.0f} "
+            "elementary effects per factor")
 
 
 def ranking_table(page, name, s, morris, visible, ranks, correlations):

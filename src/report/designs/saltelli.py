@@ -10,11 +10,14 @@ import matplotlib.pyplot as plt
 from designs import base
 from drivers import TABLE_ROWS, correlation_note, folded_members, interval_text
 from rankings import has_sobol, sobol_ranking, visible_units
-from read import folded_note, shown_inputs, strings
+from read import folded_note, shown_inputs, strings, text
 
 MAX_BARS = 12
 MAX_LINES = 5
 COLOURS = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+RELIABLE_SHARE = 0.8  # the file's sobol_reliable: at least this share of the base points complete
+INDEX_INTERVAL = 0.1  # N is enough for the indices where the widest total-index interval of a unit that matters
+                      # is within this
 
 
 def counted_rows(f, held, note):
@@ -39,6 +42,95 @@ def other_runs_words(f, others):
 
 def evidence(f, page):
     index_figures(f, page)
+
+
+def other_runs_legend(f):
+    return "AB runs (+: A's inputs with one from B, in the extremes table too)", ", AB run"
+
+
+def every_run_words(f):
+    return "the AB runs too"
+
+
+def measure_words(f):
+    return ("The total Sobol' index is the share of the response's variance that goes with an input, its "
+            "interactions included;")
+
+
+def folded_words(f):
+    return " Their effect together is a group's Sobol' index where the job groups them ([[ensemble.group]])."
+
+
+def correlated_inputs_words(f):
+    return "read the SRRC or the Sobol' indices instead."
+
+
+def has_own_ranking(s):
+    return has_sobol(s)
+
+
+def own_ranking_words(s, ranking):
+    return f"from {int(s.attrs.get('sobol_base_samples', 0))} of {int(s.attrs.get('sobol_blocks', 0))} base points"
+
+
+def own_measure_words():
+    return ("the total Sobol' index", "over the A and B runs", "the share of the response's variance that goes "
+            "with the input, its interactions and non-monotone effects included", "its Sobol' index", "Sobol'")
+
+
+def reliable(s):
+    return int(s.attrs.get("sobol_reliable", 1)) != 0
+
+
+def unreliable_words(s):
+    return unreliable_text(s) if has_sobol(s) and not reliable(s) else ""
+
+
+def unreliable_text(s):
+    return (f"failed runs left {int(s.attrs['sobol_base_samples'])} of {int(s.attrs['sobol_blocks'])} base points "
+            f"complete (fewer than {100 * RELIABLE_SHARE:.0f} %); failures that depend on the inputs bias what remains")
+
+
+def failure_effects(f, names):
+    """The base points the Sobol' indices rest on, said once when every response's are the same."""
+    said = {}
+    for name in names:
+        s = f["sensitivity"][name] if "sensitivity" in f and name in f["sensitivity"] else None
+        if s is None or "sobol_blocks" not in s.attrs:
+            continue
+        base_points, blocks = int(s.attrs["sobol_base_samples"]), int(s.attrs["sobol_blocks"])
+        if base_points < blocks:
+            said.setdefault((base_points, blocks, reliable(s)), []).append(name)
+    block = int(f.attrs.get("saltelli_block", 0))
+    return ["The Sobol' indices" + (f" of {', '.join(who)}" if len(said) > 1 else "") +
+            f" rest on {base_points} of {blocks} base points (a base point counts when all its {block} runs "
+            "succeeded)" + (f"; unreliable: fewer than {100 * RELIABLE_SHARE:.0f} %." if not ok else ".")
+            for (base_points, blocks, ok), who in said.items()]
+
+
+def verdict_column(f, sensitivity):
+    if not any(s is not None and has_sobol(s) for s in sensitivity):
+        return None
+    return f"is N enough for the Sobol' indices (intervals within {INDEX_INTERVAL})?", index_verdict
+
+
+def index_verdict(s):
+    """Whether N is enough for the Sobol' indices, as the file's attributes say (the text summary's verdict)."""
+    if s is None or "sobol_blocks" not in s.attrs:
+        return ""
+    widest, unit = float(s.attrs["index_widest_interval"]), text(s.attrs.get("index_widest_unit", ""))
+    blocks = f" (from {int(s.attrs['sobol_base_samples'])} of {int(s.attrs['sobol_blocks'])} base points)"
+    unreliable = "" if reliable(s) else unreliable_text(s)
+    if not np.isfinite(widest):
+        words = "no interval of a total index that matters (no bootstrap, or no complete block)" + blocks
+        return f"no: unreliable, {unreliable}; {words}" if unreliable else f"no verdict: {words}"
+    words = f"the widest total-index interval of an input that matters is {widest:.2g} ({unit})"
+    more = f"; about {float(s.attrs['index_base_points_needed']):.0f} base points would do"
+    if unreliable:
+        return f"no: unreliable, {unreliable}; {words}" + ("" if int(s.attrs["indices_enough"]) else more)
+    if int(s.attrs["indices_enough"]):
+        return f"yes: {words}" + blocks
+    return f"not for {INDEX_INTERVAL}: {words}{more}" + blocks
 
 
 def ranking_table(page, name, s, sobol, visible, ranks, correlations):

@@ -25,6 +25,34 @@ def answer(f, page):
     rare_event_answer(f, page)
 
 
+def every_run_words(f):
+    return "every level's runs too"
+
+
+def ranked_runs_words(f):
+    return "level 0's " if "samples/level" in f else ""
+
+
+def own_probability(f, name):
+    """Its response's P is the levels' answer: level 0 alone (the counted runs) rarely reaches the limit."""
+    return f["rare_event"][name] if "rare_event" in f and name in f["rare_event"] else None
+
+
+def own_probability_words(f):
+    return "the subset simulation's, above (level 0 alone is not the answer)"
+
+
+def own_failure_region(f, name):
+    """Every level's runs beyond the limit: each is a draw of the inputs given the failure."""
+    g = own_probability(f, name)
+    if g is None or "failure_region" not in g or "samples/level" not in f:
+        return None
+    level0 = f["samples/level"][:] == 0
+    failed = int(round(float(np.nansum(g["failed_per_level"][:])))) if "failed_per_level" in g else 0
+    return (g["failure_region"], "runs beyond the limit, any level of the subset simulation", failed, level0,
+            f"level 0, the Monte-Carlo sample, {int(level0.sum())} runs")
+
+
 def after_failure_region(f, page):
     rare_event_levels(f, page)
 
