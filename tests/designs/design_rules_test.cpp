@@ -9,7 +9,11 @@
 //  * independent_draw picks exactly Saltelli's A and B rows and each Morris
 //    trajectory's first run: checked on the points, by which rows share
 //    inputs with the row before them;
-//  * runs_per_step is the period of that pattern.
+//  * runs_per_step is the period of that pattern;
+//  * nested_prefixes holds exactly where a design's points are nested;
+//  * the runs that follow from earlier records (follows_records, adaptive)
+//    are subset simulation's runs past level 0, by its own run places, and
+//    its answers count level 0 alone (answered_runs) and its P is its own.
 #include "designs/design_rules.hpp"
 
 #include <boost/random/sobol.hpp>
@@ -23,6 +27,7 @@
 #include <vector>
 
 #include "designs/sample_design.hpp"
+#include "designs/subset_simulation/subset_simulation.hpp"
 #include "job/ensemble_spec.hpp"
 #include "sampling/design.hpp"
 
@@ -84,6 +89,53 @@ TEST(DesignRules, ADesignAStoppingRuleMayStopHasNestedPrefixes) {
   }
   EXPECT_FALSE(rules_of(Design::subset_simulation).why_no_stopping_rule().empty());
   EXPECT_FALSE(rules_of(Design::morris).why_no_stopping_rule().empty());
+}
+
+// A response's convergence table is one where the first runs are a design of
+// their own: the designs whose points are nested (Morris' whole
+// trajectories too); subset simulation's answers count level 0, Monte Carlo.
+TEST(DesignRules, NestedPrefixesAreTheDesignsWhosePointsAreNested) {
+  for (Design design :
+       {Design::monte_carlo, Design::latin_hypercube, Design::sobol, Design::saltelli, Design::morris}) {
+    const std::uint64_t step = rules_of(design).runs_per_step(spec_of(design, 0));
+    const SampleDesign a = points_of(spec_of(design, 8 * step)), b = points_of(spec_of(design, 32 * step));
+    bool nested = true;
+    std::vector<double> u(kInputs), v(kInputs);
+    for (std::uint64_t k = 0; k < 8 * step; ++k) {
+      a.point(k, u);
+      b.point(k, v);
+      nested = nested && u == v;
+    }
+    EXPECT_EQ(rules_of(design).nested_prefixes(), nested) << name(design);
+  }
+  EXPECT_TRUE(rules_of(Design::subset_simulation).nested_prefixes());
+}
+
+TEST(DesignRules, OnlySubsetSimulationsLaterLevelsFollowFromEarlierRecords) {
+  EnsembleSpec s = spec_of(Design::subset_simulation, 0);
+  s.samples = 40;
+  s.subset = SubsetSpec{0, 0.1, 3};
+  s.runs = s.samples * (1 + 3 * 9 / 10);  // N (1 + (1 - p0) max_levels)
+  treedyn::designs::SubsetSettings settings;
+  settings.samples = s.samples;
+  settings.level_probability = 0.1;
+  settings.max_levels = 3;
+  const auto& rules = rules_of(Design::subset_simulation);
+  for (std::uint64_t k = 0; k < s.runs; ++k)
+    EXPECT_EQ(rules.follows_records(s, k), treedyn::designs::run_place(settings, k).level > 0) << "run " << k;
+  EXPECT_TRUE(rules.adaptive(s));
+  EXPECT_EQ(rules.answered_runs(s, s.runs), s.samples);
+  EXPECT_EQ(rules.answered_runs(s, 7), 7u);
+  EXPECT_TRUE(rules.answers_probability(s, 0));
+  EXPECT_FALSE(rules.answers_probability(s, 1));
+  for (const auto& [design, text] : kDesignNames) {
+    if (design == Design::subset_simulation) continue;
+    const EnsembleSpec other = spec_of(design, 64);
+    EXPECT_FALSE(rules_of(design).adaptive(other)) << text;
+    EXPECT_EQ(rules_of(design).answered_runs(other, 64), 64u) << text;
+    EXPECT_FALSE(rules_of(design).answers_probability(other, 0)) << text;
+  }
+  EXPECT_FALSE(rules_of(Design::monte_carlo).adaptive(spec_of(Design::monte_carlo, 0)));  // no runs at all
 }
 
 // A run that repeats some of the run before's inputs (Saltelli's AB rows
