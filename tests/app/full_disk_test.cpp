@@ -15,6 +15,7 @@
 
 #include "support/command.hpp"
 #include "support/ensemble_run.hpp"
+#include "support/loop_disk.hpp"
 
 namespace {
 
@@ -113,13 +114,12 @@ class SmallDisk : public FullDisk {
 };
 
 TEST_F(SmallDisk, ARunWhoseDiskCannotSpareTheProbeSaysSoAndSucceeds) {
-  const std::vector<std::string> launch = {"timeout", "-k", "10", std::to_string(kTimeoutSeconds),
-                                           TREEDYN_MPIEXEC, "--oversubscribe", "-np", "2"};
-  const auto r = run_command(
-      TREEDYN_ENSEMBLE_BINARY,
-      {(fs::path(TREEDYN_JOBS_DIR) / "spherical_pendulum.toml").string(), "-o", (disk_ / "out.h5").string(),
-       "--checkpoint-every", "0"},
-      dir_.path() / "capture", launch);
+  const std::vector<std::string> launch = {
+      "timeout", "-k", "10", std::to_string(kTimeoutSeconds), TREEDYN_MPIEXEC, "--oversubscribe", "-np", "2"};
+  const auto r = run_command(TREEDYN_ENSEMBLE_BINARY,
+                             {(fs::path(TREEDYN_JOBS_DIR) / "spherical_pendulum.toml").string(), "-o",
+                              (disk_ / "out.h5").string(), "--checkpoint-every", "0"},
+                             dir_.path() / "capture", launch);
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.err.find("not measured here: " + disk_.string() + ": cannot measure what writing costs here: "),
             std::string::npos)
@@ -128,6 +128,31 @@ TEST_F(SmallDisk, ARunWhoseDiskCannotSpareTheProbeSaysSoAndSucceeds) {
   std::vector<std::string> left;
   for (const auto& e : fs::directory_iterator(disk_)) left.push_back(e.path().filename());
   EXPECT_EQ(left, std::vector<std::string>{"out.h5"});
+}
+
+// A disk that takes the output into the page cache and fails to write it
+// out (support/loop_disk.hpp: ext4 on a 64 MiB image whose tmpfs holds 2
+// MiB), as thin-provisioned storage that runs out: every write of the run
+// succeeds, rank 0's drop-behind starts the write-out early, and only the
+// output's fsync sees the failure. Exit 4 naming the file, and no output,
+// temporary or checkpoint left: a truncated file is never renamed into place.
+TEST(FailingDisk, AnOutputWhoseWriteOutFailsExitsFourAndLeavesNothing) {
+  TempDir dir{"failing_disk"};
+  LoopOverSmallTmpfs disk(dir.path(), 64, "2m");
+  const fs::path mounted = dir.path() / "disk";
+  if (!disk.skipped.empty() || !disk.mount_ext4(mounted)) GTEST_SKIP() << disk.skipped;
+  const fs::path job = dir.path() / "kapitza.toml";  // about 4.5 MiB of output: more than the tmpfs holds
+  write_text(job, edited_job_text("kapitza.toml", {}));
+  const auto r = run_ensemble(2, job, mounted / "kapitza.h5", dir.path() / "capture", {"--checkpoint-every", "0"});
+  std::printf("[failing disk] exit %d: %s", r.exit_code, r.err.c_str());
+  EXPECT_EQ(r.exit_code, 4) << r.err;
+  EXPECT_NE(r.err.find("error: "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("kapitza.h5"), std::string::npos) << "the message names the output: " << r.err;
+  EXPECT_EQ(r.err.find("HDF5-DIAG"), std::string::npos) << r.err;
+  std::vector<std::string> left;
+  for (const auto& e : fs::directory_iterator(mounted))
+    if (e.path().filename() != "lost+found") left.push_back(e.path().filename());
+  EXPECT_TRUE(left.empty()) << "left on the failing disk: " << left.front();
 }
 
 }  // namespace

@@ -8,11 +8,8 @@
 
 #include <fcntl.h>
 #include <gtest/gtest.h>
-#include <linux/loop.h>
 #include <linux/magic.h>
-#include <sys/ioctl.h>
 #include <sys/mman.h>
-#include <sys/mount.h>
 #include <sys/vfs.h>
 #include <unistd.h>
 
@@ -26,6 +23,7 @@
 
 #include "process/atomic_file.hpp"
 #include "support/command.hpp"
+#include "support/loop_disk.hpp"
 
 namespace treedyn {
 namespace {
@@ -130,51 +128,14 @@ TEST(DropBehind, AFailedCallNamesTheFile) {
   EXPECT_EQ(error, "output out.h5: writing to the disk failed (Bad file descriptor)");
 }
 
-// A loop device over a 32 MiB sparse file on a 4 MiB tmpfs: its page cache
-// takes 16 MiB, its disk fails from about the fourth MiB. The pages whose
-// writeback failed are dropped like the others, but the failure must still
-// reach the file's fsync: had dropping consumed it, a truncated output
-// would be renamed into place.
-struct LoopOverSmallTmpfs {
-  fs::path backing;
-  int loop = -1;
-  std::string device;
-  std::string skipped;
-
-  explicit LoopOverSmallTmpfs(const fs::path& dir) : backing(dir / "backing") {
-    fs::create_directory(backing);
-    if (mount("tmpfs", backing.c_str(), "tmpfs", 0, "size=4m") != 0) {
-      skipped = std::string("cannot mount a tmpfs here (") + std::strerror(errno) + ")";
-      return;
-    }
-    const fs::path image = backing / "image";
-    const int file = open(image.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0600);
-    const int control = open("/dev/loop-control", O_RDWR | O_CLOEXEC);
-    const int number = control >= 0 ? ioctl(control, LOOP_CTL_GET_FREE) : -1;
-    if (control >= 0) close(control);
-    if (file < 0 || ftruncate(file, 32 * kMiB) != 0 || number < 0) {
-      skipped = std::string("no loop device here (") + std::strerror(errno) + ")";
-      if (file >= 0) close(file);
-      return;
-    }
-    device = "/dev/loop" + std::to_string(number);
-    loop = open(device.c_str(), O_RDWR | O_CLOEXEC);
-    if (loop < 0 || ioctl(loop, LOOP_SET_FD, file) != 0) skipped = "cannot attach " + device + " here";
-    close(file);
-  }
-  ~LoopOverSmallTmpfs() {
-    if (loop >= 0) {
-      ioctl(loop, LOOP_CLR_FD, 0);
-      close(loop);
-    }
-    umount2(backing.c_str(), MNT_DETACH);
-  }
-};
-
+// A loop device over a 32 MiB sparse file on a 4 MiB tmpfs
+// (support/loop_disk.hpp): its page cache takes 16 MiB, its disk fails from
+// about the fourth MiB. The pages whose writeback failed are dropped like
+// the others, but the failure must still reach the file's fsync: had
+// dropping consumed it, a truncated output would be renamed into place.
 TEST(DropBehind, AWriteTheDiskRefusesStillReachesTheFsync) {
-  if (geteuid() != 0) GTEST_SKIP() << "needs root for a tmpfs and a loop device";
   testing::TempDir dir{"drop_behind_disk"};
-  LoopOverSmallTmpfs disk(dir.path());
+  testing::LoopOverSmallTmpfs disk(dir.path(), 32, "4m");
   if (!disk.skipped.empty()) GTEST_SKIP() << disk.skipped;
   const int fd = open(disk.device.c_str(), O_WRONLY | O_CLOEXEC);
   ASSERT_GE(fd, 0);
