@@ -1,10 +1,13 @@
 #!/usr/bin/env bash
 # Are two builds' ensemble files the same? Runs every shipped example (and
 # the benchmark jobs) with both builds' treedyn-ensemble on 1, 2 and 3 ranks,
-# and compares every dataset's values under /stats, /samples, /responses,
-# /sensitivity, /rare_event, /integration_check, /nominal and /trajectories
-# bit for bit (no tolerance; attributes are not compared), plus one sample
-# rerun alone (--sample K): its /final_state and /sample/inputs. For a
+# and compares every dataset's values (shape, type, bits) under /stats,
+# /samples, /responses, /sensitivity, /rare_event, /integration_check,
+# /nominal and /trajectories, and every attribute of those objects and of the
+# root (their descriptions, units, verdicts) but what depends on the run
+# itself (times, hosts, ranks, the command line, the build), bit for bit (no
+# tolerance), plus one sample rerun alone (--sample K): its /final_state and
+# /sample/inputs. For a
 # refactoring, the older build is the commit before it:
 #
 #   git worktree add /tmp/before HEAD~1 && cmake -S /tmp/before -B /tmp/before/build \
@@ -32,26 +35,39 @@ run() {  # BINARY RANKS JOB OUT
   else mpirun --oversubscribe -np "$2" "$1" "$3" -o "$4" -q --checkpoint-every 0 >/dev/null 2>"$4.err"; fi
 }
 
-same() {  # A B GROUP...: every dataset under the named groups bitwise equal in both files (its
-           # values and shape; attributes, such as a renamed column, are not compared)
+same() {  # A B GROUP...: every dataset under the named groups bitwise equal in both files (values,
+           # shape, type), and every attribute of them, of their groups and of the root but the run's own
   /usr/bin/python3 - "$@" <<'PY'
 import sys, h5py, numpy as np
+# What a run records of itself: when, where, on how many ranks, by which command and build, how fast.
+RUN_OWN = {"start_utc", "end_utc", "wall_time_seconds", "wall_seconds", "command_line", "git_commit", "build_type",
+           "compiler", "host", "rank_hosts", "ranks", "samples_per_rank", "samples_run_here", "cpu_seconds_per_rank",
+           "busy_seconds_per_rank", "busy_cpu_seconds_per_rank", "record_writing_seconds_per_rank",
+           "record_writing_cpu_seconds_per_rank", "peak_rss_mib_per_rank", "unit_storing_cpu_seconds",
+           "samples_per_second", "unit_rows", "samples_in_units", "output_file", "job_file"}
 a, b, groups = h5py.File(sys.argv[1], "r"), h5py.File(sys.argv[2], "r"), sys.argv[3:]
-def datasets(f, g):
+def objects(f, g):
     out = {}
     if g in f:
-        if isinstance(f[g], h5py.Dataset): out[g] = f[g]
-        else: f[g].visititems(lambda n, o: out.__setitem__(g + "/" + n, o) if isinstance(o, h5py.Dataset) else None)
+        out[g] = f[g]
+        if isinstance(f[g], h5py.Group): f[g].visititems(lambda n, o: out.__setitem__(g + "/" + n, o))
     return out
+def bits(v):
+    v = np.asarray(v)  # strings come as objects, whose bytes are pointers: compare the values
+    return (v.shape, v.dtype.str, v.tolist() if v.dtype == object else v.tobytes())
+def same_attributes(name, x, y):
+    keys = (set(x.attrs) | set(y.attrs)) - RUN_OWN
+    for k in sorted(keys):
+        if k not in x.attrs or k not in y.attrs or bits(x.attrs[k]) != bits(y.attrs[k]):
+            print(f"differs in {name or '/'}: attribute {k}"); sys.exit(1)
+same_attributes("", a, b)
 for g in groups:
-    da, db = datasets(a, g), datasets(b, g)
+    da, db = objects(a, g), objects(b, g)
     if da.keys() != db.keys():
-        print(f"differs in {g}: datasets {sorted(set(da) ^ set(db))}"); sys.exit(1)
+        print(f"differs in {g}: objects {sorted(set(da) ^ set(db))}"); sys.exit(1)
     for name in da:
-        x, y = np.asarray(da[name][()]), np.asarray(db[name][()])
-        # Strings come as objects, whose bytes are pointers: compare the values.
-        bits = (lambda v: v.tolist()) if x.dtype == object else (lambda v: v.tobytes())
-        if x.shape != y.shape or x.dtype != y.dtype or bits(x) != bits(y):
+        same_attributes(name, da[name], db[name])
+        if isinstance(da[name], h5py.Dataset) and bits(da[name][()]) != bits(db[name][()]):
             print(f"differs in {name}"); sys.exit(1)
 PY
 }
@@ -65,7 +81,7 @@ for job in "${jobs[@]}"; do
     if ! run "$new" "$ranks" "$job" "$out"; then echo "$name, $ranks ranks: the new build failed: $(cat "$out.err")"; status=1; continue; fi
     groups=(/stats /samples /responses /sensitivity /rare_event /integration_check /nominal /trajectories)
     if why=$(same "$work/$name.old.h5" "$out" "${groups[@]}"); then
-      echo "$name, $ranks rank(s): every dataset of ${groups[*]} bitwise equal (where present)"
+      echo "$name, $ranks rank(s): every dataset and attribute of ${groups[*]} and the root bitwise equal (where present)"
     else
       echo "$name, $ranks rank(s): $why"; status=1
     fi

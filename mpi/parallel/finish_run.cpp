@@ -111,8 +111,8 @@ int write_part(EnsembleRun& run, const ensemble::EnsembleStatistics& stats) {
 }
 
 // Why the run ended where it did, for the file and the summary.
-std::string stop_reason_of(const EnsembleRun& run, const designs::RunAnswer* design) {
-  if (design) return design->stop_reason();
+std::string stop_reason_of(const EnsembleRun& run, const designs::RunAnswer* answer) {
+  if (answer) return answer->stop_reason();
   if (!run.spec.stop) return "no stopping rule: every sample of the design was run";
   if (run.table)
     if (auto reason = ensemble::stop_reason(run.spec, *run.table, run.samples_used)) return *reason;
@@ -131,15 +131,16 @@ int write_ensemble(EnsembleRun& run, const ensemble::EnsembleStatistics& stats, 
   summary.samples_in_units = run.records->done_in_units();
   summary.unit_storing_cpu_seconds = run.records->unit_storing_cpu_seconds();
   if (run.samples_used < run.spec.runs && run.table) run.table->truncate(run.samples_used);
-  const std::unique_ptr<const designs::RunAnswer> design =
+  // The design's answer for the whole run (subset simulation's levels), if any.
+  const std::unique_ptr<const designs::RunAnswer> run_answer =
       run.table ? designs::run_answer(run.spec, *run.table) : nullptr;
-  summary.stop_reason = stop_reason_of(run, design.get());
+  summary.stop_reason = stop_reason_of(run, run_answer.get());
   const std::vector<ensemble::ResponseAnswer> answers =
       run.table ? ensemble::answer_responses(run.spec, *run.table) : std::vector<ensemble::ResponseAnswer>{};
   try {
     if (!run.records->io_error().empty()) throw process::FileError(run.records->io_error());
     if (run.samples_used < run.spec.runs) run.writer->keep_samples(run.samples_used);
-    if (design) run.writer->write_run_answer(*design, run.samples_used);
+    if (run_answer) run.writer->write_run_answer(*run_answer, run.samples_used);
     summary =
         run.writer->complete(run.nominal, stats, answers, run.tolerance, std::move(summary), provenance, run.start);
   } catch (const process::FileError& e) {
@@ -149,7 +150,7 @@ int write_ensemble(EnsembleRun& run, const ensemble::EnsembleStatistics& stats, 
   if (!run.options.quiet) {
     ensemble::print_digest(std::cout, ensemble::digest_of(run.job, run.spec, stats, summary));
     ensemble::print_response_summary(std::cout, run.spec, answers, run.tolerance);
-    if (design) design->print(std::cout, run.spec);
+    if (run_answer) run_answer->print(std::cout, run.spec);
     if (run.spec.stop)
       std::cout << "stopped after " << run.samples_used << " of at most " << run.spec.runs
                 << " samples: " << summary.stop_reason << "\n";

@@ -35,8 +35,9 @@ void print_drivers(std::ostream& out, const EnsembleSpec& spec, const Response& 
 void print_response_summary(std::ostream& out, const EnsembleSpec& spec, const std::vector<ResponseAnswer>& answers,
                             const ToleranceCheck& tolerance) {
   if (answers.empty()) return;
-  out << "responses: mean +- standard error (successful samples with finite values"
-      << designs::rules_of(spec.design).counted_runs_note() << ")\n";
+  const std::string_view counted = designs::rules_of(spec.design).counted_runs_note();
+  out << "responses: mean +- standard error (successful samples with finite values" << (counted.empty() ? "" : "; ")
+      << counted << ")\n";
   for (std::size_t r = 0; r < answers.size(); ++r) {
     const Response& response = spec.responses[r];
     const ResponseAnswer& a = answers[r];

@@ -155,7 +155,7 @@ void print_ensemble_summary(std::ostream& out, const Job& job, const EnsembleSpe
   // the most (its print_runs says how many).
   const bool at_most = designs::rules_of(s.design).adaptive(s);
   out << "ensemble: " << (at_most ? "at most " : "") << s.runs
-      << (at_most ? " runs (below: how many for which P)" : " samples") << ", seed " << s.seed << ", design "
+      << (at_most ? " runs (below: how many it makes)" : " samples") << ", seed " << s.seed << ", design "
       << name(s.design) << ", " << s.perturbations.size() << " perturbation" << (s.perturbations.size() == 1 ? "" : "s")
       << " (" << s.input_dimensions() << " sampled inputs)\n";
   designs::rules_of(s.design).print_runs(out, s);

@@ -51,7 +51,10 @@ std::vector<double> inputs_of(const Job& job, const ensemble::EnsembleSpec& spec
     if (!file.has_attribute("/", "job_text") || file.string_attribute("/", "job_text") != job.text)
       refuse("--from " + from + ": not an ensemble file of " + job.file + " (its job_text differs)");
     table = h5::response_table(file, spec.input_dimensions(), spec.responses.size());
-    inputs = runner.inputs_at(*designs::replayed_point(spec, *table, k));
+    const std::optional<std::vector<double>> point = designs::replayed_point(spec, *table, k);
+    if (!point)  // the rules and the registry disagree: a design's line is missing in registry_analysis.cpp
+      throw std::logic_error("run " + std::to_string(k) + " follows from earlier records but has no replay");
+    inputs = runner.inputs_at(*point);
   } catch (const h5::IoError& e) {
     refuse("--from " + from + ": " + e.what());
   } catch (const std::invalid_argument& e) {

@@ -103,8 +103,9 @@ class DesignRules {
   // --- its words ---
   // After "there are N samples, 0 .. N-1": how the runs are counted.
   virtual std::string_view runs_note() const { return {}; }
-  // After "mean +- standard error (successful samples with finite values":
-  // which runs count.
+  // Which runs the answers count, where not all ("saltelli: the A and B
+  // runs"): after "successful samples with finite values; " in the summary,
+  // in parentheses in /responses' description.
   virtual std::string_view counted_runs_note() const { return {}; }
   // /samples' description, /stats' note and /sensitivity/<r>'s description.
   virtual std::string_view samples_description() const { return "one row per sample, by sample index 0 .. samples-1"; }

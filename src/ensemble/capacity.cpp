@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "common/host_time.hpp"
+#include "designs/design_rules.hpp"
 #include "ensemble/sample_rows.hpp"
 #include "ensemble/sample_runner.hpp"
 #include "persistence/record_codec.hpp"
@@ -87,7 +88,9 @@ std::size_t most_unit_rows(const SampleRows& rows) {
 }
 
 std::size_t unit_rows(const EnsembleSpec& spec, int ranks, std::size_t most) {
-  if (ranks < 2 || spec.subset) return 0;
+  // An adaptive design's records arrive as its waves make them (chain by
+  // chain), not in units.
+  if (ranks < 2 || designs::rules_of(spec.design).adaptive(spec)) return 0;
   // A stopping rule's waves are `every` runs each: the units are of a wave.
   const std::uint64_t wave = spec.stop ? std::min<std::uint64_t>(spec.runs, spec.stop->every) : spec.runs;
   std::size_t rows = std::min(most, kMaxUnitRows);

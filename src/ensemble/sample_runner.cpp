@@ -5,6 +5,7 @@
 
 #include "common/error.hpp"
 #include "common/format.hpp"
+#include "designs/design_rules.hpp"
 #include "integrate/simulate.hpp"
 #include "model/definition.hpp"
 #include "output/final_state.hpp"
@@ -135,7 +136,8 @@ RecordShape record_shape(const SampleRunner& runner, std::uint64_t first, std::u
   shape.final_state = runner.final_state_size();
   shape.trajectory = runner.times() * runner.layout().columns;
   shape.stored = spec.store_trajectories;
-  if (spec.subset) shape.statistics_end = spec.samples;  // /stats is level 0
+  // /stats: the runs the answers count (subset simulation: level 0).
+  shape.statistics_end = designs::rules_of(spec.design).answered_runs(spec, shape.statistics_end);
   return shape;
 }
 

@@ -62,11 +62,11 @@ class ChainWave {
   // simulation: the response, signed so that failure is above; NaN when the
   // run failed).
   virtual double value(const SampleRecord& record) const = 0;
-  // Runs chain c, in order: run(k, u) runs run k at the point u in the unit
+  // Runs chain c, in order: run_one(k, u) runs run k at the point u in the unit
   // cube (open) and returns value() of its record; it throws to stop the
   // chain where it is (a resumed run runs the chain again from its start).
   using Run = std::function<double(std::uint64_t k, std::span<const double> u)>;
-  virtual void run(std::uint64_t c, const Run& run) const = 0;
+  virtual void run(std::uint64_t c, const Run& run_one) const = 0;
 };
 
 class WavePlan {

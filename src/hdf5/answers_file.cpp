@@ -60,8 +60,8 @@ void write_convergence(hid_t g, const ensemble::EnsembleSpec& spec, const ensemb
 
 // " (saltelli: the A and B runs)": which runs the answers count, where not all.
 std::string counted_runs(const ensemble::EnsembleSpec& spec) {
-  const std::string_view note = designs::rules_of(spec.design).counted_runs_note();  // "; <design>: ..."
-  return note.size() > 2 ? " (" + std::string(note.substr(2)) + ")" : "";
+  const std::string_view note = designs::rules_of(spec.design).counted_runs_note();
+  return note.empty() ? "" : " (" + std::string(note) + ")";
 }
 
 void write_response_answer(hid_t parent, const ensemble::EnsembleSpec& spec, const ensemble::Response& response,

@@ -2,9 +2,9 @@
 // /responses (each response's mean, exceedance, what the failed samples can
 // change and the failure region, convergence), /sensitivity (rank measures
 // and their ranking, then the design's own answer, which writes itself
-// through answer_group_writer.hpp: designs/design_answer.hpp).
-// Subset simulation's /rare_event is its own
-// (designs/subset_simulation/subset_file.hpp).
+// through answer_group_writer.hpp: designs/design_answer.hpp). A design's
+// answer for the whole run (subset simulation's /rare_event) is written by
+// EnsembleWriter::write_run_answer through the same writer.
 #pragma once
 
 #include <vector>

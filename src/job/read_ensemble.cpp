@@ -109,12 +109,8 @@ void read_limit(const TomlView& t, Response& r) {
   if (t.has("limit") && !fail_if)
     t.fail("limit", "a limit needs fail_if = \"above\" or \"below\" (which side is failure)");
   if (fail_if) {
-    if (*fail_if == "above")
-      r.fail_if = Response::FailIf::above;
-    else if (*fail_if == "below")
-      r.fail_if = Response::FailIf::below;
-    else
-      t.fail("fail_if", "\"" + *fail_if + "\" is not allowed; use \"above\" or \"below\"");
+    if (!parse_in(kFailIfNames, *fail_if, r.fail_if))
+      t.fail("fail_if", "\"" + *fail_if + "\" is not allowed; use " + choices(kFailIfNames));
     if (!t.has("limit")) t.fail("fail_if", "needs a limit = value (in " + r.units + ")");
     r.limit = t.required_number("limit");
   }

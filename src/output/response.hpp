@@ -74,9 +74,12 @@ inline constexpr NameTable<Response::Reduce, 8> kResponseReduceNames{
 inline std::string_view name(Response::Reduce r) { return name_in(kResponseReduceNames, r); }
 
 // The side of the limit a response fails on, as the job and the files say it.
-inline constexpr NameTable<Response::FailIf, 3> kFailIfNames{
-    {{Response::FailIf::none, ""}, {Response::FailIf::above, "above"}, {Response::FailIf::below, "below"}}};
-inline std::string_view name(Response::FailIf f) { return name_in(kFailIfNames, f); }
+// (none: "", no limit).
+inline constexpr NameTable<Response::FailIf, 2> kFailIfNames{
+    {{Response::FailIf::above, "above"}, {Response::FailIf::below, "below"}}};
+inline std::string_view name(Response::FailIf f) {
+  return f == Response::FailIf::none ? std::string_view{} : name_in(kFailIfNames, f);
+}
 
 // The response's value on one trajectory:
 //   final, min, max       the column's value at the last output time, its extremes;

@@ -79,7 +79,7 @@ def failure_effects(f):
     out = []
     for r, name in enumerate(names):
         e = f["responses"][name].get("exceedance")
-        if e is None or design.own_probability(f, name) is not None or int(e["failed"][()]) == 0 or \
+        if e is None or design.own_probability_group(f, name) is not None or int(e["failed"][()]) == 0 or \
                 "with_failed" not in e:
             continue
         n, failed = int(e["successful"][()]), int(e["failed"][()])
@@ -127,13 +127,13 @@ def response_table(f, page):
         page.paragraph("No /responses: the file holds only some of the samples (root attribute held_samples).")
         return
     sensitivity = [f["sensitivity"][n] if "sensitivity" in f and n in f["sensitivity"] else None for n in names]
-    own = design_of(f).verdict_column(f, sensitivity)  # (header, verdict of a response's /sensitivity group)
+    own = design_of(f).verdict_column(f, sensitivity)
     accuracy = integration_verdicts(f)
-    table = [response_row(f, values, r, name, units[r]) + ([own[1](sensitivity[r])] if own else []) +
+    table = [response_row(f, values, r, name, units[r]) + ([own.verdict(sensitivity[r])] if own else []) +
              ([accuracy[r]] if accuracy else []) for r, name in enumerate(names)]
     page.table(["response", "mean ± standard error", "runs used", f"is N enough for the mean "
                 f"(±{MEAN_PRECISION:.0%})?", "probability of exceeding the limit (Wilson interval)",
-                f"is N enough for P (±{PROBABILITY_PRECISION:.0%})?"] + ([own[0]] if own else []) +
+                f"is N enough for P (±{PROBABILITY_PRECISION:.0%})?"] + ([own.header] if own else []) +
                (["is the integration accurate enough?"] if accuracy else []), table)
     meaning = design_of(f).counted_runs_meaning(f)
     if meaning:
@@ -160,7 +160,7 @@ def response_row(f, values, r, name, unit):
            mean_verdict(mean, sem, used, (used + infinite) / used if used else 1.0), "", ""]
     e = g.get("exceedance")
     design = design_of(f)
-    own = design.own_probability(f, name) if e is not None else None
+    own = design.own_probability_group(f, name) if e is not None else None
     if own is not None:  # the design's P is the answer, not the counted runs' exceedance
         row[4] = (f"{probability_name(values, r, name, unit)} = {own['probability'][()]:.4g}: "
                   f"{design.own_probability_words(f)}")
@@ -246,8 +246,8 @@ def scatter_inputs(f, name):
 
 def scatter_figures(f, page, rows):
     """Each response against its strongest inputs, over every run the file holds (so every run of the
-    extremes table is inside the axes): by level for subset simulation, else the counted runs and the others
-    (Saltelli's AB runs, Morris' trajectory steps) apart."""
+    extremes table is inside the axes): by level where the design's runs go in levels (/samples/level:
+    subset simulation), else the counted runs and the others apart, in the design's words."""
     if "sensitivity" not in f or "samples/inputs" not in f:
         return
     values = f["samples/responses"]
@@ -296,7 +296,7 @@ def drawn_range(y, ok):
     return (float(np.min(y[ok])), float(np.max(y[ok]))) if ok.any() else (0.0, 1.0)
 
 
-def run_scatter(ax, x, y, status, sets, beyond, other_label=", AB run"):
+def run_scatter(ax, x, y, status, sets, beyond, other_label):
     """The counted runs as dots, the others (+) fainter; blue ok, red beyond the limit."""
     ok, infinite, failed = (status == 0) & np.isfinite(y), (status == 0) & np.isinf(y), (status != 0) & (status != 3)
     low, high = drawn_range(y, ok & (sets[0] | sets[1]))
@@ -349,8 +349,8 @@ def extreme_samples(f, page, file_name):
     status = f["samples/status"][:]
     level = f["samples/level"][:] if "samples/level" in f else None
     page.heading("Extreme and failed samples", 3)
-    page.paragraph("Every run counts here (" + design_of(f).every_run_words(f) + ": each is a real sample). The commands rerun one sample alone, bit for bit, or write it as a "
-                   "standalone job.")
+    page.paragraph("Every run counts here (" + design_of(f).every_run_words(f) + ": each is a real sample). The "
+                   "commands rerun one sample alone, bit for bit, or write it as a standalone job.")
     table = []
     for r, name in enumerate(names):
         y = np.where(status == 0, values[:, r], np.nan)

@@ -91,7 +91,7 @@ def disagreement_note(name, primary, visible, ranks, rank_visible, own_words):
     """One note where the two rankings (the design's own and the rank measure's) put a different unit first,
     saying what each measures (`own_words`: the design's, designs/base.py: own_measure_words)."""
     top, rank_top = top_unit(primary, visible), top_unit(ranks, rank_visible)
-    if top is None or rank_top is None or primary.members[top] == [rank_top]:
+    if own_words is None or top is None or rank_top is None or primary.members[top] == [rank_top]:
         return ""
     by, runs, meaning, its, which = own_words
     group = (f" {primary.units[top]} is a group: its inputs one by one show little in a rank measure, its effect "

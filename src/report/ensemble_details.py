@@ -55,14 +55,14 @@ def probability_panels(f, names):
     """The responses whose P the convergence figure draws: with a limit, and not one whose P the design answers
     itself (a subset simulation's: its level 0 alone is not the answer)."""
     design = design_of(f)
-    return [np.isfinite(f["responses"][n]["convergence"][:, 4]).any() and design.own_probability(f, n) is None
+    return [np.isfinite(f["responses"][n]["convergence"][:, 4]).any() and design.own_probability_group(f, n) is None
             for n in names]
 
 
-def own_probability_words(f, names):
+def own_answer_note(f, names):
     """Where the P the design answers itself is, for the convergence figure's caption."""
     design = design_of(f)
-    own = [n for n in names if design.own_probability(f, n) is not None]
+    own = [n for n in names if design.own_probability_group(f, n) is not None]
     return f" ({', '.join(own)}: the P in the answers is the design's own, not the counted runs')" if own else ""
 
 
@@ -92,7 +92,7 @@ def convergence_figure(f, page, names, units):
     page.figure(fig, "convergence: each response's mean ± 2 standard errors" +
                 (" (left) and the probability that it exceeds its limit with its 95 % Wilson interval (right)"
                  if columns == 2 else "") + " against the number of samples: the first m in index order, of "
-                "which the counted runs count" + own_probability_words(f, names), "responses_convergence")
+                "which the counted runs count" + own_answer_note(f, names), "responses_convergence")
 
 
 def sensitivity_figures(f, page):

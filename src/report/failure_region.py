@@ -53,12 +53,12 @@ def region_of(f, name, rows, counted):
     status = f["samples/status"][:]
     beyond = exceeded(values, r, values[:, r]) & (status == 0)
     design = design_of(f)
-    if design.own_probability(f, name) is not None:  # the design's P is the answer: its failure region
+    if design.own_probability_group(f, name) is not None:  # the design's P is the answer: its failure region
         own = design.own_failure_region(f, name)
         if own is None:
             return None
-        g, which, failed, drawn, drawn_words = own
-        return Region(name, g, which, failed, beyond & held_rows(f), drawn, drawn_words)
+        return Region(name, own.group, own.which_runs, own.failed, beyond & held_rows(f), own.reference,
+                      own.reference_words)
     e = f["responses"][name].get("exceedance") if "responses" in f and name in f["responses"] else None
     if e is None or "failure_region" not in e:
         return None

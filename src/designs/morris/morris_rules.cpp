@@ -38,9 +38,7 @@ class MorrisRules final : public DesignRules {
   std::string_view runs_note() const override {
     return " (morris: trajectories x (D + 1) runs, or x (G + 1) with groups)";
   }
-  std::string_view counted_runs_note() const override {
-    return "; morris: each trajectory's first run, on the inputs' level grid";
-  }
+  std::string_view counted_runs_note() const override { return "morris: each trajectory's first run"; }
   std::string_view samples_description() const override {
     return "one row per run, by sample index 0 .. samples-1; morris: row t (U + 1) + s is run s of trajectory t: "
            "radial, run 0 with unit s - 1 (an input or a group) from an independent point; trajectories, run s - 1 "

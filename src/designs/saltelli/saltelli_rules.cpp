@@ -31,7 +31,7 @@ class SaltelliRules final : public DesignRules {
   std::string_view runs_note() const override {
     return " (saltelli: samples x (D + 2) runs, or x (G + 2) with groups)";
   }
-  std::string_view counted_runs_note() const override { return "; saltelli: the A and B runs"; }
+  std::string_view counted_runs_note() const override { return "saltelli: the A and B runs"; }
   std::string_view samples_description() const override {
     return "one row per run, by sample index 0 .. samples-1; saltelli: row j (U + 2) + r is A_j (r = 0), B_j (r = "
            "1), AB_u,j (r = 2 + u: A_j with unit u's inputs from B_j; a unit is one input, or a group with "

@@ -20,12 +20,12 @@ class LevelChains final : public ensemble::ChainWave {
 
   // The chain moves in standard normal space; its runs take the points
   // Phi(u) in the unit cube.
-  void run(std::uint64_t c, const Run& run) const override {
+  void run(std::uint64_t c, const Run& run_one) const override {
     const unsigned D = spec_.input_dimensions();
     std::vector<double> uniforms(D);
     const auto response = [&](std::uint64_t k, std::span<const double> u) {
       for (unsigned i = 0; i < D; ++i) uniforms[i] = to_uniform(u[i]);
-      return run(k, uniforms);
+      return run_one(k, uniforms);
     };
     run_chain(settings_, start_.level, c, start_.threshold, start_.spread,
               std::span<const double>(start_.seed_u.data() + c * D, D), start_.seed_g[c], response);

@@ -39,7 +39,7 @@ class SubsetSimulationRules final : public DesignRules {
   std::string_view runs_note() const override {
     return " (subset_simulation: at most; level 0, then the later levels' chains until a threshold reaches the limit)";
   }
-  std::string_view counted_runs_note() const override { return "; subset_simulation: level 0, the Monte-Carlo level"; }
+  std::string_view counted_runs_note() const override { return "subset_simulation: level 0, the Monte-Carlo level"; }
   std::string_view statistics_note() const override {
     return "; subset_simulation: level 0 alone (samples 0 .. N-1), an unbiased Monte-Carlo sample; the later "
            "levels' runs are conditional samples and left out (they are in /samples)";

@@ -11,10 +11,10 @@ a design without a module of its own gets base.py's. A design module defines the
 
     its own answers:
     answer(f, page)                               the design's own answer, first among the answers
-    own_probability(f, name) -> group or None     its own P of a response, where that is the answer
+    own_probability_group(f, name) -> group/None  its own P of a response (probability, cov, interval)
     own_probability_words(f) -> str               whose that P is, in the answers table
-    own_failure_region(f, name) -> tuple or None  the failure region of that P, and the runs it rests on
-    verdict_column(f, sensitivity) -> (header, verdict) or None   a column of the answers table
+    own_failure_region(f, name) -> OwnRegion/None the failure region of that P, and the runs it rests on
+    verdict_column(f, sensitivity) -> VerdictColumn/None   its column of the answers table
     failure_effects(f, names) -> [str]            what the failed runs change of its own answers
     after_failure_region(f, page)                 its tables after what makes a response exceed its limit
     evidence(f, page)                             its figures among the evidence behind the answers
@@ -22,7 +22,7 @@ a design without a module of its own gets base.py's. A design module defines the
     its own measure of the drivers:
     has_own_ranking(s) -> bool                    /sensitivity/<r> holds its ranking (rankings.py reads it)
     own_ranking_words(s, ranking) -> str          where that ranking comes from, in its sentence
-    own_measure_words() -> tuple                  its words where it and the rank measures disagree
+    own_measure_words() -> MeasureWords/None      its words where it and the rank measures disagree
     measure_words(f), folded_words(f), correlated_inputs_words(f) -> str   its sentences in the drivers' notes
     unreliable_words(s) -> str                    why its measure is unreliable ('': it is not)
     ranking_table(page, name, s, ranking, visible, ranks, correlations) -> bool   its table of the drivers

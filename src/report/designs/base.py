@@ -1,5 +1,16 @@
 """What a design changes nothing of (monte_carlo; the others' defaults): every run held is an independent draw,
 and the design has no answer, table or figure of its own."""
+from collections import namedtuple
+
+# own_measure_words(): the design's measure as the drivers' disagreement note words it: its name, the runs the rank
+# measures stand on, what it measures, "its <measure>", the ranking's name.
+MeasureWords = namedtuple("MeasureWords", "name rank_runs meaning its ranking")
+# verdict_column(): the answers table's column on the design's own answer: its header, and the verdict of one
+# response's /sensitivity group (or None).
+VerdictColumn = namedtuple("VerdictColumn", "header verdict")
+# own_failure_region(): the stored failure region group, which runs it rests on (words), the failed runs, the rows
+# drawn as its reference sample, and their words.
+OwnRegion = namedtuple("OwnRegion", "group which_runs failed reference reference_words")
 
 
 def counted_rows(f, held, note):
@@ -69,8 +80,8 @@ def own_ranking_words(s, ranking):
 
 
 def own_measure_words():
-    """For the note where its own ranking and the rank measures' put different inputs first: its name, the runs
-    the rank measures stand on, what it measures, 'its <measure>', the ranking's name."""
+    """A MeasureWords for the note where its own ranking and the rank measures' put different inputs first;
+    None: no note."""
     return None
 
 
@@ -85,12 +96,11 @@ def failure_effects(f, names):
 
 
 def verdict_column(f, sensitivity):
-    """A column of the answers table on the design's own answer: (its header, verdict of a response's
-    /sensitivity group or None), or None."""
+    """A VerdictColumn of the answers table on the design's own answer, or None."""
     return None
 
 
-def own_probability(f, name):
+def own_probability_group(f, name):
     """The group of the design's own P of response `name` (probability, cov, interval), where that is the
     answer and not the counted runs' exceedance; else None."""
     return None
@@ -102,8 +112,7 @@ def own_probability_words(f):
 
 
 def own_failure_region(f, name):
-    """The failure region of the design's own P of `name`: (its group, which runs it rests on, the failed runs,
-    the runs it draws as counted, their words), or None."""
+    """The OwnRegion of the design's own P of `name`, or None."""
     return None
 
 

@@ -52,6 +52,8 @@ def other_runs_legend(f):
 
 
 def every_run_words(f):
+    if "morris_block" not in f.attrs:
+        return base.every_run_words(f)
     return "every step of the Morris trajectories too"
 
 
@@ -80,9 +82,9 @@ def own_ranking_words(s, ranking):
 
 
 def own_measure_words():
-    return ("Morris mu*", "over each trajectory's first run", "the mean size of the response's change when the "
-            "input alone steps on its grid, its interactions and non-monotone effects included", "its Morris mu*",
-            "Morris")
+    return base.MeasureWords("Morris mu*", "over each trajectory's first run", "the mean size of the response's "
+                             "change when the input alone steps, its interactions and non-monotone effects included",
+                             "its Morris mu*", "Morris")
 
 
 def morris_units(s):

@@ -74,8 +74,9 @@ def own_ranking_words(s, ranking):
 
 
 def own_measure_words():
-    return ("the total Sobol' index", "over the A and B runs", "the share of the response's variance that goes "
-            "with the input, its interactions and non-monotone effects included", "its Sobol' index", "Sobol'")
+    return base.MeasureWords("the total Sobol' index", "over the A and B runs", "the share of the response's "
+                             "variance that goes with the input, its interactions and non-monotone effects included",
+                             "its Sobol' index", "Sobol'")
 
 
 def reliable(s):
@@ -111,7 +112,8 @@ def failure_effects(f, names):
 def verdict_column(f, sensitivity):
     if not any(s is not None and has_sobol(s) for s in sensitivity):
         return None
-    return f"is N enough for the Sobol' indices (intervals within {INDEX_INTERVAL})?", index_verdict
+    return base.VerdictColumn(f"is N enough for the Sobol' indices (intervals within {INDEX_INTERVAL})?",
+                              index_verdict)
 
 
 def index_verdict(s):

@@ -33,7 +33,7 @@ def ranked_runs_words(f):
     return "level 0's " if "samples/level" in f else ""
 
 
-def own_probability(f, name):
+def own_probability_group(f, name):
     """Its response's P is the levels' answer: level 0 alone (the counted runs) rarely reaches the limit."""
     return f["rare_event"][name] if "rare_event" in f and name in f["rare_event"] else None
 
@@ -44,13 +44,13 @@ def own_probability_words(f):
 
 def own_failure_region(f, name):
     """Every level's runs beyond the limit: each is a draw of the inputs given the failure."""
-    g = own_probability(f, name)
+    g = own_probability_group(f, name)
     if g is None or "failure_region" not in g or "samples/level" not in f:
         return None
     level0 = f["samples/level"][:] == 0
     failed = int(round(float(np.nansum(g["failed_per_level"][:])))) if "failed_per_level" in g else 0
-    return (g["failure_region"], "runs beyond the limit, any level of the subset simulation", failed, level0,
-            f"level 0, the Monte-Carlo sample, {int(level0.sum())} runs")
+    return base.OwnRegion(g["failure_region"], "runs beyond the limit, any level of the subset simulation", failed,
+                          level0, f"level 0, the Monte-Carlo sample, {int(level0.sum())} runs")
 
 
 def after_failure_region(f, page):
