@@ -14,7 +14,8 @@
 #     -DTREEDYN_BUILD_BENCHMARKS=OFF && cmake --build /tmp/before/build -j2 --target treedyn-ensemble
 #   bash bench/compare_outputs.sh /tmp/before/build build
 #
-# Usage: bash bench/compare_outputs.sh OLD_BUILD_DIR NEW_BUILD_DIR [JOB ...]
+# Usage: [SKIP_ATTRIBUTES="description ..."] bash bench/compare_outputs.sh OLD_BUILD_DIR NEW_BUILD_DIR [JOB ...]
+# (SKIP_ATTRIBUTES: attributes a change means to reword, left out everywhere)
 # (a build directory, or a directory holding the treedyn-ensemble binary).
 # Prints one line per comparison and exits non-zero if any differs.
 set -uo pipefail
@@ -38,13 +39,14 @@ run() {  # BINARY RANKS JOB OUT
 same() {  # A B GROUP...: every dataset under the named groups bitwise equal in both files (values,
            # shape, type), and every attribute of them, of their groups and of the root but the run's own
   /usr/bin/python3 - "$@" <<'PY'
-import sys, h5py, numpy as np
+import os, sys, h5py, numpy as np
 # What a run records of itself: when, where, on how many ranks, by which command and build, how fast.
 RUN_OWN = {"start_utc", "end_utc", "wall_time_seconds", "wall_seconds", "command_line", "git_commit", "build_type",
            "compiler", "host", "rank_hosts", "ranks", "samples_per_rank", "samples_run_here", "cpu_seconds_per_rank",
            "busy_seconds_per_rank", "busy_cpu_seconds_per_rank", "record_writing_seconds_per_rank",
            "record_writing_cpu_seconds_per_rank", "peak_rss_mib_per_rank", "unit_storing_cpu_seconds",
            "samples_per_second", "unit_rows", "samples_in_units", "output_file", "job_file"}
+RUN_OWN |= set(os.environ.get("SKIP_ATTRIBUTES", "").split())
 a, b, groups = h5py.File(sys.argv[1], "r"), h5py.File(sys.argv[2], "r"), sys.argv[3:]
 def objects(f, g):
     out = {}
