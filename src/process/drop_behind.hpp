@@ -8,10 +8,12 @@
 // pages, and it spares other processes' cache on a shared node. The same
 // idea as PostgreSQL's *_flush_after and `dd oflag=nocache`.
 //
-// It never waits for the disk: a page still being written when its turn
-// comes is tried again for a lag's worth of writing and then left cached,
-// as every page was before. A write the disk fails is left to the file's
-// fsync, which reports it (neither call here consumes the error).
+// It never waits for the disk, so that a slow or stalled disk cannot stall
+// the writer: a page still being written when its turn comes stays in the
+// window that each later call drops again, until a lag's worth of writing
+// has passed it; after that it stays cached. A write the disk fails is left
+// to the file's fsync, which reports it (neither call here consumes the
+// error).
 #pragma once
 
 #include <cstdint>
