@@ -280,7 +280,7 @@ Row run_batched(ensemble::SampleRunner& runner, const Job& job, const std::vecto
 }
 
 void measure(const std::string& name, const std::string& path, int count) {
-  const auto [job, spec] = ensemble::read_ensemble_job(JobDocument::read(path));
+  const auto [job, spec] = read_ensemble_job(JobDocument::read(path));
   ensemble::SampleRunner runner(job, spec);
   std::vector<std::uint64_t> samples;
   for (int i = 0; i < count; ++i) samples.push_back((spec.pilot_samples + static_cast<std::uint64_t>(i)) % spec.runs);

@@ -51,13 +51,12 @@ int main(int argc, char** argv) {
       "|---|---:|---:|---:|---:|---:|---:|---:|\n",
       ranks);
   for (const char* name : jobs) {
-    const auto [job, spec] =
-        ensemble::read_ensemble_job(JobDocument::read(std::string(TREEDYN_JOBS_DIR) + "/" + name + ".toml"));
+    const auto [job, spec] = read_ensemble_job(JobDocument::read(std::string(TREEDYN_JOBS_DIR) + "/" + name + ".toml"));
     ensemble::SampleRunner runner(job, spec);
     std::vector<double> nominal, trajectory;
     runner.run(0, true, nominal);
     std::vector<double> sample_times;
-    ensemble::SampleRecord record;
+    SampleRecord record;
     for (int k = 0; k < 3; ++k) {
       const auto t0 = Clock::now();
       record = runner.run(static_cast<std::uint64_t>(k), false, trajectory);
@@ -67,10 +66,11 @@ int main(int argc, char** argv) {
     const std::vector<double> stored = trajectory;  // what a sample below store_trajectories carries
     const std::size_t columns = runner.layout().columns, entries = nominal.size();
     std::vector<double> scale(columns, 1.0), zero(entries, 0.0);
-    ensemble::EnsembleStatistics stats(runner.times(), columns, spec.histogram_bins,
-                                       ensemble::calibrate(nominal, zero, zero, scale, columns, spec.histogram_bins));
+    statistics::EnsembleStatistics stats(
+        runner.times(), columns, spec.histogram_bins,
+        statistics::calibrate(nominal, zero, zero, scale, columns, spec.histogram_bins));
     // Every bin of every entry filled: the state at its largest.
-    const ensemble::Calibration& c = stats.calibration();
+    const statistics::Calibration& c = stats.calibration();
     for (int b = 0; b < spec.histogram_bins; ++b) {
       for (std::size_t e = 0; e < entries; ++e) trajectory[e] = c.low[e] + (b + 0.5) * c.width[e];
       stats.add_sample(trajectory);
@@ -79,8 +79,8 @@ int main(int argc, char** argv) {
     const fs::path dir = where / ("treedyn_checkpoint_benchmark_" + std::string(name));
     fs::remove_all(dir);
     fs::create_directories(dir);
-    const ensemble::RunIdentity id = ensemble::run_identity(job.text, "benchmark");
-    ensemble::RankCheckpoint checkpoint(dir, id, 0, "rank0");
+    const persistence::RunIdentity id = persistence::run_identity(job.text, "benchmark");
+    persistence::RankCheckpoint checkpoint(dir, id, 0, "rank0");
     std::vector<double> fixed, unflushed;
     for (int k = 0; k < 10; ++k) {
       checkpoint.add(record);  // one new record: a save with nothing new is skipped

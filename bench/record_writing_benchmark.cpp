@@ -39,27 +39,26 @@ struct Costs {
   std::size_t bytes = 0;                     // encoded bytes per record
 };
 
-Costs measure(const Job& job, const ensemble::EnsembleSpec& spec, const std::vector<ensemble::SampleRecord>& all,
+Costs measure(const Job& job, const EnsembleSpec& spec, const std::vector<SampleRecord>& all,
               ensemble::SampleRunner& runner, const std::filesystem::path& file) {
   Costs c;
   const std::size_t kRecords = all.size();
   std::vector<char> message;
   double t = cpu_seconds();
-  for (const auto& r : all) ensemble::append_record(r, message);
+  for (const auto& r : all) persistence::append_record(r, message);
   c.encode = (cpu_seconds() - t) / static_cast<double>(kRecords);
   c.bytes = message.size() / kRecords;
   t = cpu_seconds();
-  const std::vector<ensemble::SampleRecord> decoded = ensemble::read_records(message, "benchmark");
+  const std::vector<SampleRecord> decoded = persistence::read_records(message, "benchmark");
   c.decode = (cpu_seconds() - t) / static_cast<double>(kRecords);
-  ensemble::EnsembleSpec sized = spec;
+  EnsembleSpec sized = spec;
   sized.runs = kRecords;
   {
-    EnsembleWriter writer(file, job, sized, runner.layout(), runner.final_state_size());
+    h5::EnsembleWriter writer(file, job, sized, runner.layout(), runner.final_state_size());
     t = cpu_seconds();
     for (std::size_t first = 0; first < kRecords; first += kBatch)
-      writer.write_records(
-          std::vector<ensemble::SampleRecord>(decoded.begin() + static_cast<std::ptrdiff_t>(first),
-                                              decoded.begin() + static_cast<std::ptrdiff_t>(first + kBatch)));
+      writer.write_records(std::vector<SampleRecord>(decoded.begin() + static_cast<std::ptrdiff_t>(first),
+                                                     decoded.begin() + static_cast<std::ptrdiff_t>(first + kBatch)));
     c.write = (cpu_seconds() - t) / static_cast<double>(kRecords);
   }  // the temporary file goes with the writer
   return c;
@@ -74,14 +73,13 @@ int main(int argc, char** argv) {
       "|---|---:|---:|---:|---:|---:|\n");
   for (const char* name : {"spherical_pendulum", "double_pendulum", "chain10", "y_tree", "crane_payload", "kapitza"}) {
     if (argc > 2 && std::string(argv[2]) != name) continue;
-    auto [job, spec] =
-        ensemble::read_ensemble_job(JobDocument::read(std::string(TREEDYN_JOBS_DIR) + "/" + name + ".toml"));
+    auto [job, spec] = read_ensemble_job(JobDocument::read(std::string(TREEDYN_JOBS_DIR) + "/" + name + ".toml"));
     spec.runs = 16 * kBatch;  // sample indices for every record below
     ensemble::SampleRunner runner(job, spec);
     std::vector<double> trajectory;
     // About 10 s of samples, in whole batches.
     const auto start = bench::Clock::now();
-    std::vector<ensemble::SampleRecord> real;
+    std::vector<SampleRecord> real;
     while (real.size() < kBatch || (real.size() % kBatch != 0) ||
            (bench::seconds_since(start) < 10.0 && real.size() < 16 * kBatch)) {
       real.push_back(runner.run(real.size(), false, trajectory));

@@ -33,7 +33,7 @@ const std::vector<std::string> kJobs = {"spherical_pendulum", "double_pendulum",
 
 struct Loaded {
   Job job;
-  ensemble::EnsembleSpec spec;
+  EnsembleSpec spec;
 };
 
 const Loaded& loaded(const std::string& name) {
@@ -42,7 +42,7 @@ const Loaded& loaded(const std::string& name) {
   if (!slot) {
     slot = std::make_unique<Loaded>();
     slot->job = read_job(std::string(TREEDYN_JOBS_DIR) + "/" + name + ".toml");
-    slot->spec = ensemble::read_ensemble(slot->job);
+    slot->spec = read_ensemble(slot->job);
   }
   return *slot;
 }
@@ -65,8 +65,8 @@ void BM_Sample(benchmark::State& state, const std::string& name) {
   std::vector<double> trajectory;
   std::uint64_t k = 0;
   for (auto _ : state) {
-    const ensemble::SampleRecord r = runner.run(k++ % l.spec.runs, false, trajectory);
-    if (r.status != ensemble::SampleStatus::ok) state.SkipWithError(r.reason.c_str());
+    const SampleRecord r = runner.run(k++ % l.spec.runs, false, trajectory);
+    if (r.status != SampleStatus::ok) state.SkipWithError(r.reason.c_str());
     benchmark::DoNotOptimize(trajectory.data());
   }
 }

@@ -71,27 +71,28 @@ double time_rhs(const Job& job) {
 
 // The statistics as the driver calibrates them: the nominal run and the
 // pilot samples' deviations.
-ensemble::EnsembleStatistics calibrated(ensemble::SampleRunner& runner, const ensemble::EnsembleSpec& spec,
-                                        std::vector<double>& nominal) {
+statistics::EnsembleStatistics calibrated(ensemble::SampleRunner& runner, const EnsembleSpec& spec,
+                                          std::vector<double>& nominal) {
   runner.run(0, true, nominal);
   const std::size_t entries = nominal.size(), columns = runner.layout().columns;
   std::vector<double> low(entries, std::numeric_limits<double>::infinity()), high(entries, -low[0]), trajectory;
   for (std::uint64_t k = 0; k < spec.pilot_samples; ++k)
-    if (runner.run(k, false, trajectory).status == ensemble::SampleStatus::ok)
+    if (runner.run(k, false, trajectory).status == SampleStatus::ok)
       for (std::size_t e = 0; e < entries; ++e) {
         low[e] = std::min(low[e], trajectory[e] - nominal[e]);
         high[e] = std::max(high[e], trajectory[e] - nominal[e]);
       }
-  return ensemble::EnsembleStatistics(
+  return statistics::EnsembleStatistics(
       runner.times(), columns, spec.histogram_bins,
-      ensemble::calibrate(nominal, low, high, ensemble::column_scales(nominal, columns), columns, spec.histogram_bins));
+      statistics::calibrate(nominal, low, high, statistics::column_scales(nominal, columns), columns,
+                            spec.histogram_bins));
 }
 
 Row measure(const std::string& name, const std::string& path, int samples, int fold_lanes) {
-  const auto [job, spec] = ensemble::read_ensemble_job(JobDocument::read(path));
+  const auto [job, spec] = read_ensemble_job(JobDocument::read(path));
   ensemble::SampleRunner runner(job, spec);
   std::vector<double> nominal, trajectory;
-  ensemble::EnsembleStatistics stats = calibrated(runner, spec, nominal);
+  statistics::EnsembleStatistics stats = calibrated(runner, spec, nominal);
   if (fold_lanes != 0) stats.use_fold_lanes(fold_lanes);
   std::vector<double> rhs, integration, run, statistics, encoding;
   std::vector<char> encoded;
@@ -106,15 +107,15 @@ Row measure(const std::string& name, const std::string& path, int samples, int f
     rhs.push_back(static_cast<double>(outcome.stats.rhs_evaluations));
 
     t0 = Clock::now();
-    const ensemble::SampleRecord record = runner.run(k, false, trajectory);
+    const SampleRecord record = runner.run(k, false, trajectory);
     run.push_back(seconds_since(t0));
     t0 = Clock::now();
-    if (record.status == ensemble::SampleStatus::ok) stats.take_sample(trajectory);  // as RankResults::keep
-    if (i + 1 == samples) (void)stats.mean(0);                                       // folds the last, partial block
+    if (record.status == SampleStatus::ok) stats.take_sample(trajectory);  // as RankResults::keep
+    if (i + 1 == samples) (void)stats.mean(0);                             // folds the last, partial block
     statistics.push_back(seconds_since(t0));
     t0 = Clock::now();
     encoded.clear();
-    ensemble::append_record(record, encoded);
+    persistence::append_record(record, encoded);
     encoding.push_back(seconds_since(t0));
   }
   double mean_statistics = 0.0;
@@ -133,12 +134,12 @@ int main(int argc, char** argv) {
   const std::string jobs = TREEDYN_JOBS_DIR, bench = TREEDYN_BENCH_JOBS_DIR;
   const char* lanes = std::getenv("FOLD_LANES");
   const int fold_lanes = lanes != nullptr ? std::atoi(lanes) : 0;
-  if (fold_lanes != 0 && !ensemble::runs_fold_lanes(fold_lanes)) {
+  if (fold_lanes != 0 && !statistics::runs_fold_lanes(fold_lanes)) {
     std::fprintf(stderr, "throughput_benchmark: FOLD_LANES=%s: this CPU folds %d lanes at most (2, 4 or 8)\n", lanes,
-                 ensemble::widest_fold_lanes());
+                 statistics::widest_fold_lanes());
     return 2;
   }
-  std::printf("The statistics' fold: %d lanes.\n\n", fold_lanes != 0 ? fold_lanes : ensemble::widest_fold_lanes());
+  std::printf("The statistics' fold: %d lanes.\n\n", fold_lanes != 0 ? fold_lanes : statistics::widest_fold_lanes());
   const std::pair<std::string, std::string> cases[] = {{"spherical_pendulum", jobs + "/spherical_pendulum.toml"},
                                                        {"double_pendulum", jobs + "/double_pendulum.toml"},
                                                        {"kapitza", jobs + "/kapitza.toml"},

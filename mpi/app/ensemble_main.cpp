@@ -27,9 +27,9 @@ namespace {
 // would go (the output's directory, else the current one).
 int check(const std::string& job_path, const std::string& output_path) {
   try {
-    const auto [job, spec] = treedyn::ensemble::read_ensemble_job(treedyn::JobDocument::read(job_path));
+    const auto [job, spec] = treedyn::read_ensemble_job(treedyn::JobDocument::read(job_path));
     treedyn::print_model_summary(std::cout, job);
-    treedyn::ensemble::print_ensemble_summary(std::cout, job, spec);
+    treedyn::print_ensemble_summary(std::cout, job, spec);
     treedyn::ensemble::Capacity capacity = treedyn::ensemble::measure_capacity(job, spec);
     treedyn::ensemble::measure_writing(capacity, treedyn::process::directory_of(output_path));
     treedyn::ensemble::print_capacity(std::cout, capacity, spec, "sample 0, timed now");
@@ -69,7 +69,8 @@ int merge_command(int argc, char** argv, int rank) {
     return code == 0 ? kExitOk : kExitBadInput;
   }
   if (rank != 0) return kExitOk;
-  return exit_code_of([&] { return merge_parts(parts, output, quiet, start_provenance(argc, argv, parts.front())); });
+  return exit_code_of(
+      [&] { return merge_parts(parts, output, quiet, h5::start_provenance(argc, argv, parts.front())); });
 }
 
 namespace {
@@ -243,7 +244,7 @@ int main(int argc, char** argv) {
   }
   if (c.check_only) return session.rank() == 0 ? check(c.options.job_path, c.options.output_path) : kExitOk;
   if (*c.samples_option && !read_sample_range(c.sample_range, c.options, session.rank())) return kExitBadInput;
-  c.options.provenance = start_provenance(argc, argv, c.options.job_path);
+  c.options.provenance = h5::start_provenance(argc, argv, c.options.job_path);
   if (c.options.output_path.empty()) {
     if (session.rank() == 0) std::cerr << "error: --output is required (or use --check)\n";
     return kExitBadInput;

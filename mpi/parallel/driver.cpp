@@ -19,21 +19,21 @@
 namespace treedyn::parallel {
 namespace fs = std::filesystem;
 
-RunSetup::RunSetup(MPI_Comm c, const EnsembleOptions& o, const Job& j, const ensemble::EnsembleSpec& s)
+RunSetup::RunSetup(MPI_Comm c, const EnsembleOptions& o, const Job& j, const EnsembleSpec& s)
     : comm(c), options(o), job(j), spec(s) {
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
   first = options.part() ? options.first_sample : 0;
   end = options.part() ? options.end_sample : spec.runs;
-  job_id = ensemble::run_identity(job.text, build_identity());
+  job_id = persistence::run_identity(job.text, h5::build_identity());
   id = options.part()
-           ? ensemble::run_identity(job.text + "\n# --samples " + std::to_string(first) + ":" + std::to_string(end),
-                                    build_identity())
+           ? persistence::run_identity(job.text + "\n# --samples " + std::to_string(first) + ":" + std::to_string(end),
+                                       h5::build_identity())
            : job_id;
-  checkpoint_dir = ensemble::checkpoint_directory(options.output_path);
+  checkpoint_dir = persistence::checkpoint_directory(options.output_path);
 }
 
-EnsembleRun::EnsembleRun(MPI_Comm c, const EnsembleOptions& o, const Job& j, const ensemble::EnsembleSpec& s)
+EnsembleRun::EnsembleRun(MPI_Comm c, const EnsembleOptions& o, const Job& j, const EnsembleSpec& s)
     : RunSetup(c, o, j, s), DesignState(s), RankState(j, s) {
   // A part's records go into its part file; an adaptive design's arrive as
   // its waves make them (chain by chain), not in units.
@@ -46,7 +46,7 @@ namespace {
 
 // Rank 0 reads the job file once and sends its text; every rank parses the
 // same text, so all refuse a bad job alike and no collective is left waiting.
-int read_job(MPI_Comm comm, int rank, const std::string& path, Job& job, ensemble::EnsembleSpec& spec) {
+int read_job(MPI_Comm comm, int rank, const std::string& path, Job& job, EnsembleSpec& spec) {
   std::string text;
   int ok = 1;
   if (rank == 0) {
@@ -62,8 +62,7 @@ int read_job(MPI_Comm comm, int rank, const std::string& path, Job& job, ensembl
   std::vector<char> bytes(text.begin(), text.end());
   broadcast(comm, bytes);
   try {
-    ensemble::EnsembleJob read =
-        ensemble::read_ensemble_job(JobDocument::parse(std::string(bytes.begin(), bytes.end()), path));
+    EnsembleJob read = read_ensemble_job(JobDocument::parse(std::string(bytes.begin(), bytes.end()), path));
     job = std::move(read.job);
     spec = std::move(read.spec);
   } catch (const JobError& e) {
@@ -85,7 +84,8 @@ int abandon(EnsembleRun& run, int code) {
   if (run.rank == 0) {
     run.writer.reset();
     try {
-      if (!ensemble::checkpoint_holds_samples(run.checkpoint_dir)) ensemble::remove_checkpoint(run.checkpoint_dir);
+      if (!persistence::checkpoint_holds_samples(run.checkpoint_dir))
+        persistence::remove_checkpoint(run.checkpoint_dir);
     } catch (const process::FileError&) {
     }
   }
@@ -114,7 +114,7 @@ int on_rank_zero(EnsembleRun& run, const std::function<int()>& work) {
     } catch (const process::FileError& e) {
       std::cerr << "error: " << e.what() << "\n";
       code = kExitIo;
-    } catch (const ensemble::CheckpointError& e) {
+    } catch (const persistence::CheckpointError& e) {
       std::cerr << "error: " << e.what() << "\n";
       code = kExitBadInput;
     }
@@ -126,7 +126,7 @@ int check_range(EnsembleRun& run) {
   const bool adaptive = designs::rules_of(run.spec.design).adaptive(run.spec);
   if (run.options.part() && (run.spec.stop || adaptive)) {
     if (run.rank == 0)
-      std::cerr << "error: --samples: " << (run.spec.stop ? "[ensemble.stop]" : ensemble::name(run.spec.design))
+      std::cerr << "error: --samples: " << (run.spec.stop ? "[ensemble.stop]" : name(run.spec.design))
                 << " decides from every sample before each check point, so its ensemble runs as one job (any "
                    "number of ranks), not in parts\n";
     return kExitBadInput;
@@ -139,14 +139,14 @@ int check_range(EnsembleRun& run) {
 }
 
 int check_memory(EnsembleRun& run) {
-  return memory_fits(run.comm, ensemble::statistics_bytes(run.job, run.spec)) ? kExitOk : kExitMemory;
+  return memory_fits(run.comm, statistics_bytes(run.job, run.spec)) ? kExitOk : kExitMemory;
 }
 
 int run_ensemble(MPI_Comm comm, const EnsembleOptions& options) {
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
   Job job;
-  ensemble::EnsembleSpec spec;
+  EnsembleSpec spec;
   if (const int code = read_job(comm, rank, options.job_path, job, spec); code != kExitOk) return code;
   EnsembleRun run(comm, options, job, spec);
   // The first signal saves this rank's checkpoint at once (on the signal

@@ -55,7 +55,7 @@
 namespace treedyn::parallel {
 
 struct EnsembleOptions {
-  RunProvenance provenance;  // command line, start time (ranks and hosts: filled by the driver)
+  h5::RunProvenance provenance;  // command line, start time (ranks and hosts: filled by the driver)
   std::string job_path;
   std::string output_path;
   bool quiet = false;
@@ -74,13 +74,13 @@ int run_ensemble(MPI_Comm comm, const EnsembleOptions& options);
 
 // What is configured once, the same on every rank for the whole run.
 struct RunSetup {
-  RunSetup(MPI_Comm comm, const EnsembleOptions& options, const Job& job, const ensemble::EnsembleSpec& spec);
+  RunSetup(MPI_Comm comm, const EnsembleOptions& options, const Job& job, const EnsembleSpec& spec);
 
   MPI_Comm comm;
   int rank = 0, size = 1;
   const EnsembleOptions& options;
   const Job& job;
-  const ensemble::EnsembleSpec& spec;
+  const EnsembleSpec& spec;
   std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
   // The samples this run owns, [first, end): the whole ensemble unless a part.
   std::uint64_t first = 0, end = 0;
@@ -90,13 +90,13 @@ struct RunSetup {
   // is known (EnsembleRun).
   std::size_t unit_rows = 0;
   // A part's checkpoint belongs to its range (id); the part file to the job (job_id).
-  ensemble::RunIdentity job_id, id;
+  persistence::RunIdentity job_id, id;
   std::filesystem::path checkpoint_dir;
 };
 
 // What the design owns: its waves, and what decides the next one.
 struct DesignState {
-  explicit DesignState(const ensemble::EnsembleSpec& spec) : plan(ensemble::make_wave_plan(spec)) {}
+  explicit DesignState(const EnsembleSpec& spec) : plan(analysis::make_wave_plan(spec)) {}
 
   std::unique_ptr<ensemble::WavePlan> plan;
   std::uint64_t samples_used = 0;                // the end of the last wave run: [ensemble.stop] may end before `end`
@@ -106,27 +106,27 @@ struct DesignState {
 // What this rank owns: its runner, what it restored, its results and
 // checkpoint, its records' way out, its output (rank 0) and its counters.
 struct RankState {
-  RankState(const Job& job, const ensemble::EnsembleSpec& spec) : runner(job, spec) {}
+  RankState(const Job& job, const EnsembleSpec& spec) : runner(job, spec) {}
 
   ensemble::SampleRunner runner;
   // Rank 0: the output's lock (process/output_lock.hpp), held from before
   // anything of the output is touched to the end; released last.
   std::optional<process::OutputLock> lock;
 
-  std::optional<ensemble::RestoredRun> restored;  // rank 0's, whole; the others': calibration only
-  ensemble::IndexRanges finished;                 // samples a resumed run already has
+  std::optional<persistence::RestoredRun> restored;  // rank 0's, whole; the others': calibration only
+  ensemble::IndexRanges finished;                    // samples a resumed run already has
   std::uint64_t restored_samples = 0, generation = 0;
   std::vector<double> nominal;
-  ensemble::ToleranceCheck tolerance;  // the pilot's (every rank), or restored (rank 0)
+  statistics::ToleranceCheck tolerance;  // the pilot's (every rank), or restored (rank 0)
 
-  std::unique_ptr<EnsembleWriter> writer;  // rank 0, whole ensembles
+  std::unique_ptr<h5::EnsembleWriter> writer;  // rank 0, whole ensembles
   std::unique_ptr<ensemble::Progress> progress;
-  std::vector<ensemble::SampleRecord> part_records;  // rank 0, parts
+  std::vector<SampleRecord> part_records;  // rank 0, parts
   std::unique_ptr<RecordSink> sink;
   RecordWriter* records = nullptr;  // rank 0's view of the sink
   ensemble::RankResults results;
-  bool checkpoints = false;                                         // on, and common.state written (or restored)
-  std::optional<ensemble::EnsembleStatistics> restored_statistics;  // rank 0
+  bool checkpoints = false;                                           // on, and common.state written (or restored)
+  std::optional<statistics::EnsembleStatistics> restored_statistics;  // rank 0
 
   double busy_seconds = 0.0, busy_cpu_seconds = 0.0;
   std::uint64_t samples_run = 0;
@@ -136,7 +136,7 @@ struct RankState {
 
 // Everything one rank knows of the run (the phases' shared data), by trade.
 struct EnsembleRun : RunSetup, DesignState, RankState {
-  EnsembleRun(MPI_Comm c, const EnsembleOptions& o, const Job& j, const ensemble::EnsembleSpec& s);
+  EnsembleRun(MPI_Comm c, const EnsembleOptions& o, const Job& j, const EnsembleSpec& s);
 };
 
 // Runs `work` on rank 0 alone and gives every rank its exit code. A file

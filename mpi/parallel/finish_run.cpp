@@ -53,8 +53,8 @@ EnsembleSummary gather_loads(const EnsembleRun& run) {
 }
 
 // Every rank's host name and the MPI library, for the file's provenance.
-RunProvenance gather_provenance(const EnsembleRun& run) {
-  RunProvenance provenance = run.options.provenance;
+h5::RunProvenance gather_provenance(const EnsembleRun& run) {
+  h5::RunProvenance provenance = run.options.provenance;
   char name[MPI_MAX_PROCESSOR_NAME] = {};
   int length = 0;
   MPI_Get_processor_name(name, &length);
@@ -80,12 +80,12 @@ void note_stale_outputs(const EnsembleRun& run) {
 
 // Rank 0, a part of a split ensemble: its records, statistics and
 // calibration into the part file, atomically.
-int write_part(EnsembleRun& run, const ensemble::EnsembleStatistics& stats) {
+int write_part(EnsembleRun& run, const statistics::EnsembleStatistics& stats) {
   if (!run.records->io_error().empty()) {
     std::cerr << "error: " << run.records->io_error() << "\n";
     return kExitIo;
   }
-  ensemble::PartFile part;
+  persistence::PartFile part;
   part.id = run.job_id;
   part.job_text = run.job.text;
   part.job_path = run.options.provenance.job_path.empty() ? run.options.job_path : run.options.provenance.job_path;
@@ -97,7 +97,7 @@ int write_part(EnsembleRun& run, const ensemble::EnsembleStatistics& stats) {
   part.records = std::move(run.part_records);
   std::sort(part.records.begin(), part.records.end(), [](const auto& a, const auto& b) { return a.index < b.index; });
   try {
-    ensemble::write_part_file(run.options.output_path, part, stats);
+    persistence::write_part_file(run.options.output_path, part, stats);
   } catch (const process::FileError& e) {
     std::cerr << "error: " << e.what() << "\n";
     return kExitIo;
@@ -115,15 +115,15 @@ std::string stop_reason_of(const EnsembleRun& run, const designs::RunAnswer* ans
   if (answer) return answer->stop_reason();
   if (!run.spec.stop) return "no stopping rule: every sample of the design was run";
   if (run.table)
-    if (auto reason = ensemble::stop_reason(run.spec, *run.table, run.samples_used)) return *reason;
+    if (auto reason = analysis::stop_reason(run.spec, *run.table, run.samples_used)) return *reason;
   return "no target of [ensemble.stop] held: stopped at the most samples, " + std::to_string(run.spec.runs);
 }
 
 // Rank 0, a whole ensemble: the records are in the file already (a write
 // error among them is reported before anything else is written); the rest
 // goes the same way as a merge's (EnsembleWriter::complete).
-int write_ensemble(EnsembleRun& run, const ensemble::EnsembleStatistics& stats, EnsembleSummary summary,
-                   const RunProvenance& provenance) {
+int write_ensemble(EnsembleRun& run, const statistics::EnsembleStatistics& stats, EnsembleSummary summary,
+                   const h5::RunProvenance& provenance) {
   summary.failed = run.records->failed();
   summary.ok = run.records->done() - summary.failed;
   summary.samples_used = run.samples_used;
@@ -135,8 +135,8 @@ int write_ensemble(EnsembleRun& run, const ensemble::EnsembleStatistics& stats, 
   const std::unique_ptr<const designs::RunAnswer> run_answer =
       run.table ? designs::run_answer(run.spec, *run.table) : nullptr;
   summary.stop_reason = stop_reason_of(run, run_answer.get());
-  const std::vector<ensemble::ResponseAnswer> answers =
-      run.table ? ensemble::answer_responses(run.spec, *run.table) : std::vector<ensemble::ResponseAnswer>{};
+  const std::vector<analysis::ResponseAnswer> answers =
+      run.table ? analysis::answer_responses(run.spec, *run.table) : std::vector<analysis::ResponseAnswer>{};
   try {
     if (!run.records->io_error().empty()) throw process::FileError(run.records->io_error());
     if (run.samples_used < run.spec.runs) run.writer->keep_samples(run.samples_used);
@@ -148,8 +148,8 @@ int write_ensemble(EnsembleRun& run, const ensemble::EnsembleStatistics& stats, 
     return kExitIo;
   }
   if (!run.options.quiet) {
-    ensemble::print_digest(std::cout, ensemble::digest_of(run.job, run.spec, stats, summary));
-    ensemble::print_response_summary(std::cout, run.spec, answers, run.tolerance);
+    analysis::print_digest(std::cout, analysis::digest_of(run.job, run.spec, stats, summary));
+    analysis::print_response_summary(std::cout, run.spec, answers, run.tolerance);
     if (run_answer) run_answer->print(std::cout, run.spec);
     if (run.spec.stop)
       std::cout << "stopped after " << run.samples_used << " of at most " << run.spec.runs
@@ -162,7 +162,7 @@ int write_ensemble(EnsembleRun& run, const ensemble::EnsembleStatistics& stats, 
 }  // namespace
 
 int finish_run(EnsembleRun& run) {
-  ensemble::EnsembleStatistics stats = run.results.finish();  // the signal thread keeps off it from here on
+  statistics::EnsembleStatistics stats = run.results.finish();  // the signal thread keeps off it from here on
   if (run.restored_statistics) stats.merge(*run.restored_statistics);
   reduce_statistics(run.comm, stats);
   if (run.rank == 0) {  // before the gather, so that its time is in rank 0's writing
@@ -170,7 +170,7 @@ int finish_run(EnsembleRun& run) {
     run.records->write_held();
   }
   const EnsembleSummary summary = gather_loads(run);
-  const RunProvenance provenance = gather_provenance(run);
+  const h5::RunProvenance provenance = gather_provenance(run);
   int code = kExitOk;
   if (run.rank == 0) {
     code = run.options.part() ? write_part(run, stats) : write_ensemble(run, stats, summary, provenance);
@@ -181,7 +181,7 @@ int finish_run(EnsembleRun& run) {
   run.results.await_final_save();
   code = max_over_ranks(run.comm, code);
   if (run.rank == 0 && code == kExitOk) {
-    ensemble::remove_checkpoint(run.checkpoint_dir);
+    persistence::remove_checkpoint(run.checkpoint_dir);
     note_stale_outputs(run);  // the processes of a run killed just before this one are gone by now
   }
   return code;

@@ -20,7 +20,7 @@ namespace {
 std::optional<std::string> output_job_text(const EnsembleRun& run, const fs::path& out) {
   try {
     if (run.options.part()) {
-      const ensemble::PartFile part = ensemble::read_part_file(out);
+      const persistence::PartFile part = persistence::read_part_file(out);
       if (part.first != run.first || part.end != run.end) return std::string();  // another range: another output
       return part.job_text;
     }
@@ -65,22 +65,22 @@ int open_checkpoint(EnsembleRun& run) {
   std::error_code ignored;
   fs::remove(dir / "stopped", ignored);  // an earlier stop's marker: this run is not stopped (yet)
   if (run.options.resume) {
-    run.restored = ensemble::load_checkpoint(dir, run.id, ensemble::statistics_shape(run.runner),
-                                             ensemble::record_shape(run.runner, run.first, run.end));
+    run.restored = persistence::load_checkpoint(dir, run.id, ensemble::statistics_shape(run.runner),
+                                                ensemble::record_shape(run.runner, run.first, run.end));
     if (!run.restored) {
       if (const int code = finished_output(run); code != kExitOk) return code;
       std::cerr << "note: no checkpoint " << dir.string() << " to resume (or it was written before the pilot "
                 << "samples were done): starting from the beginning\n";
     }
-  } else if (ensemble::checkpoint_exists(dir)) {
+  } else if (persistence::checkpoint_exists(dir)) {
     std::cerr << "error: " << dir.string() << " holds the checkpoint of an earlier run of this output: "
               << "resume it with --resume, or remove that directory to start afresh\n";
     return kExitBadInput;
   }
   if (run.restored || run.options.checkpoint_every <= 0.0) return kExitOk;
-  ensemble::remove_checkpoint(dir);
+  persistence::remove_checkpoint(dir);
   try {
-    ensemble::create_checkpoint_directory(dir);
+    persistence::create_checkpoint_directory(dir);
     return kExitOk;
   } catch (const process::FileError& e) {
     std::cerr << "error: " << e.what() << " (or turn checkpoints off with --checkpoint-every 0)\n";
@@ -121,7 +121,7 @@ int share_restored(EnsembleRun& run) {
   broadcast(run.comm, finished);
   if (run.rank != 0) {
     ByteReader in(calibration, "the restored calibration");
-    run.restored->calibration = ensemble::Calibration::read(in, run.runner.times() * run.runner.layout().columns);
+    run.restored->calibration = statistics::Calibration::read(in, run.runner.times() * run.runner.layout().columns);
     for (std::size_t k = 0; k + 1 < finished.size(); k += 2) run.finished.append(finished[k], finished[k + 1]);
   }
   return kExitOk;
@@ -134,7 +134,7 @@ namespace {
 // the writer, and everything restored becomes the base of a new generation.
 int restore_on_rank_zero(EnsembleRun& run) {
   run.restored_samples = run.restored->records.size();
-  run.generation = ensemble::consolidate_checkpoint(run.checkpoint_dir, run.id, *run.restored);
+  run.generation = persistence::consolidate_checkpoint(run.checkpoint_dir, run.id, *run.restored);
   run.restored_statistics = std::move(run.restored->statistics);
   run.tolerance = run.restored->tolerance;
   run.restored->statistics.reset();
@@ -170,8 +170,8 @@ int start_records(EnsembleRun& run) {
   }
   run.checkpoints = run.options.checkpoint_every > 0.0;
   if (run.checkpoints)
-    run.results.use_checkpoint(std::make_unique<ensemble::RankCheckpoint>(run.checkpoint_dir, run.id, run.generation,
-                                                                          "rank" + std::to_string(run.rank)),
+    run.results.use_checkpoint(std::make_unique<persistence::RankCheckpoint>(run.checkpoint_dir, run.id, run.generation,
+                                                                             "rank" + std::to_string(run.rank)),
                                run.options.checkpoint_every);
   return kExitOk;
 }

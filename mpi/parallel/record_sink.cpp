@@ -49,7 +49,7 @@ std::size_t message_bytes(int ranks) {
 }
 
 // What a record holds in memory, roughly: its numbers and its reason.
-std::size_t record_bytes(const ensemble::SampleRecord& r) {
+std::size_t record_bytes(const SampleRecord& r) {
   const std::size_t numbers =
       r.inputs.size() + r.reductions.size() + r.responses.size() + r.final_state.size() + r.trajectory.size();
   return sizeof r + r.reason.size() + numbers * sizeof(double);
@@ -86,8 +86,8 @@ RecordSink::Writing::~Writing() {
   sink_.writing_cpu_seconds_ += thread_cpu_seconds() - start_cpu_;
 }
 
-RecordWriter::RecordWriter(MPI_Comm comm, int ranks, EnsembleWriter* writer, ensemble::Progress& progress,
-                           ensemble::ResponseTable* table, std::vector<ensemble::SampleRecord>* collected)
+RecordWriter::RecordWriter(MPI_Comm comm, int ranks, h5::EnsembleWriter* writer, ensemble::Progress& progress,
+                           ensemble::ResponseTable* table, std::vector<SampleRecord>* collected)
     : comm_(comm),
       ranks_(ranks),
       writer_(writer),
@@ -96,7 +96,7 @@ RecordWriter::RecordWriter(MPI_Comm comm, int ranks, EnsembleWriter* writer, ens
       collected_(collected),
       spare_(kSpareBytes) {}
 
-void RecordWriter::add(ensemble::SampleRecord record) { local_.push_back(std::move(record)); }
+void RecordWriter::add(SampleRecord record) { local_.push_back(std::move(record)); }
 
 void RecordWriter::end_block() {
   if (!local_.empty()) {
@@ -120,13 +120,13 @@ void RecordWriter::end_wave() {
   finished_ranks_ = 0;
 }
 
-void RecordWriter::count(const ensemble::SampleRecord& r) {
+void RecordWriter::count(const SampleRecord& r) {
   ++done_;
-  if (r.status != ensemble::SampleStatus::ok) ++failed_;
+  if (r.status != SampleStatus::ok) ++failed_;
   if (table_) table_->add(r);
 }
 
-void RecordWriter::write(std::vector<ensemble::SampleRecord> records) {
+void RecordWriter::write(std::vector<SampleRecord> records) {
   for (auto& r : records) {
     count(r);
     if (!io_error_.empty()) continue;  // nothing more goes to a file that failed
@@ -229,7 +229,7 @@ void RecordWriter::handle(std::span<const char> message, int source, int tag) {
   else if (tag == kTagUnit)
     write_unit(message, source);
   else
-    write(ensemble::read_records(message, "the records of rank " + std::to_string(source)));
+    write(persistence::read_records(message, "the records of rank " + std::to_string(source)));
 }
 
 // A unit's chunks go to the file at once (each is whole; nothing to wait
@@ -244,7 +244,7 @@ void RecordWriter::write_unit(std::span<const char> message, int source) {
     } catch (const std::exception& e) {
       io_error_ = e.what();
     }
-  for (const ensemble::SampleRecord& r : unit_.records) count(r);
+  for (const SampleRecord& r : unit_.records) count(r);
   done_in_units_ += unit_.records.size();
   unit_storing_cpu_seconds_ += thread_cpu_seconds() - start;
   progress_.update(done_, failed_);
@@ -255,13 +255,13 @@ RecordSender::RecordSender(MPI_Comm comm, int ranks, std::optional<ensemble::Sam
   if (rows_) encoder_.emplace(*rows_);
 }
 
-void RecordSender::add(ensemble::SampleRecord record) {
+void RecordSender::add(SampleRecord record) {
   if (in_unit_) {
     unit_.push_back(std::move(record));
     return;
   }
   if (batch_.empty()) held_since_ = std::chrono::steady_clock::now();
-  ensemble::append_record(record, batch_);
+  persistence::append_record(record, batch_);
 }
 
 void RecordSender::begin_unit(std::uint64_t first, std::uint64_t rows) {
@@ -281,7 +281,7 @@ void RecordSender::end_unit(bool stopped) {
     return;
   }
   if (!whole) {
-    for (ensemble::SampleRecord& r : unit_) add(std::move(r));
+    for (SampleRecord& r : unit_) add(std::move(r));
     unit_.clear();
     return;
   }

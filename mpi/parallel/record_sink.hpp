@@ -28,7 +28,7 @@ namespace treedyn::parallel {
 class RecordSink {
  public:
   virtual ~RecordSink() = default;
-  virtual void add(ensemble::SampleRecord record) = 0;
+  virtual void add(SampleRecord record) = 0;
   // Around the samples [first, first + rows) of one unit
   // (hdf5/unit_chunks.hpp: a whole chunk of every per-sample dataset, run
   // here): a sender holds their records and, when every one of them was
@@ -96,15 +96,15 @@ class RecordWriter final : public RecordSink {
   // Every record also goes into `table` (status, inputs, responses), if
   // given, for the answers computed at the end. A part of a split ensemble
   // has no `writer` (null): its records are `collected` for the part file.
-  RecordWriter(MPI_Comm comm, int ranks, EnsembleWriter* writer, ensemble::Progress& progress,
-               ensemble::ResponseTable* table, std::vector<ensemble::SampleRecord>* collected = nullptr);
-  void add(ensemble::SampleRecord record) override;
+  RecordWriter(MPI_Comm comm, int ranks, h5::EnsembleWriter* writer, ensemble::Progress& progress,
+               ensemble::ResponseTable* table, std::vector<SampleRecord>* collected = nullptr);
+  void add(SampleRecord record) override;
   void end_block() override;
   void end_wave() override;
   // The progress line's last word (at the end of the run, or of a stop).
   void finish_progress() { progress_.finish(done_, failed_); }
   // Records of a resumed run's checkpoint, written as if they had arrived.
-  void restore(std::vector<ensemble::SampleRecord> records) {
+  void restore(std::vector<SampleRecord> records) {
     const Writing writing(*this);
     write(std::move(records));
   }
@@ -127,8 +127,8 @@ class RecordWriter final : public RecordSink {
   void post(MPI_Message& message, const MPI_Status& status);
   bool complete_received(bool wait);
   void handle(std::span<const char> message, int source, int tag);
-  void write(std::vector<ensemble::SampleRecord> records);
-  void count(const ensemble::SampleRecord& record);
+  void write(std::vector<SampleRecord> records);
+  void count(const SampleRecord& record);
   void write_unit(std::span<const char> message, int source);
 
   // A message matched and being received (MPI_Imrecv): rank 0 never waits
@@ -142,17 +142,17 @@ class RecordWriter final : public RecordSink {
 
   MPI_Comm comm_;
   int ranks_;
-  EnsembleWriter* writer_;
+  h5::EnsembleWriter* writer_;
   ensemble::Progress& progress_;
   ensemble::ResponseTable* table_;
-  std::vector<ensemble::SampleRecord>* collected_;
-  std::vector<ensemble::SampleRecord> local_;
-  std::vector<ensemble::SampleRecord> batch_;  // counted, not yet in the file
-  std::vector<Receiving> receiving_;           // posted, in the order matched
-  std::vector<MPI_Request> requests_;          // theirs, in the same order
-  std::size_t receiving_bytes_ = 0;            // of the messages in receiving_
-  h5::Unit unit_;                              // the last unit received, decoded (its vectors reused)
-  BufferPool spare_;                           // buffers of completed messages, reused: no allocation per message
+  std::vector<SampleRecord>* collected_;
+  std::vector<SampleRecord> local_;
+  std::vector<SampleRecord> batch_;    // counted, not yet in the file
+  std::vector<Receiving> receiving_;   // posted, in the order matched
+  std::vector<MPI_Request> requests_;  // theirs, in the same order
+  std::size_t receiving_bytes_ = 0;    // of the messages in receiving_
+  h5::Unit unit_;                      // the last unit received, decoded (its vectors reused)
+  BufferPool spare_;                   // buffers of completed messages, reused: no allocation per message
   std::size_t batch_bytes_ = 0;
   int finished_ranks_ = 0;
   std::uint64_t done_ = 0, failed_ = 0, done_in_units_ = 0;
@@ -170,7 +170,7 @@ class RecordSender final : public RecordSink {
   RecordSender(MPI_Comm comm, int ranks, std::optional<ensemble::SampleRows> rows);
   RecordSender(const RecordSender&) = delete;  // its encoder refers to its rows
   RecordSender& operator=(const RecordSender&) = delete;
-  void add(ensemble::SampleRecord record) override;
+  void add(SampleRecord record) override;
   void begin_unit(std::uint64_t first, std::uint64_t rows) override;
   void end_unit(bool stopped) override;
   void end_block() override;
@@ -194,7 +194,7 @@ class RecordSender final : public RecordSink {
   std::optional<h5::UnitEncoder> encoder_;
   bool in_unit_ = false;
   std::uint64_t unit_first_ = 0, unit_rows_ = 0;
-  std::vector<ensemble::SampleRecord> unit_;  // the unit's records so far
+  std::vector<SampleRecord> unit_;  // the unit's records so far
 };
 
 }  // namespace treedyn::parallel

@@ -7,7 +7,7 @@ namespace {
 
 constexpr int kTagPiece = 1;
 
-void send_state(MPI_Comm comm, int to, const ensemble::EnsembleStatistics& stats) {
+void send_state(MPI_Comm comm, int to, const statistics::EnsembleStatistics& stats) {
   std::vector<char> piece;
   for (std::size_t k = 0; k < stats.state_pieces(); ++k) {
     piece.clear();
@@ -17,7 +17,7 @@ void send_state(MPI_Comm comm, int to, const ensemble::EnsembleStatistics& stats
   }
 }
 
-void add_state(MPI_Comm comm, int from, ensemble::EnsembleStatistics& stats) {
+void add_state(MPI_Comm comm, int from, statistics::EnsembleStatistics& stats) {
   std::vector<char> piece;
   for (std::size_t k = 0; k < stats.state_pieces(); ++k) {
     MPI_Status status;
@@ -33,7 +33,7 @@ void add_state(MPI_Comm comm, int from, ensemble::EnsembleStatistics& stats) {
 
 }  // namespace
 
-void reduce_statistics(MPI_Comm comm, ensemble::EnsembleStatistics& stats) {
+void reduce_statistics(MPI_Comm comm, statistics::EnsembleStatistics& stats) {
   MPI_Comm tree;  // its own communicator: no other message can match
   MPI_Comm_dup(comm, &tree);
   int rank = 0, size = 1;

@@ -10,6 +10,6 @@
 
 namespace treedyn::parallel {
 
-void reduce_statistics(MPI_Comm comm, ensemble::EnsembleStatistics& stats);
+void reduce_statistics(MPI_Comm comm, statistics::EnsembleStatistics& stats);
 
 }  // namespace treedyn::parallel

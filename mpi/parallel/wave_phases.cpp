@@ -23,8 +23,6 @@
 namespace treedyn::parallel {
 namespace {
 
-using ensemble::SampleRecord;
-using ensemble::SampleStatus;
 using Sync = process::AtomicFile::Sync;
 
 // One sample. Any exception becomes a failed record: a sample never takes
@@ -72,12 +70,12 @@ class PilotCheck {
  public:
   PilotCheck(const EnsembleRun& run, std::uint64_t pilot_end)
       : responses_(run.spec.responses.size()),
-        reruns_(responses_ > 0 ? std::min(ensemble::kToleranceReruns, pilot_end) : 0),
+        reruns_(responses_ > 0 ? std::min(statistics::kToleranceReruns, pilot_end) : 0),
         tight_job_(run.job),
         pilot_(pilot_end * responses_, 0.0),
         rerun_(reruns_ * responses_, 0.0) {
-    tight_job_.request.settings.relative_tolerance *= ensemble::kToleranceFactor;
-    tight_job_.request.settings.absolute_tolerance *= ensemble::kToleranceFactor;
+    tight_job_.request.settings.relative_tolerance *= statistics::kToleranceFactor;
+    tight_job_.request.settings.absolute_tolerance *= statistics::kToleranceFactor;
     if (reruns_ > 0) tight_.emplace(tight_job_, run.spec);
   }
 
@@ -96,13 +94,13 @@ class PilotCheck {
   }
 
   // Collective: every rank's rows together, then the check.
-  ensemble::ToleranceCheck finish(MPI_Comm comm) {
+  statistics::ToleranceCheck finish(MPI_Comm comm) {
     all_reduce(comm, pilot_, MPI_SUM);
     all_reduce(comm, rerun_, MPI_SUM);
     const IntegratorSettings& settings = tight_job_.request.settings;
-    return ensemble::check_tolerances(settings.relative_tolerance / ensemble::kToleranceFactor,
-                                      settings.absolute_tolerance / ensemble::kToleranceFactor, responses_, pilot_,
-                                      rerun_);
+    return statistics::check_tolerances(settings.relative_tolerance / statistics::kToleranceFactor,
+                                        settings.absolute_tolerance / statistics::kToleranceFactor, responses_, pilot_,
+                                        rerun_);
   }
 
  private:
@@ -139,10 +137,10 @@ void report_capacity(EnsembleRun& run, std::vector<double> pilot_cpu, double rec
 
 // Rank 0: a response whose integration error is too large for it, said at
 // once (the run goes on; the summary and the page say it again).
-void warn_too_loose(const EnsembleRun& run, const ensemble::ToleranceCheck& check) {
+void warn_too_loose(const EnsembleRun& run, const statistics::ToleranceCheck& check) {
   for (std::size_t r = 0; r < check.change.size(); ++r)
-    if (ensemble::tolerance_verdict(check, r).kind == ensemble::ToleranceVerdict::Kind::too_loose)
-      std::cerr << "warning: the integration is " << ensemble::describe_verdict(check, r) << " (response "
+    if (statistics::tolerance_verdict(check, r).kind == statistics::ToleranceVerdict::Kind::too_loose)
+      std::cerr << "warning: the integration is " << statistics::describe_verdict(check, r) << " (response "
                 << run.spec.responses[r].name << ", pilot samples 0-" << check.samples.back() << " rerun)\n";
 }
 
@@ -199,12 +197,12 @@ bool may_go_on(WorkQueue& queue) {
 // agree and stop (exit 6) instead of leaving the others in a collective.
 // `kept`: the pilot's own trajectories of this rank. Throws
 // OutOfMemoryEverywhere (caught in run_ensemble) on every rank when any failed.
-bool start_statistics(EnsembleRun& run, ensemble::Calibration calibration,
+bool start_statistics(EnsembleRun& run, statistics::Calibration calibration,
                       const std::vector<std::vector<double>>& kept = {}) {
   bool failed = false;
   try {
-    ensemble::EnsembleStatistics stats(run.runner.times(), run.runner.layout().columns, run.spec.histogram_bins,
-                                       std::move(calibration));
+    statistics::EnsembleStatistics stats(run.runner.times(), run.runner.layout().columns, run.spec.histogram_bins,
+                                         std::move(calibration));
     for (const auto& trajectory : kept) stats.add_sample(trajectory);
     run.results.start_statistics(std::move(stats));
   } catch (const std::bad_alloc&) {
@@ -258,8 +256,8 @@ bool run_pilot_wave(EnsembleRun& run, std::uint64_t pilot_end) {
   report_capacity(run, pilot_cpu, record_bytes);
   const std::size_t columns = run.runner.layout().columns;
   return start_statistics(run,
-                          ensemble::calibrate(run.nominal, low, high, ensemble::column_scales(run.nominal, columns),
-                                              columns, run.spec.histogram_bins),
+                          statistics::calibrate(run.nominal, low, high, statistics::column_scales(run.nominal, columns),
+                                                columns, run.spec.histogram_bins),
                           kept);
 }
 
@@ -269,8 +267,8 @@ void save_common(EnsembleRun& run) {
   int written = 1;
   if (run.rank == 0 && run.results.checkpointing()) {
     try {
-      ensemble::write_checkpoint_common(run.checkpoint_dir, run.id, run.nominal, run.results.statistics().calibration(),
-                                        run.tolerance);
+      persistence::write_checkpoint_common(run.checkpoint_dir, run.id, run.nominal,
+                                           run.results.statistics().calibration(), run.tolerance);
     } catch (const process::FileError& e) {
       std::cerr << "warning: " << e.what() << "; the run goes on without checkpoints\n";
       written = 0;
@@ -403,8 +401,8 @@ std::optional<ensemble::Wave> next_wave(EnsembleRun& run, const ensemble::Wave& 
 int run_nominal(EnsembleRun& run) {
   const int code = on_rank_zero(run, [&run] {
     if (!run.options.part())
-      run.writer = std::make_unique<EnsembleWriter>(run.options.output_path, run.job, run.spec, run.runner.layout(),
-                                                    run.runner.final_state_size(), run.unit_rows);
+      run.writer = std::make_unique<h5::EnsembleWriter>(run.options.output_path, run.job, run.spec, run.runner.layout(),
+                                                        run.runner.final_state_size(), run.unit_rows);
     if (run.restored) {
       run.nominal = run.restored->nominal;
       return kExitOk;
@@ -479,7 +477,7 @@ void report_interruption(EnsembleRun& run, bool resumable, bool all_saved, std::
   const std::string dir = run.checkpoint_dir.string();
   if (!resumable) {
     std::cerr << "interrupted by " << what << " during the pilot samples: nothing to resume yet; run it again\n";
-    ensemble::remove_checkpoint(dir);
+    persistence::remove_checkpoint(dir);
   } else if (!run.checkpoints) {
     std::cerr << "interrupted by " << what << "; checkpoints are off (--checkpoint-every 0, or a checkpoint "
               << "could not be written), so this run's samples are not kept\n";

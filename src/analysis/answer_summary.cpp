@@ -7,14 +7,14 @@
 #include "analysis/summary_text.hpp"
 #include "designs/design_rules.hpp"
 
-namespace treedyn::ensemble {
+namespace treedyn::analysis {
 namespace {
 
 // Inputs that are entries of a list target (a sea state's phases).
 std::vector<bool> list_entries(const EnsembleSpec& spec) {
   std::vector<bool> hidden;
-  for (const Perturbation& p : spec.perturbations)
-    for (int k = 0; k < p.dimensions(); ++k) hidden.push_back(p.kind == Perturbation::Kind::parameter_list);
+  for (const sampling::Perturbation& p : spec.perturbations)
+    for (int k = 0; k < p.dimensions(); ++k) hidden.push_back(p.kind == sampling::Perturbation::Kind::parameter_list);
   return hidden;
 }
 
@@ -33,7 +33,7 @@ void print_drivers(std::ostream& out, const EnsembleSpec& spec, const Response& 
 }  // namespace
 
 void print_response_summary(std::ostream& out, const EnsembleSpec& spec, const std::vector<ResponseAnswer>& answers,
-                            const ToleranceCheck& tolerance) {
+                            const statistics::ToleranceCheck& tolerance) {
   if (answers.empty()) return;
   const std::string_view counted = designs::rules_of(spec.design).counted_runs_note();
   out << "responses: mean +- standard error (successful samples with finite values" << (counted.empty() ? "" : "; ")
@@ -50,7 +50,7 @@ void print_response_summary(std::ostream& out, const EnsembleSpec& spec, const s
     if (a.not_finite > 0) out << ", " << a.not_finite << " never crossed (+inf)";
     if (a.failed > 0) out << ", " << a.failed << " failed";
     out << "]\n";
-    if (r < tolerance.change.size()) out << "    integration: " << describe_verdict(tolerance, r) << "\n";
+    if (r < tolerance.change.size()) out << "    integration: " << statistics::describe_verdict(tolerance, r) << "\n";
     if (designs::rules_of(spec.design).answers_probability(spec, r) && a.exceedance) {
       out << "    P: " << name(spec.design) << "'s answer, below (the runs counted above have "
           << a.exceedance->exceeded << " of " << a.exceedance->successful << " beyond the limit)\n";
@@ -73,4 +73,4 @@ void print_response_summary(std::ostream& out, const EnsembleSpec& spec, const s
   }
 }
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::analysis

@@ -8,7 +8,7 @@
 #include "designs/design_rules.hpp"
 #include "designs/registry_analysis.hpp"
 
-namespace treedyn::ensemble {
+namespace treedyn::analysis {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -31,7 +31,7 @@ double ratio(std::uint64_t k, std::uint64_t n) {
   return n > 0 ? static_cast<double>(k) / static_cast<double>(n) : kNaN;
 }
 
-RankSensitivity ranks_of(const EnsembleSpec& spec, const ResponseTable& table, std::size_t r) {
+RankSensitivity ranks_of(const EnsembleSpec& spec, const ensemble::ResponseTable& table, std::size_t r) {
   const std::size_t d = table.input_count();
   const designs::DesignRules& rules = designs::rules_of(spec.design);
   std::vector<double> x, y;
@@ -77,7 +77,7 @@ struct DrawCounts {
 // infinite ones in `a`.
 // The mean, the standard error, the exceedance (and their intervals), the
 // rank measures and the failure region use the independent draws only.
-DrawCounts count_draws(const EnsembleSpec& spec, const ResponseTable& table, std::size_t r, std::uint64_t n,
+DrawCounts count_draws(const EnsembleSpec& spec, const ensemble::ResponseTable& table, std::size_t r, std::uint64_t n,
                        ResponseAnswer& a) {
   const Response& response = spec.responses[r];
   const designs::DesignRules& rules = designs::rules_of(spec.design);
@@ -115,7 +115,7 @@ DrawCounts count_draws(const EnsembleSpec& spec, const ResponseTable& table, std
 
 // Which inputs drive response r: the rank measures, the design's own
 // indices (Saltelli's Sobol', Morris' effects) and the failure region.
-void answer_sensitivity(const EnsembleSpec& spec, const ResponseTable& table, std::size_t r, std::uint64_t n,
+void answer_sensitivity(const EnsembleSpec& spec, const ensemble::ResponseTable& table, std::size_t r, std::uint64_t n,
                         ResponseAnswer& a) {
   if (table.input_count() > 0) a.ranks = ranks_of(spec, table, r);
   a.design = designs::design_answer(spec, table, r);
@@ -128,7 +128,7 @@ void answer_sensitivity(const EnsembleSpec& spec, const ResponseTable& table, st
 
 }  // namespace
 
-ResponseAnswer answer_response(const EnsembleSpec& spec, const ResponseTable& table, std::size_t r,
+ResponseAnswer answer_response(const EnsembleSpec& spec, const ensemble::ResponseTable& table, std::size_t r,
                                std::uint64_t prefix, bool with_sensitivity) {
   const std::uint64_t n = std::min(prefix, table.samples());
   ResponseAnswer a;
@@ -151,10 +151,10 @@ ResponseAnswer answer_response(const EnsembleSpec& spec, const ResponseTable& ta
   return a;
 }
 
-std::vector<ResponseAnswer> answer_responses(const EnsembleSpec& spec, const ResponseTable& table) {
+std::vector<ResponseAnswer> answer_responses(const EnsembleSpec& spec, const ensemble::ResponseTable& table) {
   if (const std::uint64_t n = designs::rules_of(spec.design).answered_runs(spec, table.samples());
       n < table.samples()) {
-    ResponseTable answered = table;
+    ensemble::ResponseTable answered = table;
     answered.truncate(n);
     return answer_responses(spec, answered);
   }
@@ -166,4 +166,4 @@ std::vector<ResponseAnswer> answer_responses(const EnsembleSpec& spec, const Res
   return answers;
 }
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::analysis

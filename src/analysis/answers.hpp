@@ -18,7 +18,7 @@
 #include "job/ensemble_spec.hpp"
 #include "statistics/tolerance_check.hpp"
 
-namespace treedyn::ensemble {
+namespace treedyn::analysis {
 
 // Wilson's score interval for k successes in n trials at normal quantile z:
 // centre (p + z^2 / 2n) / (1 + z^2 / n), half width
@@ -76,18 +76,18 @@ const Answer* design_answer_as(const ResponseAnswer& a) {
 
 // The answers for response r from samples 0 .. prefix-1 of `table`; the
 // rank measures and Sobol' indices only `with_sensitivity`.
-ResponseAnswer answer_response(const EnsembleSpec& spec, const ResponseTable& table, std::size_t r,
+ResponseAnswer answer_response(const EnsembleSpec& spec, const ensemble::ResponseTable& table, std::size_t r,
                                std::uint64_t prefix, bool with_sensitivity);
 
 // The answers for every response of `spec`, from `table`: every sample,
 // but for subset simulation level 0 alone (its later levels' runs are
 // conditional samples, not a Monte-Carlo sample).
-std::vector<ResponseAnswer> answer_responses(const EnsembleSpec& spec, const ResponseTable& table);
+std::vector<ResponseAnswer> answer_responses(const EnsembleSpec& spec, const ensemble::ResponseTable& table);
 
 // The end-of-run lines: each response's mean +- standard error, and each
 // exceedance probability with its interval (answer_summary.cpp).
 // With `tolerance`, each response's line on the integration's accuracy.
 void print_response_summary(std::ostream& out, const EnsembleSpec& spec, const std::vector<ResponseAnswer>& answers,
-                            const ToleranceCheck& tolerance = {});
+                            const statistics::ToleranceCheck& tolerance = {});
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::analysis

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 
-namespace treedyn::ensemble {
+namespace treedyn::analysis {
 namespace {
 
 std::string format(const char* pattern, double a, double b, double c, double d) {
@@ -28,7 +28,7 @@ std::vector<std::pair<std::size_t, std::size_t>> digest_columns(const ColumnLayo
   return out;
 }
 
-EnsembleDigest digest_of(const Job& job, const EnsembleSpec& spec, const EnsembleStatistics& s,
+EnsembleDigest digest_of(const Job& job, const EnsembleSpec& spec, const statistics::EnsembleStatistics& s,
                          const EnsembleSummary& summary) {
   const ColumnLayout layout = column_layout(job.model, job.output);
   const std::size_t last = job.request.output_times.size() - 1;
@@ -73,4 +73,4 @@ void print_digest(std::ostream& out, const EnsembleDigest& d) {
   }
 }
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::analysis

@@ -16,7 +16,7 @@
 #include "output/quantities.hpp"
 #include "statistics/ensemble_statistics.hpp"
 
-namespace treedyn::ensemble {
+namespace treedyn::analysis {
 
 struct DigestLine {
   std::string quantity, column;
@@ -40,9 +40,9 @@ struct EnsembleDigest {
 std::vector<std::pair<std::size_t, std::size_t>> digest_columns(const ColumnLayout& layout, int bodies);
 
 // The digest of a finished run, from its accumulated statistics.
-EnsembleDigest digest_of(const Job& job, const EnsembleSpec& spec, const EnsembleStatistics& stats,
+EnsembleDigest digest_of(const Job& job, const EnsembleSpec& spec, const statistics::EnsembleStatistics& stats,
                          const EnsembleSummary& summary);
 
 void print_digest(std::ostream& out, const EnsembleDigest& digest);
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::analysis

@@ -8,16 +8,16 @@
 #include <limits>
 #include <numbers>
 
-namespace treedyn::ensemble {
+namespace treedyn::analysis {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // Every input column's perturbation (an orientation's three, a list's
 // entries share theirs).
-std::vector<const Perturbation*> owners(const EnsembleSpec& spec) {
-  std::vector<const Perturbation*> out;
-  for (const Perturbation& p : spec.perturbations)
+std::vector<const sampling::Perturbation*> owners(const EnsembleSpec& spec) {
+  std::vector<const sampling::Perturbation*> out;
+  for (const sampling::Perturbation& p : spec.perturbations)
     for (int k = 0; k < p.dimensions(); ++k) out.push_back(&p);
   return out;
 }
@@ -25,10 +25,11 @@ std::vector<const Perturbation*> owners(const EnsembleSpec& spec) {
 // Whether the distribution has a bound where it is cut off: a truncated
 // normal or a uniform, but not a uniform over a whole turn of an angle
 // (periodic: its ends are one point).
-bool bounded(const Perturbation& p) {
-  const Distribution& d = p.distribution;
-  if (d.kind != Distribution::Kind::truncated_normal && d.kind != Distribution::Kind::uniform) return false;
-  const bool full_turn = p.si_unit == "rad" && p.mode != Perturbation::Mode::scale &&
+bool bounded(const sampling::Perturbation& p) {
+  const sampling::Distribution& d = p.distribution;
+  if (d.kind != sampling::Distribution::Kind::truncated_normal && d.kind != sampling::Distribution::Kind::uniform)
+    return false;
+  const bool full_turn = p.si_unit == "rad" && p.mode != sampling::Perturbation::Mode::scale &&
                          (d.upper - d.lower) * p.unit >= 2.0 * std::numbers::pi * (1.0 - 1e-12);
   return !full_turn;
 }
@@ -36,8 +37,9 @@ bool bounded(const Perturbation& p) {
 // u = Phi^-1(F(x)) of every input of row k, then through the copula's
 // inverse: F rounds to 0 or 1 at a bound, so it is kept within 2^-53 of
 // them (|u| <= 8.2, where the design's own uniforms end).
-std::vector<double> normal_point(const EnsembleSpec& spec, const std::vector<const Perturbation*>& owner,
-                                 const NormalCopula& copula, const ResponseTable& table, std::uint64_t k) {
+std::vector<double> normal_point(const EnsembleSpec& spec, const std::vector<const sampling::Perturbation*>& owner,
+                                 const sampling::NormalCopula& copula, const ensemble::ResponseTable& table,
+                                 std::uint64_t k) {
   const boost::math::normal standard;
   std::vector<double> u(owner.size());
   for (std::size_t i = 0; i < owner.size(); ++i) {
@@ -49,8 +51,8 @@ std::vector<double> normal_point(const EnsembleSpec& spec, const std::vector<con
 }
 
 // The inputs (SI) at the normal point u: the design's own mapping.
-std::vector<double> inputs_at(const std::vector<const Perturbation*>& owner, const NormalCopula& copula,
-                              const std::vector<double>& u) {
+std::vector<double> inputs_at(const std::vector<const sampling::Perturbation*>& owner,
+                              const sampling::NormalCopula& copula, const std::vector<double>& u) {
   const boost::math::normal standard;
   std::vector<double> uniform(u.size()), x(u.size());
   for (std::size_t i = 0; i < u.size(); ++i)
@@ -61,11 +63,11 @@ std::vector<double> inputs_at(const std::vector<const Perturbation*>& owner, con
 }
 
 // The share of the failing rows near a bound of input i, and that bound.
-void near_bound(const Perturbation& p, const ResponseTable& table, const std::vector<std::uint64_t>& rows,
-                std::size_t i, double& share, double& bound) {
+void near_bound(const sampling::Perturbation& p, const ensemble::ResponseTable& table,
+                const std::vector<std::uint64_t>& rows, std::size_t i, double& share, double& bound) {
   share = bound = kNaN;
   if (!bounded(p)) return;
-  const Distribution& d = p.distribution;
+  const sampling::Distribution& d = p.distribution;
   const double band = kNearBoundShare * (d.upper - d.lower);
   std::uint64_t low = 0, high = 0;
   for (const std::uint64_t k : rows) {
@@ -105,7 +107,7 @@ std::vector<double> shares_beyond_chance(const FailureRegion& region, const std:
 
 }  // namespace
 
-FailureRegion failure_region(const EnsembleSpec& spec, const ResponseTable& table, std::size_t r,
+FailureRegion failure_region(const EnsembleSpec& spec, const ensemble::ResponseTable& table, std::size_t r,
                              const std::function<bool(std::uint64_t)>& counted, double correlation) {
   FailureRegion region;
   const Response& response = spec.responses[r];
@@ -116,9 +118,10 @@ FailureRegion failure_region(const EnsembleSpec& spec, const ResponseTable& tabl
   const std::size_t d = table.input_count();
   if (rows.empty() || d == 0) return region;
 
-  const std::vector<const Perturbation*> owner = owners(spec);
-  const NormalCopula copula =
-      spec.correlations.empty() ? NormalCopula() : NormalCopula(static_cast<unsigned>(d), spec.correlations);
+  const std::vector<const sampling::Perturbation*> owner = owners(spec);
+  const sampling::NormalCopula copula = spec.correlations.empty()
+                                            ? sampling::NormalCopula()
+                                            : sampling::NormalCopula(static_cast<unsigned>(d), spec.correlations);
   std::vector<double> sum(d, 0.0), squares(d, 0.0);
   for (const std::uint64_t k : rows) {
     const std::vector<double> u = normal_point(spec, owner, copula, table, k);
@@ -157,9 +160,9 @@ std::vector<InputUnit> input_units(const EnsembleSpec& spec) {
   }
   const std::vector<std::string> names = spec.input_names();
   unsigned d = 0;
-  for (const Perturbation& p : spec.perturbations) {
+  for (const sampling::Perturbation& p : spec.perturbations) {
     const auto n = static_cast<unsigned>(p.dimensions());
-    if (p.kind == Perturbation::Kind::parameter_list) {
+    if (p.kind == sampling::Perturbation::Kind::parameter_list) {
       units.push_back({p.target, {}});
       for (unsigned k = 0; k < n; ++k) units.back().inputs.push_back(d + k);
     } else {
@@ -170,4 +173,4 @@ std::vector<InputUnit> input_units(const EnsembleSpec& spec) {
   return units;
 }
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::analysis

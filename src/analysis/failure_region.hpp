@@ -13,7 +13,7 @@
 #include "ensemble/response_table.hpp"
 #include "job/ensemble_spec.hpp"
 
-namespace treedyn::ensemble {
+namespace treedyn::analysis {
 
 // A bound is "near" within this share of the distribution's range.
 inline constexpr double kNearBoundShare = 0.01;
@@ -71,7 +71,7 @@ struct FailureRegion {
 // The failure region of response r (which has a limit) over the rows
 // `counted` accepts: the successful ones beyond the limit. `correlation`:
 // the runs' chain correlation factor gamma (0: independent runs).
-FailureRegion failure_region(const EnsembleSpec& spec, const ResponseTable& table, std::size_t r,
+FailureRegion failure_region(const EnsembleSpec& spec, const ensemble::ResponseTable& table, std::size_t r,
                              const std::function<bool(std::uint64_t)>& counted, double correlation = 0.0);
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::analysis

@@ -5,7 +5,7 @@
 #include <limits>
 #include <numeric>
 
-namespace treedyn::ensemble {
+namespace treedyn::analysis {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -23,7 +23,7 @@ double standard_deviation(const std::vector<double>& values) {
 // interval four times in five: d = (1.96 + 0.84) sd, with sd falling like
 // 1 / sqrt(n). The 80 % power is the usual sample-size rule; at 50 % (1.96
 // alone) the estimates made where a pair is not yet told apart came out
-// about half the N that then told it apart (tests/ensemble/ranking_test.cpp).
+// about half the N that then told it apart (tests/analysis/ranking_test.cpp).
 double samples_to_separate(double d, double sd, std::size_t n) {
   constexpr double kZ80Power = 0.8416212335729143;  // the 80 % standard normal quantile
   if (!std::isfinite(d) || !std::isfinite(sd)) return kNaN;
@@ -85,4 +85,4 @@ void percentile_intervals(std::span<const double> replicates, std::size_t units,
   }
 }
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::analysis

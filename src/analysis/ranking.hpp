@@ -7,7 +7,7 @@
 #include <span>
 #include <vector>
 
-namespace treedyn::ensemble {
+namespace treedyn::analysis {
 
 inline constexpr double kZ95 = 1.959963984540054;  // the 97.5 % standard normal quantile
 
@@ -48,4 +48,4 @@ double percentile(std::vector<double>& values, double p);
 // units values).
 void percentile_intervals(std::span<const double> replicates, std::size_t units, std::vector<double>& out);
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::analysis

@@ -11,7 +11,7 @@
 #include "analysis/ranking.hpp"
 #include "sampling/design.hpp"
 
-namespace treedyn::ensemble {
+namespace treedyn::analysis {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -113,8 +113,8 @@ std::vector<double> rank_replicates(const Eigen::MatrixXd& ranks, bool srrc, int
   for (int r = 0; r < resamples; ++r) {
     weight.setZero();
     for (Eigen::Index k = 0; k < n; ++k) {
-      const double u =
-          counter_uniform(seed, static_cast<std::uint64_t>(r), static_cast<std::uint64_t>(k), kRowBootstrapStream);
+      const double u = sampling::counter_uniform(seed, static_cast<std::uint64_t>(r), static_cast<std::uint64_t>(k),
+                                                 kRowBootstrapStream);
       weight(std::min<Eigen::Index>(static_cast<Eigen::Index>(u * static_cast<double>(n)), n - 1)) += 1.0;
     }
     const Eigen::RowVectorXd mean = (weight.transpose() * ranks) / static_cast<double>(n);
@@ -195,4 +195,4 @@ RankSensitivity rank_sensitivity(std::span<const double> inputs, std::size_t dim
   return result;
 }
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::analysis

@@ -12,7 +12,7 @@
 
 #include "analysis/ranking.hpp"
 
-namespace treedyn::ensemble {
+namespace treedyn::analysis {
 
 // Ranks 1..n of `values`; ties share the mean of their ranks. +-inf rank as
 // the extremes; NaN is not allowed (callers drop those rows).
@@ -49,4 +49,4 @@ inline constexpr int kRankBootstrapMinimum = 50;  // fewer than this: no interva
 RankSensitivity rank_sensitivity(std::span<const double> inputs, std::size_t dimensions,
                                  std::span<const double> response, int resamples = 0, std::uint64_t seed = 0);
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::analysis

@@ -6,7 +6,7 @@
 
 #include "analysis/failure_region.hpp"
 
-namespace treedyn::ensemble {
+namespace treedyn::analysis {
 
 std::string number(double v, const char* format) {
   char buffer[64];
@@ -110,4 +110,4 @@ void print_failure_region(std::ostream& out, const EnsembleSpec& spec, const Fai
           << ": P depends on where that distribution is cut off, not only on the dynamics\n";
 }
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::analysis

@@ -12,7 +12,7 @@
 #include "analysis/ranking.hpp"
 #include "job/ensemble_spec.hpp"
 
-namespace treedyn::ensemble {
+namespace treedyn::analysis {
 
 inline constexpr std::size_t kRankedShown = 5;  // units on a drivers line
 
@@ -34,4 +34,4 @@ void print_ranking(std::ostream& out, const std::vector<std::string>& names, con
 // most of them.
 void print_failure_region(std::ostream& out, const EnsembleSpec& spec, const FailureRegion& region, const char* what);
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::analysis

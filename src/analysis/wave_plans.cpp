@@ -8,7 +8,7 @@
 #include "common/format.hpp"
 #include "designs/registry_analysis.hpp"
 
-namespace treedyn::ensemble {
+namespace treedyn::analysis {
 namespace {
 
 std::string held(const std::string& target, const std::string& response, double value, double bound,
@@ -21,7 +21,8 @@ std::string held(const std::string& target, const std::string& response, double 
 
 }  // namespace
 
-std::optional<std::string> stop_reason(const EnsembleSpec& spec, const ResponseTable& table, std::uint64_t prefix) {
+std::optional<std::string> stop_reason(const EnsembleSpec& spec, const ensemble::ResponseTable& table,
+                                       std::uint64_t prefix) {
   if (!spec.stop) return std::nullopt;
   const StopRule& rule = *spec.stop;
   const std::string& name = spec.responses[rule.response].name;
@@ -41,23 +42,24 @@ std::optional<std::string> stop_reason(const EnsembleSpec& spec, const ResponseT
   return std::nullopt;
 }
 
-Wave StoppingPlan::wave_from(std::uint64_t first) const {
+ensemble::Wave StoppingPlan::wave_from(std::uint64_t first) const {
   const std::uint64_t end = std::min(first + spec_.stop->every, spec_.runs);
   return {first, end, "samples " + std::to_string(first) + " .. " + std::to_string(end - 1), 0, {}};
 }
 
-Wave StoppingPlan::first_wave() const { return wave_from(0); }
+ensemble::Wave StoppingPlan::first_wave() const { return wave_from(0); }
 
-std::optional<Wave> StoppingPlan::next_wave(const Wave& done, const ResponseTable* so_far) const {
+std::optional<ensemble::Wave> StoppingPlan::next_wave(const ensemble::Wave& done,
+                                                      const ensemble::ResponseTable* so_far) const {
   if (done.end >= spec_.runs) return std::nullopt;
   if (so_far && stop_reason(spec_, *so_far, done.end)) return std::nullopt;
   return wave_from(done.end);
 }
 
-std::unique_ptr<WavePlan> make_wave_plan(const EnsembleSpec& spec) {
-  if (std::unique_ptr<WavePlan> own = designs::design_wave_plan(spec)) return own;
+std::unique_ptr<ensemble::WavePlan> make_wave_plan(const EnsembleSpec& spec) {
+  if (std::unique_ptr<ensemble::WavePlan> own = designs::design_wave_plan(spec)) return own;
   if (spec.stop) return std::make_unique<StoppingPlan>(spec);
-  return std::make_unique<FixedDesignPlan>(spec.runs);
+  return std::make_unique<ensemble::FixedDesignPlan>(spec.runs);
 }
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::analysis

@@ -10,10 +10,10 @@
 #include "designs/design_rules.hpp"
 #include "sampling/invalid_mass.hpp"
 
-namespace treedyn::ensemble {
+namespace treedyn {
 
-using Kind = Perturbation::Kind;
-using Mode = Perturbation::Mode;
+using Kind = sampling::Perturbation::Kind;
+using Mode = sampling::Perturbation::Mode;
 
 namespace {
 
@@ -28,14 +28,14 @@ std::string bytes_text(double bytes) {
 }
 
 // The share of samples the model would refuse, and a warning above 0.1 %.
-void print_invalid_mass(std::ostream& out, const Perturbation& p, const ModelDefinition& d) {
-  const std::optional<InvalidMass> m = invalid_mass(p, d);
+void print_invalid_mass(std::ostream& out, const sampling::Perturbation& p, const ModelDefinition& d) {
+  const std::optional<sampling::InvalidMass> m = sampling::invalid_mass(p, d);
   if (!m) return;
   char percent[32];
   std::snprintf(percent, sizeof percent, "%.3g %%", 100.0 * m->probability);
   out << "      outside the model's range (" << m->valid << "): " << percent
       << " of the samples, from the distribution's CDF\n";
-  if (m->probability > kInvalidMassWarning)
+  if (m->probability > sampling::kInvalidMassWarning)
     out << "      warning: " << percent << " of the samples will fail as invalid models (status 2); narrow the "
         << "distribution, or use truncated_normal (lower bound) or lognormal for a positive quantity\n";
 }
@@ -60,9 +60,9 @@ void print_stop_rule(std::ostream& out, const EnsembleSpec& s) {
 // A sea state's band is the job's, whatever Tp a sample draws: the share of
 // the spectrum's m0 its components keep at the 0.1 % and 99.9 % quantiles of
 // a sampled peak period (a peak near the band's edge loses energy silently).
-void print_band_share(std::ostream& out, const Perturbation& p, const ModelDefinition& d) {
+void print_band_share(std::ostream& out, const sampling::Perturbation& p, const ModelDefinition& d) {
   const auto* sea = std::get_if<SeaStateBase>(&d.base.kind);
-  if (!sea || p.kind != Perturbation::Kind::parameter) return;
+  if (!sea || p.kind != sampling::Perturbation::Kind::parameter) return;
   for (int axis = 0; axis < 3; ++axis) {
     if (d.base.sea[axis].peak_period < 0 || p.first != d.base.sea[axis].peak_period) continue;
     SeaStateAxis a = *sea->axes[axis];
@@ -71,9 +71,9 @@ void print_band_share(std::ostream& out, const Perturbation& p, const ModelDefin
     out << "      the components' band keeps";
     for (double q : {0.001, 0.999}) {
       const double x = p.distribution.quantile(q) * p.unit;
-      a.peak_period = p.mode == Perturbation::Mode::scale ? nominal * x
-                      : p.mode == Perturbation::Mode::add ? nominal + x
-                                                          : x;
+      a.peak_period = p.mode == sampling::Perturbation::Mode::scale ? nominal * x
+                      : p.mode == sampling::Perturbation::Mode::add ? nominal + x
+                                                                    : x;
       if (!(a.peak_period > 0.0)) continue;
       const SeaStateSummary share = summarize(a);
       worst = std::min(worst, share.m0_components / share.m0_spectrum);
@@ -90,8 +90,8 @@ void print_band_share(std::ostream& out, const Perturbation& p, const ModelDefin
 // What each group of a grouped design holds.
 void print_groups(std::ostream& out, const EnsembleSpec& s) {
   // Each input's target: a list's entries (a sea state's phases) print as one, TARGET[1..n].
-  std::vector<std::pair<const Perturbation*, int>> owner;
-  for (const Perturbation& p : s.perturbations)
+  std::vector<std::pair<const sampling::Perturbation*, int>> owner;
+  for (const sampling::Perturbation& p : s.perturbations)
     for (int k = 0; k < p.dimensions(); ++k) owner.emplace_back(&p, k);
   const std::vector<std::string> names = s.input_names();
   for (std::size_t g = 0; g < s.sobol_units.size(); ++g) {
@@ -99,7 +99,7 @@ void print_groups(std::ostream& out, const EnsembleSpec& s) {
     out << "    group " << g << " " << unit.name << ":";
     for (unsigned d : unit.inputs) {
       const auto [p, k] = owner[d];
-      if (p->kind != Perturbation::Kind::parameter_list)
+      if (p->kind != sampling::Perturbation::Kind::parameter_list)
         out << " " << names[d];
       else if (k == 0)
         out << " " << p->target << "[1.." << p->entries << "]";
@@ -113,15 +113,15 @@ void print_correlations(std::ostream& out, const EnsembleSpec& s) {
   if (s.correlations.empty()) return;
   const std::vector<std::string> names = s.input_names();
   out << "  correlated inputs (normal copula on their own marginals):\n";
-  for (const InputCorrelation& c : s.correlations) {
-    const double spearman = spearman_of_normal_copula(c.normal_copula);
+  for (const sampling::InputCorrelation& c : s.correlations) {
+    const double spearman = sampling::spearman_of_normal_copula(c.normal_copula);
     out << "    " << names[c.a] << " ~ " << names[c.b] << ": normal copula rho = " << format_digits(c.normal_copula, 4)
         << ", Spearman " << format_digits(spearman, 4) << (c.given_as_spearman ? " (given)" : "") << "\n";
   }
 }
 
 // One perturbation: its distribution and what it does to the model.
-void print_perturbation(std::ostream& out, const Job& job, const Perturbation& p) {
+void print_perturbation(std::ostream& out, const Job& job, const sampling::Perturbation& p) {
   const auto nominal = job.definition.parameters.nominal();
   out << "  " << p.target << ": " << p.distribution.describe();
   if (p.unit != 1.0) out << " x " << format_number(p.unit) << " (to " << p.si_unit << ")";
@@ -162,7 +162,7 @@ void print_ensemble_summary(std::ostream& out, const Job& job, const EnsembleSpe
   if (s.grouped) print_groups(out, s);
   print_correlations(out, s);
   print_stop_rule(out, s);
-  for (const Perturbation& p : s.perturbations) print_perturbation(out, job, p);
+  for (const sampling::Perturbation& p : s.perturbations) print_perturbation(out, job, p);
   out << "statistics: quantiles";
   for (double q : s.quantiles) out << " " << format_number(q);
   out << "; " << s.histogram_bins << " histogram bins; pilot samples 0-" << s.pilot_samples - 1 << "; blocks of "
@@ -190,4 +190,4 @@ void print_ensemble_summary(std::ostream& out, const Job& job, const EnsembleSpe
   }
 }
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn

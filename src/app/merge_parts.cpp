@@ -22,8 +22,7 @@
 namespace treedyn {
 namespace {
 
-using ensemble::PartFile;
-using ensemble::SampleRecord;
+using persistence::PartFile;
 
 // A refusal: the message is printed, the merge exits 2.
 struct Refused {
@@ -39,16 +38,16 @@ std::vector<PartFile> read_parts(const std::vector<std::string>& names) {
   std::vector<PartFile> parts;
   for (const std::string& name : names) {
     try {
-      parts.push_back(ensemble::read_part_file(name));
-    } catch (const ensemble::CheckpointError& e) {
+      parts.push_back(persistence::read_part_file(name));
+    } catch (const persistence::CheckpointError& e) {
       throw Refused{std::string(e.what()) + "; run that part again with its --samples range (into `" + name +
                     "`) and merge again: the other parts are kept"};
     } catch (const process::FileError& e) {
       throw Refused{e.what()};
     }
     const PartFile& p = parts.back();
-    if (p.id.build != build_identity())
-      throw Refused{name + " was written by another build (" + p.id.build + "; this is " + build_identity() +
+    if (p.id.build != h5::build_identity())
+      throw Refused{name + " was written by another build (" + p.id.build + "; this is " + h5::build_identity() +
                     "): merge with the build that ran the parts"};
     if (p.id.job_hash != parts[0].id.job_hash)
       throw Refused{name + " comes from another job file than " + names[0] + " (job text hash " + p.id.job_hash +
@@ -75,8 +74,8 @@ ensemble::IndexRanges held_samples(const std::vector<PartFile>& parts, const std
 
 // Each part fits the job it carries, and all calibrated alike (the pilot
 // samples are fixed indices, so they must have).
-void check_fit(const std::vector<PartFile>& parts, const std::vector<std::string>& names,
-               const ensemble::EnsembleSpec& spec, const ensemble::SampleRunner& runner) {
+void check_fit(const std::vector<PartFile>& parts, const std::vector<std::string>& names, const EnsembleSpec& spec,
+               const ensemble::SampleRunner& runner) {
   const std::size_t entries = runner.times() * runner.layout().columns;
   for (std::size_t k = 0; k < parts.size(); ++k) {
     if (parts[k].nominal.size() != entries || parts[k].end > spec.runs || parts[k].nominal != parts[0].nominal)
@@ -84,9 +83,9 @@ void check_fit(const std::vector<PartFile>& parts, const std::vector<std::string
     if (!(parts[k].calibration == parts[0].calibration))
       throw Refused{"the parts' calibrations differ: they did not run the same pilot samples"};
     try {
-      ensemble::check_records(parts[k].records, ensemble::record_shape(runner, parts[k].first, parts[k].end),
-                              "part file " + names[k]);
-    } catch (const ensemble::CheckpointError& e) {
+      persistence::check_records(parts[k].records, ensemble::record_shape(runner, parts[k].first, parts[k].end),
+                                 "part file " + names[k]);
+    } catch (const persistence::CheckpointError& e) {
       throw Refused{e.what()};
     }
   }
@@ -100,8 +99,7 @@ std::vector<SampleRecord> merged_records(std::vector<PartFile>& parts, const ens
   for (PartFile& part : parts)
     for (SampleRecord& r : part.records) records.push_back(std::move(r));
   for (std::uint64_t k = 0; k < samples && held.count() < samples; ++k)
-    if (!held.contains(k))
-      records.push_back(runner.failed_record(k, ensemble::SampleStatus::not_run, "not in the merged parts"));
+    if (!held.contains(k)) records.push_back(runner.failed_record(k, SampleStatus::not_run, "not in the merged parts"));
   std::sort(records.begin(), records.end(), [](const auto& a, const auto& b) { return a.index < b.index; });
   return records;
 }
@@ -118,9 +116,9 @@ void note_incomplete(const ensemble::IndexRanges& held, std::uint64_t samples) {
 EnsembleSummary merge_summary(const std::vector<SampleRecord>& records) {
   EnsembleSummary summary;
   for (const SampleRecord& r : records) {
-    if (r.status == ensemble::SampleStatus::ok)
+    if (r.status == SampleStatus::ok)
       ++summary.ok;
-    else if (r.status != ensemble::SampleStatus::not_run)
+    else if (r.status != SampleStatus::not_run)
       ++summary.failed;
   }
   rusage usage{};
@@ -138,35 +136,35 @@ EnsembleSummary merge_summary(const std::vector<SampleRecord>& records) {
 }  // namespace
 
 int merge_parts(const std::vector<std::string>& names, const std::string& output_path, bool quiet,
-                const RunProvenance& run) {
+                const h5::RunProvenance& run) {
   const auto start = std::chrono::steady_clock::now();
   try {
     process::check_output_path(output_path);
     const process::OutputLock lock(output_path, run.command_line);  // one output, one owner (a run's or a merge's)
     std::vector<PartFile> parts = read_parts(names);
     const ensemble::IndexRanges held = held_samples(parts, names);
-    const auto [job, spec] = ensemble::read_ensemble_job(JobDocument::parse(parts[0].job_text, parts[0].job_path));
+    const auto [job, spec] = read_ensemble_job(JobDocument::parse(parts[0].job_text, parts[0].job_path));
     ensemble::SampleRunner runner(job, spec);
     check_fit(parts, names, spec, runner);
     const bool complete = held.count() == spec.runs;
     if (!complete) note_incomplete(held, spec.runs);
-    ensemble::EnsembleStatistics stats(runner.times(), runner.layout().columns, spec.histogram_bins,
-                                       parts[0].calibration);
+    statistics::EnsembleStatistics stats(runner.times(), runner.layout().columns, spec.histogram_bins,
+                                         parts[0].calibration);
     for (std::size_t k = 0; k < parts.size(); ++k) stats.add_state(parts[k].statistics, "part file " + names[k]);
     std::vector<SampleRecord> records = merged_records(parts, held, runner, spec.runs);
-    std::vector<ensemble::ResponseAnswer> answers;
+    std::vector<analysis::ResponseAnswer> answers;
     if (complete && !spec.responses.empty()) {
       ensemble::ResponseTable table(spec.runs, spec.input_dimensions(), spec.responses.size());
       for (const SampleRecord& r : records) table.add(r);
-      answers = ensemble::answer_responses(spec, table);
+      answers = analysis::answer_responses(spec, table);
     }
     EnsembleSummary summary = merge_summary(records);
-    RunProvenance provenance = run;
+    h5::RunProvenance provenance = run;
     provenance.job_path = parts[0].job_path;  // the job the parts ran (absolute), not a part file
     summary.samples_used = spec.runs;
     summary.stop_reason = complete ? "merged parts: every sample of the design was run"
                                    : "merged parts: " + std::to_string(held.count()) + " of the samples were run";
-    EnsembleWriter writer(output_path, job, spec, runner.layout(), runner.final_state_size());
+    h5::EnsembleWriter writer(output_path, job, spec, runner.layout(), runner.final_state_size());
     const auto writing = std::chrono::steady_clock::now();
     const std::clock_t writing_cpu = std::clock();
     writer.write_records(std::move(records));
@@ -174,7 +172,7 @@ int merge_parts(const std::vector<std::string>& names, const std::string& output
     summary.writing_cpu_seconds = {static_cast<double>(std::clock() - writing_cpu) / CLOCKS_PER_SEC};
     writer.write_merge_origin(names, held.ranges());
     writer.complete(parts[0].nominal, stats, answers, parts[0].tolerance, std::move(summary), provenance, start);
-    if (!quiet && !answers.empty()) ensemble::print_response_summary(std::cout, spec, answers, parts[0].tolerance);
+    if (!quiet && !answers.empty()) analysis::print_response_summary(std::cout, spec, answers, parts[0].tolerance);
     std::printf("wrote %s (%llu of %llu samples from %zu parts)\n", output_path.c_str(),
                 static_cast<unsigned long long>(held.count()), static_cast<unsigned long long>(spec.runs),
                 parts.size());

@@ -15,6 +15,6 @@ namespace treedyn {
 // or overlapping ranges; 4 when the output cannot be written. An incomplete
 // set merges with a note; the file says which samples it holds.
 int merge_parts(const std::vector<std::string>& parts, const std::string& output_path, bool quiet,
-                const RunProvenance& run);
+                const h5::RunProvenance& run);
 
 }  // namespace treedyn

@@ -23,13 +23,9 @@ void print_parameters(std::ostream& out, const ParameterTable& table, std::size_
 void print_run_summary(std::ostream& out, const Job& job, const Recorder& recorder, const IntegrationOutcome& outcome,
                        double wall_seconds);
 
-}  // namespace treedyn
-
-namespace treedyn::ensemble {
-
 // A readable account of the ensemble: design, inputs (and how often each
 // falls outside its parameter's valid range), statistics settings
 // (app/ensemble_summary.cpp).
 void print_ensemble_summary(std::ostream& out, const Job& job, const EnsembleSpec& spec);
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn

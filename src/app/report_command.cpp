@@ -45,7 +45,7 @@ struct Refused {
 Job stored_job(const h5::ReadFile& f, const std::string& file) {
   if (!f.has_attribute("/", "job_text")) throw Refused{file + ": not a treedyn file (no job_text attribute)"};
   try {
-    return ensemble::read_sample_job(
+    return read_sample_job(
         JobDocument::parse(f.string_attribute("/", "job_text"), f.string_attribute("/", "job_file")));
   } catch (const JobError& e) {
     throw Refused{file + ": its stored job no longer reads with this treedyn (" + std::string(e.what()) + ")"};
@@ -56,14 +56,14 @@ Job stored_job(const h5::ReadFile& f, const std::string& file) {
 // treedyn-ensemble printed at the end of the run.
 void ensemble_summary(std::ostream& out, const h5::ReadFile& f, const std::string& file) {
   const Job job = stored_job(f, file);
-  ensemble::EnsembleSpec spec;
+  EnsembleSpec spec;
   try {
-    spec = ensemble::read_ensemble(job);
+    spec = read_ensemble(job);
   } catch (const JobError& e) {
     throw Refused{file + ": its stored [ensemble] no longer reads (" + std::string(e.what()) + ")"};
   }
   const ColumnLayout layout = column_layout(job.model, job.output);
-  ensemble::EnsembleDigest d;
+  analysis::EnsembleDigest d;
   // The runs the file holds: fewer than `samples` (the most) when a stopping
   // rule or the design (subset simulation's last level) ended the run.
   d.samples = static_cast<std::uint64_t>(
@@ -83,7 +83,7 @@ void ensemble_summary(std::ostream& out, const h5::ReadFile& f, const std::strin
   const auto high = std::max_element(spec.quantiles.begin(), spec.quantiles.end());
   d.low_probability = *low;
   d.high_probability = *high;
-  for (auto [q, k] : ensemble::digest_columns(layout, job.model.n)) {
+  for (auto [q, k] : analysis::digest_columns(layout, job.model.n)) {
     const std::string g = "/stats/" + layout.quantity[q] + "/";
     const std::size_t C = layout.names[q].size(), P = spec.quantiles.size();
     const std::vector<double> mean = f.doubles(g + "mean"), sd = f.doubles(g + "std"),
@@ -95,7 +95,7 @@ void ensemble_summary(std::ostream& out, const h5::ReadFile& f, const std::strin
                        at(static_cast<std::size_t>(low - spec.quantiles.begin())),
                        at(static_cast<std::size_t>(high - spec.quantiles.begin()))});
   }
-  ensemble::print_digest(out, d);
+  analysis::print_digest(out, d);
   if (spec.responses.empty()) return;
   if (!f.has("/responses")) {  // a merge of an incomplete set of parts: no answers
     out << "responses: not computed, the file holds only some of the samples (attribute held_samples)\n";
@@ -103,7 +103,7 @@ void ensemble_summary(std::ostream& out, const h5::ReadFile& f, const std::strin
   }
   try {
     const ensemble::ResponseTable table = h5::response_table(f, spec.input_dimensions(), spec.responses.size());
-    ensemble::print_response_summary(out, spec, ensemble::answer_responses(spec, table), h5::tolerance_check(f));
+    analysis::print_response_summary(out, spec, analysis::answer_responses(spec, table), h5::tolerance_check(f));
     if (const auto design = designs::run_answer(spec, table)) design->print(out, spec);
   } catch (const h5::IoError& e) {
     throw Refused{file + ": " + e.what()};

@@ -21,7 +21,7 @@ namespace treedyn {
 namespace {
 
 // Sample k must exist: the message says how many there are.
-void require_sample(const Job& job, const ensemble::EnsembleSpec& spec, std::uint64_t k) {
+void require_sample(const Job& job, const EnsembleSpec& spec, std::uint64_t k) {
   if (k >= spec.runs)
     throw JobError(job.file, 0, 0, "ensemble.samples",
                    "there is no sample " + std::to_string(k) + ": the ensemble has " + std::to_string(spec.runs) +
@@ -37,11 +37,11 @@ void require_sample(const Job& job, const ensemble::EnsembleSpec& spec, std::uin
 // before it (a subset simulation's later level), those the design made,
 // replayed from the ensemble file `from` (and checked against the inputs the
 // file recorded for it).
-std::vector<double> inputs_of(const Job& job, const ensemble::EnsembleSpec& spec, ensemble::SampleRunner& runner,
-                              std::uint64_t k, const std::string& from) {
+std::vector<double> inputs_of(const Job& job, const EnsembleSpec& spec, ensemble::SampleRunner& runner, std::uint64_t k,
+                              const std::string& from) {
   if (!designs::rules_of(spec.design).follows_records(spec, k)) return runner.sample_inputs(k);
   if (from.empty())
-    refuse("run " + std::to_string(k) + " of this " + std::string(ensemble::name(spec.design)) +
+    refuse("run " + std::to_string(k) + " of this " + std::string(name(spec.design)) +
            " follows from the runs before it, not from the seed alone; give the ensemble's output file with "
            "--from FILE.h5");
   std::vector<double> inputs;
@@ -71,12 +71,12 @@ std::vector<double> inputs_of(const Job& job, const ensemble::EnsembleSpec& spec
 }  // namespace
 
 int rerun_sample(const std::string& job_path, std::uint64_t k, const std::string& output_path, bool quiet,
-                 const RunProvenance& run, const std::string& from) {
+                 const h5::RunProvenance& run, const std::string& from) {
   return exit_code_of([&]() -> int {
-    const auto [job, spec] = ensemble::read_ensemble_job(JobDocument::read(job_path));
+    const auto [job, spec] = read_ensemble_job(JobDocument::read(job_path));
     require_sample(job, spec, k);
     ensemble::SampleRunner runner(job, spec);
-    SampleOrigin origin;
+    h5::SampleOrigin origin;
     origin.index = k;
     origin.input_names = spec.input_names();
     origin.input_units = spec.input_units();
@@ -95,12 +95,12 @@ int rerun_sample(const std::string& job_path, std::uint64_t k, const std::string
 int write_sample_job(const std::string& job_path, std::uint64_t k, const std::string& output_path,
                      const std::string& from) {
   return exit_code_of([&]() -> int {
-    const auto [job, spec] = ensemble::read_ensemble_job(JobDocument::read(job_path));
-    ensemble::require_not_a_sample_job(job);
+    const auto [job, spec] = read_ensemble_job(JobDocument::read(job_path));
+    require_not_a_sample_job(job);
     require_sample(job, spec, k);
     ensemble::SampleRunner runner(job, spec);
     const std::vector<double> inputs = inputs_of(job, spec, runner, k, from);
-    process::write_file_atomically(output_path, ensemble::sample_job_text(job, spec, k, inputs));
+    process::write_file_atomically(output_path, sample_job_text(job, spec, k, inputs));
     std::cout << "wrote " << output_path << " (sample " << k << " of " << job_path << "; run it with treedyn run)\n";
     return kExitOk;
   });

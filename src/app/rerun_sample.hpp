@@ -14,7 +14,7 @@ namespace treedyn {
 // `from`: the job's ensemble file, needed for a run of a subset
 // simulation's level after 0 (its records replay the levels to its inputs).
 int rerun_sample(const std::string& job_path, std::uint64_t k, const std::string& output_path, bool quiet,
-                 const RunProvenance& run, const std::string& from = "");
+                 const h5::RunProvenance& run, const std::string& from = "");
 int write_sample_job(const std::string& job_path, std::uint64_t k, const std::string& output_path,
                      const std::string& from = "");
 

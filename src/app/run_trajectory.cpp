@@ -14,7 +14,7 @@
 namespace treedyn {
 
 int run_trajectory(const Job& job, const Model& model, const InitialState& initial, const std::string& output_path,
-                   bool quiet, const RunProvenance& run, const SampleOrigin* sample) {
+                   bool quiet, const h5::RunProvenance& run, const h5::SampleOrigin* sample) {
   process::check_output_path(output_path);  // refuse before integrating, not after
   Recorder recorder(model, job.output, EnergyTracking::on);
   const OutputSpec motion_spec = motion_output();
@@ -37,7 +37,7 @@ int run_trajectory(const Job& job, const Model& model, const InitialState& initi
   }
   // A rerun ensemble sample is marked as the ensemble records it: how far it
   // got and, when it failed (what the user came to see), status 1 and why.
-  std::optional<SampleOrigin> origin;
+  std::optional<h5::SampleOrigin> origin;
   if (sample) {
     origin = *sample;
     origin->time_reached = outcome.time_reached;
@@ -47,7 +47,7 @@ int run_trajectory(const Job& job, const Model& model, const InitialState& initi
     }
   }
   const MotionScene scene = motion_scene(job.definition, model);
-  write_trajectory(output_path, job, recorder, outcome, run, {scene, motion}, origin ? &*origin : nullptr);
+  h5::write_trajectory(output_path, job, recorder, outcome, run, {scene, motion}, origin ? &*origin : nullptr);
   if (!outcome.ok()) {
     std::cout << "sample " << sample->index << " fails as in the ensemble: " << origin->reason << "\nwrote "
               << output_path << " (the " << recorder.times().size()

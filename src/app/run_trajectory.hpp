@@ -11,6 +11,6 @@ namespace treedyn {
 
 // Returns the exit code (common/exit_codes.hpp). Throws h5::IoError.
 int run_trajectory(const Job& job, const Model& model, const InitialState& initial, const std::string& output_path,
-                   bool quiet, const RunProvenance& run, const SampleOrigin* sample = nullptr);
+                   bool quiet, const h5::RunProvenance& run, const h5::SampleOrigin* sample = nullptr);
 
 }  // namespace treedyn

@@ -21,9 +21,9 @@ namespace {
 // summary is treedyn-ensemble --check's).
 int check_command(const std::string& job_path, bool all_parameters) {
   const JobDocument document = JobDocument::read(job_path);
-  const Job job = ensemble::read_sample_job(document);
+  const Job job = read_sample_job(document);
   const bool ensemble = document.has("ensemble");
-  if (ensemble) ensemble::read_ensemble(job);
+  if (ensemble) read_ensemble(job);
   print_model_summary(std::cout, job);
   print_parameters(std::cout, job.definition.parameters, all_parameters ? SIZE_MAX : 40);
   if (ensemble) std::cout << "[ensemble]: checked too (treedyn-ensemble --check prints what it samples)\n";
@@ -31,8 +31,8 @@ int check_command(const std::string& job_path, bool all_parameters) {
   return kExitOk;
 }
 
-int run_command(const std::string& job_path, const std::string& output_path, bool quiet, const RunProvenance& run) {
-  const Job job = ensemble::read_sample_job(JobDocument::read(job_path));
+int run_command(const std::string& job_path, const std::string& output_path, bool quiet, const h5::RunProvenance& run) {
+  const Job job = read_sample_job(JobDocument::read(job_path));
   return run_trajectory(job, job.model, job.initial, output_path, quiet, run);
 }
 
@@ -80,6 +80,6 @@ int main(int argc, char** argv) {
   return exit_code_of([&]() -> int {
     if (*check) return check_command(job_path, all_parameters);
     if (*report) return report_command(report_file, report_dir, report_quantities);
-    return run_command(job_path, output_path, quiet, start_provenance(argc, argv, job_path));
+    return run_command(job_path, output_path, quiet, h5::start_provenance(argc, argv, job_path));
   });
 }

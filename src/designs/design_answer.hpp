@@ -35,7 +35,7 @@ class AnswerWriter {
                          const std::string& units = "1") = 0;
   // The units in ranked order and what tells neighbours apart
   // (analysis/ranking.hpp); `samples_word` names what `needed` counts.
-  virtual void ranking(const char* name, const ensemble::Ranking& ranking, const std::string& measure,
+  virtual void ranking(const char* name, const analysis::Ranking& ranking, const std::string& measure,
                        const std::vector<std::string>& units, const char* samples_word) = 0;
   // Doubles of `shape` (row-major), described; `labels` name the columns.
   virtual void array(const char* name, const std::vector<double>& values, const std::vector<std::size_t>& shape,
@@ -49,7 +49,7 @@ class AnswerWriter {
   virtual void column(const char* name, const std::vector<std::int32_t>& values, const std::string& what) = 0;
   virtual void column(const char* name, const std::vector<std::int64_t>& values, const std::string& what) = 0;
   // Its failure_region group: what the inputs of `which_runs` say.
-  virtual void failure_region(const ensemble::EnsembleSpec& spec, const ensemble::FailureRegion& region,
+  virtual void failure_region(const EnsembleSpec& spec, const analysis::FailureRegion& region,
                               const std::string& which_runs) = 0;
   virtual void attribute(const char* name, const std::string& value) = 0;
   virtual void attribute(const char* name, double value) = 0;
@@ -64,11 +64,9 @@ class DesignAnswer {
   virtual ~DesignAnswer() = default;
   // Its "drivers" lines in the end-of-run summary, in place of the rank
   // measures' ranking.
-  virtual void print(std::ostream& out, const ensemble::EnsembleSpec& spec,
-                     const ensemble::Response& response) const = 0;
+  virtual void print(std::ostream& out, const EnsembleSpec& spec, const Response& response) const = 0;
   // Into the response's /sensitivity group, after the rank measures.
-  virtual void write(AnswerWriter& sensitivity, const ensemble::EnsembleSpec& spec,
-                     const ensemble::Response& response) const = 0;
+  virtual void write(AnswerWriter& sensitivity, const EnsembleSpec& spec, const Response& response) const = 0;
 };
 
 // The design's answer for the whole run: why the run ended where it did, its
@@ -79,11 +77,10 @@ class RunAnswer {
   virtual ~RunAnswer() = default;
   // The file's stop_reason and the summary's.
   virtual std::string stop_reason() const = 0;
-  virtual void print(std::ostream& out, const ensemble::EnsembleSpec& spec) const = 0;
+  virtual void print(std::ostream& out, const EnsembleSpec& spec) const = 0;
   // `root`: the file's root group; `samples`: /samples, whose rows
   // 0 .. rows-1 are the runs kept.
-  virtual void write(AnswerWriter& root, AnswerWriter& samples, const ensemble::EnsembleSpec& spec,
-                     std::size_t rows) const = 0;
+  virtual void write(AnswerWriter& root, AnswerWriter& samples, const EnsembleSpec& spec, std::size_t rows) const = 0;
 };
 
 }  // namespace treedyn::designs

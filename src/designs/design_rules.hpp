@@ -27,12 +27,12 @@
 
 namespace treedyn {
 class TomlView;
-}
-namespace treedyn::ensemble {
 struct EnsembleSpec;
+}  // namespace treedyn
+namespace treedyn::sampling {
 struct PointsSpec;
 class RunPoints;
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::sampling
 
 namespace treedyn::designs {
 
@@ -42,7 +42,7 @@ using DesignAttribute = std::pair<std::string, std::variant<long long, std::stri
 class DesignRules {
  public:
   virtual ~DesignRules() = default;
-  virtual ensemble::Design design() const = 0;
+  virtual sampling::Design design() const = 0;
 
   // --- its part of the job file ---
   // Its own table, [ensemble.<table>]; empty: none. Any other design's job
@@ -55,37 +55,37 @@ class DesignRules {
   // job reader refuses more than `max_runs` runs afterwards; a design that
   // multiplies s.samples must refuse first what would overflow. Throws
   // JobError.
-  virtual void read_runs(const TomlView& ensemble, ensemble::EnsembleSpec& s, std::uint64_t max_runs) const;
+  virtual void read_runs(const TomlView& ensemble, EnsembleSpec& s, std::uint64_t max_runs) const;
   // The runs of its first wave, which holds the pilot (wave_plan.hpp).
-  virtual std::uint64_t first_wave_runs(const ensemble::EnsembleSpec& s) const;
+  virtual std::uint64_t first_wave_runs(const EnsembleSpec& s) const;
 
   // --- its runs ---
   // Its runs' inputs in the unit cube (sampling/run_points.hpp); may throw
   // std::invalid_argument for a size its generator cannot make.
-  virtual std::unique_ptr<ensemble::RunPoints> points(const ensemble::PointsSpec& spec) const = 0;
+  virtual std::unique_ptr<sampling::RunPoints> points(const sampling::PointsSpec& spec) const = 0;
   // Runs per step of the design (Saltelli's block, a Morris trajectory): a
   // stopping rule checks, and convergence is told, in whole steps.
-  virtual std::uint64_t runs_per_step(const ensemble::EnsembleSpec&) const { return 1; }
+  virtual std::uint64_t runs_per_step(const EnsembleSpec&) const { return 1; }
   // Whether run k is an independent draw of the inputs, and so counts for
   // the mean, the standard error, the exceedance and the rank measures.
-  virtual bool independent_draw(const ensemble::EnsembleSpec&, std::uint64_t) const { return true; }
+  virtual bool independent_draw(const EnsembleSpec&, std::uint64_t) const { return true; }
   // Whether run k's inputs follow from the records of the runs before it
   // (subset simulation's levels after level 0), not from the seed alone:
   // rerunning it alone needs the ensemble file, whose records replay it
   // (registry_analysis.hpp: replayed_point). Such a design's `runs` is the
   // most it makes.
-  virtual bool follows_records(const ensemble::EnsembleSpec&, std::uint64_t) const { return false; }
+  virtual bool follows_records(const EnsembleSpec&, std::uint64_t) const { return false; }
   // Whether any of its runs does: its runs are decided wave by wave, so its
   // ensemble runs as one job, not in parts, and its records arrive as its
   // waves make them, not in units.
-  bool adaptive(const ensemble::EnsembleSpec& s) const;
+  bool adaptive(const EnsembleSpec& s) const;
   // The first runs the responses' answers count, of the `runs` made
   // (subset simulation: level 0, its Monte-Carlo sample).
-  virtual std::uint64_t answered_runs(const ensemble::EnsembleSpec&, std::uint64_t runs) const { return runs; }
+  virtual std::uint64_t answered_runs(const EnsembleSpec&, std::uint64_t runs) const { return runs; }
   // Whether its RunAnswer answers P(limit exceeded) of response r, in place
   // of the counted runs' exceedance and failure region (subset simulation's
   // response: level 0 alone rarely reaches the limit).
-  virtual bool answers_probability(const ensemble::EnsembleSpec&, std::size_t) const { return false; }
+  virtual bool answers_probability(const EnsembleSpec&, std::size_t) const { return false; }
   // Whether the first runs its answers count, in index order, are a design
   // of their own (a response's convergence table is then one; not a Latin
   // hypercube's).
@@ -112,12 +112,12 @@ class DesignRules {
   virtual std::string_view statistics_note() const { return {}; }
   virtual std::string_view sensitivity_description() const { return "rank measures over the successful samples"; }
   // The root attributes that describe its runs.
-  virtual std::vector<DesignAttribute> attributes(const ensemble::EnsembleSpec&) const { return {}; }
+  virtual std::vector<DesignAttribute> attributes(const EnsembleSpec&) const { return {}; }
   // The summary's lines on how it makes its runs (--check, the run's start).
-  virtual void print_runs(std::ostream&, const ensemble::EnsembleSpec&) const {}
+  virtual void print_runs(std::ostream&, const EnsembleSpec&) const {}
 };
 
 // The rules of `design` (registry.cpp).
-const DesignRules& rules_of(ensemble::Design design);
+const DesignRules& rules_of(sampling::Design design);
 
 }  // namespace treedyn::designs

@@ -11,7 +11,7 @@
 
 namespace treedyn::designs {
 
-const DesignRules& rules_of(ensemble::Design design) {
+const DesignRules& rules_of(sampling::Design design) {
   using Rules = const DesignRules& (*)();
   static constexpr std::array<Rules, 6> kRules{monte_carlo_rules, latin_hypercube_rules,   sobol_rules,
                                                saltelli_rules,    subset_simulation_rules, morris_rules};

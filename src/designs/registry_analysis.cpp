@@ -14,31 +14,31 @@
 
 namespace treedyn::designs {
 
-std::shared_ptr<const DesignAnswer> design_answer(const ensemble::EnsembleSpec& spec,
-                                                  const ensemble::ResponseTable& table, std::size_t r) {
+std::shared_ptr<const DesignAnswer> design_answer(const EnsembleSpec& spec, const ensemble::ResponseTable& table,
+                                                  std::size_t r) {
   switch (spec.design) {
-    case ensemble::Design::saltelli:
+    case sampling::Design::saltelli:
       return answer_saltelli(spec, table, r);
-    case ensemble::Design::morris:
+    case sampling::Design::morris:
       return answer_morris(spec, table, r);
     default:
       return nullptr;
   }
 }
 
-std::unique_ptr<const RunAnswer> run_answer(const ensemble::EnsembleSpec& spec, const ensemble::ResponseTable& table) {
+std::unique_ptr<const RunAnswer> run_answer(const EnsembleSpec& spec, const ensemble::ResponseTable& table) {
   switch (spec.design) {
-    case ensemble::Design::subset_simulation:
+    case sampling::Design::subset_simulation:
       return spec.subset ? answer_rare_event(spec, table) : nullptr;
     default:
       return nullptr;
   }
 }
 
-std::optional<std::vector<double>> replayed_point(const ensemble::EnsembleSpec& spec,
-                                                  const ensemble::ResponseTable& table, std::uint64_t k) {
+std::optional<std::vector<double>> replayed_point(const EnsembleSpec& spec, const ensemble::ResponseTable& table,
+                                                  std::uint64_t k) {
   switch (spec.design) {
-    case ensemble::Design::subset_simulation:
+    case sampling::Design::subset_simulation:
       if (spec.subset && rules_of(spec.design).follows_records(spec, k)) return subset_uniforms(spec, table, k);
       return std::nullopt;
     default:
@@ -46,9 +46,9 @@ std::optional<std::vector<double>> replayed_point(const ensemble::EnsembleSpec& 
   }
 }
 
-std::unique_ptr<ensemble::WavePlan> design_wave_plan(const ensemble::EnsembleSpec& spec) {
+std::unique_ptr<ensemble::WavePlan> design_wave_plan(const EnsembleSpec& spec) {
   switch (spec.design) {
-    case ensemble::Design::subset_simulation:  // with its [ensemble.subset], as the job reader makes sure
+    case sampling::Design::subset_simulation:  // with its [ensemble.subset], as the job reader makes sure
       return spec.subset ? std::make_unique<SubsetPlan>(spec) : nullptr;
     default:
       return nullptr;

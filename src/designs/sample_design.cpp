@@ -8,9 +8,9 @@
 
 namespace treedyn::designs {
 
-SampleDesign::SampleDesign(ensemble::Design design, std::uint64_t seed, std::uint64_t runs, unsigned dimensions,
+SampleDesign::SampleDesign(sampling::Design design, std::uint64_t seed, std::uint64_t runs, unsigned dimensions,
                            std::vector<unsigned> unit_of_dimension, const std::optional<MorrisSpec>& morris) {
-  ensemble::PointsSpec spec{seed, runs, dimensions, std::move(unit_of_dimension), dimensions, morris};
+  sampling::PointsSpec spec{seed, runs, dimensions, std::move(unit_of_dimension), dimensions, morris};
   if (spec.unit_of_dimension.empty())
     for (unsigned d = 0; d < dimensions; ++d) spec.unit_of_dimension.push_back(d);
   if (spec.unit_of_dimension.size() != dimensions)

@@ -19,7 +19,7 @@ class SampleDesign {
   // `unit_of_dimension` (saltelli, morris): the unit of each input
   // dimension, 0 .. U-1; empty: every dimension is a unit of its own
   // (U = D). `morris`: its variant and levels.
-  SampleDesign(ensemble::Design design, std::uint64_t seed, std::uint64_t runs, unsigned dimensions,
+  SampleDesign(sampling::Design design, std::uint64_t seed, std::uint64_t runs, unsigned dimensions,
                std::vector<unsigned> unit_of_dimension = {}, const std::optional<MorrisSpec>& morris = {});
 
   // u in the open interval (0, 1).
@@ -28,7 +28,7 @@ class SampleDesign {
   void point(std::uint64_t run, std::span<double> u) const { points_->point(run, u); }
 
  private:
-  std::unique_ptr<const ensemble::RunPoints> points_;
+  std::unique_ptr<const sampling::RunPoints> points_;
 };
 
 }  // namespace treedyn::designs

@@ -99,7 +99,7 @@ std::size_t unit_rows(const EnsembleSpec& spec, int ranks, std::size_t most) {
 }
 
 std::size_t typical_record_bytes(const SampleRecord& record) {
-  return encoded_size(record) - record.trajectory.size() * sizeof(double);
+  return persistence::encoded_size(record) - record.trajectory.size() * sizeof(double);
 }
 
 Capacity measure_capacity(const Job& job, const EnsembleSpec& spec, double budget) {

@@ -4,13 +4,13 @@
 
 namespace treedyn::ensemble {
 
-void RankResults::use_checkpoint(std::unique_ptr<RankCheckpoint> checkpoint, double every_seconds) {
+void RankResults::use_checkpoint(std::unique_ptr<persistence::RankCheckpoint> checkpoint, double every_seconds) {
   std::lock_guard<std::mutex> guard(lock_);
   checkpoint_ = std::move(checkpoint);
   every_ = every_seconds;
 }
 
-void RankResults::start_statistics(EnsembleStatistics stats) {
+void RankResults::start_statistics(statistics::EnsembleStatistics stats) {
   std::lock_guard<std::mutex> guard(lock_);
   stats_.emplace(std::move(stats));
 }
@@ -64,7 +64,7 @@ std::string RankResults::drop_checkpoint_after(const std::exception& failure) {
   return std::string("warning: ") + failure.what() + "; checkpoints are off for this rank\n";
 }
 
-EnsembleStatistics RankResults::finish() {
+statistics::EnsembleStatistics RankResults::finish() {
   std::lock_guard<std::mutex> guard(lock_);
   if (checkpoint_ && stats_ && !finished_) {
     try {
@@ -82,7 +82,7 @@ EnsembleStatistics RankResults::finish() {
     }
   }
   finished_ = true;
-  EnsembleStatistics out = std::move(*stats_);
+  statistics::EnsembleStatistics out = std::move(*stats_);
   stats_.reset();
   return out;
 }

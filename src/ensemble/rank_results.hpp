@@ -24,10 +24,10 @@ namespace treedyn::ensemble {
 class RankResults {
  public:
   // Checkpoints into `checkpoint` every `every` seconds (none: no checkpoints).
-  void use_checkpoint(std::unique_ptr<RankCheckpoint> checkpoint, double every_seconds);
+  void use_checkpoint(std::unique_ptr<persistence::RankCheckpoint> checkpoint, double every_seconds);
   // The statistics, from the end of the pilot wave on (the pilot's own
   // samples already added), or restored.
-  void start_statistics(EnsembleStatistics stats);
+  void start_statistics(statistics::EnsembleStatistics stats);
   bool has_statistics() const { return stats_.has_value(); }
 
   // A finished sample: its record into the checkpoint and, when it succeeded
@@ -51,7 +51,7 @@ class RankResults {
   // Checkpoints off from now on (a failed write, or common.state missing).
   void drop_checkpoint();
   // The statistics, read by the main thread between waves (the calibration).
-  const EnsembleStatistics& statistics() const { return *stats_; }
+  const statistics::EnsembleStatistics& statistics() const { return *stats_; }
 
   // After the last wave: saves what is not saved yet (flushed, so a failed
   // final write leaves everything for --resume), hands the statistics over
@@ -62,7 +62,7 @@ class RankResults {
   // well removes it: unflushed, a crash of the machine after its rename
   // could leave a state naming records the disk never got, and --resume
   // would refuse the whole checkpoint.
-  EnsembleStatistics finish();
+  statistics::EnsembleStatistics finish();
   // Waits until finish()'s save is on the disk (a failure turns this rank's
   // checkpoints off, and its warning is printed here, on the main thread,
   // not in the middle of rank 0's summary): before the checkpoint is
@@ -81,8 +81,8 @@ class RankResults {
   void commit_final_save();
 
   mutable std::mutex lock_;
-  std::optional<EnsembleStatistics> stats_;
-  std::unique_ptr<RankCheckpoint> checkpoint_;
+  std::optional<statistics::EnsembleStatistics> stats_;
+  std::unique_ptr<persistence::RankCheckpoint> checkpoint_;
   double every_ = 0.0;
   std::chrono::steady_clock::time_point last_save_ = std::chrono::steady_clock::now();
   bool stopped_ = false;

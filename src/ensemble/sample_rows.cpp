@@ -41,8 +41,7 @@ SampleRows::SampleRows(const EnsembleSpec& spec, const ColumnLayout& layout, std
       datasets_.push_back({Kind::reduction, width_[q] * sizeof(double), r, q});
 }
 
-void SampleRows::append(std::size_t i, std::span<const ensemble::SampleRecord> run,
-                        std::vector<unsigned char>& out) const {
+void SampleRows::append(std::size_t i, std::span<const SampleRecord> run, std::vector<unsigned char>& out) const {
   const Dataset& d = datasets_[i];
   out.reserve(out.size() + run.size() * d.row_bytes);
   for (const SampleRecord& r : run) switch (d.kind) {

@@ -49,7 +49,7 @@ std::vector<double> SampleRunner::inputs_at(std::span<const double> uniforms) co
   if (!copula_.empty()) copula_.correlate(u);
   std::vector<double> inputs(u.size());
   std::size_t d = 0;
-  for (const Perturbation& p : spec_.perturbations) {
+  for (const sampling::Perturbation& p : spec_.perturbations) {
     const auto n = static_cast<std::size_t>(p.dimensions());
     p.sample(std::span<const double>(u).subspan(d, n), std::span<double>(inputs).subspan(d, n));
     d += n;
@@ -61,7 +61,7 @@ void SampleRunner::set_up(const std::vector<double>& inputs) {
   const auto p0 = job_.definition.parameters.nominal();
   parameters_.assign(p0.begin(), p0.end());
   state_ = job_.initial;
-  if (!inputs.empty()) apply_inputs(spec_.perturbations, inputs, job_.initial, parameters_, state_);
+  if (!inputs.empty()) sampling::apply_inputs(spec_.perturbations, inputs, job_.initial, parameters_, state_);
   derive_model(job_.definition, parameters_, model_);
 }
 
@@ -125,9 +125,9 @@ SampleRecord SampleRunner::run_inputs(std::uint64_t k, std::vector<double> input
   return record;
 }
 
-RecordShape record_shape(const SampleRunner& runner, std::uint64_t first, std::uint64_t end) {
+persistence::RecordShape record_shape(const SampleRunner& runner, std::uint64_t first, std::uint64_t end) {
   const EnsembleSpec& spec = runner.spec();
-  RecordShape shape;
+  persistence::RecordShape shape;
   shape.first = first;
   shape.end = end;
   shape.inputs = spec.input_dimensions();
@@ -141,7 +141,7 @@ RecordShape record_shape(const SampleRunner& runner, std::uint64_t first, std::u
   return shape;
 }
 
-StatisticsShape statistics_shape(const SampleRunner& runner) {
+persistence::StatisticsShape statistics_shape(const SampleRunner& runner) {
   return {runner.times(), runner.layout().columns, runner.spec().histogram_bins};
 }
 

@@ -76,7 +76,7 @@ class SampleRunner {
   const Job& job_;
   const EnsembleSpec& spec_;
   designs::SampleDesign design_;
-  NormalCopula copula_;  // the correlated inputs ([[ensemble.correlation]])
+  sampling::NormalCopula copula_;  // the correlated inputs ([[ensemble.correlation]])
   std::vector<double> uniforms_;
   std::vector<double> parameters_;  // this sample's parameter vector
   InitialState state_;              // this sample's initial state
@@ -88,7 +88,7 @@ class SampleRunner {
 
 // The shape every record and the statistics of this job have (what a
 // checkpoint or part file must match to be loaded).
-RecordShape record_shape(const SampleRunner& runner, std::uint64_t first, std::uint64_t end);
-StatisticsShape statistics_shape(const SampleRunner& runner);
+persistence::RecordShape record_shape(const SampleRunner& runner, std::uint64_t first, std::uint64_t end);
+persistence::StatisticsShape statistics_shape(const SampleRunner& runner);
 
 }  // namespace treedyn::ensemble

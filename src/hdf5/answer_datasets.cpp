@@ -6,7 +6,7 @@
 
 #include "hdf5/described.hpp"
 
-namespace treedyn::answers_file {
+namespace treedyn::h5 {
 
 using h5::describe;
 
@@ -16,7 +16,7 @@ void write_per_input(hid_t g, const char* name, const std::vector<double>& value
   describe(set.id(), units, what, inputs);
 }
 
-void write_ranking(hid_t sg, const char* name, const ensemble::Ranking& ranking, const std::string& measure,
+void write_ranking(hid_t sg, const char* name, const analysis::Ranking& ranking, const std::string& measure,
                    const std::vector<std::string>& units, const char* samples_word) {
   h5::Handle g = h5::create_group(sg, name);
   h5::write_attribute(g.id(), "description",
@@ -63,7 +63,7 @@ void write_pair(hid_t g, const char* name, double low, double high, const std::s
   describe(set.id(), "1", what, {"low", "high"});
 }
 
-void write_failure_region(hid_t parent, const ensemble::EnsembleSpec& spec, const ensemble::FailureRegion& region,
+void write_failure_region(hid_t parent, const EnsembleSpec& spec, const analysis::FailureRegion& region,
                           const std::string& which_runs) {
   h5::Handle g = h5::create_group(parent, "failure_region");
   h5::write_attribute(g.id(), "description",
@@ -87,7 +87,7 @@ void write_failure_region(hid_t parent, const ensemble::EnsembleSpec& spec, cons
   write_per_input(g.id(), "importance", region.importance, "1",
                   "max(divergence - chance, 0) as a share of its sum over the inputs", inputs);
   std::vector<std::string> unit_names, unit_inputs;
-  for (const ensemble::InputUnit& u : region.units) {
+  for (const analysis::InputUnit& u : region.units) {
     unit_names.push_back(u.name);
     std::string listed;
     for (unsigned d : u.inputs) listed += (listed.empty() ? "" : ", ") + inputs[d];
@@ -108,4 +108,4 @@ void write_failure_region(hid_t parent, const ensemble::EnsembleSpec& spec, cons
   describe(x.id(), "SI (per column: /samples/inputs column_units)", "the inputs at u = mean_u", inputs);
 }
 
-}  // namespace treedyn::answers_file
+}  // namespace treedyn::h5

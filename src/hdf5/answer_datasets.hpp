@@ -12,7 +12,7 @@
 #include "hdf5/hdf5.hpp"
 #include "job/ensemble_spec.hpp"
 
-namespace treedyn::answers_file {
+namespace treedyn::h5 {
 
 // One value per input (or unit), labelled by `inputs`.
 void write_per_input(hid_t g, const char* name, const std::vector<double>& values, const std::string& units,
@@ -20,7 +20,7 @@ void write_per_input(hid_t g, const char* name, const std::vector<double>& value
 
 // <sg>/<name>: the units in ranked order and what tells neighbours apart
 // (analysis/ranking.hpp); `samples_word` names what `needed` counts.
-void write_ranking(hid_t sg, const char* name, const ensemble::Ranking& ranking, const std::string& measure,
+void write_ranking(hid_t sg, const char* name, const analysis::Ranking& ranking, const std::string& measure,
                    const std::vector<std::string>& units, const char* samples_word);
 
 // Rows x (low, high), the rows named in the attribute '<row_word>s'.
@@ -34,7 +34,7 @@ void write_pair(hid_t g, const char* name, double low, double high, const std::s
 // <parent>/failure_region: what the inputs of `which_runs` say
 // (analysis/failure_region.hpp), a response's exceedance's or a subset
 // simulation's.
-void write_failure_region(hid_t parent, const ensemble::EnsembleSpec& spec, const ensemble::FailureRegion& region,
+void write_failure_region(hid_t parent, const EnsembleSpec& spec, const analysis::FailureRegion& region,
                           const std::string& which_runs);
 
-}  // namespace treedyn::answers_file
+}  // namespace treedyn::h5

@@ -3,7 +3,7 @@
 #include "hdf5/answer_datasets.hpp"
 #include "hdf5/described.hpp"
 
-namespace treedyn::answers_file {
+namespace treedyn::h5 {
 
 void GroupAnswerWriter::per_unit(const char* name, const std::vector<double>& values, const std::string& units,
                                  const std::string& what, const std::vector<std::string>& labels) {
@@ -16,7 +16,7 @@ void GroupAnswerWriter::intervals(const char* name, const std::vector<double>& v
   write_interval_matrix(group_, name, values, what, rows, row_word, units);
 }
 
-void GroupAnswerWriter::ranking(const char* name, const ensemble::Ranking& ranking, const std::string& measure,
+void GroupAnswerWriter::ranking(const char* name, const analysis::Ranking& ranking, const std::string& measure,
                                 const std::vector<std::string>& units, const char* samples_word) {
   write_ranking(group_, name, ranking, measure, units, samples_word);
 }
@@ -50,7 +50,7 @@ void GroupAnswerWriter::column(const char* name, const std::vector<std::int64_t>
   h5::describe(h5::write_array(group_, name, H5T_NATIVE_INT64, values.data(), n).id(), "1", what, {});
 }
 
-void GroupAnswerWriter::failure_region(const ensemble::EnsembleSpec& spec, const ensemble::FailureRegion& region,
+void GroupAnswerWriter::failure_region(const EnsembleSpec& spec, const analysis::FailureRegion& region,
                                        const std::string& which_runs) {
   write_failure_region(group_, spec, region, which_runs);
 }
@@ -70,4 +70,4 @@ std::unique_ptr<designs::AnswerWriter> GroupAnswerWriter::group(const char* name
   return std::unique_ptr<designs::AnswerWriter>(new GroupAnswerWriter(std::move(g)));
 }
 
-}  // namespace treedyn::answers_file
+}  // namespace treedyn::h5

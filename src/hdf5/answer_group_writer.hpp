@@ -12,7 +12,7 @@
 #include "designs/design_answer.hpp"
 #include "hdf5/hdf5.hpp"
 
-namespace treedyn::answers_file {
+namespace treedyn::h5 {
 
 class GroupAnswerWriter final : public designs::AnswerWriter {
  public:
@@ -21,7 +21,7 @@ class GroupAnswerWriter final : public designs::AnswerWriter {
                 const std::vector<std::string>& labels) override;
   void intervals(const char* name, const std::vector<double>& values, const std::string& what,
                  const std::vector<std::string>& rows, const char* row_word, const std::string& units) override;
-  void ranking(const char* name, const ensemble::Ranking& ranking, const std::string& measure,
+  void ranking(const char* name, const analysis::Ranking& ranking, const std::string& measure,
                const std::vector<std::string>& units, const char* samples_word) override;
   void array(const char* name, const std::vector<double>& values, const std::vector<std::size_t>& shape,
              const std::string& units, const std::string& what, const std::vector<std::string>& labels) override;
@@ -30,7 +30,7 @@ class GroupAnswerWriter final : public designs::AnswerWriter {
   void pair(const char* name, double low, double high, const std::string& what) override;
   void column(const char* name, const std::vector<std::int32_t>& values, const std::string& what) override;
   void column(const char* name, const std::vector<std::int64_t>& values, const std::string& what) override;
-  void failure_region(const ensemble::EnsembleSpec& spec, const ensemble::FailureRegion& region,
+  void failure_region(const EnsembleSpec& spec, const analysis::FailureRegion& region,
                       const std::string& which_runs) override;
   void attribute(const char* name, const std::string& value) override;
   void attribute(const char* name, double value) override;
@@ -44,4 +44,4 @@ class GroupAnswerWriter final : public designs::AnswerWriter {
   h5::Handle owned_;  // a group this writer made (group()), closed with it
 };
 
-}  // namespace treedyn::answers_file
+}  // namespace treedyn::h5

@@ -9,7 +9,7 @@
 #include "hdf5/answer_group_writer.hpp"
 #include "hdf5/described.hpp"
 
-namespace treedyn::answers_file {
+namespace treedyn::h5 {
 namespace {
 
 using h5::describe;
@@ -17,16 +17,15 @@ using h5::write_described_scalar;
 
 // /responses/<name>/exceedance: the limit state's probability, its interval,
 // what the failed samples can change, and the failure region.
-void write_exceedance(hid_t g, const ensemble::EnsembleSpec& spec, const ensemble::Response& response,
-                      const ensemble::ResponseAnswer& a) {
-  const ensemble::Exceedance& e = *a.exceedance;
+void write_exceedance(hid_t g, const EnsembleSpec& spec, const Response& response, const analysis::ResponseAnswer& a) {
+  const analysis::Exceedance& e = *a.exceedance;
   h5::Handle x = h5::create_group(g, "exceedance");
   h5::write_attribute(x.id(), "description",
-                      "limit state: value " + std::string(ensemble::name(response.fail_if)) +
+                      "limit state: value " + std::string(name(response.fail_if)) +
                           " the limit, over the successful samples; failed samples are counted "
                           "beside it (survivor bias)");
   h5::write_attribute(x.id(), "limit", response.limit);
-  h5::write_attribute(x.id(), "fail_if", std::string(ensemble::name(response.fail_if)));
+  h5::write_attribute(x.id(), "fail_if", std::string(name(response.fail_if)));
   write_described_scalar(x.id(), "probability", e.probability, "1", "exceeded / successful");
   write_described_scalar(x.id(), "count", e.exceeded, "1", "successful samples beyond the limit");
   write_described_scalar(x.id(), "successful", e.successful, "1", "successful samples (the denominator)");
@@ -40,10 +39,9 @@ void write_exceedance(hid_t g, const ensemble::EnsembleSpec& spec, const ensembl
 }
 
 // /responses/<name>/convergence: the answers of the prefixes.
-void write_convergence(hid_t g, const ensemble::EnsembleSpec& spec, const ensemble::Response& response,
-                       const ensemble::ResponseAnswer& a) {
+void write_convergence(hid_t g, const EnsembleSpec& spec, const Response& response, const analysis::ResponseAnswer& a) {
   std::vector<double> table;
-  for (const ensemble::ConvergencePoint& p : a.convergence)
+  for (const analysis::ConvergencePoint& p : a.convergence)
     table.insert(table.end(), {static_cast<double>(p.samples), static_cast<double>(p.used), p.mean, p.sem,
                                p.probability, p.interval.low, p.interval.high});
   h5::Handle c = h5::write_matrix(g, "convergence", table, a.convergence.size(), 7);
@@ -59,18 +57,18 @@ void write_convergence(hid_t g, const ensemble::EnsembleSpec& spec, const ensemb
 }
 
 // " (saltelli: the A and B runs)": which runs the answers count, where not all.
-std::string counted_runs(const ensemble::EnsembleSpec& spec) {
+std::string counted_runs(const EnsembleSpec& spec) {
   const std::string_view note = designs::rules_of(spec.design).counted_runs_note();
   return note.empty() ? "" : " (" + std::string(note) + ")";
 }
 
-void write_response_answer(hid_t parent, const ensemble::EnsembleSpec& spec, const ensemble::Response& response,
-                           const ensemble::ResponseAnswer& a) {
+void write_response_answer(hid_t parent, const EnsembleSpec& spec, const Response& response,
+                           const analysis::ResponseAnswer& a) {
   h5::Handle g = h5::create_group(parent, response.name);
   h5::write_attribute(g.id(), "units", response.units);
   h5::write_attribute(g.id(), "quantity", response.quantity);
   h5::write_attribute(g.id(), "column", response.column);
-  h5::write_attribute(g.id(), "reduce", std::string(ensemble::name(response.reduce)));
+  h5::write_attribute(g.id(), "reduce", std::string(name(response.reduce)));
   write_described_scalar(g.id(), "mean", a.mean, response.units, "mean over the successful samples with finite values");
   write_described_scalar(g.id(), "std", a.std, response.units, "sample standard deviation (n - 1)");
   write_described_scalar(g.id(), "sem", a.sem, response.units, "standard error of the mean, std / sqrt(used)");
@@ -82,8 +80,8 @@ void write_response_answer(hid_t parent, const ensemble::EnsembleSpec& spec, con
   write_convergence(g.id(), spec, response, a);
 }
 
-void write_sensitivity(hid_t parent, const ensemble::EnsembleSpec& spec, const ensemble::Response& response,
-                       const ensemble::ResponseAnswer& a) {
+void write_sensitivity(hid_t parent, const EnsembleSpec& spec, const Response& response,
+                       const analysis::ResponseAnswer& a) {
   const std::vector<std::string> inputs = spec.input_names();
   h5::Handle sg = h5::create_group(parent, response.name);
   h5::write_attribute(sg.id(), "description", std::string(designs::rules_of(spec.design).sensitivity_description()));
@@ -107,8 +105,7 @@ void write_sensitivity(hid_t parent, const ensemble::EnsembleSpec& spec, const e
 
 }  // namespace
 
-void write_answers(hid_t file, const ensemble::EnsembleSpec& spec,
-                   const std::vector<ensemble::ResponseAnswer>& answers) {
+void write_answers(hid_t file, const EnsembleSpec& spec, const std::vector<analysis::ResponseAnswer>& answers) {
   if (answers.empty()) return;
   h5::Handle responses = h5::create_group(file, "responses");
   h5::write_attribute(responses.id(), "description",
@@ -128,18 +125,18 @@ void write_answers(hid_t file, const ensemble::EnsembleSpec& spec,
   }
 }
 
-void write_tolerance_check(hid_t file, const ensemble::EnsembleSpec& spec, const ensemble::ToleranceCheck& check) {
+void write_tolerance_check(hid_t file, const EnsembleSpec& spec, const statistics::ToleranceCheck& check) {
   if (check.empty()) return;
   h5::Handle g = h5::create_group(file, "integration_check");
   h5::write_attribute(g.id(), "description",
                       "is the integration accurate enough for the answers? The pilot's first samples (attribute "
                       "'samples') run again with rtol and atol " +
-                          std::to_string(ensemble::kToleranceFactor).substr(0, 4) +
+                          std::to_string(statistics::kToleranceFactor).substr(0, 4) +
                           " times the job's: per response, the largest change against its spread over the pilot");
   h5::write_attribute(g.id(), "rtol", check.rtol);
   h5::write_attribute(g.id(), "atol", check.atol);
-  h5::write_attribute(g.id(), "rerun_rtol", check.rtol * ensemble::kToleranceFactor);
-  h5::write_attribute(g.id(), "rerun_atol", check.atol * ensemble::kToleranceFactor);
+  h5::write_attribute(g.id(), "rerun_rtol", check.rtol * statistics::kToleranceFactor);
+  h5::write_attribute(g.id(), "rerun_atol", check.atol * statistics::kToleranceFactor);
   const std::vector<long long> samples(check.samples.begin(), check.samples.end());
   const hsize_t rerun[1] = {samples.size()};
   describe(h5::write_array(g.id(), "samples", H5T_NATIVE_LLONG, samples.data(), rerun).id(), "1",
@@ -149,7 +146,7 @@ void write_tolerance_check(hid_t file, const ensemble::EnsembleSpec& spec, const
   for (std::size_t r = 0; r < spec.responses.size(); ++r) {
     names.push_back(spec.responses[r].name);
     units.push_back(spec.responses[r].units);
-    verdicts.push_back(ensemble::describe_verdict(check, r));
+    verdicts.push_back(statistics::describe_verdict(check, r));
     ratio.push_back(check.change[r] / check.spread[r]);
   }
   h5::Handle c = h5::write_vector(g.id(), "change", check.change);
@@ -165,4 +162,4 @@ void write_tolerance_check(hid_t file, const ensemble::EnsembleSpec& spec, const
   h5::write_attribute(g.id(), "verdicts", verdicts);
 }
 
-}  // namespace treedyn::answers_file
+}  // namespace treedyn::h5

@@ -14,13 +14,12 @@
 #include "job/ensemble_spec.hpp"
 #include "statistics/tolerance_check.hpp"
 
-namespace treedyn::answers_file {
+namespace treedyn::h5 {
 
 // /responses and, with sampled inputs, /sensitivity: one group per response.
-void write_answers(hid_t file, const ensemble::EnsembleSpec& spec,
-                   const std::vector<ensemble::ResponseAnswer>& answers);
+void write_answers(hid_t file, const EnsembleSpec& spec, const std::vector<analysis::ResponseAnswer>& answers);
 
 // /integration_check: the pilot's tolerance check (nothing without responses).
-void write_tolerance_check(hid_t file, const ensemble::EnsembleSpec& spec, const ensemble::ToleranceCheck& check);
+void write_tolerance_check(hid_t file, const EnsembleSpec& spec, const statistics::ToleranceCheck& check);
 
-}  // namespace treedyn::answers_file
+}  // namespace treedyn::h5

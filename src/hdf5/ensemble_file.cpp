@@ -16,10 +16,8 @@
 #include "output/motion.hpp"
 #include "output/quantities.hpp"
 
-namespace treedyn {
+namespace treedyn::h5 {
 namespace {
-
-using ensemble::SampleRecord;
 
 using h5::describe;
 
@@ -34,22 +32,22 @@ std::vector<std::string> integrator_stat_columns() {
 namespace {
 
 // Each /samples/inputs column described, so no reader has to parse job_text.
-void describe_inputs(hid_t inputs, const ensemble::EnsembleSpec& spec) {
+void describe_inputs(hid_t inputs, const EnsembleSpec& spec) {
   describe(inputs, "SI (per column: the 'column_units' attribute)",
            "the sampled value of every perturbed input ([[ensemble.perturbation]] targets; "
            "orientation perturbations are rotation vectors)",
            spec.input_names());
   h5::write_attribute(inputs, "column_units", spec.input_units());
   std::vector<std::string> target, distribution, mode;
-  for (const ensemble::Perturbation& p : spec.perturbations)
+  for (const sampling::Perturbation& p : spec.perturbations)
     for (int k = 0; k < p.dimensions(); ++k) {
       target.push_back(p.target);
       distribution.push_back(p.distribution.describe() +
                              (p.unit != 1.0 ? " x " + format_number(p.unit) + " (to " + p.si_unit + ")" : ""));
-      mode.push_back(p.kind == ensemble::Perturbation::Kind::orientation ? "rotation vector, composed"
-                     : p.kind == ensemble::Perturbation::Kind::rotation  ? "rotation, composed"
-                     : p.mode == ensemble::Perturbation::Mode::scale     ? "scale"
-                     : p.mode == ensemble::Perturbation::Mode::add       ? "add"
+      mode.push_back(p.kind == sampling::Perturbation::Kind::orientation ? "rotation vector, composed"
+                     : p.kind == sampling::Perturbation::Kind::rotation  ? "rotation, composed"
+                     : p.mode == sampling::Perturbation::Mode::scale     ? "scale"
+                     : p.mode == sampling::Perturbation::Mode::add       ? "add"
                                                                          : "set");
     }
   h5::write_attribute(inputs, "column_targets", target);
@@ -60,27 +58,27 @@ void describe_inputs(hid_t inputs, const ensemble::EnsembleSpec& spec) {
   // a dependence the job asked for from one the sample happened to have.
   const std::vector<std::string> names = spec.input_names();
   std::vector<std::string> pairs;
-  for (const ensemble::InputCorrelation& c : spec.correlations)
+  for (const sampling::InputCorrelation& c : spec.correlations)
     pairs.push_back(names[c.a] + " ~ " + names[c.b] + ": normal copula " + format_number(c.normal_copula) +
-                    ", Spearman " + format_number(ensemble::spearman_of_normal_copula(c.normal_copula)));
+                    ", Spearman " + format_number(sampling::spearman_of_normal_copula(c.normal_copula)));
   h5::write_attribute(inputs, "correlated_pairs", pairs);
 }
 
 // The /samples/responses attributes: what each column is and its limit.
-void describe_responses(hid_t set, const std::vector<ensemble::Response>& responses) {
+void describe_responses(hid_t set, const std::vector<Response>& responses) {
   std::vector<std::string> names, units, quantity, column, reduce, fail_if;
   std::vector<double> limit, parameter;
-  for (const ensemble::Response& r : responses) {
+  for (const Response& r : responses) {
     names.push_back(r.name);
     units.push_back(r.units);
     quantity.push_back(r.quantity);
     column.push_back(r.column);
-    reduce.emplace_back(ensemble::name(r.reduce));
-    fail_if.emplace_back(ensemble::name(r.fail_if));
+    reduce.emplace_back(name(r.reduce));
+    fail_if.emplace_back(name(r.fail_if));
     limit.push_back(r.has_limit() ? r.limit : std::numeric_limits<double>::quiet_NaN());
-    parameter.push_back(r.reduce == ensemble::Response::Reduce::at_time ? r.time
-                        : r.reduce == ensemble::Response::Reduce::first_time_above ||
-                                r.reduce == ensemble::Response::Reduce::first_time_below
+    parameter.push_back(r.reduce == Response::Reduce::at_time ? r.time
+                        : r.reduce == Response::Reduce::first_time_above ||
+                                r.reduce == Response::Reduce::first_time_below
                             ? r.threshold
                             : std::numeric_limits<double>::quiet_NaN());
   }
@@ -97,17 +95,17 @@ void describe_responses(hid_t set, const std::vector<ensemble::Response>& respon
   h5::write_attribute(set, "fail_if", fail_if);
 }
 
-std::string reduction_about(ensemble::Reduction r) {
-  return r == ensemble::Reduction::final         ? "value at the last output time"
-         : r == ensemble::Reduction::min         ? "minimum over the output times"
-         : r == ensemble::Reduction::max         ? "maximum over the output times"
-         : r == ensemble::Reduction::argmin_time ? "first output time of the minimum"
-                                                 : "first output time of the maximum";
+std::string reduction_about(Reduction r) {
+  return r == Reduction::final         ? "value at the last output time"
+         : r == Reduction::min         ? "minimum over the output times"
+         : r == Reduction::max         ? "maximum over the output times"
+         : r == Reduction::argmin_time ? "first output time of the minimum"
+                                       : "first output time of the maximum";
 }
 
 }  // namespace
 
-EnsembleWriter::EnsembleWriter(const std::filesystem::path& path, const Job& job, const ensemble::EnsembleSpec& spec,
+EnsembleWriter::EnsembleWriter(const std::filesystem::path& path, const Job& job, const EnsembleSpec& spec,
                                const ColumnLayout& layout, std::size_t final_state_size, std::size_t unit_rows)
     : job_(job),
       spec_(spec),
@@ -160,7 +158,7 @@ void EnsembleWriter::create_sample_columns() {
     describe_inputs(inputs_.id(), spec_);
   }
   // A row no record reached reads as "not run", not as the fill's 0 (ok).
-  const auto not_run = static_cast<std::int32_t>(ensemble::SampleStatus::not_run);
+  const auto not_run = static_cast<std::int32_t>(SampleStatus::not_run);
   status_ = h5::RowDataset(g, "status", H5T_NATIVE_INT32, n, {}, unit_rows_, &not_run);
   describe(status_.id(), "1",
            "0 ok, 1 integration failed, 2 invalid model (perturbed input refused), 3 not run (a merge of an "
@@ -182,10 +180,10 @@ void EnsembleWriter::create_sample_columns() {
 }
 
 void EnsembleWriter::create_reductions() {
-  for (ensemble::Reduction r : spec_.per_sample) {
+  for (Reduction r : spec_.per_sample) {
     const std::string about = reduction_about(r);
-    const bool time = r == ensemble::Reduction::argmin_time || r == ensemble::Reduction::argmax_time;
-    reduction_groups_.push_back(h5::create_group(samples_.id(), std::string(ensemble::name(r))));
+    const bool time = r == Reduction::argmin_time || r == Reduction::argmax_time;
+    reduction_groups_.push_back(h5::create_group(samples_.id(), std::string(name(r))));
     h5::write_attribute(
         reduction_groups_.back().id(), "description",
         "per sample, the " + about + " of every column of every recorded quantity; NaN when the sample failed");
@@ -330,13 +328,14 @@ void EnsembleWriter::write_merge_origin(const std::vector<std::string>& parts,
 }
 
 void EnsembleWriter::write_run_answer(const designs::RunAnswer& answer, std::size_t rows) {
-  answers_file::GroupAnswerWriter root(file_.id()), samples(samples_.id());
+  h5::GroupAnswerWriter root(file_.id()), samples(samples_.id());
   answer.write(root, samples, spec_, rows);
 }
 
-EnsembleSummary EnsembleWriter::complete(const std::vector<double>& nominal, const ensemble::EnsembleStatistics& stats,
-                                         const std::vector<ensemble::ResponseAnswer>& answers,
-                                         const ensemble::ToleranceCheck& tolerance, EnsembleSummary summary,
+EnsembleSummary EnsembleWriter::complete(const std::vector<double>& nominal,
+                                         const statistics::EnsembleStatistics& stats,
+                                         const std::vector<analysis::ResponseAnswer>& answers,
+                                         const statistics::ToleranceCheck& tolerance, EnsembleSummary summary,
                                          const RunProvenance& run, std::chrono::steady_clock::time_point started) {
   using Clock = std::chrono::steady_clock;
   const Clock::time_point flushing = Clock::now();
@@ -344,9 +343,9 @@ EnsembleSummary EnsembleWriter::complete(const std::vector<double>& nominal, con
   if (!summary.writing_seconds.empty())
     summary.writing_seconds.front() += std::chrono::duration<double>(Clock::now() - flushing).count();
   write_nominal(nominal);
-  statistics_file::write_statistics(file_.id(), job_, spec_, layout_, stats);
-  answers_file::write_answers(file_.id(), spec_, answers);
-  answers_file::write_tolerance_check(file_.id(), spec_, tolerance);
+  h5::write_statistics(file_.id(), job_, spec_, layout_, stats);
+  h5::write_answers(file_.id(), spec_, answers);
+  h5::write_tolerance_check(file_.id(), spec_, tolerance);
   summary.wall_seconds = std::chrono::duration<double>(Clock::now() - started).count();
   finish(summary, run);
   return summary;
@@ -360,7 +359,7 @@ void EnsembleWriter::finish(const EnsembleSummary& summary, const RunProvenance&
   h5::write_attribute(root, "job_text", job_.text);
   h5::write_attribute(root, "title", job_.title);
   h5::write_attribute(root, "seed", static_cast<long long>(spec_.seed));
-  h5::write_attribute(root, "design", std::string(ensemble::name(spec_.design)));
+  h5::write_attribute(root, "design", std::string(name(spec_.design)));
   h5::write_attribute(root, "samples", static_cast<long long>(spec_.runs));
   h5::write_attribute(root, "base_samples", static_cast<long long>(spec_.samples));
   for (const auto& [name, value] : designs::rules_of(spec_.design).attributes(spec_))
@@ -395,4 +394,4 @@ void EnsembleWriter::finish(const EnsembleSummary& summary, const RunProvenance&
   file_.commit();
 }
 
-}  // namespace treedyn
+}  // namespace treedyn::h5

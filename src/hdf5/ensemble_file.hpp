@@ -21,20 +21,20 @@
 #include "output/sample_record.hpp"
 #include "statistics/ensemble_statistics.hpp"
 
-namespace treedyn {
+namespace treedyn::h5 {
 
 class EnsembleWriter {
  public:
   // `unit_rows` > 0: every per-sample dataset of numbers, and the reasons,
   // in chunks of that many rows, so that a unit of as many samples is one
   // chunk of each (write_unit); 0: chunks of about 64 KiB each.
-  EnsembleWriter(const std::filesystem::path& path, const Job& job, const ensemble::EnsembleSpec& spec,
+  EnsembleWriter(const std::filesystem::path& path, const Job& job, const EnsembleSpec& spec,
                  const ColumnLayout& layout, std::size_t final_state_size, std::size_t unit_rows = 0);
   EnsembleWriter(const EnsembleWriter&) = delete;  // sample_sets_ points into it
   EnsembleWriter& operator=(const EnsembleWriter&) = delete;
 
   // Per-sample records, as they arrive (any order, any batches).
-  void write_records(std::vector<ensemble::SampleRecord> records);
+  void write_records(std::vector<SampleRecord> records);
   // The layout of the per-sample rows, for a sender's UnitEncoder.
   const ensemble::SampleRows& sample_rows() const { return rows_; }
   // A unit's whole chunks (unit_chunks.hpp), stored as they are, and its
@@ -59,18 +59,18 @@ class EnsembleWriter {
   // flushed and renamed into place. Returns the summary as written: its
   // wall time from `started` to the attributes, the last chunks' time added
   // to the first rank's record writing.
-  EnsembleSummary complete(const std::vector<double>& nominal, const ensemble::EnsembleStatistics& stats,
-                           const std::vector<ensemble::ResponseAnswer>& answers,
-                           const ensemble::ToleranceCheck& tolerance, EnsembleSummary summary, const RunProvenance& run,
-                           std::chrono::steady_clock::time_point started);
+  EnsembleSummary complete(const std::vector<double>& nominal, const statistics::EnsembleStatistics& stats,
+                           const std::vector<analysis::ResponseAnswer>& answers,
+                           const statistics::ToleranceCheck& tolerance, EnsembleSummary summary,
+                           const RunProvenance& run, std::chrono::steady_clock::time_point started);
 
  private:
   void create_sample_columns();
   void create_reductions();
   void create_trajectories();
-  void write_run(const std::vector<ensemble::SampleRecord>& run);
-  void write_trajectories(const std::vector<ensemble::SampleRecord>& run);
-  void write_reasons(std::span<const ensemble::SampleRecord> records, std::size_t first);
+  void write_run(const std::vector<SampleRecord>& run);
+  void write_trajectories(const std::vector<SampleRecord>& run);
+  void write_reasons(std::span<const SampleRecord> records, std::size_t first);
   h5::RowDataset& sample_set(const ensemble::SampleRows::Dataset& d);
   // Every per-sample dataset of numbers (hdf5/row_dataset.hpp).
   std::vector<h5::RowDataset*> row_datasets();
@@ -78,7 +78,7 @@ class EnsembleWriter {
   void finish(const EnsembleSummary& summary, const RunProvenance& run);
 
   const Job& job_;
-  const ensemble::EnsembleSpec& spec_;
+  const EnsembleSpec& spec_;
   const ColumnLayout& layout_;
   std::size_t final_size_, unit_rows_;
   ensemble::SampleRows rows_;
@@ -94,4 +94,4 @@ class EnsembleWriter {
   std::vector<h5::RowDataset*> sample_sets_;  // rows_'s datasets, in its order
 };
 
-}  // namespace treedyn
+}  // namespace treedyn::h5

@@ -26,7 +26,7 @@
 #define TREEDYN_COMPILER "unknown"
 #endif
 
-namespace treedyn {
+namespace treedyn::h5 {
 namespace {
 
 // A word as a shell would need it to mean the same.
@@ -96,4 +96,4 @@ std::string build_identity() {
   return identity;
 }
 
-}  // namespace treedyn
+}  // namespace treedyn::h5

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-namespace treedyn {
+namespace treedyn::h5 {
 
 struct RunProvenance {
   std::string start_utc;  // ISO 8601, e.g. 2026-12-01T12:00:00Z
@@ -33,4 +33,4 @@ std::string build_identity();
 // rank_hosts. Throws h5::IoError.
 void write_provenance(hid_t root, const RunProvenance& run);
 
-}  // namespace treedyn
+}  // namespace treedyn::h5

@@ -85,8 +85,8 @@ ensemble::ResponseTable response_table(const ReadFile& file, std::size_t inputs,
   }
 }
 
-ensemble::ToleranceCheck tolerance_check(const ReadFile& file) {
-  ensemble::ToleranceCheck check;
+statistics::ToleranceCheck tolerance_check(const ReadFile& file) {
+  statistics::ToleranceCheck check;
   if (!file.has("/integration_check")) return check;
   check.rtol = file.number_attribute("/integration_check", "rtol");
   check.atol = file.number_attribute("/integration_check", "atol");

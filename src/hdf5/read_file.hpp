@@ -36,6 +36,6 @@ class ReadFile {
 ensemble::ResponseTable response_table(const ReadFile& file, std::size_t inputs, std::size_t responses);
 
 // Its /integration_check (the pilot's tolerance check), empty when it has none.
-ensemble::ToleranceCheck tolerance_check(const ReadFile& file);
+statistics::ToleranceCheck tolerance_check(const ReadFile& file);
 
 }  // namespace treedyn::h5

@@ -12,14 +12,14 @@
 #include "hdf5/trajectory_file.hpp"
 #include "output/quantities.hpp"
 
-namespace treedyn::statistics_file {
+namespace treedyn::h5 {
 namespace {
 
 using h5::describe;
 
 // /stats/<quantity>: count, mean, std, sem, min, max and quantiles, time x column.
-void write_quantity_statistics(hid_t qg, const Job& job, const ensemble::EnsembleSpec& spec, const ColumnLayout& layout,
-                               std::size_t q, const ensemble::EnsembleStatistics& s) {
+void write_quantity_statistics(hid_t qg, const Job& job, const EnsembleSpec& spec, const ColumnLayout& layout,
+                               std::size_t q, const statistics::EnsembleStatistics& s) {
   const std::size_t T = job.request.output_times.size(), C = layout.columns;
   const std::size_t cols = layout.names[q].size(), offset = layout.offset[q];
   const std::string units(find_quantity(layout.quantity[q])->units);
@@ -64,7 +64,7 @@ void write_quantity_statistics(hid_t qg, const Job& job, const ensemble::Ensembl
 
 // /stats/<quantity>/histogram: the values at the last output time, per column.
 void write_final_histograms(hid_t qg, const Job& job, const ColumnLayout& layout, std::size_t q,
-                            const ensemble::EnsembleStatistics& s) {
+                            const statistics::EnsembleStatistics& s) {
   const std::size_t T = job.request.output_times.size(), C = layout.columns;
   const std::size_t cols = layout.names[q].size(), offset = layout.offset[q];
   const std::string units(find_quantity(layout.quantity[q])->units);
@@ -98,8 +98,8 @@ void write_final_histograms(hid_t qg, const Job& job, const ColumnLayout& layout
 
 }  // namespace
 
-void write_statistics(hid_t file, const Job& job, const ensemble::EnsembleSpec& spec, const ColumnLayout& layout,
-                      const ensemble::EnsembleStatistics& s) {
+void write_statistics(hid_t file, const Job& job, const EnsembleSpec& spec, const ColumnLayout& layout,
+                      const statistics::EnsembleStatistics& s) {
   h5::Handle group = h5::create_group(file, "stats");
   h5::write_attribute(group.id(), "description",
                       std::string("statistics over the successful samples at every output time; "
@@ -117,4 +117,4 @@ void write_statistics(hid_t file, const Job& job, const ensemble::EnsembleSpec& 
   }
 }
 
-}  // namespace treedyn::statistics_file
+}  // namespace treedyn::h5

@@ -9,9 +9,9 @@
 #include "output/quantities.hpp"
 #include "statistics/ensemble_statistics.hpp"
 
-namespace treedyn::statistics_file {
+namespace treedyn::h5 {
 
-void write_statistics(hid_t file, const Job& job, const ensemble::EnsembleSpec& spec, const ColumnLayout& layout,
-                      const ensemble::EnsembleStatistics& stats);
+void write_statistics(hid_t file, const Job& job, const EnsembleSpec& spec, const ColumnLayout& layout,
+                      const statistics::EnsembleStatistics& stats);
 
-}  // namespace treedyn::statistics_file
+}  // namespace treedyn::h5

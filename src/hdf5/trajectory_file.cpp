@@ -5,7 +5,7 @@
 #include "output/final_state.hpp"
 #include "output/motion.hpp"
 
-namespace treedyn {
+namespace treedyn::h5 {
 
 void write_column_units(hid_t dataset, const ColumnLayout& layout, std::size_t quantity) {
   std::vector<std::string> units;
@@ -217,4 +217,4 @@ void write_trajectory(const std::filesystem::path& path, const Job& job, const R
   file.commit();
 }
 
-}  // namespace treedyn
+}  // namespace treedyn::h5

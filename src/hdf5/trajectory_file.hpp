@@ -16,7 +16,7 @@
 #include "output/quantities.hpp"
 #include "output/recorder.hpp"
 
-namespace treedyn {
+namespace treedyn::h5 {
 
 // A 'column_units' attribute (one unit per column) when the quantity's
 // columns have mixed units (/base: m, m/s, m/s^2).
@@ -55,4 +55,4 @@ void write_trajectory(const std::filesystem::path& path, const Job& job, const R
                       const IntegrationOutcome& outcome, const RunProvenance& run, const TrajectoryMotion& motion,
                       const SampleOrigin* sample = nullptr);
 
-}  // namespace treedyn
+}  // namespace treedyn::h5

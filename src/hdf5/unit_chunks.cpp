@@ -8,7 +8,7 @@
 
 namespace treedyn::h5 {
 
-void UnitEncoder::encode(std::span<ensemble::SampleRecord> run, std::vector<char>& out) {
+void UnitEncoder::encode(std::span<SampleRecord> run, std::vector<char>& out) {
   ByteWriter w(out);
   w.put(static_cast<std::uint64_t>(run.empty() ? 0 : run.front().index));
   w.put(static_cast<std::uint64_t>(run.size()));
@@ -24,11 +24,11 @@ void UnitEncoder::encode(std::span<ensemble::SampleRecord> run, std::vector<char
     w.put(static_cast<std::uint64_t>(stored.size()));
     w.put_bytes(std::span<const char>(reinterpret_cast<const char*>(stored.data()), stored.size()));
   }
-  for (ensemble::SampleRecord& r : run) {
+  for (SampleRecord& r : run) {
     r.reductions.clear();
     r.final_state.clear();
     r.trajectory.clear();
-    ensemble::write_record(r, w);
+    persistence::write_record(r, w);
   }
 }
 
@@ -51,10 +51,10 @@ void decode_unit_into(std::span<const char> message, std::size_t datasets, const
   }
   // Checked before sizing the records by it: a damaged count would
   // otherwise ask for any amount of memory.
-  if (unit.rows > in.left() / ensemble::least_encoded_size()) in.fail("a unit whose records are not its rows");
+  if (unit.rows > in.left() / persistence::least_encoded_size()) in.fail("a unit whose records are not its rows");
   unit.records.resize(unit.rows);
   for (std::size_t k = 0; k < unit.records.size(); ++k) {
-    ensemble::read_record_into(in, unit.records[k]);
+    persistence::read_record_into(in, unit.records[k]);
     if (unit.records[k].index != unit.first + k) in.fail("a unit's records out of order");
   }
   if (!in.done()) in.fail("a unit whose records are not its rows");

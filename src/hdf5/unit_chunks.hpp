@@ -25,8 +25,8 @@ struct UnitChunk {
 
 struct Unit {
   std::uint64_t first = 0, rows = 0;
-  std::vector<UnitChunk> chunks;                // one per SampleRows dataset, in its order
-  std::vector<ensemble::SampleRecord> records;  // stripped: no reductions, final state, trajectory
+  std::vector<UnitChunk> chunks;      // one per SampleRows dataset, in its order
+  std::vector<SampleRecord> records;  // stripped: no reductions, final state, trajectory
 };
 
 class UnitEncoder {
@@ -37,7 +37,7 @@ class UnitEncoder {
   // unless that shrinks it by less than RowDataset::kWorthShrinking; then
   // it goes raw (random numbers: inputs, final states, extremes). The
   // records are stripped of what the chunks hold.
-  void encode(std::span<ensemble::SampleRecord> run, std::vector<char>& out);
+  void encode(std::span<SampleRecord> run, std::vector<char>& out);
 
  private:
   const ensemble::SampleRows& rows_;

@@ -14,7 +14,7 @@
 #include "sampling/normal_copula.hpp"
 #include "sampling/perturbation.hpp"
 
-namespace treedyn::ensemble {
+namespace treedyn {
 
 // [ensemble.stop]: stop at the first check point (every `every` samples, or
 // `every` whole Saltelli blocks) where one of the targets holds for the
@@ -52,12 +52,12 @@ struct EnsembleSpec {
   std::uint64_t runs = 100;     // the runs it makes: saltelli samples (U + 2), morris samples (U + 1)
   std::uint64_t samples = 100;  // as the job gives it: samples, saltelli's base size N, morris' trajectories r
   std::uint64_t seed = 1;
-  Design design = Design::monte_carlo;
+  sampling::Design design = sampling::Design::monte_carlo;
   std::vector<double> quantiles{0.05, 0.5, 0.95};
   int histogram_bins = 128;          // per output time and component (quantiles and histograms)
   std::uint64_t pilot_samples = 32;  // samples 0..pilot-1 fix the histogram ranges
   std::uint64_t block_size = 4;      // samples handed out per work-queue request
-  std::vector<Perturbation> perturbations;
+  std::vector<sampling::Perturbation> perturbations;
   std::vector<Reduction> per_sample{Reduction::final, Reduction::min, Reduction::max, Reduction::argmin_time,
                                     Reduction::argmax_time};
   std::vector<Response> responses;
@@ -68,7 +68,7 @@ struct EnsembleSpec {
   std::optional<designs::MorrisSpec> morris;  // design = "morris": runs = trajectories x (U + 1)
   std::vector<SobolUnit> sobol_units;  // Saltelli's and Morris' units (read_ensemble fills them for every design)
   bool grouped = false;                // sobol_units are not the inputs ([[ensemble.group]], morris' lists)
-  std::vector<InputCorrelation> correlations;
+  std::vector<sampling::InputCorrelation> correlations;
 
   unsigned input_dimensions() const;
   std::vector<std::string> input_names() const;
@@ -78,7 +78,7 @@ struct EnsembleSpec {
   // of each input dimension, and the runs per base sample, U + 2.
   unsigned unit_count() const;
   std::vector<unsigned> unit_of_input() const;
-  std::uint64_t saltelli_block() const { return ensemble::saltelli_block(unit_count()); }
+  std::uint64_t saltelli_block() const { return sampling::saltelli_block(unit_count()); }
   // The units' names (the inputs' where every unit is one input), and each
   // unit's inputs as one comma-separated text.
   std::vector<std::string> unit_names() const;
@@ -100,4 +100,4 @@ double answers_bytes(const EnsembleSpec& spec);
 // A job without [ensemble] is refused (the ensemble needs its sample count).
 EnsembleSpec read_ensemble(const Job& job);
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn

@@ -12,18 +12,18 @@
 #include "sampling/targets.hpp"
 #include "statistics/ensemble_statistics.hpp"
 
-namespace treedyn::ensemble {
+namespace treedyn {
 namespace {
 
-constexpr std::uint64_t kMaxRuns = EnsembleStatistics::kMaxSamples;
+constexpr std::uint64_t kMaxRuns = statistics::EnsembleStatistics::kMaxSamples;
 
-using Kind = Perturbation::Kind;
-using Mode = Perturbation::Mode;
+using Kind = sampling::Perturbation::Kind;
+using Mode = sampling::Perturbation::Mode;
 
 // Unit of the sampled values: angles need "deg" or "rad"; angular velocity
 // "rad/s" (default) or "deg/s"; everything else is in its SI unit. A scale
 // factor is dimensionless: no unit.
-double read_unit(const TomlView& t, const Perturbation& p) {
+double read_unit(const TomlView& t, const sampling::Perturbation& p) {
   const auto unit = t.string("unit");
   if (p.mode == Mode::scale) {
     if (unit) t.fail("unit", "mode = \"scale\" samples a dimensionless factor; remove 'unit'");
@@ -43,39 +43,39 @@ double read_unit(const TomlView& t, const Perturbation& p) {
   return 1.0;
 }
 
-Distribution read_distribution(const TomlView& t) {
-  Distribution d;
+sampling::Distribution read_distribution(const TomlView& t) {
+  sampling::Distribution d;
   const std::string kind = t.required_string("distribution");
-  if (!parse_distribution(kind, d.kind))
-    t.fail("distribution", "\"" + kind + "\" is not allowed; use " + choices(kDistributionNames));
+  if (!sampling::parse_distribution(kind, d.kind))
+    t.fail("distribution", "\"" + kind + "\" is not allowed; use " + choices(sampling::kDistributionNames));
   auto positive = [&](std::string_view key) {
     const double v = t.required_number(key);
     if (!(v > 0.0)) t.fail(key, "must be > 0");
     return v;
   };
   switch (d.kind) {
-    case Distribution::Kind::normal:
+    case sampling::Distribution::Kind::normal:
       d.mean = t.number("mean", 0.0);
       d.std = positive("std");
       break;
-    case Distribution::Kind::truncated_normal: {
+    case sampling::Distribution::Kind::truncated_normal: {
       d.mean = t.number("mean", 0.0);
       d.std = positive("std");
       d.lower = t.required_number("lower");
       d.upper = t.required_number("upper");
       if (!(d.lower < d.upper)) t.fail("upper", "must be greater than 'lower'");
-      Distribution untruncated = d;
-      untruncated.kind = Distribution::Kind::normal;
+      sampling::Distribution untruncated = d;
+      untruncated.kind = sampling::Distribution::Kind::normal;
       if (!(untruncated.cdf(d.upper) - untruncated.cdf(d.lower) > 1e-12))
         t.fail("lower", "the interval [lower, upper] holds no probability of the normal");
       break;
     }
-    case Distribution::Kind::uniform:
+    case sampling::Distribution::Kind::uniform:
       d.lower = t.required_number("lower");
       d.upper = t.required_number("upper");
       if (!(d.lower < d.upper)) t.fail("upper", "must be greater than 'lower'");
       break;
-    case Distribution::Kind::lognormal:
+    case sampling::Distribution::Kind::lognormal:
       d.mu = t.number("mu", 0.0);
       d.sigma = positive("sigma");
       break;
@@ -199,19 +199,19 @@ double statistics_bytes(const Job& job, const EnsembleSpec& spec) {
   const double entries = static_cast<double>(job.request.output_times.size()) * static_cast<double>(columns);
   // The accumulator, the nominal and pilot range (3 doubles), one sample's
   // trajectory and, at worst (one rank), every pilot trajectory.
-  return EnsembleStatistics::memory_bytes(entries, spec.histogram_bins) +
+  return statistics::EnsembleStatistics::memory_bytes(entries, spec.histogram_bins) +
          entries * (3 * 8.0 + 8.0 * (1.0 + static_cast<double>(spec.pilot_samples)));
 }
 
 unsigned EnsembleSpec::input_dimensions() const {
   unsigned d = 0;
-  for (const Perturbation& p : perturbations) d += static_cast<unsigned>(p.dimensions());
+  for (const sampling::Perturbation& p : perturbations) d += static_cast<unsigned>(p.dimensions());
   return d;
 }
 
 std::vector<std::string> EnsembleSpec::input_names() const {
   std::vector<std::string> names;
-  for (const Perturbation& p : perturbations)
+  for (const sampling::Perturbation& p : perturbations)
     for (auto& n : p.input_names()) names.push_back(n);
   return names;
 }
@@ -248,24 +248,24 @@ std::vector<unsigned> EnsembleSpec::unit_of_input() const {
 
 std::vector<std::string> EnsembleSpec::input_units() const {
   std::vector<std::string> units;
-  for (const Perturbation& p : perturbations)
+  for (const sampling::Perturbation& p : perturbations)
     for (int k = 0; k < p.dimensions(); ++k)
       units.push_back(p.mode == Mode::scale && p.kind != Kind::orientation && p.kind != Kind::rotation ? "1"
                                                                                                        : p.si_unit);
   return units;
 }
 
-Perturbation read_target(const TomlView& t, const ModelDefinition& model) {
-  Perturbation p;
+sampling::Perturbation read_target(const TomlView& t, const ModelDefinition& model) {
+  sampling::Perturbation p;
   p.target = t.required_string("target");
   try {
-    aim(p, model);
-  } catch (const TargetError& e) {
+    sampling::aim(p, model);
+  } catch (const sampling::TargetError& e) {
     t.fail("target", e.what());
   }
   const std::string mode = t.string("mode").value_or("set");
-  if (!parse_in(kModeNames, mode, p.mode))
-    t.fail("mode", "\"" + mode + "\" is not allowed; use " + choices(kModeNames));
+  if (!parse_in(sampling::kModeNames, mode, p.mode))
+    t.fail("mode", "\"" + mode + "\" is not allowed; use " + choices(sampling::kModeNames));
   return p;
 }
 
@@ -273,8 +273,8 @@ namespace {
 
 // samples, seed, design and the statistics' settings.
 void read_settings(const TomlView& t, EnsembleSpec& s) {
-  if (auto design = t.string("design"); design && !parse_design(*design, s.design))
-    t.fail("design", "\"" + *design + "\" is not allowed; use " + choices(kDesignNames));
+  if (auto design = t.string("design"); design && !sampling::parse_design(*design, s.design))
+    t.fail("design", "\"" + *design + "\" is not allowed; use " + choices(sampling::kDesignNames));
   if (designs::rules_of(s.design).takes_samples()) {
     const auto samples = t.integer("samples");
     if (!samples) t.fail("samples", "missing required field: the number of samples (integer >= 1)");
@@ -305,9 +305,9 @@ void read_settings(const TomlView& t, EnsembleSpec& s) {
   }
 }
 
-Perturbation read_perturbation(const TomlView& p, const Job& job) {
+sampling::Perturbation read_perturbation(const TomlView& p, const Job& job) {
   p.check_keys({"target", "distribution", "mean", "std", "lower", "upper", "mu", "sigma", "mode", "unit"});
-  Perturbation pert = read_target(p, job.definition);
+  sampling::Perturbation pert = read_target(p, job.definition);
   if ((pert.kind == Kind::orientation || pert.kind == Kind::rotation) && p.has("mode"))
     p.fail("mode", "not used for this target (a rotation is always composed with the nominal orientation)");
   if (pert.kind == Kind::parameter_list && pert.mode == Mode::scale)
@@ -319,7 +319,7 @@ Perturbation read_perturbation(const TomlView& p, const Job& job) {
         p.fail(key,
                "without 'distribution' every entry is uniform on [0, 2 pi) rad, set; give a distribution "
                "(and its unit) to change that");
-    pert.distribution.kind = Distribution::Kind::uniform;
+    pert.distribution.kind = sampling::Distribution::Kind::uniform;
     pert.distribution.lower = 0.0;
     pert.distribution.upper = 2.0 * std::numbers::pi;
     return pert;
@@ -336,7 +336,7 @@ Perturbation read_perturbation(const TomlView& p, const Job& job) {
 
 // Every design's own table is refused in another design's job.
 void refuse_other_tables(const TomlView& t, const EnsembleSpec& s) {
-  for (const auto& [design, name] : kDesignNames) {
+  for (const auto& [design, name] : sampling::kDesignNames) {
     const std::string_view table = designs::rules_of(design).table();
     if (design != s.design && !table.empty() && t.has(table))
       t.fail(table, "[ensemble." + std::string(table) + "] is only for design = \"" + std::string(name) + "\"");
@@ -448,7 +448,7 @@ std::vector<std::string_view> ensemble_keys() {
       "samples",    "seed",         "design",     "quantiles", "histogram_bins",     "pilot_samples",
       "block_size", "perturbation", "per_sample", "response",  "store_trajectories", "bootstrap_resamples",
       "stop",       "group",        "correlation"};
-  for (const auto& [design, name] : kDesignNames)
+  for (const auto& [design, name] : sampling::kDesignNames)
     if (const std::string_view table = designs::rules_of(design).table(); !table.empty()) keys.push_back(table);
   return keys;
 }
@@ -494,4 +494,4 @@ EnsembleSpec read_ensemble(const Job& job) {
   return s;
 }
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn

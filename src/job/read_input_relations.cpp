@@ -15,7 +15,7 @@
 #include "job/readers.hpp"
 #include "job/toml_view.hpp"
 
-namespace treedyn::ensemble {
+namespace treedyn {
 namespace {
 
 // The strings of `key`, each with its node (for the error position).
@@ -47,7 +47,7 @@ std::vector<unsigned> dimensions_of(const EnsembleSpec& s, std::size_t p) {
 std::size_t perturbation_named(const TomlView& t, const EnsembleSpec& s, const std::string& target,
                                const toml::node* node) {
   std::vector<std::string_view> targets;
-  for (const Perturbation& p : s.perturbations) targets.push_back(p.target);
+  for (const sampling::Perturbation& p : s.perturbations) targets.push_back(p.target);
   const auto first = std::find(targets.begin(), targets.end(), target);
   if (first != targets.end()) {
     if (std::count(targets.begin(), targets.end(), target) > 1)
@@ -132,7 +132,7 @@ void read_groups(const TomlView& t, EnsembleSpec& s) {
     for (std::size_t k = 0; k + 1 < groups.size(); ++k)
       if (groups[k].name == name) g.fail("name", "group \"" + name + "\" is defined twice; names must be unique");
     const bool target = std::any_of(s.perturbations.begin(), s.perturbations.end(),
-                                    [&](const Perturbation& p) { return p.target == name; });
+                                    [&](const sampling::Perturbation& p) { return p.target == name; });
     if (target || std::find(names.begin(), names.end(), name) != names.end())
       g.fail("name", "\"" + name + "\" is the name of an input; give the group a name of its own");
   }
@@ -161,13 +161,13 @@ unsigned input_named(const TomlView& t, const std::vector<std::string>& names, c
             "\"" + name + "\" is not a sampled input; the inputs are:" + listed + did_you_mean(name, views));
 }
 
-InputCorrelation read_correlation(const TomlView& c, const EnsembleSpec& s) {
+sampling::InputCorrelation read_correlation(const TomlView& c, const EnsembleSpec& s) {
   c.check_keys({"inputs", "spearman", "normal_copula"});
   const std::vector<std::string> names = s.input_names();
   const auto inputs =
       string_list(c, "inputs", "two sampled inputs, e.g. [\"body.payload.mass\", \"body.cable.length\"]");
   if (inputs.size() != 2) c.fail("inputs", "give exactly two inputs (one [[ensemble.correlation]] per pair)");
-  InputCorrelation r;
+  sampling::InputCorrelation r;
   r.a = input_named(c, names, inputs[0].first, inputs[0].second);
   r.b = input_named(c, names, inputs[1].first, inputs[1].second);
   if (r.a == r.b) c.fail("inputs", "the two inputs are the same");
@@ -181,11 +181,11 @@ InputCorrelation read_correlation(const TomlView& c, const EnsembleSpec& s) {
   const double value = spearman ? *spearman : *copula;
   if (!(value > -1.0 && value < 1.0)) c.fail(key, "must be in (-1, 1)");
   r.given_as_spearman = spearman.has_value();
-  r.normal_copula = spearman ? normal_copula_of_spearman(value) : value;
+  r.normal_copula = spearman ? sampling::normal_copula_of_spearman(value) : value;
   return r;
 }
 
-std::string describe(const InputCorrelation& c, const std::vector<std::string>& names) {
+std::string describe(const sampling::InputCorrelation& c, const std::vector<std::string>& names) {
   return names[c.a] + " ~ " + names[c.b] + " (normal copula " + format_digits(c.normal_copula, 4) + ")";
 }
 
@@ -195,7 +195,7 @@ std::string describe(const InputCorrelation& c, const std::vector<std::string>& 
 void check_positive_definite(const TomlView& c, const EnsembleSpec& s) {
   const std::vector<std::string> names = s.input_names();
   std::vector<unsigned> inputs;
-  for (const InputCorrelation& k : s.correlations) inputs.insert(inputs.end(), {k.a, k.b});
+  for (const sampling::InputCorrelation& k : s.correlations) inputs.insert(inputs.end(), {k.a, k.b});
   std::sort(inputs.begin(), inputs.end());
   inputs.erase(std::unique(inputs.begin(), inputs.end()), inputs.end());
   auto at = [&inputs](unsigned d) {
@@ -203,12 +203,13 @@ void check_positive_definite(const TomlView& c, const EnsembleSpec& s) {
   };
   const auto n = static_cast<Eigen::Index>(inputs.size());
   Eigen::MatrixXd r = Eigen::MatrixXd::Identity(n, n);
-  for (const InputCorrelation& k : s.correlations) r(at(k.a), at(k.b)) = r(at(k.b), at(k.a)) = k.normal_copula;
+  for (const sampling::InputCorrelation& k : s.correlations)
+    r(at(k.a), at(k.b)) = r(at(k.b), at(k.a)) = k.normal_copula;
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(r, Eigen::EigenvaluesOnly);
   const double smallest = eigen.eigenvalues().minCoeff();
   if (smallest > 1e-10) return;
   std::string listed;
-  for (const InputCorrelation& k : s.correlations) listed += "\n  " + describe(k, names);
+  for (const sampling::InputCorrelation& k : s.correlations) listed += "\n  " + describe(k, names);
   c.fail("inputs",
          "with this one the correlations cannot hold together (their normal-copula matrix is not "
          "positive definite: smallest eigenvalue " +
@@ -226,7 +227,7 @@ void read_correlations(const TomlView& t, EnsembleSpec& s) {
                                        "rank measures (Spearman, SRRC) in /sensitivity allow correlated inputs");
   for (const TomlView& c : entries) {
     s.correlations.push_back(read_correlation(c, s));
-    const InputCorrelation& last = s.correlations.back();
+    const sampling::InputCorrelation& last = s.correlations.back();
     for (std::size_t k = 0; k + 1 < s.correlations.size(); ++k)
       if (s.correlations[k].a == last.a && s.correlations[k].b == last.b)
         c.fail("inputs", "this pair is already correlated by an earlier [[ensemble.correlation]]");
@@ -234,4 +235,4 @@ void read_correlations(const TomlView& t, EnsembleSpec& s) {
   }
 }
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn

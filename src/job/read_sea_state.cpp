@@ -80,7 +80,7 @@ std::vector<double> nominal_phases(std::uint64_t seed, int axis, int components)
   for (int k = 0; k < components; ++k)
     phases[static_cast<std::size_t>(k)] =
         2.0 * std::numbers::pi *
-        ensemble::counter_uniform(seed, static_cast<std::uint64_t>(k), static_cast<std::uint64_t>(axis),
+        sampling::counter_uniform(seed, static_cast<std::uint64_t>(k), static_cast<std::uint64_t>(axis),
                                   0x736561);  // "sea"
   return phases;
 }

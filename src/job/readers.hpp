@@ -45,13 +45,9 @@ SeaStateBase read_sea_state(const TomlView& base);
 
 void read_loads(const TomlView& root, ModelSpec& spec);
 
-}  // namespace treedyn
-
-namespace treedyn::ensemble {
-
 // `target` and `mode` of a [[ensemble.perturbation]] or [[sample.input]]
 // table, resolved against the model (sampling/targets.hpp).
-Perturbation read_target(const TomlView& table, const ModelDefinition& model);
+sampling::Perturbation read_target(const TomlView& table, const ModelDefinition& model);
 
 struct EnsembleSpec;
 // [[ensemble.group]] into spec.sobol_units (every input alone without one)
@@ -64,4 +60,4 @@ void refuse_more_runs_than(const TomlView& t, std::uint64_t runs, std::uint64_t 
 // The index of the [[ensemble.response]] that `t`'s `response` names.
 std::size_t named_response(const TomlView& t, const EnsembleSpec& spec);
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn

@@ -13,11 +13,11 @@
 #include "model/definition.hpp"
 #include "sampling/targets.hpp"
 
-namespace treedyn::ensemble {
+namespace treedyn {
 namespace {
 
-using Kind = Perturbation::Kind;
-using Mode = Perturbation::Mode;
+using Kind = sampling::Perturbation::Kind;
+using Mode = sampling::Perturbation::Mode;
 
 // A TOML float that reads back to the same double: the shortest round-trip
 // digits, with ".0" where they would otherwise read as an integer.
@@ -98,11 +98,11 @@ void apply_sample_section(Job& job) {
   if (!section) return;
   const TomlView& t = *section;
   t.check_keys({"index", "source", "design", "seed", "input"});
-  std::vector<Perturbation> inputs;
+  std::vector<sampling::Perturbation> inputs;
   std::vector<double> values;
   for (const TomlView& e : t.table_array("input")) {
     e.check_keys({"target", "mode", "value"});
-    Perturbation p = read_target(e, job.definition);
+    sampling::Perturbation p = read_target(e, job.definition);
     if (p.kind == Kind::orientation) {
       const auto v = e.vec3("value");
       if (!v) e.fail("value", "missing required field: a rotation vector [x, y, z] in rad");
@@ -123,7 +123,7 @@ void apply_sample_section(Job& job) {
   std::vector<double> parameters(job.definition.parameters.nominal().begin(),
                                  job.definition.parameters.nominal().end());
   InitialState state = job.initial;
-  apply_inputs(inputs, values, job.initial, parameters, state);
+  sampling::apply_inputs(inputs, values, job.initial, parameters, state);
   try {
     derive_model(job.definition, parameters, job.model);
   } catch (const ModelError& error) {
@@ -178,11 +178,11 @@ std::string sample_job_text(const Job& job, const EnsembleSpec& spec, std::uint6
       << "design = \"" << name(spec.design) << "\"\n"
       << "seed = " << spec.seed << "\n";
   std::size_t d = 0;
-  for (const Perturbation& p : spec.perturbations) {
+  for (const sampling::Perturbation& p : spec.perturbations) {
     out << "\n[[sample.input]]\n"
         << "target = " << toml_string(p.target) << "\n";
     if (p.kind == Kind::parameter || p.kind == Kind::angular_velocity || p.kind == Kind::parameter_list)
-      out << "mode = \"" << name_in(kModeNames, p.mode) << "\"\n";
+      out << "mode = \"" << name_in(sampling::kModeNames, p.mode) << "\"\n";
     if (p.kind == Kind::parameter_list) {
       out << "value = [";
       for (int e = 0; e < p.entries; ++e) out << (e ? ", " : "") << toml_float(inputs[d + static_cast<std::size_t>(e)]);
@@ -199,4 +199,4 @@ std::string sample_job_text(const Job& job, const EnsembleSpec& spec, std::uint6
   return out.str();
 }
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn

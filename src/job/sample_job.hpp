@@ -15,7 +15,7 @@
 #include "job/ensemble_spec.hpp"
 #include "job/job.hpp"
 
-namespace treedyn::ensemble {
+namespace treedyn {
 
 // Applies the job's [sample] section, if it has one: the sample's parameter
 // vector and initial state become the job's nominal ones (job.model is
@@ -41,4 +41,4 @@ void require_not_a_sample_job(const Job& job);
 // SI). Throws JobError when the job already is a sample job.
 std::string sample_job_text(const Job& job, const EnsembleSpec& spec, std::uint64_t k, std::span<const double> inputs);
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn

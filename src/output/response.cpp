@@ -6,7 +6,7 @@
 #include <functional>
 #include <limits>
 
-namespace treedyn::ensemble {
+namespace treedyn {
 
 namespace {
 
@@ -158,4 +158,4 @@ double evaluate(const Response& r, std::span<const double> trajectory, std::span
   return std::numeric_limits<double>::quiet_NaN();
 }
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn

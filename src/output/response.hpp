@@ -12,7 +12,7 @@
 
 #include "common/enum_names.hpp"
 
-namespace treedyn::ensemble {
+namespace treedyn {
 
 // Per-sample reductions of every recorded column, stored in
 // /samples/<reduction>/<quantity>.
@@ -93,4 +93,4 @@ inline std::string_view name(Response::FailIf f) {
 double evaluate(const Response& response, std::span<const double> trajectory, std::span<const double> times,
                 std::size_t columns);
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn

@@ -10,7 +10,7 @@
 
 #include "integrate/integrator_stats.hpp"
 
-namespace treedyn::ensemble {
+namespace treedyn {
 
 enum class SampleStatus : std::int32_t {
   ok = 0,
@@ -32,4 +32,4 @@ struct SampleRecord {
   std::vector<double> trajectory;   // times x columns, only for samples < store_trajectories
 };
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn

@@ -10,7 +10,7 @@
 #include "common/hash.hpp"
 #include "persistence/record_codec.hpp"
 
-namespace treedyn::ensemble {
+namespace treedyn::persistence {
 namespace fs = std::filesystem;
 using process::AtomicFile;
 namespace {
@@ -64,7 +64,7 @@ std::vector<SampleRecord> read_frames(const fs::path& path, std::uint64_t bytes)
 // statistics; in its temporary, to be committed.
 std::unique_ptr<StateFileWriter> part_state(const fs::path& path, const RunIdentity& id, std::uint64_t generation,
                                             std::uint64_t records_bytes, std::uint64_t records_count,
-                                            const EnsembleStatistics& stats) {
+                                            const statistics::EnsembleStatistics& stats) {
   auto file = std::make_unique<StateFileWriter>(path, StateKind::part, id);
   file->out().put(generation);
   file->out().put(records_bytes);
@@ -77,18 +77,18 @@ std::unique_ptr<StateFileWriter> part_state(const fs::path& path, const RunIdent
 }
 
 void write_part_state(const fs::path& path, const RunIdentity& id, std::uint64_t generation,
-                      std::uint64_t records_bytes, std::uint64_t records_count, const EnsembleStatistics& stats,
-                      AtomicFile::Sync sync) {
+                      std::uint64_t records_bytes, std::uint64_t records_count,
+                      const statistics::EnsembleStatistics& stats, AtomicFile::Sync sync) {
   part_state(path, id, generation, records_bytes, records_count, stats)->commit(sync);
 }
 
 // Adds a part's statistics into `total`; returns its records.
 std::vector<SampleRecord> load_part(const fs::path& dir, const std::string& stem, const RunIdentity& id,
-                                    const RecordShape& shape, EnsembleStatistics& total) {
+                                    const RecordShape& shape, statistics::EnsembleStatistics& total) {
   const fs::path path = state_path(dir, stem);
   const std::vector<char> bytes = process::read_file(path);
   ByteReader in = open_state_file(bytes, StateKind::part, path, &id);
-  EnsembleStatistics part(total.times(), total.columns(), total.bins(), total.calibration());
+  statistics::EnsembleStatistics part(total.times(), total.columns(), total.bins(), total.calibration());
   std::uint64_t records_bytes = 0, records_count = 0;
   try {
     in.get<std::uint64_t>();  // generation (also in the name)
@@ -122,7 +122,7 @@ bool damage(const CheckpointError& e) {
 // the one thing that works, removing both of its files. Its samples then
 // run again; every other part is kept.
 std::vector<SampleRecord> load_part_or_advise(const fs::path& dir, const std::string& stem, const RunIdentity& id,
-                                              const RecordShape& shape, EnsembleStatistics& total) {
+                                              const RecordShape& shape, statistics::EnsembleStatistics& total) {
   const fs::path state = state_path(dir, stem), records = records_path(dir, stem);
   const std::string advice =
       fs::exists(records)
@@ -206,7 +206,7 @@ fs::path checkpoint_directory(const fs::path& output) {
 }
 
 void write_checkpoint_common(const fs::path& dir, const RunIdentity& id, const std::vector<double>& nominal,
-                             const Calibration& calibration, const ToleranceCheck& tolerance) {
+                             const statistics::Calibration& calibration, const statistics::ToleranceCheck& tolerance) {
   StateFileWriter file(state_path(dir, "common"), StateKind::common, id);
   file.out().put_vector(nominal);
   calibration.write(file.out());
@@ -265,12 +265,12 @@ void RankCheckpoint::append_pending() {
 }
 
 // One save, as its two steps at once.
-void RankCheckpoint::save(const EnsembleStatistics& stats, AtomicFile::Sync sync) {
+void RankCheckpoint::save(const statistics::EnsembleStatistics& stats, AtomicFile::Sync sync) {
   prepare_save(stats);
   commit(sync);
 }
 
-void RankCheckpoint::prepare_save(const EnsembleStatistics& stats) {
+void RankCheckpoint::prepare_save(const statistics::EnsembleStatistics& stats) {
   refuse_after_failure();
   refuse_while_prepared();
   if (saved_once_ && !has_unsaved()) return;  // the state on disk is this one: commit() flushes it if asked
@@ -335,8 +335,8 @@ std::optional<RestoredRun> load_checkpoint(const fs::path& dir, const RunIdentit
     ByteReader in = open_state_file(bytes, StateKind::common, common, &id);
     run.nominal = in.get_vector<double>();
     if (run.nominal.size() != shape.times * shape.columns) in.fail("a nominal run of another shape");
-    run.calibration = Calibration::read(in, run.nominal.size());
-    run.tolerance = ToleranceCheck::read(in);
+    run.calibration = statistics::Calibration::read(in, run.nominal.size());
+    run.tolerance = statistics::ToleranceCheck::read(in);
   } catch (const DecodeError& e) {
     throw CheckpointError(std::string(e.what()) + "; remove the directory `" + dir.string() +
                           "` to start afresh (common.state holds the pilot's calibration, which every part needs)");
@@ -411,4 +411,4 @@ void remove_checkpoint(const fs::path& dir) {
   fs::remove_all(ec ? dir : doomed, ec);
 }
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::persistence

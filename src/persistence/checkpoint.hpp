@@ -36,14 +36,14 @@
 #include "statistics/ensemble_statistics.hpp"
 #include "statistics/tolerance_check.hpp"
 
-namespace treedyn::ensemble {
+namespace treedyn::persistence {
 
 std::filesystem::path checkpoint_directory(const std::filesystem::path& output);
 
 // Rank 0, once the calibration is known. Throws process::FileError.
 void write_checkpoint_common(const std::filesystem::path& dir, const RunIdentity& id,
-                             const std::vector<double>& nominal, const Calibration& calibration,
-                             const ToleranceCheck& tolerance);
+                             const std::vector<double>& nominal, const statistics::Calibration& calibration,
+                             const statistics::ToleranceCheck& tolerance);
 
 // One rank's checkpoint in generation `generation`: records are added as
 // they finish; save() appends them to the records file and rewrites the
@@ -62,7 +62,8 @@ class RankCheckpoint {
   void add(const SampleRecord& record);
   static constexpr std::size_t kSpillBytes = std::size_t{4} << 20;
   // Throws process::FileError (the run goes on without checkpoints).
-  void save(const EnsembleStatistics& stats, process::AtomicFile::Sync sync = process::AtomicFile::Sync::yes);
+  void save(const statistics::EnsembleStatistics& stats,
+            process::AtomicFile::Sync sync = process::AtomicFile::Sync::yes);
   // A flushed save in two steps, the second free to run on another thread
   // while `stats` change (RankResults::finish): prepare_save() appends the
   // records and writes the state into its temporary, without a flush;
@@ -72,7 +73,7 @@ class RankCheckpoint {
   // lie past that state's end, ignored). Both throw process::FileError; no
   // other save may come between the two (std::logic_error): they would
   // share the temporary's name.
-  void prepare_save(const EnsembleStatistics& stats);
+  void prepare_save(const statistics::EnsembleStatistics& stats);
   void commit_prepared();
   std::uint64_t saved_records() const { return saved_records_; }
   bool has_unsaved() const { return pending_records_ > 0 || appended_records_ > saved_records_; }
@@ -127,11 +128,11 @@ struct StatisticsShape {
 struct RestoredRun {
   std::uint64_t generation = 0;  // the one loaded
   std::vector<double> nominal;
-  Calibration calibration;
-  ToleranceCheck tolerance;                                       // the pilot's (analysis/tolerance_check.hpp)
+  statistics::Calibration calibration;
+  statistics::ToleranceCheck tolerance;                           // the pilot's (analysis/tolerance_check.hpp)
   std::vector<SampleRecord> records;                              // sorted by sample index
   std::vector<std::pair<std::uint64_t, std::uint64_t>> finished;  // [first, end) intervals
-  std::optional<EnsembleStatistics> statistics;                   // counts exactly the ok records
+  std::optional<statistics::EnsembleStatistics> statistics;       // counts exactly the ok records
 };
 
 // nullopt when there is no checkpoint (or no common.state yet: the run was
@@ -165,4 +166,4 @@ void create_checkpoint_directory(const std::filesystem::path& dir);
 // middle leaves no half-deleted checkpoint.
 void remove_checkpoint(const std::filesystem::path& dir);
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::persistence

@@ -2,7 +2,7 @@
 
 #include "persistence/record_codec.hpp"
 
-namespace treedyn::ensemble {
+namespace treedyn::persistence {
 namespace {
 
 // Exactly the samples of its range, once each, in order.
@@ -15,7 +15,8 @@ void check_range(const PartFile& part, ByteReader& in) {
 
 }  // namespace
 
-void write_part_file(const std::filesystem::path& path, const PartFile& part, const EnsembleStatistics& stats) {
+void write_part_file(const std::filesystem::path& path, const PartFile& part,
+                     const statistics::EnsembleStatistics& stats) {
   StateFileWriter file(path, StateKind::part_file, part.id);
   ByteWriter& out = file.out();
   out.put_text(part.job_text);
@@ -44,8 +45,8 @@ PartFile read_part_file(const std::filesystem::path& path) {
     part.first = in.get<std::uint64_t>();
     part.end = in.get<std::uint64_t>();
     part.nominal = in.get_vector<double>();
-    part.calibration = Calibration::read(in, part.nominal.size());
-    part.tolerance = ToleranceCheck::read(in);
+    part.calibration = statistics::Calibration::read(in, part.nominal.size());
+    part.tolerance = statistics::ToleranceCheck::read(in);
     part.statistics = in.get_vector<char>();
     const auto count = in.get<std::uint64_t>();
     if (count > in.left()) in.fail("more records than bytes");
@@ -58,4 +59,4 @@ PartFile read_part_file(const std::filesystem::path& path) {
   return part;
 }
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::persistence

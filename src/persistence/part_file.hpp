@@ -14,25 +14,26 @@
 #include "statistics/ensemble_statistics.hpp"
 #include "statistics/tolerance_check.hpp"
 
-namespace treedyn::ensemble {
+namespace treedyn::persistence {
 
 struct PartFile {
   RunIdentity id;
   std::string job_text, job_path;
   std::uint64_t first = 0, end = 0;  // the sample indices it covers, [first, end)
   std::vector<double> nominal;
-  Calibration calibration;
-  ToleranceCheck tolerance;           // the pilot's, the same in every part
-  std::vector<char> statistics;       // its statistics' state (EnsembleStatistics::add_state)
-  std::vector<SampleRecord> records;  // every sample of the range, by index
+  statistics::Calibration calibration;
+  statistics::ToleranceCheck tolerance;  // the pilot's, the same in every part
+  std::vector<char> statistics;          // its statistics' state (EnsembleStatistics::add_state)
+  std::vector<SampleRecord> records;     // every sample of the range, by index
 };
 
 // Writes `part` with the statistics of `stats` (part.statistics is not
 // used). Throws process::FileError.
-void write_part_file(const std::filesystem::path& path, const PartFile& part, const EnsembleStatistics& stats);
+void write_part_file(const std::filesystem::path& path, const PartFile& part,
+                     const statistics::EnsembleStatistics& stats);
 // Throws CheckpointError for a file that is not a part or is damaged (its
 // records must be exactly those of its range), process::FileError when it
 // cannot be read.
 PartFile read_part_file(const std::filesystem::path& path);
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::persistence

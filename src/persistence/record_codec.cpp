@@ -1,6 +1,6 @@
 #include "persistence/record_codec.hpp"
 
-namespace treedyn::ensemble {
+namespace treedyn::persistence {
 
 void write_record(const SampleRecord& r, ByteWriter& out) {
   out.put(r.index);
@@ -49,4 +49,4 @@ std::vector<SampleRecord> read_records(std::span<const char> buffer, const std::
   return records;
 }
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::persistence

@@ -9,7 +9,7 @@
 #include "common/bytes.hpp"
 #include "output/sample_record.hpp"
 
-namespace treedyn::ensemble {
+namespace treedyn::persistence {
 
 void write_record(const SampleRecord& record, ByteWriter& out);
 SampleRecord read_record(ByteReader& in);
@@ -27,4 +27,4 @@ void append_record(const SampleRecord& record, std::vector<char>& buffer);
 // Every record of such a buffer; throws DecodeError naming `what`.
 std::vector<SampleRecord> read_records(std::span<const char> buffer, const std::string& what);
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::persistence

@@ -1,6 +1,6 @@
 #include "persistence/state_file.hpp"
 
-namespace treedyn::ensemble {
+namespace treedyn::persistence {
 namespace {
 
 constexpr std::uint64_t kMagic = 0x3230545043445454ull;  // "TTDCPT02"
@@ -77,4 +77,4 @@ ByteReader open_state_file(const std::vector<char>& bytes, StateKind kind, const
 
 void refuse_damaged(const DecodeError& e) { throw CheckpointError(e.what()); }
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::persistence

@@ -15,7 +15,7 @@
 #include "common/hash.hpp"
 #include "process/atomic_file.hpp"
 
-namespace treedyn::ensemble {
+namespace treedyn::persistence {
 
 // A checkpoint or part file that cannot be used: another job or build, or
 // damaged. Bad input (exit 2): the message says what to do.
@@ -64,4 +64,4 @@ ByteReader open_state_file(const std::vector<char>& bytes, StateKind kind, const
 // is said by whoever knows what the file is part of (checkpoint.cpp).
 [[noreturn]] void refuse_damaged(const DecodeError& e);
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::persistence

@@ -11,7 +11,7 @@
 #include <utility>
 #include <vector>
 
-namespace treedyn::ensemble {
+namespace treedyn::sampling {
 namespace {
 
 // 52 random bits into (0, 1): (m + 0.5) / 2^52, exactly representable, so
@@ -132,4 +132,4 @@ void saltelli_point(std::uint64_t seed, std::span<const unsigned> unit_of_dimens
   }
 }
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::sampling

@@ -12,7 +12,7 @@
 
 #include "common/enum_names.hpp"
 
-namespace treedyn::ensemble {
+namespace treedyn::sampling {
 
 enum class Design {
   monte_carlo,        // independent uniforms from a counter-based generator (Philox4x64)
@@ -85,4 +85,4 @@ void saltelli_point(std::uint64_t seed, std::span<const unsigned> unit_of_dimens
 // else std::invalid_argument naming `design`.
 void check_sobol_size(std::string_view design, unsigned sobol_dimensions, std::uint64_t points);
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::sampling

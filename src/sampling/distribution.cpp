@@ -5,7 +5,7 @@
 
 #include <sstream>
 
-namespace treedyn::ensemble {
+namespace treedyn::sampling {
 
 double Distribution::quantile(double u) const {
   switch (kind) {
@@ -81,4 +81,4 @@ std::string Distribution::describe() const {
   return s.str();
 }
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::sampling

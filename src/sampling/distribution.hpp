@@ -8,7 +8,7 @@
 
 #include "common/enum_names.hpp"
 
-namespace treedyn::ensemble {
+namespace treedyn::sampling {
 
 struct Distribution {
   enum class Kind { normal, truncated_normal, uniform, lognormal } kind = Kind::normal;
@@ -35,4 +35,4 @@ inline bool parse_distribution(std::string_view text, Distribution::Kind& out) {
   return parse_in(kDistributionNames, text, out);
 }
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::sampling

@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-namespace treedyn::ensemble {
+namespace treedyn::sampling {
 namespace {
 
 using Mode = Perturbation::Mode;
@@ -80,4 +80,4 @@ std::optional<InvalidMass> invalid_mass(const Perturbation& p, const ModelDefini
   return m;
 }
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::sampling

@@ -11,7 +11,7 @@
 #include "model/definition.hpp"
 #include "sampling/perturbation.hpp"
 
-namespace treedyn::ensemble {
+namespace treedyn::sampling {
 
 struct InvalidMass {
   double probability = 0.0;  // of a sample being refused
@@ -24,4 +24,4 @@ std::optional<InvalidMass> invalid_mass(const Perturbation& p, const ModelDefini
 
 inline constexpr double kInvalidMassWarning = 1e-3;
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::sampling

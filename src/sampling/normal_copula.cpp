@@ -8,7 +8,7 @@
 #include <numbers>
 #include <stdexcept>
 
-namespace treedyn::ensemble {
+namespace treedyn::sampling {
 
 double spearman_of_normal_copula(double rho) { return 6.0 / std::numbers::pi * std::asin(rho / 2.0); }
 double normal_copula_of_spearman(double r) { return 2.0 * std::sin(std::numbers::pi / 6.0 * r); }
@@ -58,4 +58,4 @@ void NormalCopula::decorrelate(std::span<double> z) const {
   for (Eigen::Index k = 0; k < n; ++k) z[inputs_[static_cast<std::size_t>(k)]] = independent[k];
 }
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::sampling

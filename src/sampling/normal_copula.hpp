@@ -14,7 +14,7 @@
 #include <span>
 #include <vector>
 
-namespace treedyn::ensemble {
+namespace treedyn::sampling {
 
 // [[ensemble.correlation]]: two inputs drawn through a normal copula with
 // parameter rho (their Spearman correlation is (6 / pi) asin(rho / 2)).
@@ -48,4 +48,4 @@ class NormalCopula {
   Eigen::MatrixXd lower_;         // L of R restricted to inputs_
 };
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::sampling

@@ -1,6 +1,6 @@
 #include "sampling/perturbation.hpp"
 
-namespace treedyn::ensemble {
+namespace treedyn::sampling {
 namespace {
 
 double combine(Perturbation::Mode mode, double nominal, double value) {
@@ -87,4 +87,4 @@ void apply_inputs(std::span<const Perturbation> perturbations, std::span<const d
   apply(true);
 }
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::sampling

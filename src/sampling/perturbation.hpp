@@ -12,7 +12,7 @@
 #include "model/initial_state.hpp"
 #include "sampling/distribution.hpp"
 
-namespace treedyn::ensemble {
+namespace treedyn::sampling {
 
 struct Perturbation {
   enum class Kind {
@@ -58,4 +58,4 @@ inline constexpr NameTable<Perturbation::Mode, 3> kModeNames{
 void apply_inputs(std::span<const Perturbation> perturbations, std::span<const double> inputs,
                   const InitialState& nominal_state, std::span<double> parameters, InitialState& state);
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::sampling

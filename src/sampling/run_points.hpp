@@ -14,7 +14,7 @@
 #include "designs/morris/morris_spec.hpp"
 #include "sampling/design.hpp"
 
-namespace treedyn::ensemble {
+namespace treedyn::sampling {
 
 // What a design's points are made from.
 struct PointsSpec {
@@ -76,4 +76,4 @@ class TwoPointRuns : public RunPoints {
   unsigned units_;
 };
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::sampling

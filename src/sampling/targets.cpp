@@ -4,7 +4,7 @@
 #include <string_view>
 #include <tuple>
 
-namespace treedyn::ensemble {
+namespace treedyn::sampling {
 namespace {
 
 using Kind = Perturbation::Kind;
@@ -279,4 +279,4 @@ void aim(Perturbation& p, const ModelDefinition& model) {
   p.enters = target.enters;
 }
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::sampling

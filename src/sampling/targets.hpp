@@ -9,7 +9,7 @@
 #include "model/definition.hpp"
 #include "sampling/perturbation.hpp"
 
-namespace treedyn::ensemble {
+namespace treedyn::sampling {
 
 struct Target {
   Perturbation::Kind kind = Perturbation::Kind::parameter;
@@ -32,4 +32,4 @@ Target resolve_target(const ModelDefinition& model, const std::string& target);
 // where it enters. Throws TargetError.
 void aim(Perturbation& p, const ModelDefinition& model);
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::sampling

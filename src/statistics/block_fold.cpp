@@ -6,7 +6,7 @@
 #include <limits>
 #include <stdexcept>
 
-namespace treedyn::ensemble {
+namespace treedyn::statistics {
 
 static_assert(FoldLimits::kSumBits == 62 && FoldLimits::kSquareBits == 60 &&
                   FoldLimits::kMaxScaledDeviation <= 0x1p20 && FoldLimits::kMaxBlock <= 4096,
@@ -92,4 +92,4 @@ wide rounded_sum_in_lanes(std::span<const double> values, int lanes) {
   return lanes2::rounded_sum(values);
 }
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::statistics

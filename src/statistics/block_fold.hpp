@@ -16,7 +16,7 @@
 #include <span>
 #include <vector>
 
-namespace treedyn::ensemble {
+namespace treedyn::statistics {
 
 __extension__ typedef __int128 wide;  // GCC/Clang 128-bit integer
 
@@ -71,4 +71,4 @@ void fold_block(const FoldBlock& block, const FoldTotals& totals, int lanes);
 // for tests, against std::nearbyint. |v| <= 2^100, at most 2^12 values.
 wide rounded_sum_in_lanes(std::span<const double> values, int lanes);
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::statistics

@@ -6,7 +6,7 @@
 
 #include "common/hash.hpp"
 
-namespace treedyn::ensemble {
+namespace treedyn::statistics {
 
 void Calibration::write(ByteWriter& out) const {
   for (const auto* v : {&center, &scale, &low, &width}) out.put_vector(*v);
@@ -86,4 +86,4 @@ Calibration calibrate(std::span<const double> nominal, std::span<const double> l
   return c;
 }
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::statistics

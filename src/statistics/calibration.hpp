@@ -10,7 +10,7 @@
 
 #include "common/bytes.hpp"
 
-namespace treedyn::ensemble {
+namespace treedyn::statistics {
 
 struct Calibration {
   std::vector<double> center;  // c: nominal value
@@ -41,4 +41,4 @@ Calibration calibrate(std::span<const double> nominal, std::span<const double> p
 // Per-column largest |nominal| over time: the fallback fixed-point unit.
 std::vector<double> column_scales(std::span<const double> nominal, std::size_t columns);
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::statistics

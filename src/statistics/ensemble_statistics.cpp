@@ -5,7 +5,7 @@
 #include <limits>
 #include <stdexcept>
 
-namespace treedyn::ensemble {
+namespace treedyn::statistics {
 namespace {
 
 constexpr std::uint64_t kStateMagic = 0x3130415453445454ull;  // "TTDSTA01"
@@ -288,4 +288,4 @@ double EnsembleStatistics::quantile(std::size_t e, double q) const {
   return max_[e];
 }
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::statistics

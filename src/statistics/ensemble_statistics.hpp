@@ -33,7 +33,7 @@
 #include "statistics/calibration.hpp"
 #include "statistics/huge_pages.hpp"
 
-namespace treedyn::ensemble {
+namespace treedyn::statistics {
 
 class EnsembleStatistics {
  public:
@@ -128,4 +128,4 @@ class EnsembleStatistics {
   mutable std::size_t pending_samples_ = 0;
 };
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::statistics

@@ -4,7 +4,7 @@
 
 #include <cstdint>
 
-namespace treedyn::ensemble {
+namespace treedyn::statistics {
 namespace {
 
 constexpr std::size_t kAlign = HugePageAllocator<char>::kHugePage;
@@ -32,4 +32,4 @@ void* map_huge_pages(std::size_t bytes) {
 
 void unmap_huge_pages(void* p, std::size_t bytes) noexcept { munmap(p, rounded_up(bytes)); }
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::statistics

@@ -11,7 +11,7 @@
 #include <memory>
 #include <new>
 
-namespace treedyn::ensemble {
+namespace treedyn::statistics {
 
 // `bytes` of zeroed memory, 2 MiB aligned. Throws std::bad_alloc when the
 // mapping (or, where the kernel tells, its pages) cannot be had.
@@ -57,4 +57,4 @@ struct HugePageAllocator {
   }
 };
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::statistics

@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <limits>
 
-namespace treedyn::ensemble {
+namespace treedyn::statistics {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -109,4 +109,4 @@ std::string describe_verdict(const ToleranceCheck& check, std::size_t r) {
   return "not checked: the response has no spread over the pilot (" + ratio + ")";
 }
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::statistics

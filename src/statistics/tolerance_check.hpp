@@ -13,7 +13,7 @@
 
 #include "common/bytes.hpp"
 
-namespace treedyn::ensemble {
+namespace treedyn::statistics {
 
 inline constexpr double kToleranceFactor = 0.01;      // the rerun's rtol and atol over the job's
 inline constexpr std::uint64_t kToleranceReruns = 4;  // pilot samples 0 .. 3
@@ -53,4 +53,4 @@ ToleranceVerdict tolerance_verdict(const ToleranceCheck& check, std::size_t resp
 // looser; check again there)".
 std::string describe_verdict(const ToleranceCheck& check, std::size_t response);
 
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::statistics

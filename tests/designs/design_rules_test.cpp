@@ -33,7 +33,8 @@
 
 namespace {
 
-using namespace treedyn::ensemble;
+using namespace treedyn;
+using namespace treedyn::sampling;
 using treedyn::designs::rules_of;
 using treedyn::designs::SampleDesign;
 

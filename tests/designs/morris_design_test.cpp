@@ -27,7 +27,8 @@
 
 namespace {
 
-using namespace treedyn::ensemble;
+using namespace treedyn;
+using namespace treedyn::sampling;
 using namespace treedyn::designs;
 
 // Three inputs in two units (0: inputs 0 and 2; 1: input 1), 6 levels.
@@ -138,7 +139,7 @@ Synthetic synthetic(unsigned inputs, std::vector<SobolUnit> units, std::uint64_t
 }
 
 MorrisIndices indices_of(const Synthetic& s, const std::vector<double>& f, unsigned inputs) {
-  const ResponseTable table(s.status, s.inputs, f, inputs, 1);
+  const ensemble::ResponseTable table(s.status, s.inputs, f, inputs, 1);
   return morris_indices(elementary_effects(s.spec, table, 0), s.spec.unit_count(), 200, s.spec.seed);
 }
 

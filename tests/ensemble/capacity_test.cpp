@@ -21,6 +21,7 @@ namespace {
 
 using namespace treedyn;
 using namespace treedyn::ensemble;
+using namespace treedyn::persistence;
 namespace fs = std::filesystem;
 
 EnsembleJob spherical() {
@@ -91,7 +92,7 @@ TEST(Capacity, UnitRowsFollowTheRunsAndTheRanks) {
   spec.stop->every = 1000;
   EXPECT_EQ(rows(std::uint64_t{1} << 40, 2), 0u);
   spec.stop.reset();
-  spec.design = Design::subset_simulation;  // its later levels' records come chain by chain
+  spec.design = sampling::Design::subset_simulation;  // its later levels' records come chain by chain
   spec.subset.emplace();
   EXPECT_EQ(rows(std::uint64_t{1} << 40, 2), 0u);
 }
@@ -200,10 +201,11 @@ TEST(Capacity, WritingIsMeasuredWhereTheOutputGoesOrSaidNotToBe) {
   EXPECT_TRUE(d.write_measured_in.empty());
   out.str("");
   print_capacity(out, d, spec, "sample 0, timed now");
-  EXPECT_NE(out.str().find(" stored, at the development machine's 1.90 ns a byte, not measured here: " +
-                           missing.string() + ": cannot measure what writing costs here: cannot create a file "
-                           "(No such file or directory); the rest"),
-            std::string::npos)
+  EXPECT_NE(
+      out.str().find(" stored, at the development machine's 1.90 ns a byte, not measured here: " + missing.string() +
+                     ": cannot measure what writing costs here: cannot create a file "
+                     "(No such file or directory); the rest"),
+      std::string::npos)
       << out.str();
 }
 

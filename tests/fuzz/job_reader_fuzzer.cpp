@@ -23,8 +23,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::string_view text(reinterpret_cast<const char*>(data), size);
   try {
     treedyn::Job job = treedyn::parse_job(text, "fuzz.toml");
-    treedyn::ensemble::apply_sample_section(job);
-    if (job.text.find("[ensemble") != std::string::npos) (void)treedyn::ensemble::read_ensemble(job);
+    treedyn::apply_sample_section(job);
+    if (job.text.find("[ensemble") != std::string::npos) (void)treedyn::read_ensemble(job);
   } catch (const treedyn::JobError&) {
     // A refusal with its location: the reader's answer to bad input.
   }

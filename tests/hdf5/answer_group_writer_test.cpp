@@ -34,7 +34,7 @@ class AnswerGroupWriter : public ::testing::Test {
     const std::filesystem::path path = dir_.path() / "answers.h5";
     h5::File file(path);
     {
-      answers_file::GroupAnswerWriter root(file.id());
+      h5::GroupAnswerWriter root(file.id());
       what(root);
     }
     file.commit();

@@ -26,7 +26,6 @@ namespace treedyn {
 namespace {
 
 namespace fs = std::filesystem;
-using ensemble::SampleRecord;
 using namespace treedyn::testing;
 
 constexpr std::size_t kRows = 32, kRuns = 4 * kRows;
@@ -36,7 +35,7 @@ constexpr std::size_t kRows = 32, kRuns = 4 * kRows;
 // columns are constant, which it can), one of them failed with a reason.
 struct Records {
   Records() {
-    ensemble::EnsembleJob read = ensemble::read_ensemble_job(JobDocument::parse(
+    EnsembleJob read = read_ensemble_job(JobDocument::parse(
         edited_job_text("spherical_pendulum.toml", {{"end_time = 10.0", "end_time = 0.2"}}), "spherical.toml"));
     job = std::move(read.job);
     spec = std::move(read.spec);
@@ -45,14 +44,14 @@ struct Records {
     runner.emplace(job, spec);
     std::vector<double> trajectory;
     for (std::uint64_t k = 0; k < kRuns; ++k)
-      all.push_back(k == 45 ? runner->failed_record(k, ensemble::SampleStatus::integration_failed, "too much work")
+      all.push_back(k == 45 ? runner->failed_record(k, SampleStatus::integration_failed, "too much work")
                             : runner->run(k, false, trajectory));
   }
   std::vector<SampleRecord> slice(std::size_t first, std::size_t rows) const {
     return {all.begin() + static_cast<long>(first), all.begin() + static_cast<long>(first + rows)};
   }
   Job job;
-  ensemble::EnsembleSpec spec;
+  EnsembleSpec spec;
   std::optional<ensemble::SampleRunner> runner;
   std::vector<SampleRecord> all;
 };
@@ -75,22 +74,22 @@ class UnitChunks : public ::testing::Test {
   fs::path from_records(std::size_t unit_rows) {
     const fs::path path = dir_.path() / ("records_" + std::to_string(unit_rows) + ".h5");
     const Records& r = records();
-    EnsembleWriter writer(path, r.job, r.spec, r.runner->layout(), r.runner->final_state_size(), unit_rows);
+    h5::EnsembleWriter writer(path, r.job, r.spec, r.runner->layout(), r.runner->final_state_size(), unit_rows);
     writer.write_records(r.all);
     complete(writer);
     return path;
   }
-  void complete(EnsembleWriter& writer) {
+  void complete(h5::EnsembleWriter& writer) {
     const Records& r = records();
     const std::size_t columns = r.runner->layout().columns, entries = r.runner->times() * columns;
     const std::vector<double> zero(entries, 0.0), low(entries, -1.0), high(entries, 1.0), scale(columns, 1.0);
-    ensemble::EnsembleStatistics stats(r.runner->times(), columns, 8,
-                                       ensemble::calibrate(zero, low, high, scale, columns, 8));
+    statistics::EnsembleStatistics stats(r.runner->times(), columns, 8,
+                                         statistics::calibrate(zero, low, high, scale, columns, 8));
     EnsembleSummary one_rank;  // one value per rank in every per-rank attribute
     one_rank.peak_rss_mib = one_rank.busy_seconds = one_rank.writing_seconds = {0.0};
     one_rank.busy_cpu_seconds = one_rank.writing_cpu_seconds = one_rank.cpu_seconds = {0.0};
     one_rank.samples_per_rank = {0};
-    writer.complete(zero, stats, {}, {}, one_rank, RunProvenance{}, std::chrono::steady_clock::now());
+    writer.complete(zero, stats, {}, {}, one_rank, h5::RunProvenance{}, std::chrono::steady_clock::now());
   }
   TempDir dir_{"unit_chunks"};
 };
@@ -103,7 +102,7 @@ TEST_F(UnitChunks, UnitsReadBackAsTheRowsRankZeroWritesFromRecords) {
   const fs::path path = dir_.path() / "units.h5";
   std::size_t deflated = 0, raw = 0;
   {
-    EnsembleWriter writer(path, r.job, r.spec, r.runner->layout(), r.runner->final_state_size(), kRows);
+    h5::EnsembleWriter writer(path, r.job, r.spec, r.runner->layout(), r.runner->final_state_size(), kRows);
     writer.write_records(r.slice(0, kRows));
     h5::Unit unit;  // decoded into again and again, as rank 0 does (the first holds the failed sample)
     for (std::size_t first = kRows; first < kRuns; first += kRows) {
@@ -154,7 +153,7 @@ TEST_F(UnitChunks, AUnitOverRowsAlreadyWrittenIsWrittenAsRows) {
   const Records& r = records();
   const fs::path path = dir_.path() / "overlap.h5";
   {
-    EnsembleWriter writer(path, r.job, r.spec, r.runner->layout(), r.runner->final_state_size(), kRows);
+    h5::EnsembleWriter writer(path, r.job, r.spec, r.runner->layout(), r.runner->final_state_size(), kRows);
     writer.write_records(r.slice(0, kRows + 5));
     const std::vector<char> message = encoded(writer.sample_rows(), r.slice(kRows, kRows));
     writer.write_unit(h5::decode_unit(message, writer.sample_rows().datasets().size(), "a test unit"));
@@ -171,7 +170,7 @@ TEST_F(UnitChunks, AUnitOverRowsAlreadyWrittenIsWrittenAsRows) {
 TEST_F(UnitChunks, AUnitThatIsNotOneWholeChunkIsRefused) {
   const Records& r = records();
   const fs::path path = dir_.path() / "refused.h5";
-  EnsembleWriter writer(path, r.job, r.spec, r.runner->layout(), r.runner->final_state_size(), kRows);
+  h5::EnsembleWriter writer(path, r.job, r.spec, r.runner->layout(), r.runner->final_state_size(), kRows);
   for (std::size_t first : {std::size_t{5}, std::size_t{kRows}}) {
     const std::size_t rows = first == 5 ? kRows : kRows / 2;  // misaligned; too short
     const std::vector<char> message = encoded(writer.sample_rows(), r.slice(first, rows));

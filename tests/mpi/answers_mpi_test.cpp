@@ -35,7 +35,7 @@ namespace {
 
 using namespace treedyn::testing;
 namespace fs = std::filesystem;
-namespace ens = treedyn::ensemble;
+using namespace treedyn;
 
 // The branched tree of ensemble_mpi_test.cpp, Saltelli's design over its 5
 // inputs (N = 8: 56 runs), responses of every kind, 6 stored trajectories.
@@ -196,15 +196,15 @@ TEST_F(Answers, SameBitsAloneAndOnOneTwoAndThreeRanks) {
 // file's own status, inputs and responses gives the stored bits.
 TEST_F(Answers, StoredAnswersEqualThoseRecomputedFromTheSamples) {
   const treedyn::Job j = job();
-  const ens::EnsembleSpec spec = ens::read_ensemble(j);
+  const EnsembleSpec spec = read_ensemble(j);
   H5File file(output());
   ASSERT_TRUE(file.ok());
   const hid_t f = file.id();
   std::vector<std::int32_t> status;
   for (long long s : read_integers(f, "/samples/status")) status.push_back(static_cast<std::int32_t>(s));
-  const ens::ResponseTable table(status, read_doubles(f, "/samples/inputs"), read_doubles(f, "/samples/responses"),
-                                 kInputs, spec.responses.size());
-  const std::vector<ens::ResponseAnswer> answers = ens::answer_responses(spec, table);
+  const ensemble::ResponseTable table(status, read_doubles(f, "/samples/inputs"), read_doubles(f, "/samples/responses"),
+                                      kInputs, spec.responses.size());
+  const std::vector<analysis::ResponseAnswer> answers = analysis::answer_responses(spec, table);
   ASSERT_EQ(answers.size(), 8u);
   auto expect_bits = [](const std::vector<double>& stored, const std::vector<double>& computed,
                         const std::string& what) {
@@ -216,7 +216,7 @@ TEST_F(Answers, StoredAnswersEqualThoseRecomputedFromTheSamples) {
   for (std::size_t r = 0; r < answers.size(); ++r) {
     const std::string g = "/responses/" + spec.responses[r].name;
     SCOPED_TRACE(g);
-    const ens::ResponseAnswer& a = answers[r];
+    const analysis::ResponseAnswer& a = answers[r];
     expect_bits(read_doubles(f, g + "/mean"), {a.mean}, "mean");
     expect_bits(read_doubles(f, g + "/sem"), {a.sem}, "sem");
     EXPECT_EQ(read_integers(f, g + "/used"), std::vector<long long>{static_cast<long long>(a.used)});
@@ -235,7 +235,7 @@ TEST_F(Answers, StoredAnswersEqualThoseRecomputedFromTheSamples) {
     const std::string s = "/sensitivity/" + spec.responses[r].name;
     expect_bits(read_doubles(f, s + "/spearman"), a.ranks.spearman, "spearman");
     expect_bits(read_doubles(f, s + "/srrc"), a.ranks.srrc, "srrc");
-    const auto* saltelli = ens::design_answer_as<treedyn::designs::SaltelliAnswer>(a);
+    const auto* saltelli = analysis::design_answer_as<treedyn::designs::SaltelliAnswer>(a);
     ASSERT_NE(saltelli, nullptr);
     expect_bits(read_doubles(f, s + "/first_order"), saltelli->indices.first, "first_order");
     expect_bits(read_doubles(f, s + "/total_order"), saltelli->indices.total, "total_order");
@@ -279,7 +279,7 @@ double direct(const std::string& reduce, const std::vector<double>& x, const std
 
 TEST_F(Answers, EveryResponseAndReductionMatchesTheStoredTrajectory) {
   const treedyn::Job j = job();
-  const ens::EnsembleSpec spec = ens::read_ensemble(j);
+  const EnsembleSpec spec = read_ensemble(j);
   const treedyn::ColumnLayout layout = treedyn::column_layout(j.model, j.output);
   H5File file(output());
   ASSERT_TRUE(file.ok());
@@ -310,11 +310,11 @@ TEST_F(Answers, EveryResponseAndReductionMatchesTheStoredTrajectory) {
         EXPECT_EQ(argmax[e], t[static_cast<std::size_t>(hi - x.begin())]);
       }
     for (std::size_t r = 0; r < R; ++r) {
-      const ens::Response& response = spec.responses[r];
+      const Response& response = spec.responses[r];
       if (response.quantity != name) continue;
       const auto c = static_cast<std::size_t>(
           std::find(layout.names[q].begin(), layout.names[q].end(), response.column) - layout.names[q].begin());
-      const std::string reduce(ens::name(response.reduce));
+      const std::string reduce(treedyn::name(response.reduce));
       const double parameter = reduce == "at_time" ? response.time : response.threshold;
       for (std::size_t k = 0; k < kStored; ++k) {
         std::vector<double> x(T);
@@ -341,13 +341,13 @@ TEST_F(Answers, EveryResponseAndReductionMatchesTheStoredTrajectory) {
 // 0 .. m-1 (their A and B runs), recomputed here by two passes.
 TEST_F(Answers, ConvergenceRowsAreTheAnswersOfThePrefixes) {
   const treedyn::Job j = job();
-  const ens::EnsembleSpec spec = ens::read_ensemble(j);
+  const EnsembleSpec spec = read_ensemble(j);
   H5File file(output());
   ASSERT_TRUE(file.ok());
   const std::vector<double> responses = read_doubles(file.id(), "/samples/responses");
   const std::size_t R = spec.responses.size();
   for (std::size_t r = 0; r < R; ++r) {
-    const ens::Response& response = spec.responses[r];
+    const Response& response = spec.responses[r];
     SCOPED_TRACE(response.name);
     const std::vector<double> rows = read_doubles(file.id(), "/responses/" + response.name + "/convergence");
     // Saltelli: whole blocks of D + 2 = 7 runs, 1, 2, 4, 8 of them.
@@ -365,7 +365,7 @@ TEST_F(Answers, ConvergenceRowsAreTheAnswersOfThePrefixes) {
         const double v = responses[k * R + r];
         if (std::isfinite(v)) used.push_back(v);
         if (response.has_limit() &&
-            (response.fail_if == ens::Response::FailIf::above ? v > response.limit : v < response.limit))
+            (response.fail_if == Response::FailIf::above ? v > response.limit : v < response.limit))
           ++exceeded;
       }
       EXPECT_EQ(rows[i * 7 + 0], static_cast<double>(m));

@@ -742,7 +742,7 @@ class EnsembleMpiExample : public ::testing::TestWithParam<std::string> {};
 using Dims = std::vector<hsize_t>;
 
 // docs/hdf5.md's /samples: one row per sample, every sample ok.
-void expect_sample_rows(hid_t f, const treedyn::Job& job, const treedyn::ensemble::EnsembleSpec& spec) {
+void expect_sample_rows(hid_t f, const treedyn::Job& job, const treedyn::EnsembleSpec& spec) {
   const hsize_t N = spec.runs, D = spec.input_dimensions(), n = static_cast<hsize_t>(job.model.n);
   EXPECT_EQ(shape(f, "/samples/status"), Dims{N});
   EXPECT_EQ(shape(f, "/samples/reason"), Dims{N});
@@ -763,7 +763,7 @@ void expect_sample_rows(hid_t f, const treedyn::Job& job, const treedyn::ensembl
 }
 
 // Per quantity: statistics, nominal run, per-sample reductions; nothing else.
-void expect_quantity_datasets(hid_t f, const treedyn::Job& job, const treedyn::ensemble::EnsembleSpec& spec) {
+void expect_quantity_datasets(hid_t f, const treedyn::Job& job, const treedyn::EnsembleSpec& spec) {
   const hsize_t T = job.request.output_times.size(), N = spec.runs;
   const hsize_t P = spec.quantiles.size(), B = static_cast<hsize_t>(spec.histogram_bins);
   std::vector<std::string> expected_stats{"/stats/time"}, expected_nominal{"/nominal/time"};
@@ -806,7 +806,7 @@ void expect_quantity_datasets(hid_t f, const treedyn::Job& job, const treedyn::e
 }
 
 // Named responses: one column each, and their answers.
-void expect_response_datasets(hid_t f, const treedyn::ensemble::EnsembleSpec& spec) {
+void expect_response_datasets(hid_t f, const treedyn::EnsembleSpec& spec) {
   const hsize_t N = spec.runs, D = spec.input_dimensions();
   const std::size_t R = spec.responses.size();
   if (R > 0) {
@@ -830,7 +830,7 @@ TEST_P(EnsembleMpiExample, RunsOnTwoRanksWithEverySampleOkAndTheDocumentedShapes
   // [ensemble] reader; columns per quantity as `treedyn run` labels them.
   const std::string text = read_text(job_path);
   const treedyn::Job job = treedyn::parse_job(text, job_path.string());
-  const treedyn::ensemble::EnsembleSpec spec = treedyn::ensemble::read_ensemble(job);
+  const treedyn::EnsembleSpec spec = treedyn::read_ensemble(job);
   const hsize_t N = spec.runs, D = spec.input_dimensions();
   ASSERT_GT(N, 0u);
   ASSERT_GT(D, 0u) << "the example's [ensemble] perturbs nothing";

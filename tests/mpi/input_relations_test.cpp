@@ -51,7 +51,7 @@ normal_copula = -0.5
 // Spearman's rank correlation of two columns: the project's own
 // (analysis/sensitivity.hpp), x as the one input and y as the response.
 double spearman(const std::vector<double>& x, const std::vector<double>& y) {
-  return treedyn::ensemble::rank_sensitivity(x, 1, y).spearman.at(0);
+  return treedyn::analysis::rank_sensitivity(x, 1, y).spearman.at(0);
 }
 
 // Column c of /samples/inputs (rows x 5).

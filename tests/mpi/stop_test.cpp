@@ -54,8 +54,7 @@ TEST_F(Stop, StopsAtTheFirstCheckPointWhereTheTargetHoldsOnAnyRankCount) {
     std::uint64_t k = 0;
     for (std::uint64_t i = 0; i < n; ++i) k += spin[i] > kLimit ? 1 : 0;
     const double p = static_cast<double>(k) / static_cast<double>(n);
-    if (k >= treedyn::ensemble::kMinExceedances && std::sqrt((1.0 - p) / (static_cast<double>(n) * p)) <= 0.2)
-      expected = n;
+    if (k >= treedyn::kMinExceedances && std::sqrt((1.0 - p) / (static_cast<double>(n) * p)) <= 0.2) expected = n;
   }
   ASSERT_GT(expected, 0u) << "the case never reaches its target: it tests nothing";
   ASSERT_LT(expected, kMost);

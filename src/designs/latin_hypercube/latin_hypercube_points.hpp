@@ -9,6 +9,6 @@
 
 namespace treedyn::designs {
 
-std::unique_ptr<ensemble::RunPoints> latin_hypercube_points(const ensemble::PointsSpec& spec);
+std::unique_ptr<sampling::RunPoints> latin_hypercube_points(const sampling::PointsSpec& spec);
 
 }  // namespace treedyn::designs

@@ -9,8 +9,8 @@ namespace treedyn::designs {
 namespace {
 class LatinHypercubeRules final : public DesignRules {
  public:
-  ensemble::Design design() const override { return ensemble::Design::latin_hypercube; }
-  std::unique_ptr<ensemble::RunPoints> points(const ensemble::PointsSpec& spec) const override {
+  sampling::Design design() const override { return sampling::Design::latin_hypercube; }
+  std::unique_ptr<sampling::RunPoints> points(const sampling::PointsSpec& spec) const override {
     return latin_hypercube_points(spec);
   }
   bool nested_prefixes() const override { return false; }
@@ -18,7 +18,7 @@ class LatinHypercubeRules final : public DesignRules {
     return "a stopping rule needs a design whose prefixes are designs (monte_carlo, sobol, saltelli); the first n "
            "samples of a latin_hypercube are not one";
   }
-  void print_runs(std::ostream& out, const ensemble::EnsembleSpec&) const override {
+  void print_runs(std::ostream& out, const EnsembleSpec&) const override {
     out << "  latin_hypercube: sample k depends on N too, so prefixes are not nested samples "
            "(convergence by prefix is not meaningful)\n";
   }

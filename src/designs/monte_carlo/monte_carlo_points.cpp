@@ -5,11 +5,11 @@
 namespace treedyn::designs {
 namespace {
 
-class CounterPoints final : public ensemble::PerDimensionPoints {
+class CounterPoints final : public sampling::PerDimensionPoints {
  public:
-  CounterPoints(std::uint64_t seed, unsigned dimensions) : ensemble::PerDimensionPoints(dimensions), seed_(seed) {}
+  CounterPoints(std::uint64_t seed, unsigned dimensions) : sampling::PerDimensionPoints(dimensions), seed_(seed) {}
   double uniform(std::uint64_t run, unsigned dimension) const override {
-    return ensemble::counter_uniform(seed_, run, dimension, 0);
+    return sampling::counter_uniform(seed_, run, dimension, 0);
   }
 
  private:
@@ -18,7 +18,7 @@ class CounterPoints final : public ensemble::PerDimensionPoints {
 
 }  // namespace
 
-std::unique_ptr<ensemble::RunPoints> monte_carlo_points(const ensemble::PointsSpec& spec) {
+std::unique_ptr<sampling::RunPoints> monte_carlo_points(const sampling::PointsSpec& spec) {
   return std::make_unique<CounterPoints>(spec.seed, spec.dimensions);
 }
 

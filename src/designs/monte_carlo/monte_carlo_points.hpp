@@ -8,6 +8,6 @@
 
 namespace treedyn::designs {
 
-std::unique_ptr<ensemble::RunPoints> monte_carlo_points(const ensemble::PointsSpec& spec);
+std::unique_ptr<sampling::RunPoints> monte_carlo_points(const sampling::PointsSpec& spec);
 
 }  // namespace treedyn::designs

@@ -9,8 +9,8 @@ namespace treedyn::designs {
 namespace {
 class MonteCarloRules final : public DesignRules {
  public:
-  ensemble::Design design() const override { return ensemble::Design::monte_carlo; }
-  std::unique_ptr<ensemble::RunPoints> points(const ensemble::PointsSpec& spec) const override {
+  sampling::Design design() const override { return sampling::Design::monte_carlo; }
+  std::unique_ptr<sampling::RunPoints> points(const sampling::PointsSpec& spec) const override {
     return monte_carlo_points(spec);
   }
 };

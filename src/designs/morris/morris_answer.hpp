@@ -14,13 +14,12 @@ class MorrisAnswer final : public DesignAnswer {
  public:
   MorrisIndices indices;
 
-  void print(std::ostream& out, const ensemble::EnsembleSpec& spec, const ensemble::Response& response) const override;
-  void write(AnswerWriter& sensitivity, const ensemble::EnsembleSpec& spec,
-             const ensemble::Response& response) const override;
+  void print(std::ostream& out, const EnsembleSpec& spec, const Response& response) const override;
+  void write(AnswerWriter& sensitivity, const EnsembleSpec& spec, const Response& response) const override;
 };
 
 // The measures of response r from the trajectories `table` holds whole.
-std::shared_ptr<const MorrisAnswer> answer_morris(const ensemble::EnsembleSpec& spec,
-                                                  const ensemble::ResponseTable& table, std::size_t r);
+std::shared_ptr<const MorrisAnswer> answer_morris(const EnsembleSpec& spec, const ensemble::ResponseTable& table,
+                                                  std::size_t r);
 
 }  // namespace treedyn::designs

@@ -62,7 +62,7 @@ MorrisIndices morris_indices(std::span<const double> effects, std::size_t units,
   out.trajectories = n;
   for (auto* ci : {&out.mu_ci, &out.mu_star_ci, &out.sigma_ci}) ci->assign(2 * units, kNaN);
   if (resamples <= 0 || n < 2) {
-    out.ranking = ensemble::rank_units(out.mu_star, {}, n);
+    out.ranking = analysis::rank_units(out.mu_star, {}, n);
     return out;
   }
   // Resample r draws trajectory j as floor(u T), u from (seed, r, j).
@@ -70,7 +70,7 @@ MorrisIndices morris_indices(std::span<const double> effects, std::size_t units,
   std::vector<double> mu(count * units), mu_star(count * units), sigma(count * units);  // resample-major
   for (std::size_t r = 0; r < count; ++r) {
     for (std::size_t j = 0; j < n; ++j) {
-      const double u = ensemble::counter_uniform(seed, r, j, kTrajectoryBootstrapStream);
+      const double u = sampling::counter_uniform(seed, r, j, kTrajectoryBootstrapStream);
       rows[j] = std::min(static_cast<std::size_t>(u * static_cast<double>(n)), n - 1);
     }
     const Measures m = measures(effects, units, rows);
@@ -79,10 +79,10 @@ MorrisIndices morris_indices(std::span<const double> effects, std::size_t units,
     std::copy(m.mu_star.begin(), m.mu_star.end(), mu_star.begin() + at);
     std::copy(m.sigma.begin(), m.sigma.end(), sigma.begin() + at);
   }
-  ensemble::percentile_intervals(mu, units, out.mu_ci);
-  ensemble::percentile_intervals(mu_star, units, out.mu_star_ci);
-  ensemble::percentile_intervals(sigma, units, out.sigma_ci);
-  out.ranking = ensemble::rank_units(out.mu_star, mu_star, n);
+  analysis::percentile_intervals(mu, units, out.mu_ci);
+  analysis::percentile_intervals(mu_star, units, out.mu_star_ci);
+  analysis::percentile_intervals(sigma, units, out.sigma_ci);
+  out.ranking = analysis::rank_units(out.mu_star, mu_star, n);
   return out;
 }
 
@@ -91,11 +91,10 @@ namespace {
 // Radial steps: run s of trajectory t is A_t with unit s - 1's inputs from
 // B_t, so its effect is (f_s - f_0) / step, the step b - a of a single
 // input (signed) or, for a group, the root mean square of its inputs'.
-std::vector<double> radial_effects(const ensemble::EnsembleSpec& spec, const ensemble::ResponseTable& table,
-                                   std::size_t r) {
+std::vector<double> radial_effects(const EnsembleSpec& spec, const ensemble::ResponseTable& table, std::size_t r) {
   const unsigned units = spec.unit_count(), dimensions = spec.input_dimensions();
   const std::vector<unsigned> unit_of = spec.unit_of_input();
-  const SampleDesign design(ensemble::Design::morris, spec.seed, spec.runs, dimensions, unit_of, spec.morris);
+  const SampleDesign design(sampling::Design::morris, spec.seed, spec.runs, dimensions, unit_of, spec.morris);
   const std::uint64_t per = units + 1u, trajectories = table.samples() / per;
   std::vector<double> effects(trajectories * units, kNaN), a(dimensions), b(dimensions);
   auto value = [&](std::uint64_t k) { return table.ok(k) ? table.response(k, r) : kNaN; };
@@ -118,8 +117,7 @@ std::vector<double> radial_effects(const ensemble::EnsembleSpec& spec, const ens
 
 }  // namespace
 
-std::vector<double> elementary_effects(const ensemble::EnsembleSpec& spec, const ensemble::ResponseTable& table,
-                                       std::size_t r) {
+std::vector<double> elementary_effects(const EnsembleSpec& spec, const ensemble::ResponseTable& table, std::size_t r) {
   if (spec.morris->radial) return radial_effects(spec, table, r);
   const unsigned units = spec.unit_count();
   const MorrisPoints points(spec.seed, spec.morris->levels, spec.unit_of_input(), units);
@@ -138,8 +136,8 @@ std::vector<double> elementary_effects(const ensemble::EnsembleSpec& spec, const
   return effects;
 }
 
-std::shared_ptr<const MorrisAnswer> answer_morris(const ensemble::EnsembleSpec& spec,
-                                                  const ensemble::ResponseTable& table, std::size_t r) {
+std::shared_ptr<const MorrisAnswer> answer_morris(const EnsembleSpec& spec, const ensemble::ResponseTable& table,
+                                                  std::size_t r) {
   auto a = std::make_shared<MorrisAnswer>();
   a->indices =
       morris_indices(elementary_effects(spec, table, r), spec.unit_count(), spec.bootstrap_resamples, spec.seed);

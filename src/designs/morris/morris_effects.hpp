@@ -29,7 +29,7 @@ struct MorrisIndices {
   std::vector<double> mu_ci, mu_star_ci, sigma_ci;  // per unit: 95 % bootstrap interval, low and high
   std::vector<std::uint64_t> effects;               // per unit: the elementary effects behind them
   std::uint64_t trajectories = 0;                   // rows of effects (trajectories run)
-  ensemble::Ranking ranking;                        // by mu*, the bootstrap over trajectories
+  analysis::Ranking ranking;                        // by mu*, the bootstrap over trajectories
 };
 
 // `effects`: T rows (trajectories) x `units`, row-major, NaN where a run of
@@ -40,7 +40,6 @@ MorrisIndices morris_indices(std::span<const double> effects, std::size_t units,
 
 // The elementary effects of response r in the trajectories `table` holds
 // whole: T rows x U (as above).
-std::vector<double> elementary_effects(const ensemble::EnsembleSpec& spec, const ensemble::ResponseTable& table,
-                                       std::size_t r);
+std::vector<double> elementary_effects(const EnsembleSpec& spec, const ensemble::ResponseTable& table, std::size_t r);
 
 }  // namespace treedyn::designs

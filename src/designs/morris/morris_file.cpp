@@ -7,8 +7,7 @@
 
 namespace treedyn::designs {
 
-void MorrisAnswer::write(AnswerWriter& sg, const ensemble::EnsembleSpec& spec,
-                         const ensemble::Response& response) const {
+void MorrisAnswer::write(AnswerWriter& sg, const EnsembleSpec& spec, const Response& response) const {
   const MorrisIndices& m = indices;
   const std::string& response_units = response.units;
   const std::vector<std::string> units = spec.unit_names();

@@ -26,11 +26,11 @@ MorrisPoints::MorrisPoints(std::uint64_t seed, unsigned levels, std::vector<unsi
 }
 
 std::uint64_t MorrisPoints::position(std::uint64_t trajectory, unsigned unit) const {
-  return ensemble::permute_index(unit, units_, seed_, kOrderStream + trajectory);
+  return sampling::permute_index(unit, units_, seed_, kOrderStream + trajectory);
 }
 
 bool MorrisPoints::starts_high(std::uint64_t trajectory, unsigned unit) const {
-  return ensemble::counter_uniform(seed_, trajectory, unit, kSideStream) < 0.5;
+  return sampling::counter_uniform(seed_, trajectory, unit, kSideStream) < 0.5;
 }
 
 void MorrisPoints::point(std::uint64_t run, std::span<double> u) const {
@@ -40,7 +40,7 @@ void MorrisPoints::point(std::uint64_t run, std::span<double> u) const {
   for (std::size_t d = 0; d < u.size(); ++d) {
     const unsigned g = unit_of_dimension_[d];
     // floor(v half) < half for v < 1; min() guards against rounding up.
-    const double v = ensemble::counter_uniform(seed_, t, d, kLowLevelStream);
+    const double v = sampling::counter_uniform(seed_, t, d, kLowLevelStream);
     const unsigned low = std::min(static_cast<unsigned>(v * half), half - 1);
     const bool high = starts_high(t, g) != (position(t, g) < s);  // moved by run s or before
     u[d] = (static_cast<double>(low + (high ? half : 0u)) + 0.5) / static_cast<double>(levels_);

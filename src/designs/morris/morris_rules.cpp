@@ -11,18 +11,18 @@ namespace treedyn::designs {
 namespace {
 class MorrisRules final : public DesignRules {
  public:
-  ensemble::Design design() const override { return ensemble::Design::morris; }
-  std::unique_ptr<ensemble::RunPoints> points(const ensemble::PointsSpec& spec) const override {
+  sampling::Design design() const override { return sampling::Design::morris; }
+  std::unique_ptr<sampling::RunPoints> points(const sampling::PointsSpec& spec) const override {
     return morris_run_points(spec);
   }
   std::string_view table() const override { return "morris"; }
   bool takes_samples() const override { return false; }  // trajectories, in [ensemble.morris]
-  void read_runs(const TomlView& ensemble, ensemble::EnsembleSpec& s, std::uint64_t max_runs) const override {
+  void read_runs(const TomlView& ensemble, EnsembleSpec& s, std::uint64_t max_runs) const override {
     read_morris(ensemble, s, max_runs);
   }
-  std::uint64_t runs_per_step(const ensemble::EnsembleSpec& s) const override { return s.unit_count() + 1u; }
+  std::uint64_t runs_per_step(const EnsembleSpec& s) const override { return s.unit_count() + 1u; }
   // A trajectory's first run; the others each move one unit from the run before.
-  bool independent_draw(const ensemble::EnsembleSpec& s, std::uint64_t k) const override {
+  bool independent_draw(const EnsembleSpec& s, std::uint64_t k) const override {
     return k % (s.unit_count() + 1u) == 0;
   }
   std::string_view why_no_stopping_rule() const override {
@@ -52,11 +52,11 @@ class MorrisRules final : public DesignRules {
   std::string_view sensitivity_description() const override {
     return "rank measures over each trajectory's first run; Morris' measures (morris_*) from every step";
   }
-  std::vector<DesignAttribute> attributes(const ensemble::EnsembleSpec& s) const override;
-  void print_runs(std::ostream& out, const ensemble::EnsembleSpec& s) const override;
+  std::vector<DesignAttribute> attributes(const EnsembleSpec& s) const override;
+  void print_runs(std::ostream& out, const EnsembleSpec& s) const override;
 };
 
-std::vector<DesignAttribute> MorrisRules::attributes(const ensemble::EnsembleSpec& s) const {
+std::vector<DesignAttribute> MorrisRules::attributes(const EnsembleSpec& s) const {
   std::vector<DesignAttribute> a{{"morris_trajectories", static_cast<long long>(s.samples)},
                                  {"morris_steps", std::string(s.morris->radial ? "radial" : "trajectories")}};
   if (!s.morris->radial) a.push_back({"morris_levels", static_cast<long long>(s.morris->levels)});
@@ -64,7 +64,7 @@ std::vector<DesignAttribute> MorrisRules::attributes(const ensemble::EnsembleSpe
   return a;
 }
 
-void MorrisRules::print_runs(std::ostream& out, const ensemble::EnsembleSpec& s) const {
+void MorrisRules::print_runs(std::ostream& out, const EnsembleSpec& s) const {
   const char* u = s.grouped ? "G" : "D";
   out << "  morris: r = " << s.samples << " trajectories of (" << u << " + 1) = " << s.unit_count() + 1
       << " runs = " << s.runs << " runs; ";

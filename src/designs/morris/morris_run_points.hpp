@@ -11,6 +11,6 @@ namespace treedyn::designs {
 
 // Radial unless spec.morris says trajectories. Throws std::invalid_argument
 // beyond Boost's Sobol' tables or 2^32 - 1 radial trajectories.
-std::unique_ptr<ensemble::RunPoints> morris_run_points(const ensemble::PointsSpec& spec);
+std::unique_ptr<sampling::RunPoints> morris_run_points(const sampling::PointsSpec& spec);
 
 }  // namespace treedyn::designs

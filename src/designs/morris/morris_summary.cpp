@@ -9,17 +9,16 @@
 
 namespace treedyn::designs {
 
-using ensemble::number;
+using analysis::number;
 
-void MorrisAnswer::print(std::ostream& out, const ensemble::EnsembleSpec& spec,
-                         const ensemble::Response& response) const {
+void MorrisAnswer::print(std::ostream& out, const EnsembleSpec& spec, const Response& response) const {
   const MorrisIndices& m = indices;
   const std::vector<std::string> names = spec.unit_names();
   out << "    drivers (" << (spec.grouped ? "groups, " : "") << "Morris mu* [95 %], " << response.units
       << " per unit of u, from " << m.trajectories << " trajectories): ";
-  ensemble::print_ranking(out, names, m.ranking, m.mu_star, &m.mu_star_ci, "trajectories", {}, false);
+  analysis::print_ranking(out, names, m.ranking, m.mu_star, &m.mu_star_ci, "trajectories", {}, false);
   std::string nonlinear;
-  for (std::size_t k = 0; k < std::min(m.ranking.order.size(), ensemble::kRankedShown); ++k) {
+  for (std::size_t k = 0; k < std::min(m.ranking.order.size(), analysis::kRankedShown); ++k) {
     const std::size_t u = m.ranking.order[k];
     if (m.sigma[u] >= m.mu_star[u] && m.mu_star[u] > 0.0)
       nonlinear += (nonlinear.empty() ? "" : ", ") + names[u] + " (sigma " + number(m.sigma[u], "%.3g") + ")";

@@ -6,7 +6,7 @@ namespace treedyn::designs {
 
 // [ensemble.morris]: r trajectories (instead of `samples`) and p levels.
 // The units (inputs, groups, a list input as one) are read_groups'.
-void read_morris(const TomlView& parent, ensemble::EnsembleSpec& s, std::uint64_t max_runs) {
+void read_morris(const TomlView& parent, EnsembleSpec& s, std::uint64_t max_runs) {
   const auto section = parent.subtable("morris");
   if (parent.has("samples"))
     parent.fail("samples",

@@ -12,7 +12,7 @@ namespace {
 // Indices per Saltelli unit (an input, or a group of them), from the
 // complete blocks among the first `base_points`: a block counts only when
 // all its U + 2 runs succeeded with finite values.
-SobolIndices sobol_of(const ensemble::EnsembleSpec& spec, const ensemble::ResponseTable& table, std::size_t r,
+SobolIndices sobol_of(const EnsembleSpec& spec, const ensemble::ResponseTable& table, std::size_t r,
                       std::uint64_t base_points) {
   const std::size_t d = spec.unit_count(), block = spec.saltelli_block();
   std::vector<double> f_a, f_b, f_ab;
@@ -34,8 +34,8 @@ SobolIndices sobol_of(const ensemble::EnsembleSpec& spec, const ensemble::Respon
 
 // The indices, and their convergence on the first 4, 8, ... base points
 // (a prefix of whole blocks is a Saltelli design of its own).
-std::shared_ptr<const SaltelliAnswer> answer_saltelli(const ensemble::EnsembleSpec& spec,
-                                                      const ensemble::ResponseTable& table, std::size_t r) {
+std::shared_ptr<const SaltelliAnswer> answer_saltelli(const EnsembleSpec& spec, const ensemble::ResponseTable& table,
+                                                      std::size_t r) {
   auto a = std::make_shared<SaltelliAnswer>();
   a->blocks = table.samples() / spec.saltelli_block();
   a->indices = sobol_of(spec, table, r, a->blocks);

@@ -47,13 +47,12 @@ class SaltelliAnswer final : public DesignAnswer {
 
   // Fewer than kReliableBlockShare of the blocks run are complete.
   bool unreliable() const;
-  void print(std::ostream& out, const ensemble::EnsembleSpec& spec, const ensemble::Response& response) const override;
-  void write(AnswerWriter& sensitivity, const ensemble::EnsembleSpec& spec,
-             const ensemble::Response& response) const override;
+  void print(std::ostream& out, const EnsembleSpec& spec, const Response& response) const override;
+  void write(AnswerWriter& sensitivity, const EnsembleSpec& spec, const Response& response) const override;
 };
 
 // The indices of response r from every whole block of `table`.
-std::shared_ptr<const SaltelliAnswer> answer_saltelli(const ensemble::EnsembleSpec& spec,
-                                                      const ensemble::ResponseTable& table, std::size_t r);
+std::shared_ptr<const SaltelliAnswer> answer_saltelli(const EnsembleSpec& spec, const ensemble::ResponseTable& table,
+                                                      std::size_t r);
 
 }  // namespace treedyn::designs

@@ -15,7 +15,7 @@ namespace {
 // Per-unit values spread to the inputs: an input alone in its unit gets the
 // unit's value (`width` per unit: 1, or 2 for an interval), an input of a
 // larger group NaN (its own index is not estimated).
-std::vector<double> per_input_values(const ensemble::EnsembleSpec& spec, const std::vector<double>& unit_values,
+std::vector<double> per_input_values(const EnsembleSpec& spec, const std::vector<double>& unit_values,
                                      std::size_t width) {
   std::vector<double> out(spec.input_dimensions() * width, std::numeric_limits<double>::quiet_NaN());
   for (std::size_t u = 0; u < spec.sobol_units.size(); ++u) {
@@ -27,7 +27,7 @@ std::vector<double> per_input_values(const ensemble::EnsembleSpec& spec, const s
 }
 
 // The groups' indices of a grouped design, and the group list.
-void write_group_indices(AnswerWriter& sg, const ensemble::EnsembleSpec& spec, const SobolIndices& s) {
+void write_group_indices(AnswerWriter& sg, const EnsembleSpec& spec, const SobolIndices& s) {
   const std::vector<std::string> groups = spec.unit_names(), members = spec.unit_inputs();
   sg.per_unit("group_first_order", s.first, "1", "first-order Sobol' index of each group (its inputs together)",
               groups);
@@ -41,7 +41,7 @@ void write_group_indices(AnswerWriter& sg, const ensemble::EnsembleSpec& spec, c
 
 // Whether N is enough for the indices, and whether the blocks they rest on
 // are enough of those run (attributes; see saltelli_answer.hpp).
-void write_index_verdict(AnswerWriter& sg, const ensemble::EnsembleSpec& spec, const SaltelliAnswer& a) {
+void write_index_verdict(AnswerWriter& sg, const EnsembleSpec& spec, const SaltelliAnswer& a) {
   const IndexVerdict v = index_verdict(a.indices);
   sg.attribute("sobol_blocks", static_cast<long long>(a.blocks));
   sg.attribute("sobol_reliable", static_cast<long long>(!a.unreliable()));
@@ -51,7 +51,7 @@ void write_index_verdict(AnswerWriter& sg, const ensemble::EnsembleSpec& spec, c
   sg.attribute("indices_enough", static_cast<long long>(v.enough));
 }
 
-void write_indices(AnswerWriter& sg, const ensemble::EnsembleSpec& spec, const SaltelliAnswer& a) {
+void write_indices(AnswerWriter& sg, const EnsembleSpec& spec, const SaltelliAnswer& a) {
   const SobolIndices& s = a.indices;
   const std::vector<std::string> inputs = spec.input_names();
   auto spread = [&](const std::vector<double>& v, std::size_t width) {
@@ -74,7 +74,7 @@ void write_indices(AnswerWriter& sg, const ensemble::EnsembleSpec& spec, const S
 }
 
 // <sg>/sobol_convergence: the indices of the first 4, 8, ... base points.
-void write_sobol_convergence(AnswerWriter& sg, const ensemble::EnsembleSpec& spec, const SaltelliAnswer& a) {
+void write_sobol_convergence(AnswerWriter& sg, const EnsembleSpec& spec, const SaltelliAnswer& a) {
   const std::vector<std::string> units = spec.unit_names();
   const std::size_t k = a.convergence.size(), u = units.size();
   std::vector<double> base_points, used, first, total, first_ci, total_ci;
@@ -102,8 +102,7 @@ void write_sobol_convergence(AnswerWriter& sg, const ensemble::EnsembleSpec& spe
 
 }  // namespace
 
-void SaltelliAnswer::write(AnswerWriter& sensitivity, const ensemble::EnsembleSpec& spec,
-                           const ensemble::Response&) const {
+void SaltelliAnswer::write(AnswerWriter& sensitivity, const EnsembleSpec& spec, const Response&) const {
   write_indices(sensitivity, spec, *this);
   write_sobol_convergence(sensitivity, spec, *this);
 }

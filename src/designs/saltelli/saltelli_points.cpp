@@ -5,19 +5,19 @@
 namespace treedyn::designs {
 namespace {
 
-class SaltelliPoints final : public ensemble::TwoPointRuns {
+class SaltelliPoints final : public sampling::TwoPointRuns {
  public:
   using TwoPointRuns::TwoPointRuns;
 
  private:
-  ensemble::SaltelliPlace place(std::uint64_t run) const override { return ensemble::saltelli_place(run, units()); }
+  sampling::SaltelliPlace place(std::uint64_t run) const override { return sampling::saltelli_place(run, units()); }
 };
 
 }  // namespace
 
-std::unique_ptr<ensemble::RunPoints> saltelli_points(const ensemble::PointsSpec& spec) {
-  ensemble::check_sobol_size(ensemble::name(ensemble::Design::saltelli), 2 * spec.dimensions,
-                             spec.runs / ensemble::saltelli_block(spec.units));
+std::unique_ptr<sampling::RunPoints> saltelli_points(const sampling::PointsSpec& spec) {
+  sampling::check_sobol_size(name(sampling::Design::saltelli), 2 * spec.dimensions,
+                             spec.runs / sampling::saltelli_block(spec.units));
   return std::make_unique<SaltelliPoints>(spec);
 }
 

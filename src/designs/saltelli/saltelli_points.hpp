@@ -10,6 +10,6 @@
 namespace treedyn::designs {
 
 // Throws std::invalid_argument beyond Boost's tables or 2^32 - 1 base points.
-std::unique_ptr<ensemble::RunPoints> saltelli_points(const ensemble::PointsSpec& spec);
+std::unique_ptr<sampling::RunPoints> saltelli_points(const sampling::PointsSpec& spec);
 
 }  // namespace treedyn::designs

@@ -13,16 +13,16 @@ namespace treedyn::designs {
 namespace {
 class SaltelliRules final : public DesignRules {
  public:
-  ensemble::Design design() const override { return ensemble::Design::saltelli; }
-  std::unique_ptr<ensemble::RunPoints> points(const ensemble::PointsSpec& spec) const override {
+  sampling::Design design() const override { return sampling::Design::saltelli; }
+  std::unique_ptr<sampling::RunPoints> points(const sampling::PointsSpec& spec) const override {
     return saltelli_points(spec);
   }
-  void read_runs(const TomlView& ensemble, ensemble::EnsembleSpec& s, std::uint64_t max_runs) const override;
-  std::uint64_t runs_per_step(const ensemble::EnsembleSpec& s) const override { return s.saltelli_block(); }
+  void read_runs(const TomlView& ensemble, EnsembleSpec& s, std::uint64_t max_runs) const override;
+  std::uint64_t runs_per_step(const EnsembleSpec& s) const override { return s.saltelli_block(); }
   // The AB_u rows repeat all of A_j's inputs but unit u's: each is
   // distributed like the inputs, but not independently of A_j.
-  bool independent_draw(const ensemble::EnsembleSpec& s, std::uint64_t k) const override {
-    return ensemble::saltelli_place(k, s.unit_count()).role != ensemble::SaltelliRole::ab;
+  bool independent_draw(const EnsembleSpec& s, std::uint64_t k) const override {
+    return sampling::saltelli_place(k, s.unit_count()).role != sampling::SaltelliRole::ab;
   }
   bool takes_groups() const override { return true; }
   std::string_view why_no_correlations() const override {
@@ -44,14 +44,14 @@ class SaltelliRules final : public DesignRules {
   std::string_view sensitivity_description() const override {
     return "rank measures over the A and B runs; Sobol' indices from all blocks";
   }
-  std::vector<DesignAttribute> attributes(const ensemble::EnsembleSpec& s) const override {
+  std::vector<DesignAttribute> attributes(const EnsembleSpec& s) const override {
     return {{"saltelli_block", static_cast<long long>(s.saltelli_block())}};
   }
-  void print_runs(std::ostream& out, const ensemble::EnsembleSpec& s) const override;
+  void print_runs(std::ostream& out, const EnsembleSpec& s) const override;
 };
 
 // N (U + 2) runs, A and B on 2D Sobol' dimensions.
-void SaltelliRules::read_runs(const TomlView& t, ensemble::EnsembleSpec& s, std::uint64_t max_runs) const {
+void SaltelliRules::read_runs(const TomlView& t, EnsembleSpec& s, std::uint64_t max_runs) const {
   const unsigned d = s.input_dimensions();
   if (d == 0) t.fail("design", "saltelli needs at least one [[ensemble.perturbation]] (the inputs to rank)");
   if (2 * d > 1000)
@@ -66,7 +66,7 @@ void SaltelliRules::read_runs(const TomlView& t, ensemble::EnsembleSpec& s, std:
   s.runs = s.samples * s.saltelli_block();
 }
 
-void SaltelliRules::print_runs(std::ostream& out, const ensemble::EnsembleSpec& s) const {
+void SaltelliRules::print_runs(std::ostream& out, const EnsembleSpec& s) const {
   if (!s.grouped)
     out << "  saltelli: base size N = " << s.samples << ", N (D + 2) = " << s.samples << " x " << s.saltelli_block()
         << " = " << s.runs << " runs; sample j (D + 2) + r is A_j (r = 0), B_j (r = 1), AB_i,j (r = 2 + i)\n";

@@ -8,14 +8,14 @@
 
 namespace treedyn::designs {
 
-using ensemble::number;
+using analysis::number;
 
-void SaltelliAnswer::print(std::ostream& out, const ensemble::EnsembleSpec& spec, const ensemble::Response&) const {
+void SaltelliAnswer::print(std::ostream& out, const EnsembleSpec& spec, const Response&) const {
   const SobolIndices& s = indices;
   if (s.total.empty()) return;
   out << "    drivers (" << (spec.grouped ? "groups, " : "") << "total Sobol' index [95 %], from " << s.base_samples
       << " of " << blocks << " base points): ";
-  ensemble::print_ranking(out, spec.unit_names(), s.ranking, s.total, &s.total_ci, "base points");
+  analysis::print_ranking(out, spec.unit_names(), s.ranking, s.total, &s.total_ci, "base points");
   if (unreliable())
     out << "      unreliable: failed runs left " << s.base_samples << " of " << blocks
         << " base points complete; failures that depend on the inputs bias what remains\n";

@@ -11,9 +11,9 @@
 namespace treedyn::designs {
 namespace {
 
-using ensemble::counter_uniform;
-using ensemble::percentile_intervals;
-using ensemble::rank_units;
+using analysis::percentile_intervals;
+using analysis::rank_units;
+using sampling::counter_uniform;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 

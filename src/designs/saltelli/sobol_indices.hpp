@@ -20,7 +20,7 @@ struct SobolIndices {
   std::vector<double> total_ci;
   double variance = 0.0;         // of f over A and B together (the first-order denominator)
   std::size_t base_samples = 0;  // N, the blocks used
-  ensemble::Ranking ranking;     // by the total index
+  analysis::Ranking ranking;     // by the total index
 };
 
 // With m and V the mean and the population variance (1/2N) of f over the 2N
@@ -33,7 +33,7 @@ struct SobolIndices {
 // estimator of the closed index of all inputs but i, taken from 1 (Jansen's
 // numerator over the variance of the pair it is computed from). Of the
 // published estimators compared on Ishigami's and Sobol's g function over
-// 200 design seeds (tests/ensemble/sobol_estimator_test.cpp, docs/design.md), these
+// 200 design seeds (tests/designs/sobol_estimator_test.cpp, docs/design.md), these
 // two have the smallest error at N = 16, 64 and 256. Intervals:
 // first_ci[2i], [2i+1] = low, high. The bootstrap treats the blocks as
 // independent draws; with scrambled Sobol points the actual error is

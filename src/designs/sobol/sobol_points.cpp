@@ -5,14 +5,14 @@
 namespace treedyn::designs {
 namespace {
 
-class SobolPoints final : public ensemble::RunPoints {
+class SobolPoints final : public sampling::RunPoints {
  public:
-  SobolPoints(std::uint64_t seed, unsigned dimensions) : ensemble::RunPoints(dimensions), seed_(seed) {}
+  SobolPoints(std::uint64_t seed, unsigned dimensions) : sampling::RunPoints(dimensions), seed_(seed) {}
   void point(std::uint64_t run, std::span<double> u) const override {
-    ensemble::scrambled_sobol_point(seed_, run, dimensions(), 0, u);
+    sampling::scrambled_sobol_point(seed_, run, dimensions(), 0, u);
   }
   double uniform(std::uint64_t run, unsigned dimension) const override {
-    return ensemble::scrambled_sobol_uniform(seed_, run, dimension, dimensions());
+    return sampling::scrambled_sobol_uniform(seed_, run, dimension, dimensions());
   }
 
  private:
@@ -21,8 +21,8 @@ class SobolPoints final : public ensemble::RunPoints {
 
 }  // namespace
 
-std::unique_ptr<ensemble::RunPoints> sobol_points(const ensemble::PointsSpec& spec) {
-  ensemble::check_sobol_size(ensemble::name(ensemble::Design::sobol), spec.dimensions, spec.runs);
+std::unique_ptr<sampling::RunPoints> sobol_points(const sampling::PointsSpec& spec) {
+  sampling::check_sobol_size(name(sampling::Design::sobol), spec.dimensions, spec.runs);
   return std::make_unique<SobolPoints>(spec.seed, spec.dimensions);
 }
 

@@ -9,6 +9,6 @@
 namespace treedyn::designs {
 
 // Throws std::invalid_argument beyond Boost's tables or 2^32 - 1 points.
-std::unique_ptr<ensemble::RunPoints> sobol_points(const ensemble::PointsSpec& spec);
+std::unique_ptr<sampling::RunPoints> sobol_points(const sampling::PointsSpec& spec);
 
 }  // namespace treedyn::designs

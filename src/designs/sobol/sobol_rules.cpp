@@ -10,11 +10,11 @@ namespace treedyn::designs {
 namespace {
 class SobolRules final : public DesignRules {
  public:
-  ensemble::Design design() const override { return ensemble::Design::sobol; }
-  std::unique_ptr<ensemble::RunPoints> points(const ensemble::PointsSpec& spec) const override {
+  sampling::Design design() const override { return sampling::Design::sobol; }
+  std::unique_ptr<sampling::RunPoints> points(const sampling::PointsSpec& spec) const override {
     return sobol_points(spec);
   }
-  void read_runs(const TomlView& t, ensemble::EnsembleSpec& s, std::uint64_t) const override {
+  void read_runs(const TomlView& t, EnsembleSpec& s, std::uint64_t) const override {
     if (s.input_dimensions() > 1000) t.fail("perturbation", "sobol supports at most 1000 input dimensions");
     s.runs = s.samples;
   }

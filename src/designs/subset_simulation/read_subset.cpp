@@ -11,8 +11,8 @@ namespace treedyn::designs {
 // [ensemble.subset] of design = "subset_simulation": the response whose
 // limit is the failure, p0, the levels; `samples` is per level, and the
 // run count is the most the levels can make: N + max_levels N (1 - p0).
-void read_subset(const TomlView& parent, ensemble::EnsembleSpec& s, std::uint64_t max_runs) {
-  ensemble::refuse_more_runs_than(parent, s.samples, max_runs);  // before the levels multiply it
+void read_subset(const TomlView& parent, EnsembleSpec& s, std::uint64_t max_runs) {
+  refuse_more_runs_than(parent, s.samples, max_runs);  // before the levels multiply it
   const auto section = parent.subtable("subset");
   if (!section)
     parent.fail("design",
@@ -22,9 +22,9 @@ void read_subset(const TomlView& parent, ensemble::EnsembleSpec& s, std::uint64_
   t.check_keys({"response", "level_probability", "max_levels"});
   if (s.input_dimensions() == 0)
     parent.fail("design", "subset_simulation needs at least one [[ensemble.perturbation]] (the uncertain inputs)");
-  ensemble::SubsetSpec subset;
-  const std::size_t index = ensemble::named_response(t, s);
-  const ensemble::Response& response = s.responses[index];
+  SubsetSpec subset;
+  const std::size_t index = named_response(t, s);
+  const Response& response = s.responses[index];
   const std::string& name = response.name;
   if (!response.has_limit())
     t.fail("response", "response \"" + name +

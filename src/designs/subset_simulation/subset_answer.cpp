@@ -6,12 +6,12 @@
 
 namespace treedyn::designs {
 
-std::unique_ptr<const RareEventAnswer> answer_rare_event(const ensemble::EnsembleSpec& spec,
+std::unique_ptr<const RareEventAnswer> answer_rare_event(const EnsembleSpec& spec,
                                                          const ensemble::ResponseTable& table) {
   SubsetResult result = replay_subset(spec, table, spec.subset->max_levels).result();
   // The runs beyond the limit are mostly the last level's chain states.
   const double gamma = result.levels.empty() ? 0.0 : result.levels.back().gamma;
-  ensemble::FailureRegion region = ensemble::failure_region(
+  analysis::FailureRegion region = analysis::failure_region(
       spec, table, spec.subset->response, [](std::uint64_t) { return true; }, std::isfinite(gamma) ? gamma : 0.0);
   return std::make_unique<const RareEventAnswer>(std::move(result), std::move(region));
 }

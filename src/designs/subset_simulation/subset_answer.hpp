@@ -20,7 +20,7 @@ namespace treedyn::designs {
 
 class RareEventAnswer final : public RunAnswer {
  public:
-  RareEventAnswer(SubsetResult levels, ensemble::FailureRegion beyond)
+  RareEventAnswer(SubsetResult levels, analysis::FailureRegion beyond)
       : result(std::move(levels)), region(std::move(beyond)) {}
 
   // Which level ended the run, and why.
@@ -28,19 +28,18 @@ class RareEventAnswer final : public RunAnswer {
   // P with its coefficient of variation and interval, each level's
   // threshold, the runs made, what crude Monte Carlo would have needed for
   // the same coefficient of variation, and what makes it fail.
-  void print(std::ostream& out, const ensemble::EnsembleSpec& spec) const override;
+  void print(std::ostream& out, const EnsembleSpec& spec) const override;
   // /rare_event/<response>: the estimate, its cov and interval, each level's
   // threshold, conditional probability, gamma, acceptance rate and runs, and
   // the failure region; /samples/level, chain and state of every run kept.
-  void write(AnswerWriter& root, AnswerWriter& samples, const ensemble::EnsembleSpec& spec,
-             std::size_t rows) const override;
+  void write(AnswerWriter& root, AnswerWriter& samples, const EnsembleSpec& spec, std::size_t rows) const override;
 
   SubsetResult result;
-  ensemble::FailureRegion region;
+  analysis::FailureRegion region;
 };
 
 // The levels replayed from `table`, and the failure region of its runs.
-std::unique_ptr<const RareEventAnswer> answer_rare_event(const ensemble::EnsembleSpec& spec,
+std::unique_ptr<const RareEventAnswer> answer_rare_event(const EnsembleSpec& spec,
                                                          const ensemble::ResponseTable& table);
 
 }  // namespace treedyn::designs

@@ -70,19 +70,19 @@ void write_run_places(AnswerWriter& samples, const SubsetSettings& settings, std
 
 }  // namespace
 
-void RareEventAnswer::write(AnswerWriter& root, AnswerWriter& samples, const ensemble::EnsembleSpec& spec,
+void RareEventAnswer::write(AnswerWriter& root, AnswerWriter& samples, const EnsembleSpec& spec,
                             std::size_t rows) const {
   const SubsetSettings settings = subset_settings(spec);
   write_run_places(samples, settings, rows);
-  const ensemble::Response& response = spec.responses[spec.subset->response];
-  const double sign = response.fail_if == ensemble::Response::FailIf::below ? -1.0 : 1.0;
+  const Response& response = spec.responses[spec.subset->response];
+  const double sign = response.fail_if == Response::FailIf::below ? -1.0 : 1.0;
   const std::unique_ptr<AnswerWriter> group =
       root.group("rare_event",
                  "subset simulation (Au and Beck 2001) in standard normal space: levels of "
                  "conditional samples, conditional sampling after Papaioannou et al. 2015");
   const std::unique_ptr<AnswerWriter> g = group->group(response.name.c_str(), "");
   g->attribute("limit", response.limit);
-  g->attribute("fail_if", std::string(ensemble::name(response.fail_if)));
+  g->attribute("fail_if", std::string(name(response.fail_if)));
   g->attribute("units", response.units);
   g->attribute("level_probability", settings.level_probability);
   g->attribute("samples_per_level", static_cast<long long>(settings.samples));

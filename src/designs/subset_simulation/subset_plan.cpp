@@ -11,12 +11,12 @@ namespace {
 
 class LevelChains final : public ensemble::ChainWave {
  public:
-  LevelChains(const ensemble::EnsembleSpec& spec, const ensemble::Wave& wave)
+  LevelChains(const EnsembleSpec& spec, const ensemble::Wave& wave)
       : spec_(spec),
         settings_(subset_settings(spec)),
         start_(unpack_level_start(wave.start, spec.input_dimensions())) {}
 
-  double value(const ensemble::SampleRecord& record) const override { return subset_response(spec_, record); }
+  double value(const SampleRecord& record) const override { return subset_response(spec_, record); }
 
   // The chain moves in standard normal space; its runs take the points
   // Phi(u) in the unit cube.
@@ -32,7 +32,7 @@ class LevelChains final : public ensemble::ChainWave {
   }
 
  private:
-  const ensemble::EnsembleSpec& spec_;
+  const EnsembleSpec& spec_;
   SubsetSettings settings_;
   LevelStart start_;
 };

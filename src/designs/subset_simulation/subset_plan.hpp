@@ -16,7 +16,7 @@ namespace treedyn::designs {
 // reaches the limit or max_levels is reached.
 class SubsetPlan final : public ensemble::WavePlan {
  public:
-  explicit SubsetPlan(const ensemble::EnsembleSpec& spec) : spec_(spec) {}
+  explicit SubsetPlan(const EnsembleSpec& spec) : spec_(spec) {}
   ensemble::Wave first_wave() const override;
   std::optional<ensemble::Wave> next_wave(const ensemble::Wave& done,
                                           const ensemble::ResponseTable* so_far) const override;
@@ -24,7 +24,7 @@ class SubsetPlan final : public ensemble::WavePlan {
   std::unique_ptr<const ensemble::ChainWave> chains(const ensemble::Wave& wave) const override;
 
  private:
-  const ensemble::EnsembleSpec& spec_;
+  const EnsembleSpec& spec_;
 };
 
 }  // namespace treedyn::designs

@@ -6,33 +6,33 @@
 
 namespace treedyn::designs {
 
-SubsetSettings subset_settings(const ensemble::EnsembleSpec& spec) {
-  const ensemble::Response& r = spec.responses[spec.subset->response];
+SubsetSettings subset_settings(const EnsembleSpec& spec) {
+  const Response& r = spec.responses[spec.subset->response];
   SubsetSettings s;
   s.samples = spec.samples;
   s.level_probability = spec.subset->level_probability;
   s.max_levels = spec.subset->max_levels;
   s.seed = spec.seed;
-  s.limit = r.fail_if == ensemble::Response::FailIf::below ? -r.limit : r.limit;
+  s.limit = r.fail_if == Response::FailIf::below ? -r.limit : r.limit;
   return s;
 }
 
-double subset_response(const ensemble::EnsembleSpec& spec, const ensemble::ResponseTable& table, std::uint64_t k) {
+double subset_response(const EnsembleSpec& spec, const ensemble::ResponseTable& table, std::uint64_t k) {
   // A run the table does not hold (a file cut short, or another build's
   // levels) reads as failed rather than past the end.
   if (k >= table.samples() || !table.ok(k)) return std::numeric_limits<double>::quiet_NaN();
   const std::size_t r = spec.subset->response;
   const double value = table.response(k, r);
-  return spec.responses[r].fail_if == ensemble::Response::FailIf::below ? -value : value;
+  return spec.responses[r].fail_if == Response::FailIf::below ? -value : value;
 }
 
-double subset_response(const ensemble::EnsembleSpec& spec, const ensemble::SampleRecord& record) {
-  if (record.status != ensemble::SampleStatus::ok) return std::numeric_limits<double>::quiet_NaN();
+double subset_response(const EnsembleSpec& spec, const SampleRecord& record) {
+  if (record.status != SampleStatus::ok) return std::numeric_limits<double>::quiet_NaN();
   const std::size_t r = spec.subset->response;
-  return spec.responses[r].fail_if == ensemble::Response::FailIf::below ? -record.responses[r] : record.responses[r];
+  return spec.responses[r].fail_if == Response::FailIf::below ? -record.responses[r] : record.responses[r];
 }
 
-SubsetLevels replay_subset(const ensemble::EnsembleSpec& spec, const ensemble::ResponseTable& table, int levels) {
+SubsetLevels replay_subset(const EnsembleSpec& spec, const ensemble::ResponseTable& table, int levels) {
   SubsetLevels replay(subset_settings(spec), spec.input_dimensions());
   const auto recorded = [&](std::uint64_t k, std::span<const double>) { return subset_response(spec, table, k); };
   replay.start(recorded);
@@ -40,8 +40,7 @@ SubsetLevels replay_subset(const ensemble::EnsembleSpec& spec, const ensemble::R
   return replay;
 }
 
-std::vector<double> subset_uniforms(const ensemble::EnsembleSpec& spec, const ensemble::ResponseTable& table,
-                                    std::uint64_t k) {
+std::vector<double> subset_uniforms(const EnsembleSpec& spec, const ensemble::ResponseTable& table, std::uint64_t k) {
   const SubsetSettings settings = subset_settings(spec);
   const RunPlace place = run_place(settings, k);
   const unsigned D = spec.input_dimensions();

@@ -20,7 +20,7 @@ constexpr std::uint64_t kProposalStream = 0x73756273;  // "subs"
 constexpr double kTargetAcceptance = 0.44;
 
 double standard_normal(std::uint64_t seed, std::uint64_t index, std::uint64_t input, std::uint64_t stream) {
-  return boost::math::quantile(boost::math::normal(), ensemble::counter_uniform(seed, index, input, stream));
+  return boost::math::quantile(boost::math::normal(), sampling::counter_uniform(seed, index, input, stream));
 }
 
 bool is_whole(double x) { return std::abs(x - std::round(x)) <= 1e-9 * std::max(1.0, std::abs(x)); }
@@ -137,7 +137,7 @@ void propose(const SubsetSettings& s, std::uint64_t index, std::span<const doubl
 
 Chain run_chain(const SubsetSettings& s, int level, std::uint64_t chain_index, double threshold,
                 std::span<const double> spread, std::span<const double> seed_u, double seed_g,
-                const Response& response) {
+                const ResponseFunction& response) {
   const std::uint64_t Ns = s.states();
   const std::size_t D = seed_u.size();
   Chain chain;
@@ -292,7 +292,7 @@ SubsetLevels::SubsetLevels(const SubsetSettings& s, unsigned D) : settings_(s), 
   if (const std::string problem = check(s); !problem.empty()) throw std::invalid_argument(problem);
 }
 
-void SubsetLevels::start(const Response& response) {
+void SubsetLevels::start(const ResponseFunction& response) {
   const std::uint64_t N = settings_.samples;
   const unsigned D = dimensions_;
   states_ = LevelStates{};
@@ -320,7 +320,7 @@ LevelStart SubsetLevels::next_start() const {
   return start;
 }
 
-void SubsetLevels::advance(const Response& response) {
+void SubsetLevels::advance(const ResponseFunction& response) {
   if (finished()) throw std::logic_error("subset simulation: no level after the last");
   const unsigned D = dimensions_;
   const LevelStart start = next_start();
@@ -349,7 +349,7 @@ SubsetResult SubsetLevels::result() const {
   return combine(settings_, levels_, close_.reached_limit, close_.no_threshold);
 }
 
-SubsetResult subset_simulation(const SubsetSettings& s, unsigned D, const Response& response) {
+SubsetResult subset_simulation(const SubsetSettings& s, unsigned D, const ResponseFunction& response) {
   SubsetLevels levels(s, D);
   levels.start(response);
   while (!levels.finished()) levels.advance(response);

@@ -77,13 +77,13 @@ struct Chain {
 
 // g(index, u): the response of the run at `index` for the point u. A NaN
 // (a failed run) never exceeds a threshold.
-using Response = std::function<double(std::uint64_t index, std::span<const double> u)>;
+using ResponseFunction = std::function<double(std::uint64_t index, std::span<const double> u)>;
 
 // Chain `chain` of level `level` >= 1 from its seed (u, g), conditional on
 // g > threshold.
 Chain run_chain(const SubsetSettings& settings, int level, std::uint64_t chain, double threshold,
                 std::span<const double> spread, std::span<const double> seed_u, double seed_g,
-                const Response& response);
+                const ResponseFunction& response);
 
 // All N states of a level, in index order (level 0: by sample; later: chain
 // by chain, state by state).
@@ -164,9 +164,9 @@ class SubsetLevels {
  public:
   SubsetLevels(const SubsetSettings& settings, unsigned dimensions);
   // Level 0's N points and responses; closes it.
-  void start(const Response& response);
+  void start(const ResponseFunction& response);
   // The chains of the next level, chain by chain; closes it. Only before finished().
-  void advance(const Response& response);
+  void advance(const ResponseFunction& response);
   bool finished() const { return close_.last; }
   int level() const { return level_; }  // the last level closed
   const LevelClose& close() const { return close_; }
@@ -187,6 +187,6 @@ class SubsetLevels {
 };
 
 // The whole algorithm, serially.
-SubsetResult subset_simulation(const SubsetSettings& settings, unsigned dimensions, const Response& response);
+SubsetResult subset_simulation(const SubsetSettings& settings, unsigned dimensions, const ResponseFunction& response);
 
 }  // namespace treedyn::designs

@@ -15,21 +15,21 @@ namespace treedyn::designs {
 namespace {
 class SubsetSimulationRules final : public DesignRules {
  public:
-  ensemble::Design design() const override { return ensemble::Design::subset_simulation; }
+  sampling::Design design() const override { return sampling::Design::subset_simulation; }
   // Level 0; the later levels' runs come from their chains.
-  std::unique_ptr<ensemble::RunPoints> points(const ensemble::PointsSpec& spec) const override {
+  std::unique_ptr<sampling::RunPoints> points(const sampling::PointsSpec& spec) const override {
     return monte_carlo_points(spec);
   }
   std::string_view table() const override { return "subset"; }
-  void read_runs(const TomlView& ensemble, ensemble::EnsembleSpec& s, std::uint64_t max_runs) const override {
+  void read_runs(const TomlView& ensemble, EnsembleSpec& s, std::uint64_t max_runs) const override {
     read_subset(ensemble, s, max_runs);
   }
-  std::uint64_t first_wave_runs(const ensemble::EnsembleSpec& s) const override { return s.samples; }  // level 0
-  bool follows_records(const ensemble::EnsembleSpec& s, std::uint64_t k) const override { return k >= s.samples; }
-  std::uint64_t answered_runs(const ensemble::EnsembleSpec& s, std::uint64_t runs) const override {
+  std::uint64_t first_wave_runs(const EnsembleSpec& s) const override { return s.samples; }  // level 0
+  bool follows_records(const EnsembleSpec& s, std::uint64_t k) const override { return k >= s.samples; }
+  std::uint64_t answered_runs(const EnsembleSpec& s, std::uint64_t runs) const override {
     return std::min(runs, s.samples);
   }
-  bool answers_probability(const ensemble::EnsembleSpec& s, std::size_t r) const override {
+  bool answers_probability(const EnsembleSpec& s, std::size_t r) const override {
     return s.subset && s.subset->response == r;
   }
   std::string_view why_no_stopping_rule() const override {
@@ -44,13 +44,13 @@ class SubsetSimulationRules final : public DesignRules {
     return "; subset_simulation: level 0 alone (samples 0 .. N-1), an unbiased Monte-Carlo sample; the later "
            "levels' runs are conditional samples and left out (they are in /samples)";
   }
-  void print_runs(std::ostream& out, const ensemble::EnsembleSpec& s) const override;
+  void print_runs(std::ostream& out, const EnsembleSpec& s) const override;
 };
 
 // Runs per level, chains, and the runs the simulation makes, which depend
 // on P: N (1 + (1 - p0) m) when level m is the first whose threshold
 // reaches the limit, P near p0^(m + 1).
-void SubsetSimulationRules::print_runs(std::ostream& out, const ensemble::EnsembleSpec& s) const {
+void SubsetSimulationRules::print_runs(std::ostream& out, const EnsembleSpec& s) const {
   const double p0 = s.subset->level_probability;
   const double n = static_cast<double>(s.samples);
   out << "  subset_simulation: " << s.samples << " runs per level, level_probability " << format_number(p0) << " ("

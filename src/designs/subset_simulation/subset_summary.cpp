@@ -4,12 +4,12 @@
 
 namespace treedyn::designs {
 
-using ensemble::number;
+using analysis::number;
 
-void RareEventAnswer::print(std::ostream& out, const ensemble::EnsembleSpec& spec) const {
-  const ensemble::Response& response = spec.responses[spec.subset->response];
-  const double sign = response.fail_if == ensemble::Response::FailIf::below ? -1.0 : 1.0;
-  const char* side = response.fail_if == ensemble::Response::FailIf::above ? " > " : " < ";
+void RareEventAnswer::print(std::ostream& out, const EnsembleSpec& spec) const {
+  const Response& response = spec.responses[spec.subset->response];
+  const double sign = response.fail_if == Response::FailIf::below ? -1.0 : 1.0;
+  const char* side = response.fail_if == Response::FailIf::above ? " > " : " < ";
   out << "subset simulation: P(" << response.name << side << number(response.limit) << " " << response.units
       << ") = " << number(result.probability, "%.4g") << ", cov " << number(result.cov, "%.3g")
       << " (levels taken as uncorrelated), 95 % interval [" << number(result.interval_low, "%.4g") << ", "
@@ -30,7 +30,7 @@ void RareEventAnswer::print(std::ostream& out, const ensemble::EnsembleSpec& spe
   else if (!result.reached_limit)
     out << "  warning: max_levels ran out before a level's threshold reached the limit: the estimate counts "
            "the last level's exceedances (raise max_levels)\n";
-  ensemble::print_failure_region(out, spec, region, "runs beyond the limit, any level");
+  analysis::print_failure_region(out, spec, region, "runs beyond the limit, any level");
 }
 
 }  // namespace treedyn::designs

@@ -63,16 +63,16 @@ bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; 
 
 TEST(SampleJob, ReadsBackToTheSampleBitForBit) {
   const Job job = parse_job(kJob, "job.toml");
-  const ensemble::EnsembleSpec spec = ensemble::read_ensemble(job);
+  const EnsembleSpec spec = read_ensemble(job);
   for (std::uint64_t k = 0; k < spec.runs; ++k) {
     SCOPED_TRACE("sample " + std::to_string(k));
     ensemble::SampleRunner runner(job, spec);
     const std::vector<double> inputs = runner.prepare(k, false);
-    const std::string text = ensemble::sample_job_text(job, spec, k, inputs);
+    const std::string text = sample_job_text(job, spec, k, inputs);
     EXPECT_EQ(text.find("[ensemble"), std::string::npos) << text;
     EXPECT_EQ(text.find("this comment goes with it"), std::string::npos) << text;
     Job again = parse_job(text, "sample.toml");
-    ensemble::apply_sample_section(again);
+    apply_sample_section(again);
     ASSERT_EQ(again.model.n, 1);
     EXPECT_TRUE(same_bits(again.model.mass[0], runner.model().mass[0]));
     for (int a = 0; a < 3; ++a)
@@ -85,7 +85,7 @@ TEST(SampleJob, ReadsBackToTheSampleBitForBit) {
     // The sample differs from the nominal (the test is not vacuous).
     EXPECT_NE(again.model.mass[0], job.model.mass[0]);
     // And a sample job is not written from it again.
-    EXPECT_THROW(ensemble::require_not_a_sample_job(again), JobError);
+    EXPECT_THROW(require_not_a_sample_job(again), JobError);
   }
 }
 
@@ -96,11 +96,11 @@ TEST(SampleJob, AnEnsembleWrittenWithoutHeadersIsRefused) {
       "distribution = \"uniform\", lower = 0.5, upper = 2.0 }] }\n";
   const std::string job_text = top + kJob.substr(0, kJob.find("# The ensemble"));
   const Job job = parse_job(job_text, "inline.toml");
-  const ensemble::EnsembleSpec spec = ensemble::read_ensemble(job);
+  const EnsembleSpec spec = read_ensemble(job);
   ensemble::SampleRunner runner(job, spec);
   const std::vector<double> inputs = runner.sample_inputs(1);
   try {
-    ensemble::sample_job_text(job, spec, 1, inputs);
+    sample_job_text(job, spec, 1, inputs);
     FAIL() << "written";
   } catch (const JobError& e) {
     EXPECT_NE(std::string(e.what()).find("write it with [ensemble] headers"), std::string::npos) << e.what();

@@ -36,6 +36,7 @@ namespace {
 
 using namespace treedyn;
 using namespace treedyn::ensemble;
+using namespace treedyn::statistics;
 
 // ---------------------------------------------------------------------------
 // A small real ensemble, computed once.

@@ -11,7 +11,7 @@
 namespace {
 
 std::string first_line(std::uint64_t ok, std::uint64_t failed, std::uint64_t run_here, double seconds) {
-  treedyn::ensemble::EnsembleDigest d;
+  treedyn::analysis::EnsembleDigest d;
   d.samples = ok + failed;
   d.ok = ok;
   d.failed = failed;
@@ -19,7 +19,7 @@ std::string first_line(std::uint64_t ok, std::uint64_t failed, std::uint64_t run
   d.wall_seconds = seconds;
   d.run_here = run_here;
   std::ostringstream out;
-  treedyn::ensemble::print_digest(out, d);
+  treedyn::analysis::print_digest(out, d);
   return out.str().substr(0, out.str().find('\n'));
 }
 

@@ -19,7 +19,9 @@
 namespace {
 
 namespace fs = std::filesystem;
+using namespace treedyn;
 using namespace treedyn::ensemble;
+using namespace treedyn::persistence;
 
 constexpr std::size_t kTimes = 3, kColumns = 2, kSamples = 7;
 constexpr int kBins = 4;
@@ -52,7 +54,7 @@ class CheckpointFiles : public ::testing::Test {
     fs::remove_all(dir_);
     fs::create_directories(dir_);
     const std::vector<double> nominal = trajectory(0), zero(nominal.size(), 0.0), scale(kColumns, 1.0);
-    calibration_ = calibrate(nominal, zero, zero, scale, kColumns, kBins);
+    calibration_ = statistics::calibrate(nominal, zero, zero, scale, kColumns, kBins);
     write_checkpoint_common(dir_, id_, nominal, calibration_, tolerance());
   }
   void TearDown() override { fs::remove_all(dir_); }
@@ -60,7 +62,7 @@ class CheckpointFiles : public ::testing::Test {
   // Samples 0..kSamples-1 kept and saved in three frames (after 2, 5 and 7).
   void save_in_three_frames() {
     RankCheckpoint checkpoint(dir_, id_, 0, "rank0");
-    EnsembleStatistics stats(kTimes, kColumns, kBins, calibration_);
+    statistics::EnsembleStatistics stats(kTimes, kColumns, kBins, calibration_);
     for (std::uint64_t k = 0; k < kSamples; ++k) {
       const SampleRecord r = record(k);
       if (r.status == SampleStatus::ok) stats.add_sample(trajectory(k));
@@ -81,7 +83,9 @@ class CheckpointFiles : public ::testing::Test {
   }
 
   // The pilot's tolerance check, as common.state carries it.
-  static ToleranceCheck tolerance() { return check_tolerances(1e-8, 1e-10, 1, {1.0, 2.0, 4.0}, {1.25}); }
+  static statistics::ToleranceCheck tolerance() {
+    return statistics::check_tolerances(1e-8, 1e-10, 1, {1.0, 2.0, 4.0}, {1.25});
+  }
 
   static void expect_every_record(const RestoredRun& restored) {
     EXPECT_EQ(restored.tolerance.samples, tolerance().samples);
@@ -106,7 +110,7 @@ class CheckpointFiles : public ::testing::Test {
 
   fs::path dir_;
   RunIdentity id_ = run_identity("title = \"checkpoint files\"\n", "test build");
-  Calibration calibration_;
+  statistics::Calibration calibration_;
 };
 
 TEST_F(CheckpointFiles, RecordsSavedInSeveralFramesComeBackAndSurviveAConsolidation) {
@@ -153,7 +157,7 @@ TEST_F(CheckpointFiles, AFrameWithADamagedByteIsRefused) {
 TEST_F(CheckpointFiles, HeldRecordsSpillToTheFileAndCountOnceASaveCoversThem) {
   const std::uint64_t many = 3 * RankCheckpoint::kSpillBytes / 100;  // a record here encodes to > 100 bytes
   RankCheckpoint checkpoint(dir_, id_, 0, "rank0");
-  EnsembleStatistics stats(kTimes, kColumns, kBins, calibration_);
+  statistics::EnsembleStatistics stats(kTimes, kColumns, kBins, calibration_);
   const auto keep = [&](std::uint64_t k) {
     SampleRecord r = record(k);
     if (k != 3) r.reason.clear(), r.status = SampleStatus::ok, r.time_reached = 1.0;
@@ -206,12 +210,12 @@ TEST_F(CheckpointFiles, ASpillThatFailsTurnsTheRanksCheckpointsOff) {
     }
     EXPECT_TRUE(thrown) << "no spill failed";
     // Once an append failed, a save must not write a state after it.
-    EnsembleStatistics stats(kTimes, kColumns, kBins, calibration_);
+    statistics::EnsembleStatistics stats(kTimes, kColumns, kBins, calibration_);
     EXPECT_THROW(checkpoint.save(stats), treedyn::process::FileError);
     EXPECT_FALSE(fs::exists(dir_ / "part-0-rank0.state"));
   }
   RankResults results;
-  results.start_statistics(EnsembleStatistics(kTimes, kColumns, kBins, calibration_));
+  results.start_statistics(statistics::EnsembleStatistics(kTimes, kColumns, kBins, calibration_));
   results.use_checkpoint(std::make_unique<RankCheckpoint>(dir_, id_, 0, "rank0"), 300.0);
   ::testing::internal::CaptureStderr();
   for (std::uint64_t k = 0; k < many; ++k) EXPECT_TRUE(results.keep(record(k % kSamples), nullptr)) << k;

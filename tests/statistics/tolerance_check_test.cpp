@@ -16,7 +16,8 @@
 
 namespace {
 
-using namespace treedyn::ensemble;
+using namespace treedyn;
+using namespace treedyn::statistics;
 using namespace treedyn::testing;
 namespace fs = std::filesystem;
 

@@ -36,15 +36,15 @@
 namespace {
 
 using treedyn::designs::SampleDesign;
-using treedyn::ensemble::counter_uniform;
-using treedyn::ensemble::Design;
-using treedyn::ensemble::Distribution;
-using treedyn::ensemble::permute_index;
-using treedyn::ensemble::sobol_bits;
+using treedyn::sampling::counter_uniform;
+using treedyn::sampling::Design;
+using treedyn::sampling::Distribution;
+using treedyn::sampling::permute_index;
+using treedyn::sampling::sobol_bits;
 
 constexpr Design kDesigns[] = {Design::monte_carlo, Design::latin_hypercube, Design::sobol};
 
-std::string design_name(Design d) { return std::string(treedyn::ensemble::name(d)); }
+std::string design_name(Design d) { return std::string(name(d)); }
 
 Distribution normal(double mean, double std) {
   Distribution d;
@@ -468,13 +468,13 @@ TEST(Sampling, PointDependsOnlyOnSeedSampleDimension) {
 // ---------------------------------------------------------------------------
 // Correlated inputs: a normal copula on each input's own marginal.
 
-using treedyn::ensemble::InputCorrelation;
-using treedyn::ensemble::NormalCopula;
+using treedyn::sampling::InputCorrelation;
+using treedyn::sampling::NormalCopula;
 
 // Spearman's rank correlation of two columns: the project's own
 // (analysis/sensitivity.hpp), x as the one input and y as the response.
 double spearman(const std::vector<double>& x, const std::vector<double>& y) {
-  return treedyn::ensemble::rank_sensitivity(x, 1, y).spearman.at(0);
+  return treedyn::analysis::rank_sensitivity(x, 1, y).spearman.at(0);
 }
 
 // Three inputs with normal, uniform and lognormal marginals, correlated
@@ -501,7 +501,7 @@ TEST(Sampling, CorrelatedInputsHaveTheAskedSpearmanAndKeepTheirMarginals) {
   std::vector<InputCorrelation> pairs;
   for (unsigned a = 0; a < 3; ++a)
     for (unsigned b = a + 1; b < 3; ++b)
-      pairs.push_back({a, b, treedyn::ensemble::normal_copula_of_spearman(asked[a][b]), true});
+      pairs.push_back({a, b, treedyn::sampling::normal_copula_of_spearman(asked[a][b]), true});
   const NormalCopula copula(3, pairs);
   const double critical = 1.95 / std::sqrt(static_cast<double>(kN));
   for (Design design : kDesigns) {
@@ -543,10 +543,10 @@ TEST(Sampling, CorrelatedInputsHaveTheAskedSpearmanAndKeepTheirMarginals) {
 // inverse, with the textbook values: rho = 1 gives Spearman 1, rho = 0.5
 // gives (6/pi) asin(1/4) = 0.4826.
 TEST(Sampling, NormalCopulaParameterAndSpearmanConvert) {
-  EXPECT_NEAR(treedyn::ensemble::spearman_of_normal_copula(1.0), 1.0, 1e-15);
-  EXPECT_NEAR(treedyn::ensemble::spearman_of_normal_copula(0.5), 0.482584, 1e-6);
+  EXPECT_NEAR(treedyn::sampling::spearman_of_normal_copula(1.0), 1.0, 1e-15);
+  EXPECT_NEAR(treedyn::sampling::spearman_of_normal_copula(0.5), 0.482584, 1e-6);
   for (double r : {-0.9, -0.3, 0.0, 0.2, 0.75})
-    EXPECT_NEAR(treedyn::ensemble::spearman_of_normal_copula(treedyn::ensemble::normal_copula_of_spearman(r)), r,
+    EXPECT_NEAR(treedyn::sampling::spearman_of_normal_copula(treedyn::sampling::normal_copula_of_spearman(r)), r,
                 1e-14);
 }
 

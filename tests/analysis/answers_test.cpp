@@ -20,7 +20,9 @@
 
 namespace {
 
-using namespace treedyn::ensemble;
+using namespace treedyn;
+using namespace treedyn::analysis;
+using namespace treedyn::sampling;
 using treedyn::designs::SampleDesign;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
@@ -200,7 +202,7 @@ TEST(Answers, ExceedanceCountsSuccessfulSamplesAndReportsTheFailedOnes) {
   status[2] = 2;
   std::vector<double> values;
   for (int k = 0; k < 10; ++k) values.push_back(status[k] == 0 ? k : std::nan(""));
-  const ResponseTable table(status, {}, values, 0, 1);
+  const ensemble::ResponseTable table(status, {}, values, 0, 1);
   const auto answers = answer_responses(spec, table);
   ASSERT_EQ(answers.size(), 1u);
   const ResponseAnswer& a = answers[0];
@@ -225,7 +227,7 @@ TEST(Answers, ExceedanceCountsSuccessfulSamplesAndReportsTheFailedOnes) {
 TEST(Answers, InfiniteValuesAreCountedNotAveraged) {
   EnsembleSpec spec;
   spec.responses = {response(Response::Reduce::first_time_above, 1.0)};
-  const ResponseTable table({0, 0, 0, 0}, {}, {1.0, kInf, 3.0, kInf}, 0, 1);
+  const ensemble::ResponseTable table({0, 0, 0, 0}, {}, {1.0, kInf, 3.0, kInf}, 0, 1);
   const ResponseAnswer a = answer_responses(spec, table).at(0);
   EXPECT_EQ(a.used, 2u);
   EXPECT_EQ(a.not_finite, 2u);

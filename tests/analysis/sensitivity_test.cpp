@@ -29,7 +29,9 @@
 
 namespace {
 
-using namespace treedyn::ensemble;
+using namespace treedyn;
+using namespace treedyn::analysis;
+using namespace treedyn::sampling;
 using treedyn::designs::saltelli_indices;
 using treedyn::designs::SampleDesign;
 using treedyn::designs::SobolIndices;

@@ -18,7 +18,7 @@
 #include "analysis/wave_plans.hpp"
 #include "sampling/design.hpp"
 
-namespace treedyn::ensemble {
+namespace treedyn::analysis {
 namespace {
 
 constexpr std::uint64_t kMost = 20000;
@@ -26,7 +26,7 @@ constexpr std::uint64_t kMost = 20000;
 EnsembleSpec spec_with(double p, StopRule rule) {
   EnsembleSpec spec;
   spec.runs = kMost;
-  spec.design = Design::monte_carlo;
+  spec.design = sampling::Design::monte_carlo;
   Response r;
   r.name = "y";
   r.fail_if = Response::FailIf::above;
@@ -36,16 +36,16 @@ EnsembleSpec spec_with(double p, StopRule rule) {
   return spec;
 }
 
-ResponseTable uniform_responses(std::uint64_t seed) {
+ensemble::ResponseTable uniform_responses(std::uint64_t seed) {
   std::vector<double> y(kMost);
-  for (std::uint64_t k = 0; k < kMost; ++k) y[k] = counter_uniform(seed, k, 0, 7);
-  return ResponseTable(std::vector<std::int32_t>(kMost, 0), {}, std::move(y), 0, 1);
+  for (std::uint64_t k = 0; k < kMost; ++k) y[k] = sampling::counter_uniform(seed, k, 0, 7);
+  return ensemble::ResponseTable(std::vector<std::int32_t>(kMost, 0), {}, std::move(y), 0, 1);
 }
 
 // Where the plan's waves end on this table: the samples the run uses.
-std::uint64_t stopping_point(const EnsembleSpec& spec, const ResponseTable& table) {
-  StoppingPlan plan(spec);
-  Wave wave = plan.first_wave();
+std::uint64_t stopping_point(const EnsembleSpec& spec, const ensemble::ResponseTable& table) {
+  analysis::StoppingPlan plan(spec);
+  ensemble::Wave wave = plan.first_wave();
   while (auto next = plan.next_wave(wave, &table)) wave = *next;
   return wave.end;
 }
@@ -58,11 +58,11 @@ Coverage coverage(double p, const StopRule& rule, int seeds) {
   const EnsembleSpec spec = spec_with(p, rule);
   Coverage c;
   for (int s = 0; s < seeds; ++s) {
-    const ResponseTable table = uniform_responses(5000 + static_cast<std::uint64_t>(s));
+    const ensemble::ResponseTable table = uniform_responses(5000 + static_cast<std::uint64_t>(s));
     const std::uint64_t n = stopping_point(spec, table);
-    const ResponseAnswer a = answer_response(spec, table, 0, n, false);
+    const analysis::ResponseAnswer a = analysis::answer_response(spec, table, 0, n, false);
     c.exceedance += (a.exceedance->interval.low <= p && p <= a.exceedance->interval.high) ? 1.0 / seeds : 0.0;
-    c.mean += std::abs(a.mean - 0.5) <= kZ95 * a.sem ? 1.0 / seeds : 0.0;
+    c.mean += std::abs(a.mean - 0.5) <= analysis::kZ95 * a.sem ? 1.0 / seeds : 0.0;
     c.samples += static_cast<double>(n) / seeds;
   }
   return c;
@@ -74,15 +74,15 @@ TEST(StopRule, WavesAreCheckIntervalsUpToTheMostSamples) {
   rule.every = 300;
   EnsembleSpec spec = spec_with(0.5, rule);
   spec.runs = 1000;
-  StoppingPlan plan(spec);
-  const ResponseTable table = uniform_responses(1);
+  analysis::StoppingPlan plan(spec);
+  const ensemble::ResponseTable table = uniform_responses(1);
   std::vector<std::pair<std::uint64_t, std::uint64_t>> waves;
-  Wave w = plan.first_wave();
+  ensemble::Wave w = plan.first_wave();
   waves.emplace_back(w.first, w.end);
   while (auto next = plan.next_wave(w, &table)) waves.emplace_back((w = *next).first, w.end);
   EXPECT_EQ(waves,
             (std::vector<std::pair<std::uint64_t, std::uint64_t>>{{0, 300}, {300, 600}, {600, 900}, {900, 1000}}));
-  EXPECT_FALSE(stop_reason(spec, table, 1000));
+  EXPECT_FALSE(analysis::stop_reason(spec, table, 1000));
 }
 
 // The exceedance target counts once kMinExceedances are seen, and is the
@@ -94,7 +94,7 @@ TEST(StopRule, ExceedanceCovStopsAtTheFirstCheckPointWhereItHolds) {
   rule.every = 50;
   const double p = 0.025;
   const EnsembleSpec spec = spec_with(p, rule);
-  const ResponseTable table = uniform_responses(11);
+  const ensemble::ResponseTable table = uniform_responses(11);
   std::uint64_t expected = 0;
   for (std::uint64_t n = 50; n <= kMost && expected == 0; n += 50) {
     std::uint64_t k = 0;
@@ -104,7 +104,7 @@ TEST(StopRule, ExceedanceCovStopsAtTheFirstCheckPointWhereItHolds) {
   }
   ASSERT_GT(expected, 0u);
   EXPECT_EQ(stopping_point(spec, table), expected);
-  const auto reason = stop_reason(spec, table, expected);
+  const auto reason = analysis::stop_reason(spec, table, expected);
   ASSERT_TRUE(reason);
   EXPECT_NE(reason->find("exceedance_cov of y"), std::string::npos) << *reason;
   EXPECT_NE(reason->find("at " + std::to_string(expected) + " samples"), std::string::npos) << *reason;
@@ -115,13 +115,13 @@ TEST(StopRule, MeanTargetsStopWhereTheStandardErrorReachesThem) {
   rule.mean_relative_sem = 0.01;  // sem = sqrt(1/12) / sqrt(n) / 0.5 <= 0.01: n >= 3334
   rule.every = 100;
   const EnsembleSpec spec = spec_with(0.5, rule);
-  const ResponseTable table = uniform_responses(3);
+  const ensemble::ResponseTable table = uniform_responses(3);
   const std::uint64_t n = stopping_point(spec, table);
   EXPECT_GE(n, 3000u);
   EXPECT_LE(n, 3700u);
-  const ResponseAnswer a = answer_response(spec, table, 0, n, false);
+  const analysis::ResponseAnswer a = analysis::answer_response(spec, table, 0, n, false);
   EXPECT_LE(a.sem / std::abs(a.mean), 0.01);
-  const ResponseAnswer before = answer_response(spec, table, 0, n - 100, false);
+  const analysis::ResponseAnswer before = analysis::answer_response(spec, table, 0, n - 100, false);
   EXPECT_GT(before.sem / std::abs(before.mean), 0.01);
 }
 
@@ -153,4 +153,4 @@ TEST(StopRule, RealCoverageOfTheReportedIntervalsWhenTheRunStopsItself) {
 }
 
 }  // namespace
-}  // namespace treedyn::ensemble
+}  // namespace treedyn::analysis

@@ -228,8 +228,8 @@ TEST(Perturbation, ChangesExactlyItsEntries) {
   ASSERT_EQ(job.model.tree().user_body_name(0), "upper");
   ASSERT_EQ(job.model.tree().user_body_name(1), "lower");
   const double deg = std::numbers::pi / 180.0;
-  using K = Perturbation::Kind;
-  using M = Perturbation::Mode;
+  using K = sampling::Perturbation::Kind;
+  using M = sampling::Perturbation::Mode;
   auto at = [&](const std::string& name, int component = 0) { return index_of(table, name, component); };
 
   struct Case {
@@ -295,7 +295,7 @@ TEST(Perturbation, ChangesExactlyItsEntries) {
   // clang-format on
   ASSERT_EQ(cases.size(), spec.perturbations.size());
   for (std::size_t i = 0; i < cases.size(); ++i) {
-    const Perturbation& p = spec.perturbations[i];
+    const sampling::Perturbation& p = spec.perturbations[i];
     const Case& c = cases[i];
     const std::string what = "perturbation " + std::to_string(i + 1) + " (" + p.target + ")";
     EXPECT_EQ(p.kind, c.kind) << what;
@@ -389,7 +389,7 @@ mode = "add"
   const Job job = parse_job(text, "accel.toml");
   const EnsembleSpec spec = read_ensemble(job);
   ASSERT_EQ(spec.perturbations.size(), 1u);
-  const Perturbation& p = spec.perturbations[0];
+  const sampling::Perturbation& p = spec.perturbations[0];
   const ParameterTable& table = job.definition.parameters;
   EXPECT_EQ(table.entry_name(p.first), "base.acceleration.z");
   std::vector<double> params(table.nominal().begin(), table.nominal().end());
@@ -435,9 +435,9 @@ target = "base.z.phases"
   const std::vector<std::string> names = spec.input_names();
   EXPECT_EQ(names[1], "base.z.phases[1]");
   EXPECT_EQ(names[6], "base.z.phases[6]");
-  const Perturbation& phases = spec.perturbations[1];
-  EXPECT_EQ(phases.kind, Perturbation::Kind::parameter_list);
-  EXPECT_EQ(phases.distribution.kind, Distribution::Kind::uniform);
+  const sampling::Perturbation& phases = spec.perturbations[1];
+  EXPECT_EQ(phases.kind, sampling::Perturbation::Kind::parameter_list);
+  EXPECT_EQ(phases.distribution.kind, sampling::Distribution::Kind::uniform);
   EXPECT_EQ(phases.distribution.upper, 2.0 * std::numbers::pi);
   const ParameterTable& table = job.definition.parameters;
   EXPECT_EQ(table.entry_name(phases.first + 5), "base.z.phases[6]");
@@ -446,7 +446,7 @@ target = "base.z.phases"
   const std::vector<double> nominal_params = params;
   InitialState s = job.initial;
   const std::vector<double> values = {2.5, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6};
-  apply_inputs(spec.perturbations, values, job.initial, params, s);
+  sampling::apply_inputs(spec.perturbations, values, job.initial, params, s);
   for (std::size_t k = 0; k < params.size(); ++k) {
     const int i = static_cast<int>(k);
     if (i == index_of(table, "base.z.significant_height"))
@@ -474,7 +474,7 @@ target = "base.z.phases"
     EXPECT_EQ(c[k].frequency, c0[k].frequency);  // the grid stays the job's
     EXPECT_NEAR(c[k].amplitude, 1.25 * c0[k].amplitude, 1e-15);
   }
-  EXPECT_EQ(phases.mode, Perturbation::Mode::set);
+  EXPECT_EQ(phases.mode, sampling::Perturbation::Mode::set);
 
   // With a distribution a list needs its mode said, and is never scaled; without
   // one, no distribution field may stand alone.
