@@ -22,7 +22,7 @@ namespace {
 
 // Every rank's peak memory, samples, busy time and time writing records, on
 // rank 0.
-EnsembleSummary gather_loads(const EnsembleRun& run) {
+ensemble::RunSummary gather_loads(const EnsembleRun& run) {
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
   constexpr int kLoads = 7;
@@ -37,7 +37,7 @@ EnsembleSummary gather_loads(const EnsembleRun& run) {
                                cpu};
   std::vector<double> all(kLoads * static_cast<std::size_t>(run.size));
   MPI_Gather(mine, kLoads, MPI_DOUBLE, all.data(), kLoads, MPI_DOUBLE, 0, run.comm);
-  EnsembleSummary summary;
+  ensemble::RunSummary summary;
   summary.ranks = run.size;
   for (int r = 0; r < run.size && run.rank == 0; ++r) {
     const double* loads = all.data() + static_cast<std::size_t>(kLoads * r);
@@ -122,7 +122,7 @@ std::string stop_reason_of(const EnsembleRun& run, const designs::RunAnswer* ans
 // Rank 0, a whole ensemble: the records are in the file already (a write
 // error among them is reported before anything else is written); the rest
 // goes the same way as a merge's (EnsembleWriter::complete).
-int write_ensemble(EnsembleRun& run, const statistics::EnsembleStatistics& stats, EnsembleSummary summary,
+int write_ensemble(EnsembleRun& run, const statistics::EnsembleStatistics& stats, ensemble::RunSummary summary,
                    const h5::RunProvenance& provenance) {
   summary.failed = run.records->failed();
   summary.ok = run.records->done() - summary.failed;
@@ -169,7 +169,7 @@ int finish_run(EnsembleRun& run) {
     run.records->finish_progress();
     run.records->write_held();
   }
-  const EnsembleSummary summary = gather_loads(run);
+  const ensemble::RunSummary summary = gather_loads(run);
   const h5::RunProvenance provenance = gather_provenance(run);
   int code = kExitOk;
   if (run.rank == 0) {

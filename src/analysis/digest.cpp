@@ -29,7 +29,7 @@ std::vector<std::pair<std::size_t, std::size_t>> digest_columns(const ColumnLayo
 }
 
 EnsembleDigest digest_of(const Job& job, const EnsembleSpec& spec, const statistics::EnsembleStatistics& s,
-                         const EnsembleSummary& summary) {
+                         const ensemble::RunSummary& summary) {
   const ColumnLayout layout = column_layout(job.model, job.output);
   const std::size_t last = job.request.output_times.size() - 1;
   EnsembleDigest d;

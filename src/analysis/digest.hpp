@@ -41,7 +41,7 @@ std::vector<std::pair<std::size_t, std::size_t>> digest_columns(const ColumnLayo
 
 // The digest of a finished run, from its accumulated statistics.
 EnsembleDigest digest_of(const Job& job, const EnsembleSpec& spec, const statistics::EnsembleStatistics& stats,
-                         const EnsembleSummary& summary);
+                         const ensemble::RunSummary& summary);
 
 void print_digest(std::ostream& out, const EnsembleDigest& digest);
 

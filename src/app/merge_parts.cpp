@@ -113,8 +113,8 @@ void note_incomplete(const ensemble::IndexRanges& held, std::uint64_t samples) {
 }
 
 // One process did the merge; the parts' own runs are described by them.
-EnsembleSummary merge_summary(const std::vector<SampleRecord>& records) {
-  EnsembleSummary summary;
+ensemble::RunSummary merge_summary(const std::vector<SampleRecord>& records) {
+  ensemble::RunSummary summary;
   for (const SampleRecord& r : records) {
     if (r.status == SampleStatus::ok)
       ++summary.ok;
@@ -158,7 +158,7 @@ int merge_parts(const std::vector<std::string>& names, const std::string& output
       for (const SampleRecord& r : records) table.add(r);
       answers = analysis::answer_responses(spec, table);
     }
-    EnsembleSummary summary = merge_summary(records);
+    ensemble::RunSummary summary = merge_summary(records);
     h5::RunProvenance provenance = run;
     provenance.job_path = parts[0].job_path;  // the job the parts ran (absolute), not a part file
     summary.samples_used = spec.runs;

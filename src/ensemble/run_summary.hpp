@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
-namespace treedyn {
+namespace treedyn::ensemble {
 
-struct EnsembleSummary {
+struct RunSummary {
   std::uint64_t ok = 0, failed = 0;
   int ranks = 1;
   double wall_seconds = 0.0;
@@ -35,4 +35,4 @@ struct EnsembleSummary {
   std::string stop_reason;                // why the run ended where it did
 };
 
-}  // namespace treedyn
+}  // namespace treedyn::ensemble

@@ -25,15 +25,15 @@ void GroupAnswerWriter::array(const char* name, const std::vector<double>& value
                               const std::vector<std::size_t>& shape, const std::string& units, const std::string& what,
                               const std::vector<std::string>& labels) {
   const std::vector<hsize_t> dims(shape.begin(), shape.end());
-  h5::describe(h5::write_array(group_, name, H5T_NATIVE_DOUBLE, values.data(), dims).id(), units, what, labels);
+  describe(write_array(group_, name, H5T_NATIVE_DOUBLE, values.data(), dims).id(), units, what, labels);
 }
 
 void GroupAnswerWriter::value(const char* name, double value, const std::string& units, const std::string& what) {
-  h5::write_described_scalar(group_, name, value, units, what);
+  write_described_scalar(group_, name, value, units, what);
 }
 
 void GroupAnswerWriter::count(const char* name, std::uint64_t value, const std::string& what) {
-  h5::write_described_scalar(group_, name, value, "1", what);
+  write_described_scalar(group_, name, value, "1", what);
 }
 
 void GroupAnswerWriter::pair(const char* name, double low, double high, const std::string& what) {
@@ -42,12 +42,12 @@ void GroupAnswerWriter::pair(const char* name, double low, double high, const st
 
 void GroupAnswerWriter::column(const char* name, const std::vector<std::int32_t>& values, const std::string& what) {
   const hsize_t n[1] = {values.size()};
-  h5::describe(h5::write_array(group_, name, H5T_NATIVE_INT32, values.data(), n).id(), "1", what, {});
+  describe(write_array(group_, name, H5T_NATIVE_INT32, values.data(), n).id(), "1", what, {});
 }
 
 void GroupAnswerWriter::column(const char* name, const std::vector<std::int64_t>& values, const std::string& what) {
   const hsize_t n[1] = {values.size()};
-  h5::describe(h5::write_array(group_, name, H5T_NATIVE_INT64, values.data(), n).id(), "1", what, {});
+  describe(write_array(group_, name, H5T_NATIVE_INT64, values.data(), n).id(), "1", what, {});
 }
 
 void GroupAnswerWriter::failure_region(const EnsembleSpec& spec, const analysis::FailureRegion& region,
@@ -55,18 +55,16 @@ void GroupAnswerWriter::failure_region(const EnsembleSpec& spec, const analysis:
   write_failure_region(group_, spec, region, which_runs);
 }
 
-void GroupAnswerWriter::attribute(const char* name, const std::string& value) {
-  h5::write_attribute(group_, name, value);
-}
-void GroupAnswerWriter::attribute(const char* name, double value) { h5::write_attribute(group_, name, value); }
-void GroupAnswerWriter::attribute(const char* name, long long value) { h5::write_attribute(group_, name, value); }
+void GroupAnswerWriter::attribute(const char* name, const std::string& value) { write_attribute(group_, name, value); }
+void GroupAnswerWriter::attribute(const char* name, double value) { write_attribute(group_, name, value); }
+void GroupAnswerWriter::attribute(const char* name, long long value) { write_attribute(group_, name, value); }
 void GroupAnswerWriter::attribute(const char* name, const std::vector<std::string>& values) {
-  h5::write_attribute(group_, name, values);
+  write_attribute(group_, name, values);
 }
 
 std::unique_ptr<designs::AnswerWriter> GroupAnswerWriter::group(const char* name, const std::string& description) {
-  h5::Handle g = h5::create_group(group_, name);
-  if (!description.empty()) h5::write_attribute(g.id(), "description", description);
+  Handle g = create_group(group_, name);
+  if (!description.empty()) write_attribute(g.id(), "description", description);
   return std::unique_ptr<designs::AnswerWriter>(new GroupAnswerWriter(std::move(g)));
 }
 

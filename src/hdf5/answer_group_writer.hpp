@@ -39,9 +39,9 @@ class GroupAnswerWriter final : public designs::AnswerWriter {
   std::unique_ptr<designs::AnswerWriter> group(const char* name, const std::string& description) override;
 
  private:
-  explicit GroupAnswerWriter(h5::Handle owned) : group_(owned.id()), owned_(std::move(owned)) {}
+  explicit GroupAnswerWriter(Handle owned) : group_(owned.id()), owned_(std::move(owned)) {}
   hid_t group_;
-  h5::Handle owned_;  // a group this writer made (group()), closed with it
+  Handle owned_;  // a group this writer made (group()), closed with it
 };
 
 }  // namespace treedyn::h5

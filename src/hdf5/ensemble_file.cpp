@@ -19,8 +19,6 @@
 namespace treedyn::h5 {
 namespace {
 
-using h5::describe;
-
 std::vector<std::string> integrator_stat_columns() {
   std::vector<std::string> out;
   for (const IntegratorStatField& f : kIntegratorStatFields) out.emplace_back(f.name);
@@ -37,7 +35,7 @@ void describe_inputs(hid_t inputs, const EnsembleSpec& spec) {
            "the sampled value of every perturbed input ([[ensemble.perturbation]] targets; "
            "orientation perturbations are rotation vectors)",
            spec.input_names());
-  h5::write_attribute(inputs, "column_units", spec.input_units());
+  write_attribute(inputs, "column_units", spec.input_units());
   std::vector<std::string> target, distribution, mode;
   for (const sampling::Perturbation& p : spec.perturbations)
     for (int k = 0; k < p.dimensions(); ++k) {
@@ -50,9 +48,9 @@ void describe_inputs(hid_t inputs, const EnsembleSpec& spec) {
                      : p.mode == sampling::Perturbation::Mode::add       ? "add"
                                                                          : "set");
     }
-  h5::write_attribute(inputs, "column_targets", target);
-  h5::write_attribute(inputs, "column_distributions", distribution);
-  h5::write_attribute(inputs, "column_modes", mode);
+  write_attribute(inputs, "column_targets", target);
+  write_attribute(inputs, "column_distributions", distribution);
+  write_attribute(inputs, "column_modes", mode);
   if (spec.correlations.empty()) return;
   // The correlated pairs ([[ensemble.correlation]]), so that a reader tells
   // a dependence the job asked for from one the sample happened to have.
@@ -61,7 +59,7 @@ void describe_inputs(hid_t inputs, const EnsembleSpec& spec) {
   for (const sampling::InputCorrelation& c : spec.correlations)
     pairs.push_back(names[c.a] + " ~ " + names[c.b] + ": normal copula " + format_number(c.normal_copula) +
                     ", Spearman " + format_number(sampling::spearman_of_normal_copula(c.normal_copula)));
-  h5::write_attribute(inputs, "correlated_pairs", pairs);
+  write_attribute(inputs, "correlated_pairs", pairs);
 }
 
 // The /samples/responses attributes: what each column is and its limit.
@@ -86,13 +84,13 @@ void describe_responses(hid_t set, const std::vector<Response>& responses) {
            "each sample's named responses ([[ensemble.response]]): one column per response; "
            "NaN when the sample failed, +inf for a level never crossed",
            names);
-  h5::write_attribute(set, "column_units", units);
-  h5::write_attribute(set, "quantity", quantity);
-  h5::write_attribute(set, "column", column);
-  h5::write_attribute(set, "reduce", reduce);
-  h5::write_attribute(set, "time_or_threshold", std::span<const double>(parameter));
-  h5::write_attribute(set, "limit", std::span<const double>(limit));
-  h5::write_attribute(set, "fail_if", fail_if);
+  write_attribute(set, "column_units", units);
+  write_attribute(set, "quantity", quantity);
+  write_attribute(set, "column", column);
+  write_attribute(set, "reduce", reduce);
+  write_attribute(set, "time_or_threshold", std::span<const double>(parameter));
+  write_attribute(set, "limit", std::span<const double>(limit));
+  write_attribute(set, "fail_if", fail_if);
 }
 
 std::string reduction_about(Reduction r) {
@@ -114,13 +112,13 @@ EnsembleWriter::EnsembleWriter(const std::filesystem::path& path, const Job& job
       unit_rows_(unit_rows),
       rows_(spec, layout, final_state_size),
       file_(path) {
-  samples_ = h5::create_group(file_.id(), "samples");
-  h5::write_attribute(samples_.id(), "description", std::string(designs::rules_of(spec.design).samples_description()));
+  samples_ = create_group(file_.id(), "samples");
+  write_attribute(samples_.id(), "description", std::string(designs::rules_of(spec.design).samples_description()));
   create_sample_columns();
   create_reductions();
   if (!spec.responses.empty()) {
     const hsize_t columns[1] = {spec.responses.size()};
-    responses_ = h5::RowDataset(samples_.id(), "responses", H5T_NATIVE_DOUBLE, spec.runs, columns, unit_rows_);
+    responses_ = RowDataset(samples_.id(), "responses", H5T_NATIVE_DOUBLE, spec.runs, columns, unit_rows_);
     describe_responses(responses_.id(), spec.responses);
   }
   if (spec.store_trajectories > 0) create_trajectories();
@@ -128,7 +126,7 @@ EnsembleWriter::EnsembleWriter(const std::filesystem::path& path, const Job& job
 }
 
 // SampleRows' dataset `d` among those created.
-h5::RowDataset& EnsembleWriter::sample_set(const ensemble::SampleRows::Dataset& d) {
+RowDataset& EnsembleWriter::sample_set(const ensemble::SampleRows::Dataset& d) {
   using Kind = ensemble::SampleRows::Kind;
   switch (d.kind) {
     case Kind::inputs:
@@ -154,25 +152,25 @@ void EnsembleWriter::create_sample_columns() {
   const std::size_t n = spec_.runs, d = spec_.input_dimensions();
   if (d > 0) {
     const hsize_t columns[1] = {d};
-    inputs_ = h5::RowDataset(g, "inputs", H5T_NATIVE_DOUBLE, n, columns, unit_rows_);
+    inputs_ = RowDataset(g, "inputs", H5T_NATIVE_DOUBLE, n, columns, unit_rows_);
     describe_inputs(inputs_.id(), spec_);
   }
   // A row no record reached reads as "not run", not as the fill's 0 (ok).
   const auto not_run = static_cast<std::int32_t>(SampleStatus::not_run);
-  status_ = h5::RowDataset(g, "status", H5T_NATIVE_INT32, n, {}, unit_rows_, &not_run);
+  status_ = RowDataset(g, "status", H5T_NATIVE_INT32, n, {}, unit_rows_, &not_run);
   describe(status_.id(), "1",
            "0 ok, 1 integration failed, 2 invalid model (perturbed input refused), 3 not run (a merge of an "
            "incomplete set of parts: see the root attribute held_samples; also what a row that no record "
            "reached reads as)",
            {});
-  reason_ = h5::create_string_rows(g, "reason", n, unit_rows_);
+  reason_ = create_string_rows(g, "reason", n, unit_rows_);
   describe(reason_.id(), "1", "why the sample failed; empty (a null string) when ok", {});
-  time_reached_ = h5::RowDataset(g, "time_reached", H5T_NATIVE_DOUBLE, n, {}, unit_rows_);
+  time_reached_ = RowDataset(g, "time_reached", H5T_NATIVE_DOUBLE, n, {}, unit_rows_);
   describe(time_reached_.id(), "s", "time the integration reached (the end time when ok)", {});
   const hsize_t stat_columns[1] = {kIntegratorStatFields.size()}, final_columns[1] = {final_size_};
-  integrator_stats_ = h5::RowDataset(g, "integrator_stats", H5T_NATIVE_INT64, n, stat_columns, unit_rows_);
+  integrator_stats_ = RowDataset(g, "integrator_stats", H5T_NATIVE_INT64, n, stat_columns, unit_rows_);
   describe(integrator_stats_.id(), "1", "integrator statistics per sample", integrator_stat_columns());
-  final_state_ = h5::RowDataset(g, "final_state", H5T_NATIVE_DOUBLE, n, final_columns, unit_rows_);
+  final_state_ = RowDataset(g, "final_state", H5T_NATIVE_DOUBLE, n, final_columns, unit_rows_);
   describe(final_state_.id(), "1, rad/s",
            "state at the last output time: per body the orientation quaternion (q0 >= 0) and "
            "the inertial angular velocity; NaN for failed samples",
@@ -183,8 +181,8 @@ void EnsembleWriter::create_reductions() {
   for (Reduction r : spec_.per_sample) {
     const std::string about = reduction_about(r);
     const bool time = r == Reduction::argmin_time || r == Reduction::argmax_time;
-    reduction_groups_.push_back(h5::create_group(samples_.id(), std::string(name(r))));
-    h5::write_attribute(
+    reduction_groups_.push_back(create_group(samples_.id(), std::string(name(r))));
+    write_attribute(
         reduction_groups_.back().id(), "description",
         "per sample, the " + about + " of every column of every recorded quantity; NaN when the sample failed");
     reductions_.emplace_back();
@@ -200,10 +198,10 @@ void EnsembleWriter::create_reductions() {
 }
 
 void EnsembleWriter::create_trajectories() {
-  trajectory_group_ = h5::create_group(file_.id(), "trajectories");
-  h5::write_attribute(trajectory_group_.id(), "description",
-                      "full trajectories of samples 0 .. M-1 (store_trajectories = M): sample x "
-                      "output time x column; NaN rows for samples that failed");
+  trajectory_group_ = create_group(file_.id(), "trajectories");
+  write_attribute(trajectory_group_.id(), "description",
+                  "full trajectories of samples 0 .. M-1 (store_trajectories = M): sample x "
+                  "output time x column; NaN rows for samples that failed");
   const hsize_t times = job_.request.output_times.size();
   for (std::size_t q = 0; q < layout_.quantity.size(); ++q) {
     const hsize_t shape[2] = {times, layout_.names[q].size()};
@@ -215,19 +213,19 @@ void EnsembleWriter::create_trajectories() {
   }
 }
 
-std::vector<h5::RowDataset*> EnsembleWriter::row_datasets() {
-  std::vector<h5::RowDataset*> out;
-  for (h5::RowDataset* d : {&inputs_, &status_, &time_reached_, &integrator_stats_, &final_state_, &responses_})
+std::vector<RowDataset*> EnsembleWriter::row_datasets() {
+  std::vector<RowDataset*> out;
+  for (RowDataset* d : {&inputs_, &status_, &time_reached_, &integrator_stats_, &final_state_, &responses_})
     if (d->exists()) out.push_back(d);
   for (auto& quantities : reductions_)
-    for (h5::RowDataset& d : quantities) out.push_back(&d);
-  for (h5::RowDataset& d : trajectories_) out.push_back(&d);
+    for (RowDataset& d : quantities) out.push_back(&d);
+  for (RowDataset& d : trajectories_) out.push_back(&d);
   return out;
 }
 
 void EnsembleWriter::keep_samples(std::size_t rows) {
   h5::keep_rows(reason_.id(), rows);
-  for (h5::RowDataset* d : row_datasets()) d->keep_rows(rows);
+  for (RowDataset* d : row_datasets()) d->keep_rows(rows);
 }
 
 void EnsembleWriter::write_records(std::vector<SampleRecord> records) {
@@ -257,12 +255,12 @@ void EnsembleWriter::write_run(const std::vector<SampleRecord>& run) {
   write_trajectories(run);
 }
 
-void EnsembleWriter::write_unit(const h5::Unit& unit) {
+void EnsembleWriter::write_unit(const Unit& unit) {
   if (unit.chunks.size() != sample_sets_.size() || unit_rows_ == 0 || unit.rows != unit_rows_ ||
       unit.first % unit_rows_ != 0)
-    throw h5::IoError("HDF5: a unit of rows " + std::to_string(unit.first) + " .. " +
-                      std::to_string(unit.first + unit.rows) + " is not one whole chunk of " +
-                      std::to_string(unit_rows_) + " rows");
+    throw IoError("HDF5: a unit of rows " + std::to_string(unit.first) + " .. " +
+                  std::to_string(unit.first + unit.rows) + " is not one whole chunk of " + std::to_string(unit_rows_) +
+                  " rows");
   write_reasons(unit.records, unit.first);
   for (std::size_t i = 0; i < sample_sets_.size(); ++i)
     sample_sets_[i]->write_chunk_whole(unit.first / unit_rows_, unit.chunks[i].bytes, unit.chunks[i].deflated);
@@ -280,7 +278,7 @@ void EnsembleWriter::write_reasons(std::span<const SampleRecord> records, std::s
       reason_rows_.push_back(first + k);
       reason_texts_.push_back(records[k].reason.c_str());
     }
-  h5::write_strings_at(reason_.id(), reason_rows_, reason_texts_);
+  write_strings_at(reason_.id(), reason_rows_, reason_texts_);
 }
 
 void EnsembleWriter::write_trajectories(const std::vector<SampleRecord>& run) {
@@ -303,11 +301,10 @@ void EnsembleWriter::write_trajectories(const std::vector<SampleRecord>& run) {
 }
 
 void EnsembleWriter::write_nominal(const std::vector<double>& trajectory) {
-  h5::Handle group = h5::create_group(file_.id(), "nominal");
-  h5::write_attribute(group.id(), "description",
-                      std::string("the unperturbed trajectory (the job without [ensemble])"));
+  Handle group = create_group(file_.id(), "nominal");
+  write_attribute(group.id(), "description", std::string("the unperturbed trajectory (the job without [ensemble])"));
   const std::vector<double>& t = job_.request.output_times;
-  h5::Handle time = h5::write_vector(group.id(), "time", t);
+  Handle time = write_vector(group.id(), "time", t);
   describe(time.id(), "s", "output times", {"time"});
   write_quantity_datasets(group.id(), layout_, t.size(), trajectory, "/nominal/time");
   write_motion_scene(file_.id(), motion_scene(job_.definition, job_.model),
@@ -318,79 +315,78 @@ void EnsembleWriter::write_nominal(const std::vector<double>& trajectory) {
 void EnsembleWriter::write_merge_origin(const std::vector<std::string>& parts,
                                         const std::vector<std::pair<std::uint64_t, std::uint64_t>>& held) {
   const hid_t root = file_.id();
-  h5::write_attribute(root, "merged_from", parts);
+  write_attribute(root, "merged_from", parts);
   std::vector<long long> flat;
   for (const auto& [first, end] : held) {
     flat.push_back(static_cast<long long>(first));
     flat.push_back(static_cast<long long>(end));
   }
-  h5::write_attribute(root, "held_samples", std::span<const long long>(flat));
+  write_attribute(root, "held_samples", std::span<const long long>(flat));
 }
 
 void EnsembleWriter::write_run_answer(const designs::RunAnswer& answer, std::size_t rows) {
-  h5::GroupAnswerWriter root(file_.id()), samples(samples_.id());
+  GroupAnswerWriter root(file_.id()), samples(samples_.id());
   answer.write(root, samples, spec_, rows);
 }
 
-EnsembleSummary EnsembleWriter::complete(const std::vector<double>& nominal,
-                                         const statistics::EnsembleStatistics& stats,
-                                         const std::vector<analysis::ResponseAnswer>& answers,
-                                         const statistics::ToleranceCheck& tolerance, EnsembleSummary summary,
-                                         const RunProvenance& run, std::chrono::steady_clock::time_point started) {
+ensemble::RunSummary EnsembleWriter::complete(const std::vector<double>& nominal,
+                                              const statistics::EnsembleStatistics& stats,
+                                              const std::vector<analysis::ResponseAnswer>& answers,
+                                              const statistics::ToleranceCheck& tolerance, ensemble::RunSummary summary,
+                                              const RunProvenance& run, std::chrono::steady_clock::time_point started) {
   using Clock = std::chrono::steady_clock;
   const Clock::time_point flushing = Clock::now();
-  for (h5::RowDataset* d : row_datasets()) d->flush();
+  for (RowDataset* d : row_datasets()) d->flush();
   if (!summary.writing_seconds.empty())
     summary.writing_seconds.front() += std::chrono::duration<double>(Clock::now() - flushing).count();
   write_nominal(nominal);
-  h5::write_statistics(file_.id(), job_, spec_, layout_, stats);
-  h5::write_answers(file_.id(), spec_, answers);
-  h5::write_tolerance_check(file_.id(), spec_, tolerance);
+  write_statistics(file_.id(), job_, spec_, layout_, stats);
+  write_answers(file_.id(), spec_, answers);
+  write_tolerance_check(file_.id(), spec_, tolerance);
   summary.wall_seconds = std::chrono::duration<double>(Clock::now() - started).count();
   finish(summary, run);
   return summary;
 }
 
-void EnsembleWriter::finish(const EnsembleSummary& summary, const RunProvenance& run) {
+void EnsembleWriter::finish(const ensemble::RunSummary& summary, const RunProvenance& run) {
   const hid_t root = file_.id();
   write_provenance(root, run);
-  h5::write_attribute(root, "software", std::string("treedyn ") + TREEDYN_VERSION);
-  h5::write_attribute(root, "job_file", job_.file);
-  h5::write_attribute(root, "job_text", job_.text);
-  h5::write_attribute(root, "title", job_.title);
-  h5::write_attribute(root, "seed", static_cast<long long>(spec_.seed));
-  h5::write_attribute(root, "design", std::string(name(spec_.design)));
-  h5::write_attribute(root, "samples", static_cast<long long>(spec_.runs));
-  h5::write_attribute(root, "base_samples", static_cast<long long>(spec_.samples));
+  write_attribute(root, "software", std::string("treedyn ") + TREEDYN_VERSION);
+  write_attribute(root, "job_file", job_.file);
+  write_attribute(root, "job_text", job_.text);
+  write_attribute(root, "title", job_.title);
+  write_attribute(root, "seed", static_cast<long long>(spec_.seed));
+  write_attribute(root, "design", std::string(name(spec_.design)));
+  write_attribute(root, "samples", static_cast<long long>(spec_.runs));
+  write_attribute(root, "base_samples", static_cast<long long>(spec_.samples));
   for (const auto& [name, value] : designs::rules_of(spec_.design).attributes(spec_))
-    std::visit([&, &name = name](const auto& v) { h5::write_attribute(root, name, v); }, value);
-  h5::write_attribute(root, "samples_used", static_cast<long long>(summary.samples_used));
-  h5::write_attribute(root, "stop_reason", summary.stop_reason);
-  h5::write_attribute(root, "samples_ok", static_cast<long long>(summary.ok));
-  h5::write_attribute(root, "samples_failed", static_cast<long long>(summary.failed));
-  h5::write_attribute(root, "wall_time_seconds", summary.wall_seconds);
-  h5::write_attribute(root, "peak_rss_mib_per_rank", std::span<const double>(summary.peak_rss_mib));
-  h5::write_attribute(root, "samples_per_rank", std::span<const long long>(summary.samples_per_rank));
-  h5::write_attribute(root, "samples_run_here", static_cast<long long>(summary.samples_run_here()));
-  h5::write_attribute(root, "busy_seconds_per_rank", std::span<const double>(summary.busy_seconds));
-  h5::write_attribute(root, "record_writing_seconds_per_rank", std::span<const double>(summary.writing_seconds));
-  h5::write_attribute(root, "busy_cpu_seconds_per_rank", std::span<const double>(summary.busy_cpu_seconds));
-  h5::write_attribute(root, "record_writing_cpu_seconds_per_rank",
-                      std::span<const double>(summary.writing_cpu_seconds));
-  h5::write_attribute(root, "cpu_seconds_per_rank", std::span<const double>(summary.cpu_seconds));
-  h5::write_attribute(root, "unit_rows", static_cast<long long>(summary.unit_rows));
-  h5::write_attribute(root, "samples_in_units", static_cast<long long>(summary.samples_in_units));
-  h5::write_attribute(root, "unit_storing_cpu_seconds", summary.unit_storing_cpu_seconds);
-  h5::write_attribute(root, "method", std::string(name(job_.request.settings.method)));
-  h5::write_attribute(root, "parameterisation", std::string(name(job_.request.parameterisation)));
-  h5::write_attribute(root, "solver", std::string(name(resolve_solver(job_.request.solver))));
-  h5::write_attribute(root, "histogram_bins", static_cast<long long>(spec_.histogram_bins));
-  h5::write_attribute(root, "pilot_samples", static_cast<long long>(spec_.pilot_samples));
-  for (h5::RowDataset* d : row_datasets()) *d = h5::RowDataset();
+    std::visit([&, &name = name](const auto& v) { write_attribute(root, name, v); }, value);
+  write_attribute(root, "samples_used", static_cast<long long>(summary.samples_used));
+  write_attribute(root, "stop_reason", summary.stop_reason);
+  write_attribute(root, "samples_ok", static_cast<long long>(summary.ok));
+  write_attribute(root, "samples_failed", static_cast<long long>(summary.failed));
+  write_attribute(root, "wall_time_seconds", summary.wall_seconds);
+  write_attribute(root, "peak_rss_mib_per_rank", std::span<const double>(summary.peak_rss_mib));
+  write_attribute(root, "samples_per_rank", std::span<const long long>(summary.samples_per_rank));
+  write_attribute(root, "samples_run_here", static_cast<long long>(summary.samples_run_here()));
+  write_attribute(root, "busy_seconds_per_rank", std::span<const double>(summary.busy_seconds));
+  write_attribute(root, "record_writing_seconds_per_rank", std::span<const double>(summary.writing_seconds));
+  write_attribute(root, "busy_cpu_seconds_per_rank", std::span<const double>(summary.busy_cpu_seconds));
+  write_attribute(root, "record_writing_cpu_seconds_per_rank", std::span<const double>(summary.writing_cpu_seconds));
+  write_attribute(root, "cpu_seconds_per_rank", std::span<const double>(summary.cpu_seconds));
+  write_attribute(root, "unit_rows", static_cast<long long>(summary.unit_rows));
+  write_attribute(root, "samples_in_units", static_cast<long long>(summary.samples_in_units));
+  write_attribute(root, "unit_storing_cpu_seconds", summary.unit_storing_cpu_seconds);
+  write_attribute(root, "method", std::string(name(job_.request.settings.method)));
+  write_attribute(root, "parameterisation", std::string(name(job_.request.parameterisation)));
+  write_attribute(root, "solver", std::string(name(resolve_solver(job_.request.solver))));
+  write_attribute(root, "histogram_bins", static_cast<long long>(spec_.histogram_bins));
+  write_attribute(root, "pilot_samples", static_cast<long long>(spec_.pilot_samples));
+  for (RowDataset* d : row_datasets()) *d = RowDataset();
   reductions_.clear();
   reduction_groups_.clear();
   trajectories_.clear();
-  for (h5::Handle* h : {&reason_, &trajectory_group_, &samples_}) h->reset();
+  for (Handle* h : {&reason_, &trajectory_group_, &samples_}) h->reset();
   file_.commit();
 }
 

@@ -39,7 +39,7 @@ class EnsembleWriter {
   const ensemble::SampleRows& sample_rows() const { return rows_; }
   // A unit's whole chunks (unit_chunks.hpp), stored as they are, and its
   // records' reasons. Its records (stripped) are the caller's to count.
-  void write_unit(const h5::Unit& unit);
+  void write_unit(const Unit& unit);
   // A merged file: the part files it came from and the sample ranges they
   // held, root attributes merged_from (strings) and held_samples ((K, 2),
   // [first, end) rows). Call before complete().
@@ -59,10 +59,10 @@ class EnsembleWriter {
   // flushed and renamed into place. Returns the summary as written: its
   // wall time from `started` to the attributes, the last chunks' time added
   // to the first rank's record writing.
-  EnsembleSummary complete(const std::vector<double>& nominal, const statistics::EnsembleStatistics& stats,
-                           const std::vector<analysis::ResponseAnswer>& answers,
-                           const statistics::ToleranceCheck& tolerance, EnsembleSummary summary,
-                           const RunProvenance& run, std::chrono::steady_clock::time_point started);
+  ensemble::RunSummary complete(const std::vector<double>& nominal, const statistics::EnsembleStatistics& stats,
+                                const std::vector<analysis::ResponseAnswer>& answers,
+                                const statistics::ToleranceCheck& tolerance, ensemble::RunSummary summary,
+                                const RunProvenance& run, std::chrono::steady_clock::time_point started);
 
  private:
   void create_sample_columns();
@@ -71,27 +71,27 @@ class EnsembleWriter {
   void write_run(const std::vector<SampleRecord>& run);
   void write_trajectories(const std::vector<SampleRecord>& run);
   void write_reasons(std::span<const SampleRecord> records, std::size_t first);
-  h5::RowDataset& sample_set(const ensemble::SampleRows::Dataset& d);
+  RowDataset& sample_set(const ensemble::SampleRows::Dataset& d);
   // Every per-sample dataset of numbers (hdf5/row_dataset.hpp).
-  std::vector<h5::RowDataset*> row_datasets();
+  std::vector<RowDataset*> row_datasets();
   void write_nominal(const std::vector<double>& trajectory);
-  void finish(const EnsembleSummary& summary, const RunProvenance& run);
+  void finish(const ensemble::RunSummary& summary, const RunProvenance& run);
 
   const Job& job_;
   const EnsembleSpec& spec_;
   const ColumnLayout& layout_;
   std::size_t final_size_, unit_rows_;
   ensemble::SampleRows rows_;
-  h5::File file_;
-  h5::Handle samples_, reason_;
+  File file_;
+  Handle samples_, reason_;
   std::vector<hsize_t> reason_rows_;  // write_reasons' rows and texts, reused
   std::vector<const char*> reason_texts_;
-  h5::RowDataset inputs_, status_, time_reached_, integrator_stats_, final_state_, responses_;
-  std::vector<h5::Handle> reduction_groups_;             // /samples/<reduction>
-  std::vector<std::vector<h5::RowDataset>> reductions_;  // [reduction][quantity]
-  h5::Handle trajectory_group_;
-  std::vector<h5::RowDataset> trajectories_;  // [quantity], (M, T, columns)
-  std::vector<h5::RowDataset*> sample_sets_;  // rows_'s datasets, in its order
+  RowDataset inputs_, status_, time_reached_, integrator_stats_, final_state_, responses_;
+  std::vector<Handle> reduction_groups_;             // /samples/<reduction>
+  std::vector<std::vector<RowDataset>> reductions_;  // [reduction][quantity]
+  Handle trajectory_group_;
+  std::vector<RowDataset> trajectories_;  // [quantity], (M, T, columns)
+  std::vector<RowDataset*> sample_sets_;  // rows_'s datasets, in its order
 };
 
 }  // namespace treedyn::h5

@@ -56,29 +56,28 @@ RunProvenance start_provenance(int argc, const char* const* argv, const std::str
 }
 
 void write_provenance(hid_t root, const RunProvenance& run) {
-  h5::write_attribute(root, "start_utc", run.start_utc);
-  h5::write_attribute(root, "end_utc", utc_now());
-  h5::write_attribute(root, "host", run.host);
-  h5::write_attribute(root, "command_line", run.command_line);
-  h5::write_attribute(root, "job_path", run.job_path);
-  h5::write_attribute(root, "treedyn_version", std::string(TREEDYN_VERSION));
-  h5::write_attribute(root, "git_commit", std::string(TREEDYN_GIT_COMMIT));
-  h5::write_attribute(root, "build_type", std::string(TREEDYN_BUILD_TYPE));
-  h5::write_attribute(root, "compiler", std::string(TREEDYN_COMPILER));
-  h5::write_attribute(root, "sundials_version", std::string(SUNDIALS_VERSION));
+  write_attribute(root, "start_utc", run.start_utc);
+  write_attribute(root, "end_utc", utc_now());
+  write_attribute(root, "host", run.host);
+  write_attribute(root, "command_line", run.command_line);
+  write_attribute(root, "job_path", run.job_path);
+  write_attribute(root, "treedyn_version", std::string(TREEDYN_VERSION));
+  write_attribute(root, "git_commit", std::string(TREEDYN_GIT_COMMIT));
+  write_attribute(root, "build_type", std::string(TREEDYN_BUILD_TYPE));
+  write_attribute(root, "compiler", std::string(TREEDYN_COMPILER));
+  write_attribute(root, "sundials_version", std::string(SUNDIALS_VERSION));
   unsigned major = 0, minor = 0, release = 0;
   H5get_libversion(&major, &minor, &release);
-  h5::write_attribute(root, "hdf5_version",
-                      std::to_string(major) + "." + std::to_string(minor) + "." + std::to_string(release));
-  h5::write_attribute(root, "libdeflate_version", std::string(LIBDEFLATE_VERSION_STRING));
-  h5::write_attribute(
-      root, "eigen_version",
-      number(EIGEN_WORLD_VERSION) + "." + number(EIGEN_MAJOR_VERSION) + "." + number(EIGEN_MINOR_VERSION));
-  h5::write_attribute(root, "tomlplusplus_version",
-                      number(TOML_LIB_MAJOR) + "." + number(TOML_LIB_MINOR) + "." + number(TOML_LIB_PATCH));
-  h5::write_attribute(root, "mpi_library", run.mpi_library.empty() ? std::string("none (serial)") : run.mpi_library);
-  h5::write_attribute(root, "ranks", static_cast<long long>(run.ranks));
-  if (!run.rank_hosts.empty()) h5::write_attribute(root, "rank_hosts", run.rank_hosts);
+  write_attribute(root, "hdf5_version",
+                  std::to_string(major) + "." + std::to_string(minor) + "." + std::to_string(release));
+  write_attribute(root, "libdeflate_version", std::string(LIBDEFLATE_VERSION_STRING));
+  write_attribute(root, "eigen_version",
+                  number(EIGEN_WORLD_VERSION) + "." + number(EIGEN_MAJOR_VERSION) + "." + number(EIGEN_MINOR_VERSION));
+  write_attribute(root, "tomlplusplus_version",
+                  number(TOML_LIB_MAJOR) + "." + number(TOML_LIB_MINOR) + "." + number(TOML_LIB_PATCH));
+  write_attribute(root, "mpi_library", run.mpi_library.empty() ? std::string("none (serial)") : run.mpi_library);
+  write_attribute(root, "ranks", static_cast<long long>(run.ranks));
+  if (!run.rank_hosts.empty()) write_attribute(root, "rank_hosts", run.rank_hosts);
 }
 
 std::string build_identity() {

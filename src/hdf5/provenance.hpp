@@ -30,7 +30,7 @@ std::string build_identity();
 // Root attributes: start_utc, end_utc (now), host, command_line, job_path,
 // treedyn_version, git_commit, build_type, compiler, sundials_version,
 // hdf5_version, eigen_version, tomlplusplus_version, mpi_library, ranks and
-// rank_hosts. Throws h5::IoError.
+// rank_hosts. Throws IoError.
 void write_provenance(hid_t root, const RunProvenance& run);
 
 }  // namespace treedyn::h5

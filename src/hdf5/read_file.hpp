@@ -1,5 +1,5 @@
 // Reading back a treedyn HDF5 file (for `treedyn report`): whole datasets
-// and attributes by path. Every failure throws h5::IoError naming the path.
+// and attributes by path. Every failure throws IoError naming the path.
 #pragma once
 
 #include <filesystem>

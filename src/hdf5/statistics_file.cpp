@@ -15,8 +15,6 @@
 namespace treedyn::h5 {
 namespace {
 
-using h5::describe;
-
 // /stats/<quantity>: count, mean, std, sem, min, max and quantiles, time x column.
 void write_quantity_statistics(hid_t qg, const Job& job, const EnsembleSpec& spec, const ColumnLayout& layout,
                                std::size_t q, const statistics::EnsembleStatistics& s) {
@@ -40,10 +38,10 @@ void write_quantity_statistics(hid_t qg, const Job& job, const EnsembleSpec& spe
         quantiles[(p * T + k) * cols + c] = s.quantile(e, spec.quantiles[p]);
     }
   const hsize_t dims2[2] = {T, cols};
-  h5::Handle cs = h5::write_array(qg, "count", H5T_NATIVE_UINT64, count.data(), dims2);
+  Handle cs = write_array(qg, "count", H5T_NATIVE_UINT64, count.data(), dims2);
   describe(cs.id(), "1", "number of samples in mean and std (successful samples)", layout.names[q]);
   auto matrix = [&](const char* name, const std::vector<double>& v, const std::string& what) {
-    h5::Handle set = h5::write_matrix(qg, name, v, T, cols);
+    Handle set = write_matrix(qg, name, v, T, cols);
     describe(set.id(), units, what + " over the successful samples; rows: /stats/time", layout.names[q]);
     write_column_units(set.id(), layout, q);
   };
@@ -53,13 +51,13 @@ void write_quantity_statistics(hid_t qg, const Job& job, const EnsembleSpec& spe
   matrix("min", mn, "minimum");
   matrix("max", mx, "maximum");
   const hsize_t dims3[3] = {spec.quantiles.size(), T, cols};
-  h5::Handle qs = h5::write_array(qg, "quantiles", H5T_NATIVE_DOUBLE, quantiles.data(), dims3);
+  Handle qs = write_array(qg, "quantiles", H5T_NATIVE_DOUBLE, quantiles.data(), dims3);
   describe(qs.id(), units,
            "quantiles (probabilities in the 'probabilities' attribute) x time x column, from a "
            "histogram per entry: within one bin width of the exact sample quantile inside the "
            "histogram range",
            layout.names[q]);
-  h5::write_attribute(qs.id(), "probabilities", std::span<const double>(spec.quantiles));
+  write_attribute(qs.id(), "probabilities", std::span<const double>(spec.quantiles));
 }
 
 // /stats/<quantity>/histogram: the values at the last output time, per column.
@@ -69,9 +67,8 @@ void write_final_histograms(hid_t qg, const Job& job, const ColumnLayout& layout
   const std::size_t cols = layout.names[q].size(), offset = layout.offset[q];
   const std::string units(find_quantity(layout.quantity[q])->units);
   const int bins = s.bins();
-  h5::Handle hg = h5::create_group(qg, "histogram");
-  h5::write_attribute(hg.id(), "description",
-                      std::string("histogram of the values at the last output time, per column"));
+  Handle hg = create_group(qg, "histogram");
+  write_attribute(hg.id(), "description", std::string("histogram of the values at the last output time, per column"));
   std::vector<std::uint32_t> counts;
   std::vector<std::uint64_t> under, over;
   std::vector<double> edges;
@@ -84,15 +81,15 @@ void write_final_histograms(hid_t qg, const Job& job, const ColumnLayout& layout
     for (int b = 0; b <= bins; ++b) edges.push_back(s.bin_edge(e, b));
   }
   const hsize_t hdims[2] = {cols, static_cast<hsize_t>(bins)};
-  h5::Handle hc = h5::write_array(hg.id(), "counts", H5T_NATIVE_UINT32, counts.data(), hdims);
+  Handle hc = write_array(hg.id(), "counts", H5T_NATIVE_UINT32, counts.data(), hdims);
   describe(hc.id(), "1", "samples per bin, column x bin", layout.names[q]);
   const hsize_t edims[2] = {cols, static_cast<hsize_t>(bins + 1)};
-  h5::Handle he = h5::write_array(hg.id(), "edges", H5T_NATIVE_DOUBLE, edges.data(), edims);
+  Handle he = write_array(hg.id(), "edges", H5T_NATIVE_DOUBLE, edges.data(), edims);
   describe(he.id(), units, "bin edges, column x (bins + 1)", layout.names[q]);
   const hsize_t udims[1] = {cols};
-  h5::Handle hu = h5::write_array(hg.id(), "underflow", H5T_NATIVE_UINT64, under.data(), udims);
+  Handle hu = write_array(hg.id(), "underflow", H5T_NATIVE_UINT64, under.data(), udims);
   describe(hu.id(), "1", "samples below the first edge", layout.names[q]);
-  h5::Handle ho = h5::write_array(hg.id(), "overflow", H5T_NATIVE_UINT64, over.data(), udims);
+  Handle ho = write_array(hg.id(), "overflow", H5T_NATIVE_UINT64, over.data(), udims);
   describe(ho.id(), "1", "samples above the last edge", layout.names[q]);
 }
 
@@ -100,18 +97,18 @@ void write_final_histograms(hid_t qg, const Job& job, const ColumnLayout& layout
 
 void write_statistics(hid_t file, const Job& job, const EnsembleSpec& spec, const ColumnLayout& layout,
                       const statistics::EnsembleStatistics& s) {
-  h5::Handle group = h5::create_group(file, "stats");
-  h5::write_attribute(group.id(), "description",
-                      std::string("statistics over the successful samples at every output time; "
-                                  "failed samples are left out (see /samples/status)") +
-                          std::string(designs::rules_of(spec.design).statistics_note()));
+  Handle group = create_group(file, "stats");
+  write_attribute(group.id(), "description",
+                  std::string("statistics over the successful samples at every output time; "
+                              "failed samples are left out (see /samples/status)") +
+                      std::string(designs::rules_of(spec.design).statistics_note()));
   const std::vector<double>& t = job.request.output_times;
-  h5::write_attribute(group.id(), "quantities", layout.quantity);  // in the job's order
-  h5::Handle time = h5::write_vector(group.id(), "time", t);
+  write_attribute(group.id(), "quantities", layout.quantity);  // in the job's order
+  Handle time = write_vector(group.id(), "time", t);
   describe(time.id(), "s", "output times", {"time"});
   for (std::size_t q = 0; q < layout.quantity.size(); ++q) {
-    h5::Handle qg = h5::create_group(group.id(), layout.quantity[q]);
-    h5::write_attribute(qg.id(), "units", std::string(find_quantity(layout.quantity[q])->units));
+    Handle qg = create_group(group.id(), layout.quantity[q]);
+    write_attribute(qg.id(), "units", std::string(find_quantity(layout.quantity[q])->units));
     write_quantity_statistics(qg.id(), job, spec, layout, q, s);
     write_final_histograms(qg.id(), job, layout, q, s);
   }

@@ -40,7 +40,7 @@ struct SampleOrigin {
 
 // /motion without poses: the bodies' names, parents, shapes, dimensions and
 // joint points, and the stick figure's segments (output/motion.hpp).
-h5::Handle write_motion_scene(hid_t root, const MotionScene& scene, const std::string& about);
+Handle write_motion_scene(hid_t root, const MotionScene& scene, const std::string& about);
 
 // The trajectory's /motion: the scene and a Recorder of motion_output().
 struct TrajectoryMotion {
@@ -50,7 +50,7 @@ struct TrajectoryMotion {
 
 // Writes /time, one dataset per quantity, /final_state, /motion and the
 // run's attributes (and /sample for a rerun sample), under a temporary name
-// renamed into place when complete. Throws h5::IoError.
+// renamed into place when complete. Throws IoError.
 void write_trajectory(const std::filesystem::path& path, const Job& job, const Recorder& recorder,
                       const IntegrationOutcome& outcome, const RunProvenance& run, const TrajectoryMotion& motion,
                       const SampleOrigin* sample = nullptr);

@@ -85,7 +85,7 @@ class UnitChunks : public ::testing::Test {
     const std::vector<double> zero(entries, 0.0), low(entries, -1.0), high(entries, 1.0), scale(columns, 1.0);
     statistics::EnsembleStatistics stats(r.runner->times(), columns, 8,
                                          statistics::calibrate(zero, low, high, scale, columns, 8));
-    EnsembleSummary one_rank;  // one value per rank in every per-rank attribute
+    ensemble::RunSummary one_rank;  // one value per rank in every per-rank attribute
     one_rank.peak_rss_mib = one_rank.busy_seconds = one_rank.writing_seconds = {0.0};
     one_rank.busy_cpu_seconds = one_rank.writing_cpu_seconds = one_rank.cpu_seconds = {0.0};
     one_rank.samples_per_rank = {0};
