@@ -12,10 +12,10 @@
 
 namespace treedyn {
 
+namespace {
+
 using Kind = sampling::Perturbation::Kind;
 using Mode = sampling::Perturbation::Mode;
-
-namespace {
 
 std::string bytes_text(double bytes) {
   const char* unit = "KiB";
@@ -62,7 +62,7 @@ void print_stop_rule(std::ostream& out, const EnsembleSpec& s) {
 // a sampled peak period (a peak near the band's edge loses energy silently).
 void print_band_share(std::ostream& out, const sampling::Perturbation& p, const ModelDefinition& d) {
   const auto* sea = std::get_if<SeaStateBase>(&d.base.kind);
-  if (!sea || p.kind != sampling::Perturbation::Kind::parameter) return;
+  if (!sea || p.kind != Kind::parameter) return;
   for (int axis = 0; axis < 3; ++axis) {
     if (d.base.sea[axis].peak_period < 0 || p.first != d.base.sea[axis].peak_period) continue;
     SeaStateAxis a = *sea->axes[axis];
@@ -71,9 +71,7 @@ void print_band_share(std::ostream& out, const sampling::Perturbation& p, const 
     out << "      the components' band keeps";
     for (double q : {0.001, 0.999}) {
       const double x = p.distribution.quantile(q) * p.unit;
-      a.peak_period = p.mode == sampling::Perturbation::Mode::scale ? nominal * x
-                      : p.mode == sampling::Perturbation::Mode::add ? nominal + x
-                                                                    : x;
+      a.peak_period = p.mode == Mode::scale ? nominal * x : p.mode == Mode::add ? nominal + x : x;
       if (!(a.peak_period > 0.0)) continue;
       const SeaStateSummary share = summarize(a);
       worst = std::min(worst, share.m0_components / share.m0_spectrum);
@@ -99,7 +97,7 @@ void print_groups(std::ostream& out, const EnsembleSpec& s) {
     out << "    group " << g << " " << unit.name << ":";
     for (unsigned d : unit.inputs) {
       const auto [p, k] = owner[d];
-      if (p->kind != sampling::Perturbation::Kind::parameter_list)
+      if (p->kind != Kind::parameter_list)
         out << " " << names[d];
       else if (k == 0)
         out << " " << p->target << "[1.." << p->entries << "]";

@@ -22,8 +22,6 @@
 namespace treedyn {
 namespace {
 
-using persistence::PartFile;
-
 // A refusal: the message is printed, the merge exits 2.
 struct Refused {
   std::string what;
@@ -34,8 +32,8 @@ std::string range_text(std::uint64_t first, std::uint64_t end) {
 }
 
 // Every part, of the same job and build as the first, and of this build.
-std::vector<PartFile> read_parts(const std::vector<std::string>& names) {
-  std::vector<PartFile> parts;
+std::vector<persistence::PartFile> read_parts(const std::vector<std::string>& names) {
+  std::vector<persistence::PartFile> parts;
   for (const std::string& name : names) {
     try {
       parts.push_back(persistence::read_part_file(name));
@@ -45,7 +43,7 @@ std::vector<PartFile> read_parts(const std::vector<std::string>& names) {
     } catch (const process::FileError& e) {
       throw Refused{e.what()};
     }
-    const PartFile& p = parts.back();
+    const persistence::PartFile& p = parts.back();
     if (p.id.build != h5::build_identity())
       throw Refused{name + " was written by another build (" + p.id.build + "; this is " + h5::build_identity() +
                     "): merge with the build that ran the parts"};
@@ -57,13 +55,14 @@ std::vector<PartFile> read_parts(const std::vector<std::string>& names) {
 }
 
 // The samples the parts hold, which must not overlap.
-ensemble::IndexRanges held_samples(const std::vector<PartFile>& parts, const std::vector<std::string>& names) {
+ensemble::IndexRanges held_samples(const std::vector<persistence::PartFile>& parts,
+                                   const std::vector<std::string>& names) {
   std::vector<std::size_t> order(parts.size());
   std::iota(order.begin(), order.end(), std::size_t{0});
   std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return parts[a].first < parts[b].first; });
   ensemble::IndexRanges held;
   for (std::size_t k = 0; k < order.size(); ++k) {
-    const PartFile& b = parts[order[k]];
+    const persistence::PartFile& b = parts[order[k]];
     if (k > 0 && b.first < parts[order[k - 1]].end)
       throw Refused{names[order[k]] + " holds samples " + range_text(b.first, b.end) + ", which overlap the samples " +
                     range_text(parts[order[k - 1]].first, parts[order[k - 1]].end) + " of " + names[order[k - 1]]};
@@ -74,8 +73,8 @@ ensemble::IndexRanges held_samples(const std::vector<PartFile>& parts, const std
 
 // Each part fits the job it carries, and all calibrated alike (the pilot
 // samples are fixed indices, so they must have).
-void check_fit(const std::vector<PartFile>& parts, const std::vector<std::string>& names, const EnsembleSpec& spec,
-               const ensemble::SampleRunner& runner) {
+void check_fit(const std::vector<persistence::PartFile>& parts, const std::vector<std::string>& names,
+               const EnsembleSpec& spec, const ensemble::SampleRunner& runner) {
   const std::size_t entries = runner.times() * runner.layout().columns;
   for (std::size_t k = 0; k < parts.size(); ++k) {
     if (parts[k].nominal.size() != entries || parts[k].end > spec.runs || parts[k].nominal != parts[0].nominal)
@@ -93,10 +92,10 @@ void check_fit(const std::vector<PartFile>& parts, const std::vector<std::string
 
 // The union of the parts' records, by index; samples no part holds get
 // status 3 (not run).
-std::vector<SampleRecord> merged_records(std::vector<PartFile>& parts, const ensemble::IndexRanges& held,
+std::vector<SampleRecord> merged_records(std::vector<persistence::PartFile>& parts, const ensemble::IndexRanges& held,
                                          const ensemble::SampleRunner& runner, std::uint64_t samples) {
   std::vector<SampleRecord> records;
-  for (PartFile& part : parts)
+  for (persistence::PartFile& part : parts)
     for (SampleRecord& r : part.records) records.push_back(std::move(r));
   for (std::uint64_t k = 0; k < samples && held.count() < samples; ++k)
     if (!held.contains(k)) records.push_back(runner.failed_record(k, SampleStatus::not_run, "not in the merged parts"));
@@ -141,7 +140,7 @@ int merge_parts(const std::vector<std::string>& names, const std::string& output
   try {
     process::check_output_path(output_path);
     const process::OutputLock lock(output_path, run.command_line);  // one output, one owner (a run's or a merge's)
-    std::vector<PartFile> parts = read_parts(names);
+    std::vector<persistence::PartFile> parts = read_parts(names);
     const ensemble::IndexRanges held = held_samples(parts, names);
     const auto [job, spec] = read_ensemble_job(JobDocument::parse(parts[0].job_text, parts[0].job_path));
     ensemble::SampleRunner runner(job, spec);

@@ -17,7 +17,7 @@ SampleDesign::SampleDesign(sampling::Design design, std::uint64_t seed, std::uin
     throw std::invalid_argument("sample design: one Saltelli unit per input dimension");
   spec.units =
       dimensions == 0 ? 0 : *std::max_element(spec.unit_of_dimension.begin(), spec.unit_of_dimension.end()) + 1;
-  points_ = designs::rules_of(design).points(spec);
+  points_ = rules_of(design).points(spec);
 }
 
 }  // namespace treedyn::designs

@@ -153,7 +153,7 @@ Job read_job(const JobDocument& document) {
   const TomlView root(root_table(document), "", file);
   root.check_keys({"title", "environment", "base", "body", "chain", "force", "moment", "integrator", "output",
                    "ensemble", "sample"});
-  // [ensemble] is read by treedyn-ensemble, [sample] by ensemble/sample_job.cpp.
+  // [ensemble] is read by treedyn-ensemble, [sample] by job/sample_job.cpp.
 
   Job job;
   job.file = file;

@@ -12,7 +12,6 @@
 
 namespace treedyn::persistence {
 namespace fs = std::filesystem;
-using process::AtomicFile;
 namespace {
 
 fs::path state_path(const fs::path& dir, const std::string& stem) { return dir / (stem + ".state"); }
@@ -78,7 +77,7 @@ std::unique_ptr<StateFileWriter> part_state(const fs::path& path, const RunIdent
 
 void write_part_state(const fs::path& path, const RunIdentity& id, std::uint64_t generation,
                       std::uint64_t records_bytes, std::uint64_t records_count,
-                      const statistics::EnsembleStatistics& stats, AtomicFile::Sync sync) {
+                      const statistics::EnsembleStatistics& stats, process::AtomicFile::Sync sync) {
   part_state(path, id, generation, records_bytes, records_count, stats)->commit(sync);
 }
 
@@ -211,7 +210,7 @@ void write_checkpoint_common(const fs::path& dir, const RunIdentity& id, const s
   file.out().put_vector(nominal);
   calibration.write(file.out());
   tolerance.write(file.out());
-  file.commit(AtomicFile::Sync::yes);
+  file.commit(process::AtomicFile::Sync::yes);
 }
 
 RankCheckpoint::RankCheckpoint(fs::path dir, RunIdentity id, std::uint64_t generation, const std::string& name)
@@ -251,7 +250,8 @@ void RankCheckpoint::append_pending() {
   refuse_after_failure();
   seal_frame(pending_);
   try {
-    process::append_to_file(records_file(), pending_, AtomicFile::Sync::no);  // flushed by the save that names it
+    process::append_to_file(records_file(), pending_,
+                            process::AtomicFile::Sync::no);  // flushed by the save that names it
   } catch (const process::FileError&) {
     failed_ = true;
     std::error_code ignored;
@@ -265,7 +265,7 @@ void RankCheckpoint::append_pending() {
 }
 
 // One save, as its two steps at once.
-void RankCheckpoint::save(const statistics::EnsembleStatistics& stats, AtomicFile::Sync sync) {
+void RankCheckpoint::save(const statistics::EnsembleStatistics& stats, process::AtomicFile::Sync sync) {
   prepare_save(stats);
   commit(sync);
 }
@@ -279,13 +279,13 @@ void RankCheckpoint::prepare_save(const statistics::EnsembleStatistics& stats) {
   prepared_records_ = appended_records_;
 }
 
-void RankCheckpoint::commit_prepared() { commit(AtomicFile::Sync::yes); }
+void RankCheckpoint::commit_prepared() { commit(process::AtomicFile::Sync::yes); }
 
 // The prepared state renamed into place; with Sync::yes the records it
 // names are flushed first, then the state and its name.
-void RankCheckpoint::commit(AtomicFile::Sync sync) {
+void RankCheckpoint::commit(process::AtomicFile::Sync sync) {
   refuse_after_failure();
-  const bool flush = sync == AtomicFile::Sync::yes;
+  const bool flush = sync == process::AtomicFile::Sync::yes;
   if (!prepared_) {
     if (flush && saved_once_ && !saved_flushed_) flush_saved();
     return;
@@ -371,7 +371,7 @@ std::uint64_t consolidate_checkpoint(const fs::path& dir, const RunIdentity& id,
     bytes = framed.size();
   }
   write_part_state(state_path(dir, stem), id, next, bytes, restored.records.size(), *restored.statistics,
-                   AtomicFile::Sync::yes);
+                   process::AtomicFile::Sync::yes);
   // Older generations are now contained in base-(G+1).
   std::error_code ec;
   for (const auto& entry : fs::directory_iterator(dir, ec)) {

@@ -129,7 +129,7 @@ struct RestoredRun {
   std::uint64_t generation = 0;  // the one loaded
   std::vector<double> nominal;
   statistics::Calibration calibration;
-  statistics::ToleranceCheck tolerance;                           // the pilot's (analysis/tolerance_check.hpp)
+  statistics::ToleranceCheck tolerance;                           // the pilot's (statistics/tolerance_check.hpp)
   std::vector<SampleRecord> records;                              // sorted by sample index
   std::vector<std::pair<std::uint64_t, std::uint64_t>> finished;  // [first, end) intervals
   std::optional<statistics::EnsembleStatistics> statistics;       // counts exactly the ok records

@@ -1,4 +1,4 @@
-// Sensitivity measures (src/ensemble/sensitivity.*) on hand examples and
+// Sensitivity measures (src/analysis/sensitivity.*) on hand examples and
 // known functions:
 //
 //  * AverageRanks*, Spearman*: small hand examples with exact answers.

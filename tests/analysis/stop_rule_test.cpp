@@ -44,7 +44,7 @@ ensemble::ResponseTable uniform_responses(std::uint64_t seed) {
 
 // Where the plan's waves end on this table: the samples the run uses.
 std::uint64_t stopping_point(const EnsembleSpec& spec, const ensemble::ResponseTable& table) {
-  analysis::StoppingPlan plan(spec);
+  StoppingPlan plan(spec);
   ensemble::Wave wave = plan.first_wave();
   while (auto next = plan.next_wave(wave, &table)) wave = *next;
   return wave.end;
@@ -60,9 +60,9 @@ Coverage coverage(double p, const StopRule& rule, int seeds) {
   for (int s = 0; s < seeds; ++s) {
     const ensemble::ResponseTable table = uniform_responses(5000 + static_cast<std::uint64_t>(s));
     const std::uint64_t n = stopping_point(spec, table);
-    const analysis::ResponseAnswer a = analysis::answer_response(spec, table, 0, n, false);
+    const ResponseAnswer a = answer_response(spec, table, 0, n, false);
     c.exceedance += (a.exceedance->interval.low <= p && p <= a.exceedance->interval.high) ? 1.0 / seeds : 0.0;
-    c.mean += std::abs(a.mean - 0.5) <= analysis::kZ95 * a.sem ? 1.0 / seeds : 0.0;
+    c.mean += std::abs(a.mean - 0.5) <= kZ95 * a.sem ? 1.0 / seeds : 0.0;
     c.samples += static_cast<double>(n) / seeds;
   }
   return c;
@@ -74,7 +74,7 @@ TEST(StopRule, WavesAreCheckIntervalsUpToTheMostSamples) {
   rule.every = 300;
   EnsembleSpec spec = spec_with(0.5, rule);
   spec.runs = 1000;
-  analysis::StoppingPlan plan(spec);
+  StoppingPlan plan(spec);
   const ensemble::ResponseTable table = uniform_responses(1);
   std::vector<std::pair<std::uint64_t, std::uint64_t>> waves;
   ensemble::Wave w = plan.first_wave();
@@ -82,7 +82,7 @@ TEST(StopRule, WavesAreCheckIntervalsUpToTheMostSamples) {
   while (auto next = plan.next_wave(w, &table)) waves.emplace_back((w = *next).first, w.end);
   EXPECT_EQ(waves,
             (std::vector<std::pair<std::uint64_t, std::uint64_t>>{{0, 300}, {300, 600}, {600, 900}, {900, 1000}}));
-  EXPECT_FALSE(analysis::stop_reason(spec, table, 1000));
+  EXPECT_FALSE(stop_reason(spec, table, 1000));
 }
 
 // The exceedance target counts once kMinExceedances are seen, and is the
@@ -104,7 +104,7 @@ TEST(StopRule, ExceedanceCovStopsAtTheFirstCheckPointWhereItHolds) {
   }
   ASSERT_GT(expected, 0u);
   EXPECT_EQ(stopping_point(spec, table), expected);
-  const auto reason = analysis::stop_reason(spec, table, expected);
+  const auto reason = stop_reason(spec, table, expected);
   ASSERT_TRUE(reason);
   EXPECT_NE(reason->find("exceedance_cov of y"), std::string::npos) << *reason;
   EXPECT_NE(reason->find("at " + std::to_string(expected) + " samples"), std::string::npos) << *reason;
@@ -119,9 +119,9 @@ TEST(StopRule, MeanTargetsStopWhereTheStandardErrorReachesThem) {
   const std::uint64_t n = stopping_point(spec, table);
   EXPECT_GE(n, 3000u);
   EXPECT_LE(n, 3700u);
-  const analysis::ResponseAnswer a = analysis::answer_response(spec, table, 0, n, false);
+  const ResponseAnswer a = answer_response(spec, table, 0, n, false);
   EXPECT_LE(a.sem / std::abs(a.mean), 0.01);
-  const analysis::ResponseAnswer before = analysis::answer_response(spec, table, 0, n - 100, false);
+  const ResponseAnswer before = answer_response(spec, table, 0, n - 100, false);
   EXPECT_GT(before.sem / std::abs(before.mean), 0.01);
 }
 

@@ -34,7 +34,6 @@
 namespace {
 
 using namespace treedyn;
-using namespace treedyn::analysis;
 using namespace treedyn::sampling;
 using treedyn::designs::saltelli_indices;
 using treedyn::designs::SampleDesign;

@@ -66,10 +66,10 @@ class CheckpointFlush : public ::testing::Test {
     dir_ = fs::canonical(temp_.path()) / "out.h5.checkpoint";
     records_ = dir_ / "part-0-rank0.records";
     state_ = dir_ / "part-0-rank0.state";
-    persistence::create_checkpoint_directory(dir_);
+    create_checkpoint_directory(dir_);
     const std::vector<double> nominal(kTimes * kColumns, 1.0), zero(nominal.size(), 0.0), scale(kColumns, 1.0);
     calibration_ = statistics::calibrate(nominal, zero, zero, scale, kColumns, kBins);
-    persistence::write_checkpoint_common(dir_, id_, nominal, calibration_, {});
+    write_checkpoint_common(dir_, id_, nominal, calibration_, {});
     flushed.clear();
   }
 
@@ -82,31 +82,31 @@ class CheckpointFlush : public ::testing::Test {
   }
   // How many records the checkpoint restores (samples 0 .. end-1 allowed).
   std::size_t records_restored(std::uint64_t end) const {
-    persistence::RecordShape shape;
+    RecordShape shape;
     shape.end = end;
     shape.final_state = 1;
-    const auto restored = persistence::load_checkpoint(dir_, id_, {kTimes, kColumns, kBins}, shape);
+    const auto restored = load_checkpoint(dir_, id_, {kTimes, kColumns, kBins}, shape);
     EXPECT_TRUE(restored.has_value());
     return restored ? restored->records.size() : 0;
   }
   // A rank's results with this checkpoint (saved only when asked) and statistics.
   void start(ensemble::RankResults& results) const {
-    results.use_checkpoint(std::make_unique<persistence::RankCheckpoint>(dir_, id_, 0, "rank0"), 1e9);
+    results.use_checkpoint(std::make_unique<RankCheckpoint>(dir_, id_, 0, "rank0"), 1e9);
     results.start_statistics(statistics::EnsembleStatistics(kTimes, kColumns, kBins, calibration_));
   }
-  void keep(persistence::RankCheckpoint& checkpoint, statistics::EnsembleStatistics& stats, std::uint64_t k) {
+  void keep(RankCheckpoint& checkpoint, statistics::EnsembleStatistics& stats, std::uint64_t k) {
     stats.add_sample(std::vector<double>(kTimes * kColumns, 0.5 * static_cast<double>(k)));
     checkpoint.add(record(k));
   }
 
   testing::TempDir temp_{"checkpoint_flush"};
   fs::path dir_, records_, state_;
-  persistence::RunIdentity id_ = persistence::run_identity("title = \"checkpoint flush\"\n", "test build");
+  RunIdentity id_ = run_identity("title = \"checkpoint flush\"\n", "test build");
   statistics::Calibration calibration_;
 };
 
 TEST_F(CheckpointFlush, AFlushedSaveAfterAStopSignalsSaveFlushesWhatThatSaveWrote) {
-  persistence::RankCheckpoint checkpoint(dir_, id_, 0, "rank0");
+  RankCheckpoint checkpoint(dir_, id_, 0, "rank0");
   statistics::EnsembleStatistics stats(kTimes, kColumns, kBins, calibration_);
   keep(checkpoint, stats, 0);
   keep(checkpoint, stats, 1);
@@ -130,7 +130,7 @@ TEST_F(CheckpointFlush, AFlushedSaveAfterAStopSignalsSaveFlushesWhatThatSaveWrot
 // Records appended without a flush by an unflushed save, then more records
 // and a flushed save: the records file's fsync covers both.
 TEST_F(CheckpointFlush, AFlushedSaveWithNewRecordsAfterAnUnflushedOneFlushesTheRecordsFile) {
-  persistence::RankCheckpoint checkpoint(dir_, id_, 0, "rank0");
+  RankCheckpoint checkpoint(dir_, id_, 0, "rank0");
   statistics::EnsembleStatistics stats(kTimes, kColumns, kBins, calibration_);
   keep(checkpoint, stats, 0);
   checkpoint.save(stats, AtomicFile::Sync::no);
@@ -147,7 +147,7 @@ TEST_F(CheckpointFlush, AFlushedSaveWithNewRecordsAfterAnUnflushedOneFlushesTheR
 // The flush fails (an I/O error): the caller hears it (RankResults turns
 // this rank's checkpoints off with a warning), and the saved state stays.
 TEST_F(CheckpointFlush, AFlushThatFailsIsAFileErrorAndTheStateStays) {
-  persistence::RankCheckpoint checkpoint(dir_, id_, 0, "rank0");
+  RankCheckpoint checkpoint(dir_, id_, 0, "rank0");
   statistics::EnsembleStatistics stats(kTimes, kColumns, kBins, calibration_);
   keep(checkpoint, stats, 0);
   checkpoint.save(stats, AtomicFile::Sync::no);
@@ -228,27 +228,27 @@ TEST_F(CheckpointFlush, ALastSaveThatCannotBeFlushedLeavesTheStateBeforeIt) {
       EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos) << e.path();
     EXPECT_EQ(records_restored(2), 1u) << "the state before the failed save";
     fs::remove_all(dir_);  // afresh for the next case
-    persistence::create_checkpoint_directory(dir_);
-    persistence::write_checkpoint_common(dir_, id_, std::vector<double>(kTimes * kColumns, 1.0), calibration_, {});
+    create_checkpoint_directory(dir_);
+    write_checkpoint_common(dir_, id_, std::vector<double>(kTimes * kColumns, 1.0), calibration_, {});
   }
 }
 
 TEST_F(CheckpointFlush, ANewCheckpointDirectoryHasItsNameFlushedInItsParent) {
   const fs::path dir = dir_.parent_path() / "second.checkpoint";
-  persistence::create_checkpoint_directory(dir);
+  create_checkpoint_directory(dir);
   EXPECT_TRUE(fs::is_directory(dir));
   EXPECT_EQ(flushed, std::vector<std::string>{dir.parent_path().string()});
 }
 
 TEST_F(CheckpointFlush, ACheckpointDirectoryThatCannotBeMadeOrFlushedIsAFileError) {
   try {
-    persistence::create_checkpoint_directory(dir_);
+    create_checkpoint_directory(dir_);
     ADD_FAILURE() << "no error for a directory that exists";
   } catch (const process::FileError& e) {
     EXPECT_EQ(std::string(e.what()), "cannot create the checkpoint directory " + dir_.string() + ": it exists already");
   }
   try {
-    persistence::create_checkpoint_directory(dir_.parent_path() / "missing" / "out.h5.checkpoint");
+    create_checkpoint_directory(dir_.parent_path() / "missing" / "out.h5.checkpoint");
     ADD_FAILURE() << "no error for a missing parent";
   } catch (const process::FileError& e) {
     EXPECT_NE(std::string(e.what()).find(": No such file or directory"), std::string::npos) << e.what();
@@ -256,7 +256,7 @@ TEST_F(CheckpointFlush, ACheckpointDirectoryThatCannotBeMadeOrFlushedIsAFileErro
   const fs::path dir = dir_.parent_path() / "third.checkpoint";
   flush_error = EIO;
   try {
-    persistence::create_checkpoint_directory(dir);
+    create_checkpoint_directory(dir);
     ADD_FAILURE() << "no error for a parent that cannot be flushed";
   } catch (const process::FileError& e) {
     EXPECT_EQ(std::string(e.what()), dir.parent_path().string() +

@@ -58,7 +58,7 @@ seed = 11
 double mass_outside(const std::string& perturbation) {
   const Job job = parse_job(std::string(kModel) + perturbation, "invalid.toml");
   const EnsembleSpec spec = read_ensemble(job);
-  const auto m = sampling::invalid_mass(spec.perturbations.at(0), job.definition);
+  const auto m = invalid_mass(spec.perturbations.at(0), job.definition);
   if (!m) throw std::runtime_error("no range for " + perturbation);
   return m->probability;
 }
@@ -106,7 +106,7 @@ TEST(InvalidMass, TargetsWithoutARangeHaveNone) {
     const Job job =
         parse_job(std::string(kModel) + "target = \"" + target + "\"\ndistribution = \"normal\"\nstd = 0.1\n" + angle,
                   "none.toml");
-    EXPECT_FALSE(sampling::invalid_mass(read_ensemble(job).perturbations.at(0), job.definition)) << target;
+    EXPECT_FALSE(invalid_mass(read_ensemble(job).perturbations.at(0), job.definition)) << target;
   }
 }
 
@@ -118,7 +118,7 @@ TEST(InvalidMass, TheShareOfRefusedSamplesIsTheProbability) {
       parse_job(std::string(kModel) + "target = \"body.rod.mass\"\ndistribution = \"normal\"\nmean = 0.5\nstd = 0.3\n",
                 "count.toml");
   const EnsembleSpec spec = read_ensemble(job);
-  const double p = sampling::invalid_mass(spec.perturbations.at(0), job.definition)->probability;
+  const double p = invalid_mass(spec.perturbations.at(0), job.definition)->probability;
   ensemble::SampleRunner runner(job, spec);
   std::uint64_t refused = 0;
   for (std::uint64_t k = 0; k < spec.runs; ++k) {

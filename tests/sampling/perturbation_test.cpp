@@ -1,4 +1,4 @@
-// Perturbations (src/ensemble/perturbation.*, targets.cpp) and the
+// Perturbations (src/sampling/perturbation.*, targets.cpp) and the
 // [ensemble] reader (read_ensemble.cpp):
 //
 //  * every target resolves to the named parameter entries (or to the part of
@@ -32,7 +32,7 @@
 namespace {
 
 using namespace treedyn;
-using namespace treedyn::ensemble;
+using namespace treedyn::sampling;
 
 const char* kTargetsJob = R"(title = "perturbation targets"
 

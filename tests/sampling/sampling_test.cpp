@@ -1,5 +1,5 @@
 // Sampling designs and input distributions of the ensemble library
-// (mpi/ensemble/design.*, distribution.*).
+// (src/sampling/design.*, distribution.*).
 //
 //  * KolmogorovSmirnov: every distribution, pushed through every design,
 //    reproduces its declared distribution function.

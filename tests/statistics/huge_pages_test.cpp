@@ -17,8 +17,8 @@
 namespace treedyn::statistics {
 namespace {
 
-using Counters = std::vector<std::uint32_t, statistics::HugePageAllocator<std::uint32_t>>;
-constexpr std::size_t kHuge = statistics::HugePageAllocator<char>::kHugePage;
+using Counters = std::vector<std::uint32_t, HugePageAllocator<std::uint32_t>>;
+constexpr std::size_t kHuge = HugePageAllocator<char>::kHugePage;
 
 // Whether any page of [p, p + bytes) is mapped (mincore says ENOMEM where
 // none is).
@@ -34,7 +34,7 @@ TEST(HugePages, ArraysOfEverySizeAreZeroedHoldWhatIsWrittenAndAreGivenBackWhole)
   for (std::size_t bytes : {std::size_t{4}, kHuge - 4, kHuge, kHuge + 4, 5 * kHuge + 12}) {
     SCOPED_TRACE(bytes);
     const std::size_t n = bytes / sizeof(std::uint32_t);
-    const bool mapped = statistics::HugePageAllocator<std::uint32_t>::mapped(n);
+    const bool mapped = HugePageAllocator<std::uint32_t>::mapped(n);
     const void* where = nullptr;
     {
       Counters counts(n);
@@ -56,13 +56,13 @@ TEST(HugePages, ArraysOfEverySizeAreZeroedHoldWhatIsWrittenAndAreGivenBackWhole)
 
 TEST(HugePages, WhatCannotBeMappedIsBadAlloc) {
   constexpr std::size_t most = std::numeric_limits<std::size_t>::max();
-  EXPECT_THROW(statistics::HugePageAllocator<std::uint32_t>().allocate(most / 2),
+  EXPECT_THROW(HugePageAllocator<std::uint32_t>().allocate(most / 2),
                std::bad_alloc);                                        // its bytes overflow
-  EXPECT_THROW(statistics::map_huge_pages(most - 3), std::bad_alloc);  // rounded up to huge pages, it would wrap
-  EXPECT_THROW(statistics::map_huge_pages(std::size_t{1} << 62), std::bad_alloc);  // 4 EiB: no address space holds it
+  EXPECT_THROW(map_huge_pages(most - 3), std::bad_alloc);              // rounded up to huge pages, it would wrap
+  EXPECT_THROW(map_huge_pages(std::size_t{1} << 62), std::bad_alloc);  // 4 EiB: no address space holds it
 #if !defined(__SANITIZE_ADDRESS__)  // there std::allocator's, which AddressSanitizer aborts for sizes like these
-  EXPECT_THROW(statistics::HugePageAllocator<std::uint32_t>().allocate(most / 4), std::bad_alloc);
-  EXPECT_THROW(statistics::HugePageAllocator<std::uint32_t>().allocate(std::size_t{1} << 60), std::bad_alloc);
+  EXPECT_THROW(HugePageAllocator<std::uint32_t>().allocate(most / 4), std::bad_alloc);
+  EXPECT_THROW(HugePageAllocator<std::uint32_t>().allocate(std::size_t{1} << 60), std::bad_alloc);
 #endif
 }
 

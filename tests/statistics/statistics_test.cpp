@@ -1,4 +1,4 @@
-// Ensemble statistics (src/ensemble/statistics.*) on real and synthetic
+// Ensemble statistics (src/statistics/ensemble_statistics.*) on real and synthetic
 // samples; perturbations and the [ensemble] reader are in perturbation_test.
 //
 //  * RealEnsemble*: a small real ensemble (double pendulum, 3 perturbations,

@@ -9,8 +9,6 @@
 
 namespace treedyn::designs {
 
-using analysis::number;
-
 void MorrisAnswer::print(std::ostream& out, const EnsembleSpec& spec, const Response& response) const {
   const MorrisIndices& m = indices;
   const std::vector<std::string> names = spec.unit_names();
@@ -21,7 +19,7 @@ void MorrisAnswer::print(std::ostream& out, const EnsembleSpec& spec, const Resp
   for (std::size_t k = 0; k < std::min(m.ranking.order.size(), analysis::kRankedShown); ++k) {
     const std::size_t u = m.ranking.order[k];
     if (m.sigma[u] >= m.mu_star[u] && m.mu_star[u] > 0.0)
-      nonlinear += (nonlinear.empty() ? "" : ", ") + names[u] + " (sigma " + number(m.sigma[u], "%.3g") + ")";
+      nonlinear += (nonlinear.empty() ? "" : ", ") + names[u] + " (sigma " + analysis::number(m.sigma[u], "%.3g") + ")";
   }
   if (!nonlinear.empty()) out << "      sigma >= mu*, nonlinear or interacting: " << nonlinear << "\n";
 }

@@ -8,8 +8,6 @@
 
 namespace treedyn::designs {
 
-using analysis::number;
-
 void SaltelliAnswer::print(std::ostream& out, const EnsembleSpec& spec, const Response&) const {
   const SobolIndices& s = indices;
   if (s.total.empty()) return;
@@ -23,10 +21,10 @@ void SaltelliAnswer::print(std::ostream& out, const EnsembleSpec& spec, const Re
   if (std::isfinite(v.widest))
     out << "      is N enough for the indices? " << (v.enough ? "yes" : "no")
         << ": the widest interval of a total index "
-        << "that matters is " << number(v.widest, "%.2g") << " (" << spec.unit_names()[v.unit] << ")"
+        << "that matters is " << analysis::number(v.widest, "%.2g") << " (" << spec.unit_names()[v.unit] << ")"
         << (v.enough ? ""
-                     : "; about " + number(v.needed, "%.0f") + " base points would make it " +
-                           number(kIndexIntervalWidth, "%.1f"))
+                     : "; about " + analysis::number(v.needed, "%.0f") + " base points would make it " +
+                           analysis::number(kIndexIntervalWidth, "%.1f"))
         << "\n";
 }
 

@@ -11,13 +11,9 @@
 namespace treedyn::designs {
 namespace {
 
-using analysis::percentile_intervals;
-using analysis::rank_units;
-using sampling::counter_uniform;
-
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// Stream of counter_uniform reserved for the bootstrap's block draws, so they
+// Stream of sampling::counter_uniform reserved for the bootstrap's block draws, so they
 // never coincide with a design's own streams for the same seed.
 constexpr std::uint64_t kBootstrapStream = 7;
 
@@ -103,7 +99,7 @@ SobolIndices saltelli_indices(std::span<const double> f_a, std::span<const doubl
   result.base_samples = n;
   result.first_ci.assign(2 * dimensions, kNaN);
   result.total_ci.assign(2 * dimensions, kNaN);
-  result.ranking = rank_units(result.total, {}, n);
+  result.ranking = analysis::rank_units(result.total, {}, n);
   if (resamples <= 0 || !(point.variance > 0.0)) return result;
 
   // Resample r draws block j as floor(u N), u from (seed, r, j): any rank can
@@ -112,7 +108,7 @@ SobolIndices saltelli_indices(std::span<const double> f_a, std::span<const doubl
   std::vector<double> first(count * dimensions), total(count * dimensions);  // resample-major
   for (std::size_t r = 0; r < count; ++r) {
     for (std::size_t j = 0; j < n; ++j) {
-      const double u = counter_uniform(seed, r, j, kBootstrapStream);
+      const double u = sampling::counter_uniform(seed, r, j, kBootstrapStream);
       // u < 1, but u N may round up to N.
       blocks[j] = std::min(static_cast<std::size_t>(u * static_cast<double>(n)), n - 1);
     }
@@ -120,9 +116,9 @@ SobolIndices saltelli_indices(std::span<const double> f_a, std::span<const doubl
     std::copy(e.first.begin(), e.first.end(), first.begin() + static_cast<std::ptrdiff_t>(r * dimensions));
     std::copy(e.total.begin(), e.total.end(), total.begin() + static_cast<std::ptrdiff_t>(r * dimensions));
   }
-  percentile_intervals(first, dimensions, result.first_ci);
-  percentile_intervals(total, dimensions, result.total_ci);
-  result.ranking = rank_units(result.total, total, n);
+  analysis::percentile_intervals(first, dimensions, result.first_ci);
+  analysis::percentile_intervals(total, dimensions, result.total_ci);
+  result.ranking = analysis::rank_units(result.total, total, n);
   return result;
 }
 
