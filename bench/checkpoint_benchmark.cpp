@@ -29,6 +29,8 @@
 #include "statistics/ensemble_statistics.hpp"
 #include "timing.hpp"
 
+namespace fs = std::filesystem;
+
 namespace {
 
 using namespace treedyn;
@@ -36,14 +38,90 @@ using bench::Clock;
 using bench::median;
 using bench::seconds_since;
 
+constexpr int kSamples = 10000;
+constexpr double kInterval = 300.0;  // the default --checkpoint-every, seconds
+
+// One example's costs, in seconds and bytes.
+struct CheckpointCosts {
+  double sample = 0, fixed = 0, unflushed = 0, append = 0, state_bytes = 0, record_bytes = 0;
+};
+
+// A rank's statistics with every histogram bin of every entry filled: the
+// state at its largest.
+statistics::EnsembleStatistics filled_statistics(const ensemble::SampleRunner& runner, const EnsembleSpec& spec,
+                                                 const std::vector<double>& nominal) {
+  const std::size_t columns = runner.layout().columns, entries = nominal.size();
+  std::vector<double> scale(columns, 1.0), zero(entries, 0.0), row(entries);
+  statistics::EnsembleStatistics stats(runner.times(), columns, spec.histogram_bins,
+                                       statistics::calibrate(nominal, zero, zero, scale, columns, spec.histogram_bins));
+  const statistics::Calibration& c = stats.calibration();
+  for (int b = 0; b < spec.histogram_bins; ++b) {
+    for (std::size_t e = 0; e < entries; ++e) row[e] = c.low[e] + (b + 0.5) * c.width[e];
+    stats.add_sample(row);
+  }
+  return stats;
+}
+
+// Ten saves of one new record each, alternately flushed and not; then
+// kSamples records appended, as a run appends them (only samples below
+// store_trajectories carry their trajectory: the crane's 6 are 350 KB each).
+void measure_saves(const fs::path& dir, const Job& job, const EnsembleSpec& spec,
+                   const statistics::EnsembleStatistics& stats, SampleRecord record, const std::vector<double>& stored,
+                   CheckpointCosts& costs) {
+  const persistence::RunIdentity id = persistence::run_identity(job.text, "benchmark");
+  persistence::RankCheckpoint checkpoint(dir, id, 0, "rank0");
+  std::vector<double> fixed, unflushed;
+  for (int k = 0; k < 10; ++k) {
+    checkpoint.add(record);  // one new record: a save with nothing new is skipped
+    const auto t0 = Clock::now();
+    checkpoint.save(stats, k % 2 == 0 ? process::AtomicFile::Sync::yes : process::AtomicFile::Sync::no);
+    (k % 2 == 0 ? fixed : unflushed).push_back(seconds_since(t0));
+  }
+  costs.fixed = median(fixed);
+  costs.unflushed = median(unflushed);
+  costs.state_bytes = static_cast<double>(fs::file_size(dir / "part-0-rank0.state"));
+  const auto t0 = Clock::now();
+  for (int k = 0; k < kSamples; ++k) {
+    record.index = static_cast<std::uint64_t>(k);
+    if (record.index < spec.store_trajectories)
+      record.trajectory = stored;
+    else
+      record.trajectory.clear();
+    checkpoint.add(record);
+  }
+  checkpoint.save(stats);
+  costs.append = seconds_since(t0) - costs.fixed;
+  costs.record_bytes = static_cast<double>(fs::file_size(dir / "part-0-rank0.records"));
+}
+
+CheckpointCosts measure(const char* name, const fs::path& where) {
+  const auto [job, spec] = read_ensemble_job(JobDocument::read(std::string(TREEDYN_JOBS_DIR) + "/" + name + ".toml"));
+  ensemble::SampleRunner runner(job, spec);
+  std::vector<double> nominal, trajectory;
+  runner.run(0, true, nominal);
+  std::vector<double> sample_times;
+  SampleRecord record;
+  for (int k = 0; k < 3; ++k) {
+    const auto t0 = Clock::now();
+    record = runner.run(static_cast<std::uint64_t>(k), false, trajectory);
+    sample_times.push_back(seconds_since(t0));
+  }
+  CheckpointCosts costs;
+  costs.sample = median(sample_times);
+  const fs::path dir = where / ("treedyn_checkpoint_benchmark_" + std::string(name));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  // trajectory: what a sample below store_trajectories carries
+  measure_saves(dir, job, spec, filled_statistics(runner, spec, nominal), record, trajectory, costs);
+  fs::remove_all(dir);
+  return costs;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  namespace fs = std::filesystem;
   const fs::path where = argc > 1 ? fs::path(argv[1]) : fs::temp_directory_path();
   const int ranks = argc > 2 ? std::atoi(argv[2]) : 2;
-  constexpr int kSamples = 10000;
-  constexpr double kInterval = 300.0;
   const char* jobs[] = {"spherical_pendulum", "double_pendulum", "chain10", "y_tree", "crane_payload", "kapitza"};
   std::printf(
       "| job | sample (ms) | statistics per checkpoint (MiB) | one checkpoint (ms) | on a stop signal, "
@@ -51,66 +129,13 @@ int main(int argc, char** argv) {
       "|---|---:|---:|---:|---:|---:|---:|---:|\n",
       ranks);
   for (const char* name : jobs) {
-    const auto [job, spec] = read_ensemble_job(JobDocument::read(std::string(TREEDYN_JOBS_DIR) + "/" + name + ".toml"));
-    ensemble::SampleRunner runner(job, spec);
-    std::vector<double> nominal, trajectory;
-    runner.run(0, true, nominal);
-    std::vector<double> sample_times;
-    SampleRecord record;
-    for (int k = 0; k < 3; ++k) {
-      const auto t0 = Clock::now();
-      record = runner.run(static_cast<std::uint64_t>(k), false, trajectory);
-      sample_times.push_back(seconds_since(t0));
-    }
-    const double t_sample = median(sample_times);
-    const std::vector<double> stored = trajectory;  // what a sample below store_trajectories carries
-    const std::size_t columns = runner.layout().columns, entries = nominal.size();
-    std::vector<double> scale(columns, 1.0), zero(entries, 0.0);
-    statistics::EnsembleStatistics stats(
-        runner.times(), columns, spec.histogram_bins,
-        statistics::calibrate(nominal, zero, zero, scale, columns, spec.histogram_bins));
-    // Every bin of every entry filled: the state at its largest.
-    const statistics::Calibration& c = stats.calibration();
-    for (int b = 0; b < spec.histogram_bins; ++b) {
-      for (std::size_t e = 0; e < entries; ++e) trajectory[e] = c.low[e] + (b + 0.5) * c.width[e];
-      stats.add_sample(trajectory);
-    }
-
-    const fs::path dir = where / ("treedyn_checkpoint_benchmark_" + std::string(name));
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    const persistence::RunIdentity id = persistence::run_identity(job.text, "benchmark");
-    persistence::RankCheckpoint checkpoint(dir, id, 0, "rank0");
-    std::vector<double> fixed, unflushed;
-    for (int k = 0; k < 10; ++k) {
-      checkpoint.add(record);  // one new record: a save with nothing new is skipped
-      const auto t0 = Clock::now();
-      checkpoint.save(stats, k % 2 == 0 ? process::AtomicFile::Sync::yes : process::AtomicFile::Sync::no);
-      (k % 2 == 0 ? fixed : unflushed).push_back(seconds_since(t0));
-    }
-    const double state_bytes = static_cast<double>(fs::file_size(dir / "part-0-rank0.state"));
-    // As in a run: only samples below store_trajectories carry their
-    // trajectory (the crane's 6 of them are 350 KB each).
-    const auto t0 = Clock::now();
-    for (int k = 0; k < kSamples; ++k) {
-      record.index = static_cast<std::uint64_t>(k);
-      if (record.index < spec.store_trajectories)
-        record.trajectory = stored;
-      else
-        record.trajectory.clear();
-      checkpoint.add(record);
-    }
-    checkpoint.save(stats);
-    const double append = seconds_since(t0) - median(fixed);
-    const double record_bytes = static_cast<double>(fs::file_size(dir / "part-0-rank0.records"));
-    fs::remove_all(dir);
-
-    const double wall = kSamples * t_sample / ranks;
+    const CheckpointCosts c = measure(name, where);
+    const double wall = kSamples * c.sample / ranks;
     const double checkpoints = std::floor(wall / kInterval) + 1.0;
-    const double overhead = (checkpoints * median(fixed) + append / ranks) / wall;
-    std::printf("| %s | %.1f | %.1f | %.1f | %.1f | %.1f | %.1f | %.3f %% |\n", name, 1e3 * t_sample,
-                state_bytes / 1048576.0, 1e3 * median(fixed), 1e3 * median(unflushed), record_bytes / 1048576.0,
-                1e3 * append, 100.0 * overhead);
+    const double overhead = (checkpoints * c.fixed + c.append / ranks) / wall;
+    std::printf("| %s | %.1f | %.1f | %.1f | %.1f | %.1f | %.1f | %.3f %% |\n", name, 1e3 * c.sample,
+                c.state_bytes / 1048576.0, 1e3 * c.fixed, 1e3 * c.unflushed, c.record_bytes / 1048576.0, 1e3 * c.append,
+                100.0 * overhead);
     std::fflush(stdout);
   }
   return 0;
